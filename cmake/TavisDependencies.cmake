@@ -1,0 +1,30 @@
+# Third-party dependencies, all from Debian bookworm packages (.ci/install-deps installs them).
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(TBB REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(Threads REQUIRED)
+
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
+
+# OpenCV: only core/imgproc/imgcodecs are installed (libopencv-dev would pull in the whole
+# GUI stack), and those packages ship no CMake config, so the imported target is built here.
+find_path(OPENCV_INCLUDE_DIR opencv2/core.hpp PATH_SUFFIXES opencv4 REQUIRED)
+set(_tavis_opencv_libs)
+foreach(_component core imgproc imgcodecs)
+  find_library(OPENCV_${_component}_LIBRARY NAMES opencv_${_component} REQUIRED)
+  list(APPEND _tavis_opencv_libs ${OPENCV_${_component}_LIBRARY})
+endforeach()
+add_library(tavis_opencv INTERFACE)
+target_include_directories(tavis_opencv SYSTEM INTERFACE ${OPENCV_INCLUDE_DIR})
+target_link_libraries(tavis_opencv INTERFACE ${_tavis_opencv_libs})
+
+if(TAVIS_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(TAVIS_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,11 @@
+// Subcommands of the `tavis` program. Each registers its options and its callback on the root
+// application; the callback throws std::exception on bad input and main() reports it.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace tavis::tools {
+
+void RegisterEvalCommand(CLI::App& app);
+
+}  // namespace tavis::tools

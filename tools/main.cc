@@ -1,0 +1,20 @@
+// The `tavis` command-line program: one subcommand per job.
+#include <exception>
+#include <iostream>
+
+#include "tools/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"tavis: batched CPU simulator and evaluation harness for the TAVIS benchmark"};
+  app.require_subcommand(1);
+  tavis::tools::RegisterEvalCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "tavis: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
