@@ -43,13 +43,16 @@ inline Quat QuatFromWxyz(double w, double x, double y, double z) { return Quat(w
 // Rotation about the world z axis by yaw, then nothing else: the upright pose of tabletop objects.
 inline Quat QuatFromYaw(double yaw) { return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ())); }
 
-// Axis-angle vector (axis * angle, angle in [0, pi]) of a rotation; the IK pose error uses it.
+// Axis-angle vector of a rotation quaternion, as IsaacLab's axis_angle_from_quat computes it
+// (the IK pose error): the quaternion is flipped to w >= 0 and, like the reference, an
+// unnormalised quaternion scales the result by its norm.
 inline Vec3 AxisAngleVector(const Quat& q_in) {
-  Quat q = q_in.w() < 0 ? Quat(-q_in.w(), -q_in.x(), -q_in.y(), -q_in.z()) : q_in;
-  const double sin_half = q.vec().norm();
-  if (sin_half < 1e-12) return 2.0 * q.vec();
-  const double angle = 2.0 * std::atan2(sin_half, q.w());
-  return q.vec() * (angle / sin_half);
+  const Quat q = q_in.w() < 0 ? Quat(-q_in.w(), -q_in.x(), -q_in.y(), -q_in.z()) : q_in;
+  const double half_angle = std::atan2(q.vec().norm(), q.w());
+  const double angle = 2.0 * half_angle;
+  const double sin_half_over_angle =
+      std::abs(angle) > 1e-6 ? std::sin(half_angle) / angle : 0.5 - angle * angle / 48.0;
+  return q.vec() / sin_half_over_angle;
 }
 
 }  // namespace tavis

@@ -7,5 +7,7 @@
 namespace tavis::tools {
 
 void RegisterEvalCommand(CLI::App& app);
+void RegisterGaltCommand(CLI::App& app);
+void RegisterTableCommand(CLI::App& app);
 
 }  // namespace tavis::tools

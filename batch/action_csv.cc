@@ -1,0 +1,108 @@
+#include "batch/action_csv.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <optional>
+#include <stdexcept>
+#include <string_view>
+
+namespace tavis::batch {
+namespace {
+
+std::string_view Trim(std::string_view text) {
+  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (!text.empty() && is_space(text.front())) text.remove_prefix(1);
+  while (!text.empty() && is_space(text.back())) text.remove_suffix(1);
+  return text;
+}
+
+std::vector<std::string_view> SplitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', begin);
+    fields.push_back(Trim(line.substr(begin, comma - begin)));
+    if (comma == std::string_view::npos) return fields;
+    begin = comma + 1;
+  }
+}
+
+// The whole field as a double (correctly rounded, like Python's float()), or nullopt; a number
+// beyond the double range reads as infinity so that it is reported as non-finite.
+std::optional<double> ParseNumber(std::string_view field) {
+  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
+  if (field.empty()) return std::nullopt;
+  double value = 0.0;
+  const char* const end = field.data() + field.size();
+  const auto [parsed_end, error] = std::from_chars(field.data(), end, value);
+  if (parsed_end != end) return std::nullopt;
+  if (error == std::errc::result_out_of_range) return HUGE_VAL;
+  if (error != std::errc()) return std::nullopt;
+  return value;
+}
+
+[[noreturn]] void FailAt(const std::string& source, int line_number, const std::string& what) {
+  throw std::runtime_error(source + ":" + std::to_string(line_number) + ": " + what);
+}
+
+void CheckColumnCount(const std::vector<std::string_view>& fields, int columns,
+                      const std::string& source, int line_number) {
+  if (static_cast<int>(fields.size()) != columns) {
+    FailAt(source, line_number,
+           "expected " + std::to_string(columns) + " comma-separated values, found " +
+               std::to_string(fields.size()));
+  }
+}
+
+bool IsHeader(const std::vector<std::string_view>& fields) {
+  for (const std::string_view field : fields) {
+    if (ParseNumber(field)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int columns) {
+  ActionTrajectory trajectory;
+  trajectory.num_columns = columns;
+  std::string line;
+  int line_number = 0;
+  bool first_line = true;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (Trim(line).empty()) continue;
+    const std::vector<std::string_view> fields = SplitFields(line);
+    CheckColumnCount(fields, columns, source, line_number);
+    const bool header = first_line && IsHeader(fields);
+    first_line = false;
+    if (header) continue;
+    for (std::size_t column = 0; column < fields.size(); ++column) {
+      const std::optional<double> value = ParseNumber(fields[column]);
+      if (!value || !std::isfinite(*value)) {
+        FailAt(source, line_number,
+               "column " + std::to_string(column + 1) + ": " +
+                   (value ? "non-finite or out-of-range value '" : "not a number: '") +
+                   std::string(fields[column]) + "'");
+      }
+      trajectory.values.push_back(*value);
+    }
+    ++trajectory.num_steps;
+  }
+  if (in.bad()) throw std::runtime_error(source + ": read error");
+  if (trajectory.num_steps == 0) throw std::runtime_error(source + ": no data rows");
+  return trajectory;
+}
+
+ActionTrajectory ReadActionCsv(const std::filesystem::path& path, int columns) {
+  if (std::filesystem::is_directory(path)) {
+    throw std::runtime_error(path.string() + ": is a directory, not a CSV file");
+  }
+  if (!std::filesystem::exists(path)) throw std::runtime_error(path.string() + ": no such file");
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open file");
+  return ParseActionCsv(in, path.string(), columns);
+}
+
+}  // namespace tavis::batch

@@ -1,0 +1,36 @@
+#include "batch/galt_summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace tavis::batch {
+
+GaltSummary SummarizeGalt(const std::vector<kinematics::GaltResult>& successful_episodes) {
+  GaltSummary summary;
+  summary.n_episodes = static_cast<int>(successful_episodes.size());
+  std::vector<double> values;
+  values.reserve(successful_episodes.size());
+  for (const kinematics::GaltResult& result : successful_episodes) {
+    ++summary.reason_counts[static_cast<std::size_t>(result.reason)];
+    if (result.galt_s) values.push_back(*result.galt_s);
+  }
+  summary.n_valid = static_cast<int>(values.size());
+  if (values.empty()) return summary;
+
+  const double n = static_cast<double>(values.size());
+  const double mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
+  // Two passes, as numpy's std does: the mean first, then the mean squared deviation.
+  double squared_deviations = 0.0;
+  for (const double value : values) squared_deviations += (value - mean) * (value - mean);
+
+  std::sort(values.begin(), values.end());
+  const std::size_t middle = values.size() / 2;
+  summary.median_s = values.size() % 2 == 1 ? values[middle]
+                                            : 0.5 * (values[middle - 1] + values[middle]);
+  summary.mean_s = mean;
+  summary.std_s = std::sqrt(squared_deviations / n);
+  return summary;
+}
+
+}  // namespace tavis::batch

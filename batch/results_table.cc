@@ -1,0 +1,304 @@
+#include "batch/results_table.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/statistics.h"
+
+namespace tavis::batch {
+namespace {
+
+struct SuiteDefinition {
+  std::string name;
+  std::string title;
+  std::vector<std::string> tasks;
+};
+
+// Suite task order of the paper's tables (reference spec sections 3 and 10.4).
+const std::vector<SuiteDefinition>& Suites() {
+  static const std::vector<SuiteDefinition> suites = {
+      {"tavis-head",
+       "TAVIS-Head",
+       {"clutter-pick-lift", "clutter-pick-cube", "conditional-pick", "wait-then-act",
+        "multi-shelf-scan"}},
+      {"tavis-hands",
+       "TAVIS-Hands",
+       {"peeking-box", "occluded-reach", "blocked-clutter-pick-cube"}},
+  };
+  return suites;
+}
+
+const SuiteDefinition& FindSuite(const std::string& suite) {
+  for (const SuiteDefinition& definition : Suites()) {
+    if (definition.name == suite) return definition;
+  }
+  throw std::invalid_argument("unknown suite '" + suite + "' (known: tavis-head, tavis-hands)");
+}
+
+// The reference writes task and split names in snake_case, this project in kebab-case.
+std::string KebabCase(std::string name) {
+  std::replace(name.begin(), name.end(), '_', '-');
+  return name;
+}
+
+// "headcam"/"fixedcam" are the reference's spellings of the camera modes "head"/"fixed".
+std::string CameraMode(std::string name) {
+  const std::string suffix = "cam";
+  const bool has_suffix = name.size() > suffix.size() &&
+                          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  if (has_suffix) name.resize(name.size() - suffix.size());
+  return name;
+}
+
+std::string ReadString(const nlohmann::json& summary, const char* key,
+                       const std::string& source) {
+  const auto it = summary.find(key);
+  if (it == summary.end()) throw std::runtime_error(source + ": missing key '" + key + "'");
+  if (!it->is_string() || it->get<std::string>().empty()) {
+    throw std::runtime_error(source + ": key '" + key + "' must be a non-empty string, got " +
+                             it->dump());
+  }
+  return it->get<std::string>();
+}
+
+int ReadCount(const nlohmann::json& summary, const char* key, const std::string& source) {
+  const auto it = summary.find(key);
+  if (it == summary.end()) throw std::runtime_error(source + ": missing key '" + key + "'");
+  if (!it->is_number_integer() || it->get<long long>() < 0 || it->get<long long>() > 1000000000) {
+    throw std::runtime_error(source + ": key '" + key + "' must be a non-negative integer, got " +
+                             it->dump());
+  }
+  return it->get<int>();
+}
+
+// Sort key: the position in `known`, names not in it after all known ones, alphabetically.
+std::pair<std::size_t, std::string> OrderKey(const std::string& name,
+                                             const std::vector<std::string>& known) {
+  const auto it = std::find(known.begin(), known.end(), name);
+  return {static_cast<std::size_t>(it - known.begin()), name};
+}
+
+bool ColumnBefore(const TableColumn& a, const TableColumn& b) {
+  static const std::vector<std::string> robots = {"gr1t2", "reachy2"};
+  static const std::vector<std::string> splits = {"id", "ood-spatial", "ood-init-pose"};
+  static const std::vector<std::string> cameras = {"head", "fixed"};
+  return std::make_tuple(OrderKey(a.robot, robots), OrderKey(a.split, splits),
+                         OrderKey(a.camera, cameras)) <
+         std::make_tuple(OrderKey(b.robot, robots), OrderKey(b.split, splits),
+                         OrderKey(b.camera, cameras));
+}
+
+bool SameColumn(const TableColumn& a, const TableColumn& b) {
+  return a.robot == b.robot && a.split == b.split && a.camera == b.camera;
+}
+
+std::string Percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f", 100.0 * fraction);
+  return text;
+}
+
+// The strings of one table row, each cell as (rate, ci_low, ci_high); empty strings where a
+// value is absent, so the Markdown and CSV writers share one source of numbers.
+struct FormattedCell {
+  std::string rate;
+  std::string ci_low;
+  std::string ci_high;
+};
+
+FormattedCell FormatRate(const std::optional<RateCell>& cell) {
+  if (!cell) return {};
+  const ProportionInterval interval = WilsonInterval(cell->n_successful, cell->n_episodes);
+  return {Percent(cell->rate()), Percent(interval.low), Percent(interval.high)};
+}
+
+struct FormattedRow {
+  std::string label;
+  std::vector<FormattedCell> cells;
+};
+
+std::vector<FormattedRow> FormatRows(const ResultsTable& table) {
+  const std::string title = FindSuite(table.suite).title;
+  std::vector<FormattedRow> rows;
+  for (std::size_t t = 0; t < table.tasks.size(); ++t) {
+    FormattedRow row{table.tasks[t], {}};
+    for (const std::optional<RateCell>& cell : table.cells[t]) {
+      row.cells.push_back(FormatRate(cell));
+    }
+    rows.push_back(std::move(row));
+  }
+  FormattedRow average{title + " mean (task average)", {}};
+  for (const std::optional<double>& rate : table.task_average) {
+    average.cells.push_back(rate ? FormattedCell{Percent(*rate), "", ""} : FormattedCell{});
+  }
+  rows.push_back(std::move(average));
+  FormattedRow pooled{title + " mean (pooled over episodes)", {}};
+  for (const std::optional<RateCell>& cell : table.pooled) {
+    pooled.cells.push_back(FormatRate(cell));
+  }
+  rows.push_back(std::move(pooled));
+  return rows;
+}
+
+}  // namespace
+
+const std::vector<std::string>& SuiteTasks(const std::string& suite) {
+  return FindSuite(suite).tasks;
+}
+
+CellResult ReadCellResult(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(source + ": cannot open file");
+  nlohmann::json summary;
+  try {
+    in >> summary;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(source + ": invalid JSON: " + e.what());
+  }
+  if (!summary.is_object()) throw std::runtime_error(source + ": expected a JSON object");
+
+  CellResult cell;
+  cell.source = source;
+  cell.task = KebabCase(ReadString(summary, "task", source));
+  cell.robot = ReadString(summary, "robot", source);
+  cell.split = KebabCase(ReadString(summary, "split", source));
+  if (summary.contains("camera")) cell.camera = CameraMode(ReadString(summary, "camera", source));
+  if (summary.contains("policy")) cell.policy = ReadString(summary, "policy", source);
+  cell.n_episodes = ReadCount(summary, "n_episodes", source);
+  cell.n_successful = ReadCount(summary, "n_successful", source);
+  if (cell.n_successful > cell.n_episodes) {
+    throw std::runtime_error(source + ": n_successful = " + std::to_string(cell.n_successful) +
+                             " exceeds n_episodes = " + std::to_string(cell.n_episodes));
+  }
+  return cell;
+}
+
+std::vector<CellResult> LoadCellResults(const std::filesystem::path& folder) {
+  if (!std::filesystem::is_directory(folder)) {
+    throw std::runtime_error(folder.string() + ": not a directory");
+  }
+  std::vector<std::filesystem::path> paths;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
+    if (entry.is_regular_file() && entry.path().filename() == "summary.json") {
+      paths.push_back(entry.path());
+    }
+  }
+  std::sort(paths.begin(), paths.end());
+  std::vector<CellResult> cells;
+  cells.reserve(paths.size());
+  for (const std::filesystem::path& path : paths) cells.push_back(ReadCellResult(path));
+  return cells;
+}
+
+ResultsTable BuildResultsTable(const std::vector<CellResult>& cells, const std::string& suite) {
+  ResultsTable table;
+  table.suite = suite;
+  table.tasks = SuiteTasks(suite);
+
+  // Pool the suite's cells per (task, column); cells without episodes count as not evaluated.
+  using CellKey = std::tuple<std::size_t, std::string, std::string, std::string>;
+  const auto key_of = [](std::size_t task, const TableColumn& column) {
+    return CellKey{task, column.robot, column.split, column.camera};
+  };
+  std::map<CellKey, RateCell> pooled_by_key;
+  const CellResult* policy_source = nullptr;
+  for (const CellResult& cell : cells) {
+    const auto task = std::find(table.tasks.begin(), table.tasks.end(), cell.task);
+    if (task == table.tasks.end() || cell.n_episodes == 0) continue;
+    if (policy_source && policy_source->policy != cell.policy) {
+      throw std::runtime_error("cells of one table name different policies: '" +
+                               policy_source->policy + "' in " + policy_source->source + ", '" +
+                               cell.policy + "' in " + cell.source);
+    }
+    policy_source = &cell;
+    const TableColumn column{cell.robot, cell.split, cell.camera};
+    if (std::none_of(table.columns.begin(), table.columns.end(),
+                     [&](const TableColumn& c) { return SameColumn(c, column); })) {
+      table.columns.push_back(column);
+    }
+    RateCell& pooled =
+        pooled_by_key[key_of(static_cast<std::size_t>(task - table.tasks.begin()), column)];
+    pooled.n_successful += cell.n_successful;
+    pooled.n_episodes += cell.n_episodes;
+  }
+  if (table.columns.empty()) throw std::runtime_error("no cell results for suite " + suite);
+  std::sort(table.columns.begin(), table.columns.end(), ColumnBefore);
+
+  table.cells.assign(table.tasks.size(),
+                     std::vector<std::optional<RateCell>>(table.columns.size()));
+  table.task_average.resize(table.columns.size());
+  table.pooled.resize(table.columns.size());
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    double rate_sum = 0.0;
+    int tasks_present = 0;
+    RateCell pooled;
+    for (std::size_t t = 0; t < table.tasks.size(); ++t) {
+      const auto it = pooled_by_key.find(key_of(t, table.columns[c]));
+      if (it == pooled_by_key.end()) continue;
+      table.cells[t][c] = it->second;
+      rate_sum += it->second.rate();
+      ++tasks_present;
+      pooled.n_successful += it->second.n_successful;
+      pooled.n_episodes += it->second.n_episodes;
+    }
+    table.task_average[c] = rate_sum / tasks_present;
+    table.pooled[c] = pooled;
+  }
+  return table;
+}
+
+std::string FormatMarkdown(const ResultsTable& table, bool with_intervals) {
+  std::ostringstream out;
+  out << "**" << FindSuite(table.suite).title << "**: success rate (%)"
+      << (with_intervals ? " [95% Wilson interval]" : "") << "\n\n";
+  out << "| task |";
+  for (const TableColumn& column : table.columns) out << " " << column.label() << " |";
+  out << "\n|:---|";
+  for (std::size_t c = 0; c < table.columns.size(); ++c) out << "---:|";
+  out << "\n";
+  for (const FormattedRow& row : FormatRows(table)) {
+    out << "| " << row.label << " |";
+    for (const FormattedCell& cell : row.cells) {
+      if (cell.rate.empty()) {
+        out << " - |";
+      } else if (with_intervals && !cell.ci_low.empty()) {
+        out << " " << cell.rate << " [" << cell.ci_low << ", " << cell.ci_high << "] |";
+      } else {
+        out << " " << cell.rate << " |";
+      }
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::string FormatCsv(const ResultsTable& table, bool with_intervals) {
+  std::ostringstream out;
+  out << "task";
+  for (const TableColumn& column : table.columns) {
+    out << "," << column.label();
+    if (with_intervals) {
+      out << "," << column.label() << " ci_low," << column.label() << " ci_high";
+    }
+  }
+  out << "\n";
+  for (const FormattedRow& row : FormatRows(table)) {
+    out << row.label;
+    for (const FormattedCell& cell : row.cells) {
+      out << "," << cell.rate;
+      if (with_intervals) out << "," << cell.ci_low << "," << cell.ci_high;
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace tavis::batch

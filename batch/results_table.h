@@ -1,0 +1,85 @@
+// Success-rate tables in the paper's layout, built from a folder of evaluation-cell results.
+//
+// Input: every file named `summary.json` under a folder (recursively). Keys read:
+//   task          "clutter-pick-cube" (reference snake_case names are accepted too)
+//   robot         "gr1t2" | "reachy2" | any other name
+//   split         "id" | "ood-spatial" | "ood-init-pose" (snake_case accepted)
+//   camera        optional, "head" (default when absent) | "fixed" | any other name
+//   policy        optional; all cells of one table must name the same policy
+//   n_episodes, n_successful   integers, 0 <= n_successful <= n_episodes
+// Other keys are ignored. Cells with the same (task, robot, split, camera), e.g. several seeds,
+// are pooled by summing their counts.
+//
+// Layout: one row per task of the suite, in suite order, then two suite-mean rows: the plain
+// average of the task success rates ("task average", what the paper's text calls the suite
+// mean, no interval) and the rate pooled over all episodes of the suite ("pooled", with the
+// Wilson interval of the pooled counts, as the reference's AVERAGE row, spec 10.4). Columns are
+// robot x split x camera, only the combinations present, in the order gr1t2, reachy2 / id,
+// ood-spatial, ood-init-pose / head, fixed, other names sorted after the known ones.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tavis::batch {
+
+struct CellResult {
+  std::string task;
+  std::string robot;
+  std::string split;
+  std::string camera = "head";
+  std::string policy;  // empty when the file does not name one
+  int n_episodes = 0;
+  int n_successful = 0;
+  std::string source;  // file it came from, for error messages
+};
+
+// The suite's tasks in table order; throws std::invalid_argument for an unknown suite
+// (known: "tavis-head", "tavis-hands").
+const std::vector<std::string>& SuiteTasks(const std::string& suite);
+
+// Reads one summary.json; throws std::runtime_error naming the file, the key and the value.
+CellResult ReadCellResult(const std::filesystem::path& path);
+
+// Every summary.json under `folder`, in path order.
+std::vector<CellResult> LoadCellResults(const std::filesystem::path& folder);
+
+struct TableColumn {
+  std::string robot;
+  std::string split;
+  std::string camera;
+
+  std::string label() const { return robot + " " + split + " " + camera; }
+};
+
+// One cell of the table: counts, or nothing when the combination was not evaluated.
+struct RateCell {
+  int n_successful = 0;
+  int n_episodes = 0;
+
+  double rate() const { return static_cast<double>(n_successful) / n_episodes; }
+};
+
+struct ResultsTable {
+  std::string suite;
+  std::vector<std::string> tasks;  // row labels, suite order
+  std::vector<TableColumn> columns;
+  std::vector<std::vector<std::optional<RateCell>>> cells;  // [task][column]
+  // Per column; nullopt when no task of the suite has episodes in that column.
+  std::vector<std::optional<double>> task_average;  // mean of the task rates present
+  std::vector<std::optional<RateCell>> pooled;      // summed counts over the tasks present
+};
+
+// Throws std::invalid_argument for an unknown suite, std::runtime_error when cells that would
+// share a table disagree on the policy, or when no cell belongs to the suite.
+ResultsTable BuildResultsTable(const std::vector<CellResult>& cells, const std::string& suite);
+
+// Rates in percent with one decimal, optionally followed by the 95% Wilson interval
+// "[low, high]"; a missing cell is "-" in Markdown and empty in CSV. The CSV has one column per
+// table column, plus "<label> ci_low" and "<label> ci_high" columns when intervals are on.
+std::string FormatMarkdown(const ResultsTable& table, bool with_intervals);
+std::string FormatCsv(const ResultsTable& table, bool with_intervals);
+
+}  // namespace tavis::batch

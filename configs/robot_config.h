@@ -1,0 +1,17 @@
+// Loads configs/robots/<name>.yaml into a kinematics::RobotModel.
+#pragma once
+
+#include <string>
+
+#include "kinematics/robot_model.h"
+
+namespace tavis::configs {
+
+// Throws ConfigError naming the file and key path for a missing, unknown or invalid entry.
+kinematics::RobotModel LoadRobotModel(const std::string& path);
+
+// The robot file for a robot name inside a config directory: <dir>/robots/<name>.yaml. Throws
+// ConfigError listing the known robots if there is no such file.
+std::string RobotConfigPath(const std::string& config_dir, const std::string& robot_name);
+
+}  // namespace tavis::configs

@@ -1,0 +1,135 @@
+#include "configs/yaml_reader.h"
+
+#include <cmath>
+#include <yaml-cpp/yaml.h>
+
+namespace tavis::configs {
+namespace {
+
+std::string JoinPath(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+}  // namespace
+
+YamlValue YamlValue::LoadFile(const std::string& path) {
+  try {
+    return YamlValue(YAML::LoadFile(path), path, "");
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(path + ": cannot open file");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(path + ": malformed YAML: " + e.what());
+  }
+}
+
+YamlValue YamlValue::LoadString(const std::string& text, const std::string& source_name) {
+  try {
+    return YamlValue(YAML::Load(text), source_name, "");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(source_name + ": malformed YAML: " + e.what());
+  }
+}
+
+YamlValue::YamlValue(const YAML::Node& node, std::string file, std::string key_path)
+    : node_(std::make_unique<YAML::Node>(node)),
+      file_(std::move(file)),
+      key_path_(std::move(key_path)),
+      consumed_keys_(std::make_shared<std::set<std::string>>()) {}
+
+YamlValue::YamlValue(const YamlValue& other)
+    : node_(std::make_unique<YAML::Node>(*other.node_)),
+      file_(other.file_),
+      key_path_(other.key_path_),
+      consumed_keys_(other.consumed_keys_) {}
+
+YamlValue& YamlValue::operator=(const YamlValue& other) {
+  if (this != &other) {
+    node_ = std::make_unique<YAML::Node>(*other.node_);
+    file_ = other.file_;
+    key_path_ = other.key_path_;
+    consumed_keys_ = other.consumed_keys_;
+  }
+  return *this;
+}
+
+YamlValue::~YamlValue() = default;
+
+void YamlValue::Fail(const std::string& message) const {
+  throw ConfigError(file_ + ": " + (key_path_.empty() ? "(top level)" : key_path_) + ": " + message);
+}
+
+std::optional<YamlValue> YamlValue::Optional(const std::string& key) const {
+  if (!node_->IsMap()) Fail("expected a mapping");
+  consumed_keys_->insert(key);
+  const YAML::Node child = (*node_)[key];
+  if (!child.IsDefined() || child.IsNull()) return std::nullopt;
+  return YamlValue(child, file_, JoinPath(key_path_, key));
+}
+
+YamlValue YamlValue::Required(const std::string& key) const {
+  std::optional<YamlValue> child = Optional(key);
+  if (!child) Fail("missing key '" + key + "'");
+  return *child;
+}
+
+void YamlValue::ExpectNoOtherKeys() const {
+  for (const auto& entry : *node_) {
+    const std::string key = entry.first.as<std::string>();
+    if (consumed_keys_->count(key) == 0) {
+      YamlValue(entry.second, file_, JoinPath(key_path_, key)).Fail("unknown key '" + key + "'");
+    }
+  }
+}
+
+std::vector<YamlValue> YamlValue::Elements() const {
+  if (!node_->IsSequence()) Fail("expected a sequence");
+  std::vector<YamlValue> elements;
+  for (size_t i = 0; i < node_->size(); ++i) {
+    elements.emplace_back((*node_)[i], file_, key_path_ + "[" + std::to_string(i) + "]");
+  }
+  return elements;
+}
+
+double YamlValue::AsDouble() const {
+  double value = 0.0;
+  if (!node_->IsScalar() || !YAML::convert<double>::decode(*node_, value)) Fail("expected a number");
+  if (!std::isfinite(value)) Fail("expected a finite number, got '" + node_->Scalar() + "'");
+  return value;
+}
+
+int YamlValue::AsInt() const {
+  int value = 0;
+  if (!node_->IsScalar() || !YAML::convert<int>::decode(*node_, value)) Fail("expected an integer");
+  return value;
+}
+
+bool YamlValue::AsBool() const {
+  bool value = false;
+  if (!node_->IsScalar() || !YAML::convert<bool>::decode(*node_, value)) Fail("expected true or false");
+  return value;
+}
+
+std::string YamlValue::AsString() const {
+  if (!node_->IsScalar()) Fail("expected a string");
+  return node_->Scalar();
+}
+
+std::vector<double> YamlValue::AsDoubles() const {
+  std::vector<double> values;
+  for (const YamlValue& element : Elements()) values.push_back(element.AsDouble());
+  return values;
+}
+
+std::vector<std::string> YamlValue::AsStrings() const {
+  std::vector<std::string> values;
+  for (const YamlValue& element : Elements()) values.push_back(element.AsString());
+  return values;
+}
+
+Vec3 YamlValue::AsVec3() const {
+  const std::vector<double> values = AsDoubles();
+  if (values.size() != 3) Fail("expected 3 numbers, got " + std::to_string(values.size()));
+  return Vec3(values[0], values[1], values[2]);
+}
+
+}  // namespace tavis::configs

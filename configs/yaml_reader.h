@@ -1,0 +1,69 @@
+// Strict reading of YAML files into typed structs. Every accessor names the file and the key
+// path in its error; a mapping read through Fields() must have every key consumed, so a typo
+// or an unknown key is an error rather than a silently ignored setting.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "kinematics/pose.h"
+
+namespace YAML {
+class Node;
+}
+
+namespace tavis::configs {
+
+// Thrown for any configuration problem; what() reads "file: key.path: message".
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class YamlValue {
+ public:
+  // Parses `path`; throws ConfigError for a missing file or malformed YAML.
+  static YamlValue LoadFile(const std::string& path);
+  static YamlValue LoadString(const std::string& text, const std::string& source_name);
+
+  YamlValue(const YAML::Node& node, std::string file, std::string key_path);
+  YamlValue(const YamlValue& other);
+  YamlValue& operator=(const YamlValue& other);
+  ~YamlValue();
+
+  // Mapping access. Each key read is recorded; ExpectNoOtherKeys() reports the rest.
+  YamlValue Required(const std::string& key) const;
+  std::optional<YamlValue> Optional(const std::string& key) const;
+  void ExpectNoOtherKeys() const;
+
+  std::vector<YamlValue> Elements() const;  // sequence
+  double AsDouble() const;
+  int AsInt() const;
+  bool AsBool() const;
+  std::string AsString() const;
+  Vec3 AsVec3() const;
+  std::vector<double> AsDoubles() const;
+  std::vector<std::string> AsStrings() const;
+
+  // Shorthands for Required(key).AsX().
+  double Double(const std::string& key) const { return Required(key).AsDouble(); }
+  int Int(const std::string& key) const { return Required(key).AsInt(); }
+  std::string String(const std::string& key) const { return Required(key).AsString(); }
+  Vec3 Vector3(const std::string& key) const { return Required(key).AsVec3(); }
+
+  [[noreturn]] void Fail(const std::string& message) const;
+  const std::string& key_path() const { return key_path_; }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::unique_ptr<YAML::Node> node_;
+  std::string file_;
+  std::string key_path_;
+  std::shared_ptr<std::set<std::string>> consumed_keys_;
+};
+
+}  // namespace tavis::configs

@@ -1,0 +1,31 @@
+#include "kinematics/forward_kinematics.h"
+
+namespace tavis::kinematics {
+
+void ComputeLinkPoses(const RobotModel& robot, const double* q, RigidTransform* X_BL) {
+  for (int i = 0; i < robot.num_links(); ++i) {
+    const Link& link = robot.links[i];
+    RigidTransform X_PL = link.origin;
+    if (link.joint >= 0) {
+      const Joint& joint = robot.joints[link.joint];
+      X_PL.linear() = X_PL.linear() * Eigen::AngleAxisd(q[link.joint], joint.axis).toRotationMatrix();
+    }
+    X_BL[i] = link.parent < 0 ? X_PL : X_BL[link.parent] * X_PL;
+  }
+}
+
+ArmJacobian ComputeArmJacobian(const RobotModel& robot, Side side, const RigidTransform* X_BL) {
+  const ArmSpec& arm = robot.arm(side);
+  const Vec3 p_end = X_BL[arm.ik_link].translation();
+  ArmJacobian J;
+  for (int column = 0; column < kArmDof; ++column) {
+    const Joint& joint = robot.joints[arm.joints[column]];
+    const RigidTransform& X_BJ = X_BL[joint.link];  // the axis is fixed in the child frame
+    const Vec3 axis = X_BJ.linear() * joint.axis;
+    J.block<3, 1>(0, column) = axis.cross(p_end - X_BJ.translation());
+    J.block<3, 1>(3, column) = axis;
+  }
+  return J;
+}
+
+}  // namespace tavis::kinematics

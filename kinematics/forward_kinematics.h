@@ -1,0 +1,26 @@
+// Forward kinematics and Jacobians of a RobotModel, one robot configuration at a time; the
+// batch stages call these per env inside their parallel loops.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "kinematics/robot_model.h"
+
+namespace tavis::kinematics {
+
+using ArmJacobian = Eigen::Matrix<double, 6, kArmDof>;  // rows: linear (3), angular (3)
+
+// Pose of every link in the base frame, X_BL[link], for joint positions q (num_joints).
+void ComputeLinkPoses(const RobotModel& robot, const double* q, RigidTransform* X_BL);
+
+// Geometric Jacobian of the arm's IK link origin in the base frame, from link poses already
+// computed by ComputeLinkPoses for the same q.
+ArmJacobian ComputeArmJacobian(const RobotModel& robot, Side side, const RigidTransform* X_BL);
+
+// Pose of a camera (IsaacLab "world" convention) in the base frame.
+inline RigidTransform CameraPose(const RobotModel& robot, int camera, const RigidTransform* X_BL) {
+  const CameraMount& mount = robot.cameras[camera];
+  return X_BL[mount.link] * mount.X_LC;
+}
+
+}  // namespace tavis::kinematics
