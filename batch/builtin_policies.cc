@@ -1,0 +1,70 @@
+#include "batch/builtin_policies.h"
+
+#include <stdexcept>
+#include <vector>
+
+#include "kinematics/forward_kinematics.h"
+
+namespace tavis::batch {
+namespace {
+
+class ExpertPolicy : public Policy {
+ public:
+  ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs)
+      : expert_(scenario.make_expert(model, num_envs)) {}
+  std::string name() const override { return "expert"; }
+  int control_ticks_per_action() const override { return 1; }
+  void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) override {
+    expert_->Reset(model, state, env);
+  }
+  void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
+           kinematics::Action& action) override {
+    expert_->Act(model, state, env, action);
+  }
+
+ private:
+  std::unique_ptr<scenarios::Expert> expert_;
+};
+
+class HoldPolicy : public Policy {
+ public:
+  explicit HoldPolicy(int num_envs) : reset_action_(num_envs) {}
+  std::string name() const override { return "hold"; }
+  int control_ticks_per_action() const override { return 3; }
+  void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) override {
+    const kinematics::RobotModel& robot = model.robot;
+    std::vector<RigidTransform> X_BL(robot.links.size());
+    kinematics::ComputeLinkPoses(robot, state.q_row(env), X_BL.data());
+    kinematics::Action& action = reset_action_[env];
+    action.fill(0.0);
+    for (kinematics::Side side : kinematics::kSides) {
+      const RigidTransform& X = X_BL[robot.arm(side).ik_link];
+      const Vec3 p = robot.BaseToCanonical(X.translation());
+      const Quat q(X.linear());
+      const int i = kinematics::Index(side);
+      for (int k = 0; k < 3; ++k) action[kinematics::action::kArmPosition[i] + k] = p[k];
+      const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+      for (int k = 0; k < 4; ++k) action[kinematics::action::kArmQuaternion[i] + k] = wxyz[k];
+      action[kinematics::action::kGripper[i]] = -1.0;
+    }
+  }
+  void Act(const engine::WorldModel&, const engine::BatchState&, int env, kinematics::Action& action) override {
+    action = reset_action_[env];
+  }
+
+ private:
+  std::vector<kinematics::Action> reset_action_;
+};
+
+}  // namespace
+
+const char* BuiltinPolicyNames() { return "expert, hold"; }
+
+std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
+                                          const engine::WorldModel& model, int num_envs) {
+  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
+  if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
+  throw std::invalid_argument("unknown policy '" + name + "' (built in: " + BuiltinPolicyNames() + ")");
+}
+
+}  // namespace tavis::batch

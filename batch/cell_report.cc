@@ -1,0 +1,79 @@
+#include "batch/cell_report.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/statistics.h"
+
+namespace tavis::batch {
+namespace {
+
+void WriteAtomically(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path temporary = path.string() + ".partial";
+  {
+    std::ofstream out(temporary);
+    if (!out) throw std::runtime_error("cannot write " + temporary.string());
+    out << text;
+    if (!out.flush()) throw std::runtime_error("cannot write " + temporary.string());
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+}  // namespace
+
+void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir) {
+  std::filesystem::create_directories(out_dir);
+  const EvaluationCellConfig& config = result.config;
+  std::string episodes_text;
+  for (const EpisodeRecord& record : result.episodes) {
+    nlohmann::json line = {
+        {"episode", record.episode},
+        {"seed", config.seed},
+        {"success", record.success},
+        {"end", engine::ToString(record.end)},
+        {"length_steps", record.length_steps},
+        {"length_control_ticks", record.length_control_ticks},
+    };
+    episodes_text += line.dump() + "\n";
+  }
+  WriteAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);
+
+  const int n = static_cast<int>(result.episodes.size());
+  const ProportionInterval ci = WilsonInterval(result.successes, n);
+  const nlohmann::json summary = {
+      {"task", config.task},
+      {"robot", config.robot},
+      {"split", scenarios::ToString(config.split)},
+      {"camera", "head"},
+      {"policy", config.policy},
+      {"seed", config.seed},
+      {"n_episodes", n},
+      {"n_successful", result.successes},
+      {"success_rate", n > 0 ? static_cast<double>(result.successes) / n : 0.0},
+      {"ci_low", ci.low},
+      {"ci_high", ci.high},
+      {"wall_s", result.wall_s},
+      {"envs", config.envs},
+      {"threads", info.threads},
+      {"control_ticks", result.control_ticks},
+      {"control_ticks_per_s", result.wall_s > 0 ? static_cast<double>(result.control_ticks) / result.wall_s : 0.0},
+  };
+  WriteAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
+}
+
+std::string CellSummaryLine(const CellResult& result) {
+  const int n = static_cast<int>(result.episodes.size());
+  const ProportionInterval ci = WilsonInterval(result.successes, n);
+  char line[512];
+  std::snprintf(line, sizeof(line), "%s %s %s policy=%s: success %d/%d = %.1f%% [%.1f, %.1f] (95%% Wilson), %.1f s",
+                result.config.task.c_str(), result.config.robot.c_str(), scenarios::ToString(result.config.split),
+                result.config.policy.c_str(), result.successes, n, n > 0 ? 100.0 * result.successes / n : 0.0,
+                100.0 * ci.low, 100.0 * ci.high, result.wall_s);
+  return line;
+}
+
+}  // namespace tavis::batch

@@ -1,0 +1,21 @@
+// Writes an evaluation cell's results: DIR/episodes.jsonl (one object per episode) and
+// DIR/summary.json. Files are written to a temporary name and renamed, so an interrupted run
+// never leaves a half-written result in place of a good one.
+#pragma once
+
+#include <string>
+
+#include "batch/evaluation_cell.h"
+
+namespace tavis::batch {
+
+struct RunInfo {
+  int threads = 0;
+};
+
+void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir);
+
+// One line for the terminal: task, robot, split, policy, success rate with its interval, time.
+std::string CellSummaryLine(const CellResult& result);
+
+}  // namespace tavis::batch

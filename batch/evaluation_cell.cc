@@ -1,0 +1,92 @@
+#include "batch/evaluation_cell.h"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "batch/builtin_policies.h"
+#include "batch/vec_env.h"
+#include "configs/robot_config.h"
+#include "scenarios/registry.h"
+
+namespace tavis::batch {
+namespace {
+
+void ValidateConfig(const EvaluationCellConfig& config) {
+  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
+}
+
+}  // namespace
+
+CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress) {
+  ValidateConfig(config);
+  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const auto start = std::chrono::steady_clock::now();
+
+  const int slots = std::min(config.envs, config.episodes);
+  VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
+  std::unique_ptr<Policy> policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots);
+  const int hold_ticks = policy->control_ticks_per_action();
+  const int ticks_per_policy_step = env.model().physics.controls_per_policy();
+
+  CellResult result;
+  result.config = config;
+  result.episodes.resize(config.episodes);
+  std::vector<kinematics::Action> actions(slots);
+  std::vector<std::vector<kinematics::Action>> action_logs(slots);
+  for (auto& log : action_logs) log.reserve(env.model().physics.max_control_steps());
+
+  int64_t next_episode = 0;
+  auto start_episode = [&](int slot) {
+    if (next_episode >= config.episodes) {
+      env.Release(slot);
+      return;
+    }
+    env.ResetEnv(slot, next_episode++);
+    policy->Reset(env.model(), env.state(), slot);
+    action_logs[slot].clear();
+  };
+  for (int slot = 0; slot < slots; ++slot) start_episode(slot);
+
+  int finished = 0;
+  while (finished < config.episodes) {
+    const engine::BatchState& state = env.state();
+    tbb::parallel_for(0, slots, [&](int slot) {
+      if (state.episode[slot] < 0) return;
+      if (state.control_step[slot] % hold_ticks == 0) policy->Act(env.model(), state, slot, actions[slot]);
+      action_logs[slot].push_back(actions[slot]);
+    });
+    env.Step(actions);
+    result.control_ticks += std::count_if(state.episode.begin(), state.episode.end(), [](int64_t e) { return e >= 0; });
+    // Serial, in slot order: finished episodes are recorded and slots refilled deterministically.
+    for (int slot = 0; slot < slots; ++slot) {
+      if (state.episode[slot] < 0 || state.end[slot] == engine::EpisodeEnd::kRunning) continue;
+      if (state.end[slot] == engine::EpisodeEnd::kInvalidAction) {
+        std::ostringstream message;
+        message << "policy '" << config.policy << "' produced a non-finite action in episode " << state.episode[slot]
+                << ": entry " << env.invalid_action_index(slot) << " = " << env.invalid_action_value(slot);
+        throw std::runtime_error(message.str());
+      }
+      EpisodeRecord& record = result.episodes[state.episode[slot]];
+      record.episode = state.episode[slot];
+      record.end = state.end[slot];
+      record.success = state.end[slot] == engine::EpisodeEnd::kSuccess;
+      record.length_control_ticks = state.control_step[slot];
+      record.length_steps = (state.control_step[slot] + ticks_per_policy_step - 1) / ticks_per_policy_step;
+      record.actions = action_logs[slot];
+      result.successes += record.success ? 1 : 0;
+      ++finished;
+      if (progress) progress(finished, config.episodes);
+      start_episode(slot);
+    }
+  }
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace tavis::batch

@@ -1,0 +1,52 @@
+// An evaluation cell: (task, robot, split, seed, policy) x N episodes run over M parallel env
+// slots. Episode i always gets the randomness of (seed, i), so a cell's records are identical
+// for any thread count and any number of slots.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/batch_state.h"
+#include "kinematics/action.h"
+#include "scenarios/split.h"
+
+namespace tavis::batch {
+
+struct EvaluationCellConfig {
+  std::string task = "clutter-pick-cube";
+  std::string robot = "gr1t2";
+  scenarios::Split split = scenarios::Split::kId;
+  std::string policy = "expert";
+  int episodes = 96;
+  int envs = 32;  // parallel env slots
+  uint64_t seed = 0;
+  std::string config_dir;  // holds robots/*.yaml
+};
+
+struct EpisodeRecord {
+  int64_t episode = 0;
+  bool success = false;
+  engine::EpisodeEnd end = engine::EpisodeEnd::kRunning;
+  int length_steps = 0;          // policy-rate (20 Hz) steps, as the reference counts them
+  int length_control_ticks = 0;  // 60 Hz control ticks
+  std::vector<kinematics::Action> actions;  // commanded action of every control tick
+};
+
+struct CellResult {
+  EvaluationCellConfig config;
+  std::vector<EpisodeRecord> episodes;  // ordered by episode index
+  int successes = 0;
+  double wall_s = 0.0;
+  int64_t control_ticks = 0;  // env control ticks simulated, for throughput
+};
+
+// Called after each finished episode with (finished, total).
+using ProgressCallback = std::function<void(int, int)>;
+
+// Throws std::invalid_argument / configs::ConfigError for bad settings, and std::runtime_error
+// naming the episode, action entry and value if the policy produced a non-finite action.
+CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr);
+
+}  // namespace tavis::batch

@@ -1,0 +1,147 @@
+#include "batch/vec_env.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "kinematics/inverse_kinematics.h"
+
+namespace tavis::batch {
+namespace {
+
+using kinematics::Side;
+
+constexpr int kMaxRobotLinks = 64;
+
+// The first non-finite entry of an action, or -1.
+int FirstNonFinite(const kinematics::Action& action) {
+  for (int i = 0; i < kinematics::action::kSize; ++i) {
+    if (!std::isfinite(action[i])) return i;
+  }
+  return -1;
+}
+
+}  // namespace
+
+engine::WorldModel BuildWorldModel(const kinematics::RobotModel& robot, const scenarios::ScenarioDef& scenario) {
+  engine::WorldModel model;
+  model.robot = robot;
+  scenario.layout(model);
+  return model;
+}
+
+VecEnv::VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario, scenarios::Split split, int num_envs,
+               uint64_t seed)
+    : model_(std::move(model)), scenario_(scenario), split_(split), seed_(seed) {
+  if (model_.robot.num_links() > kMaxRobotLinks) {
+    throw std::invalid_argument("robot '" + model_.robot.name + "' has " + std::to_string(model_.robot.num_links()) +
+                                " links; the step supports at most " + std::to_string(kMaxRobotLinks));
+  }
+  if (num_envs < 1) throw std::invalid_argument("the number of envs must be at least 1, got " + std::to_string(num_envs));
+  state_.Allocate(num_envs, model_.robot.num_joints(), model_.num_objects());
+  worlds_.resize(num_envs);
+  tbb::parallel_for(0, num_envs, [&](int env) { worlds_[env] = std::make_unique<engine::PhysicsWorld>(model_); });
+  invalid_index_.assign(num_envs, -1);
+  invalid_value_.assign(num_envs, 0.0);
+}
+
+VecEnv::~VecEnv() {
+  // ODE worlds must be destroyed on threads where ODE is initialised; parallel like creation.
+  tbb::parallel_for(0, num_envs(), [&](int env) { worlds_[env].reset(); });
+}
+
+void VecEnv::ResetEnv(int env, int64_t episode) {
+  const kinematics::RobotModel& robot = model_.robot;
+  state_.episode[env] = episode;
+  state_.end[env] = engine::EpisodeEnd::kRunning;
+  state_.control_step[env] = 0;
+  state_.task_rng[env] = engine::RandomStream(seed_, engine::RandomStreamId::kTask, static_cast<uint64_t>(episode));
+  invalid_index_[env] = -1;
+  const std::vector<double> q_default = robot.DefaultPositions();
+  std::copy(q_default.begin(), q_default.end(), state_.q_row(env));
+  std::copy(q_default.begin(), q_default.end(), state_.q_target_row(env));
+  std::fill_n(&state_.task_vars[static_cast<size_t>(env) * engine::kMaxTaskVars], engine::kMaxTaskVars, 0.0);
+  scenario_.reset(model_, split_, state_, env);
+
+  engine::PhysicsWorld& world = *worlds_[env];
+  const auto solver_seed = static_cast<uint32_t>(engine::DeriveKey(seed_, static_cast<uint64_t>(engine::RandomStreamId::kPhysics),
+                                                                   static_cast<uint64_t>(episode)));
+  world.ResetRobot(state_.q_row(env), solver_seed);
+  for (int object = 0; object < model_.num_objects(); ++object) {
+    world.SetObject(object, state_.ObjectPosition(env, object), state_.ObjectOrientation(env, object),
+                    state_.object_enabled_at(env, object) != 0);
+  }
+  world.ReadState(state_.q_row(env), &state_.gripper_gap[2 * env], state_.object_pose_row(env, 0),
+                  &state_.object_velocity[static_cast<size_t>(env) * model_.num_objects() * engine::kObjectVelocitySize]);
+}
+
+void VecEnv::Step(const std::vector<kinematics::Action>& actions) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_envs(), 1), [&](const tbb::blocked_range<int>& range) {
+    for (int env = range.begin(); env < range.end(); ++env) {
+      if (state_.episode[env] >= 0 && state_.end[env] == engine::EpisodeEnd::kRunning) StepEnv(env, actions[env]);
+    }
+  });
+}
+
+void VecEnv::StepEnv(int env, const kinematics::Action& action) {
+  const kinematics::RobotModel& robot = model_.robot;
+  double* q = state_.q_row(env);
+  double* q_target = state_.q_target_row(env);
+
+  // Stage: apply the action. A non-finite entry ends the episode; the hot loop never throws.
+  const int bad = FirstNonFinite(action);
+  if (bad >= 0) {
+    invalid_index_[env] = bad;
+    invalid_value_[env] = action[bad];
+    state_.end[env] = engine::EpisodeEnd::kInvalidAction;
+    return;
+  }
+  RigidTransform X_BL[kMaxRobotLinks];  // the step allocates nothing
+  kinematics::ComputeLinkPoses(robot, q, X_BL);
+  for (Side side : kinematics::kSides) {
+    const int i = kinematics::Index(side);
+    const int p = kinematics::action::kArmPosition[i];
+    const int r = kinematics::action::kArmQuaternion[i];
+    const kinematics::PoseTarget target{robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])),
+                                        Quat(action[r], action[r + 1], action[r + 2], action[r + 3])};
+    const auto arm_targets = kinematics::IkStep(robot, side, q, X_BL, target);
+    for (int k = 0; k < kinematics::kArmDof; ++k) q_target[robot.arm(side).joints[k]] = arm_targets[k];
+    state_.gripper_command[2 * env + i] = std::clamp(action[kinematics::action::kGripper[i]], -1.0, 1.0);
+  }
+  const int neck_entries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
+                                                  kinematics::action::kNeckYaw};
+  for (int k = 0; k < kinematics::kNeckDof; ++k) {
+    const kinematics::Joint& joint = robot.joints[robot.neck_joints[k]];
+    q_target[robot.neck_joints[k]] = std::clamp(action[neck_entries[k]], joint.lower, joint.upper);
+  }
+
+  // Stage: physics substeps.
+  engine::PhysicsWorld& world = *worlds_[env];
+  const std::array<double, 2> gripper = {state_.gripper_command[2 * env], state_.gripper_command[2 * env + 1]};
+  const bool sane = world.Step(q_target, gripper, model_.physics.substeps_per_control());
+  world.ReadState(q, &state_.gripper_gap[2 * env], state_.object_pose_row(env, 0),
+                  &state_.object_velocity[static_cast<size_t>(env) * model_.num_objects() * engine::kObjectVelocitySize]);
+
+  // Stage: neck servo. The neck only carries the head, so it is servoed kinematically: first
+  // order toward its target at the actuator gain, bounded by the velocity limit.
+  const double dt = 1.0 / model_.physics.control_hz;
+  const double blend = 1.0 - std::exp(-robot.neck_actuator.position_gain * dt);
+  const double max_move = robot.neck_actuator.velocity_limit * dt;
+  for (int joint : robot.neck_joints) q[joint] += std::clamp(blend * (q_target[joint] - q[joint]), -max_move, max_move);
+
+  // Stage: task evaluation and episode end.
+  state_.control_step[env] += 1;
+  if (!sane) {
+    state_.end[env] = engine::EpisodeEnd::kPhysicsBlowUp;
+  } else if (scenario_.evaluate(model_, state_, env)) {
+    state_.end[env] = engine::EpisodeEnd::kSuccess;
+  } else if (state_.control_step[env] >= model_.physics.max_control_steps()) {
+    state_.end[env] = engine::EpisodeEnd::kTimeOut;
+  }
+}
+
+}  // namespace tavis::batch

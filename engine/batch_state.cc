@@ -1,0 +1,35 @@
+#include "engine/batch_state.h"
+
+namespace tavis::engine {
+
+const char* ToString(EpisodeEnd end) {
+  switch (end) {
+    case EpisodeEnd::kRunning: return "running";
+    case EpisodeEnd::kSuccess: return "success";
+    case EpisodeEnd::kTimeOut: return "time_out";
+    case EpisodeEnd::kPhysicsBlowUp: return "physics_blow_up";
+    case EpisodeEnd::kInvalidAction: return "invalid_action";
+  }
+  return "unknown";
+}
+
+void BatchState::Allocate(int envs, int joints, int objects) {
+  num_envs = envs;
+  num_joints = joints;
+  num_objects = objects;
+  const size_t n = static_cast<size_t>(envs);
+  q.assign(n * joints, 0.0);
+  q_target.assign(n * joints, 0.0);
+  gripper_command.assign(n * 2, -1.0);
+  gripper_gap.assign(n * 2, 0.0);
+  object_pose.assign(n * objects * kObjectPoseSize, 0.0);
+  object_velocity.assign(n * objects * kObjectVelocitySize, 0.0);
+  object_enabled.assign(n * objects, 0);
+  task_vars.assign(n * kMaxTaskVars, 0.0);
+  control_step.assign(n, 0);
+  episode.assign(n, -1);
+  end.assign(n, EpisodeEnd::kRunning);
+  task_rng.assign(n, RandomStream());
+}
+
+}  // namespace tavis::engine

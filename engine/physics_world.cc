@@ -1,0 +1,441 @@
+#include "engine/physics_world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <ode/ode.h>
+
+#include "engine/batch_state.h"
+#include "engine/convex_prism.h"
+#include "engine/ode_runtime.h"
+#include "kinematics/forward_kinematics.h"
+
+namespace tavis::engine {
+namespace {
+
+using kinematics::RobotModel;
+using kinematics::Side;
+
+// Collision categories: the robot does not collide with itself (reference: self-collisions off).
+constexpr int kPrismSides = 16;
+
+enum CategoryBits : unsigned long { kRobotBit = 1, kObjectBit = 2, kStaticBit = 4 };
+
+struct GeomInfo {
+  Material material = Material::kDefault;
+};
+
+// Links moved by arm joints are bodies; links whose chain has no moving joint are static;
+// links moved by the neck are servoed outside the physics and take no part here.
+enum class LinkRole { kStatic, kArmBody, kNeck };
+
+void SetBodyPose(dBodyID body, const RigidTransform& X_WB) {
+  const Vec3& p = X_WB.translation();
+  dBodySetPosition(body, p.x(), p.y(), p.z());
+  const Quat q(X_WB.linear());
+  const dQuaternion ode_q = {q.w(), q.x(), q.y(), q.z()};
+  dBodySetQuaternion(body, ode_q);
+  dBodySetLinearVel(body, 0, 0, 0);
+  dBodySetAngularVel(body, 0, 0, 0);
+}
+
+RigidTransform BodyPose(dBodyID body) {
+  const dReal* p = dBodyGetPosition(body);
+  const dReal* q = dBodyGetQuaternion(body);
+  return MakeTransform(Vec3(p[0], p[1], p[2]), Quat(q[0], q[1], q[2], q[3]).toRotationMatrix());
+}
+
+void SetGeomOffset(dGeomID geom, const RigidTransform& X_BG) {
+  dGeomSetOffsetPosition(geom, X_BG.translation().x(), X_BG.translation().y(), X_BG.translation().z());
+  const Quat q(X_BG.linear());
+  const dQuaternion ode_q = {q.w(), q.x(), q.y(), q.z()};
+  dGeomSetOffsetQuaternion(geom, ode_q);
+}
+
+void SetStaticGeomPose(dGeomID geom, const RigidTransform& X_WG) {
+  dGeomSetPosition(geom, X_WG.translation().x(), X_WG.translation().y(), X_WG.translation().z());
+  const Quat q(X_WG.linear());
+  const dQuaternion ode_q = {q.w(), q.x(), q.y(), q.z()};
+  dGeomSetQuaternion(geom, ode_q);
+}
+
+
+void SetMass(dBodyID body, const Shape& shape, double mass) {
+  dMass m;
+  switch (shape.kind) {
+    case ShapeKind::kBox: dMassSetBoxTotal(&m, mass, shape.size.x(), shape.size.y(), shape.size.z()); break;
+    case ShapeKind::kCylinder: dMassSetCylinderTotal(&m, mass, 3, shape.Radius(), shape.Length()); break;
+    case ShapeKind::kCapsule: dMassSetCapsuleTotal(&m, mass, 3, shape.Radius(), shape.Length()); break;
+    case ShapeKind::kSphere: dMassSetSphereTotal(&m, mass, shape.Radius()); break;
+  }
+  dBodySetMass(body, &m);
+}
+
+struct ArmJointMotor {
+  dJointID joint = nullptr;
+  int joint_index = -1;
+};
+
+struct Finger {
+  dBodyID body = nullptr;
+  dJointID slider = nullptr;
+  RigidTransform X_PF_open;  // finger pose in the palm body frame when open
+};
+
+}  // namespace
+
+struct PhysicsWorld::Impl {
+  const WorldModel& model;
+  uint32_t random_seed;
+  dWorldID world = nullptr;
+  dSpaceID space = nullptr;
+  dJointGroupID contacts = nullptr;
+  dThreadingImplementationID threading = nullptr;
+  MaterialTable materials;
+
+  std::vector<LinkRole> link_role;
+  std::vector<int> link_body_link;  // for kArmBody links: the link that owns their body
+  std::vector<dBodyID> link_body;   // body per owning link (nullptr otherwise)
+  std::vector<ArmJointMotor> motors;
+  std::array<std::array<Finger, 2>, 2> fingers{};  // [side][+axis, -axis]
+  std::array<dBodyID, 2> palm_body{};
+  std::array<RigidTransform, 2> X_BodyIk;  // IK link frame in its body's frame
+  std::vector<dBodyID> object_body;
+  std::vector<dGeomID> object_geom;
+  std::vector<dBodyID> all_bodies;
+  std::vector<std::unique_ptr<ConvexPrism>> prisms;
+  std::vector<GeomInfo> geom_infos;  // stable storage: reserved up front, never reallocated
+  std::vector<RigidTransform> X_BL;  // FK scratch
+
+  dBodyID NewBody() {
+    all_bodies.push_back(dBodyCreate(world));
+    return all_bodies.back();
+  }
+
+  Impl(const WorldModel& m, uint32_t seed) : model(m), random_seed(seed), materials(m.materials) {}
+
+  // ODE capsules take (radius, length) along their local z axis, as Shape does; cylinders
+  // become convex prisms (convex_prism.h).
+  dGeomID CreateGeom(dSpaceID geom_space, const Shape& shape) {
+    switch (shape.kind) {
+      case ShapeKind::kBox: return dCreateBox(geom_space, shape.size.x(), shape.size.y(), shape.size.z());
+      case ShapeKind::kCylinder: {
+        prisms.push_back(std::make_unique<ConvexPrism>(MakeCylinderPrism(shape.Radius(), shape.Length(), kPrismSides)));
+        const ConvexPrism& p = *prisms.back();
+        return dCreateConvex(geom_space, p.planes.data(), p.face_count, p.points.data(), p.point_count, p.polygons.data());
+      }
+      case ShapeKind::kCapsule: return dCreateCapsule(geom_space, shape.Radius(), shape.Length());
+      case ShapeKind::kSphere: return dCreateSphere(geom_space, shape.Radius());
+    }
+    return nullptr;
+  }
+
+  GeomInfo* NewGeomInfo(Material material) {
+    geom_infos.push_back({material});
+    return &geom_infos.back();
+  }
+
+  void Tag(dGeomID geom, Material material, unsigned long category, unsigned long collides_with) {
+    dGeomSetData(geom, NewGeomInfo(material));
+    dGeomSetCategoryBits(geom, category);
+    dGeomSetCollideBits(geom, collides_with);
+  }
+
+  void ClassifyLinks() {
+    const RobotModel& robot = model.robot;
+    std::vector<bool> is_arm_joint(robot.num_joints(), false);
+    for (const auto& arm : robot.arms) {
+      for (int j : arm.joints) is_arm_joint[j] = true;
+    }
+    link_role.assign(robot.num_links(), LinkRole::kStatic);
+    link_body_link.assign(robot.num_links(), -1);
+    for (int i = 0; i < robot.num_links(); ++i) {
+      const kinematics::Link& link = robot.links[i];
+      const LinkRole parent_role = link.parent < 0 ? LinkRole::kStatic : link_role[link.parent];
+      if (link.joint >= 0) {
+        link_role[i] = is_arm_joint[link.joint] ? LinkRole::kArmBody : LinkRole::kNeck;
+        if (parent_role == LinkRole::kNeck) link_role[i] = LinkRole::kNeck;
+        if (link_role[i] == LinkRole::kArmBody) link_body_link[i] = i;
+      } else {
+        link_role[i] = parent_role;
+        if (parent_role == LinkRole::kArmBody) link_body_link[i] = link_body_link[link.parent];
+      }
+    }
+  }
+
+  void BuildRobot() {
+    const RobotModel& robot = model.robot;
+    const RigidTransform X_WB = MakeTransform(robot.root_world, Mat3::Identity());
+    X_BL.resize(robot.num_links());
+    // Bodies and joints are created at q = 0, so ODE's joint angles equal joint positions.
+    const std::vector<double> zeros(robot.num_joints(), 0.0);
+    kinematics::ComputeLinkPoses(robot, zeros.data(), X_BL.data());
+    link_body.assign(robot.num_links(), nullptr);
+    for (int i = 0; i < robot.num_links(); ++i) {
+      if (link_body_link[i] != i) continue;
+      dBodyID body = NewBody();
+      dMass m;
+      dMassSetSphereTotal(&m, std::max(robot.links[i].mass, 0.05), 0.05);
+      dBodySetMass(body, &m);
+      dBodySetGravityMode(body, 0);  // robot bodies are gravity-free in the reference
+      SetBodyPose(body, X_WB * X_BL[i]);
+      link_body[i] = body;
+      const kinematics::Link& link = robot.links[i];
+      const int parent_owner = link.parent < 0 ? -1 : link_body_link[link.parent];
+      dJointID hinge = dJointCreateHinge(world, nullptr);
+      dJointAttach(hinge, body, parent_owner < 0 ? nullptr : link_body[parent_owner]);
+      const RigidTransform X_WL = X_WB * X_BL[i];
+      const Vec3 axis = X_WL.linear() * robot.joints[link.joint].axis;
+      dJointSetHingeAnchor(hinge, X_WL.translation().x(), X_WL.translation().y(), X_WL.translation().z());
+      dJointSetHingeAxis(hinge, axis.x(), axis.y(), axis.z());
+      dJointSetHingeParam(hinge, dParamLoStop, robot.joints[link.joint].lower);
+      dJointSetHingeParam(hinge, dParamHiStop, robot.joints[link.joint].upper);
+      dJointSetHingeParam(hinge, dParamFMax, robot.arm_actuator.effort_limit);
+      motors.push_back({hinge, link.joint});
+    }
+    for (const kinematics::LinkShape& link_shape : robot.shapes) {
+      const LinkRole role = link_role[link_shape.link];
+      if (role == LinkRole::kNeck) continue;
+      dGeomID geom = CreateGeom(space, link_shape.shape);
+      Tag(geom, Material::kRobot, kRobotBit, kObjectBit | kStaticBit);
+      const RigidTransform X_WS = X_WB * X_BL[link_shape.link] * link_shape.X_LS;
+      if (role == LinkRole::kStatic) {
+        SetStaticGeomPose(geom, X_WS);
+        continue;
+      }
+      const int owner = link_body_link[link_shape.link];
+      dGeomSetBody(geom, link_body[owner]);
+      SetGeomOffset(geom, (X_WB * X_BL[owner]).inverse() * X_WS);
+    }
+    for (Side side : kinematics::kSides) BuildGripper(side, X_WB);
+  }
+
+  void BuildGripper(Side side, const RigidTransform& X_WB) {
+    const RobotModel& robot = model.robot;
+    const kinematics::GripperSpec& g = robot.gripper;
+    const int ik_link = robot.arm(side).ik_link;
+    const int owner = link_body_link[ik_link];
+    const int s = kinematics::Index(side);
+    palm_body[s] = link_body[owner];
+    X_BodyIk[s] = X_BL[owner].inverse() * X_BL[ik_link];
+    const RigidTransform X_WIk = X_WB * X_BL[ik_link];
+
+    dGeomID housing = CreateGeom(space, {ShapeKind::kBox, g.housing_size});
+    Tag(housing, Material::kRobot, kRobotBit, kObjectBit | kStaticBit);
+    dGeomSetBody(housing, palm_body[s]);
+    SetGeomOffset(housing, X_BodyIk[s] * MakeTransform(g.housing_center, Mat3::Identity()));
+
+    const double pad_thickness = std::abs(g.pad_size.dot(g.closing_axis));
+    const double travel = 0.5 * (g.open_gap - g.closed_gap);
+    for (int f = 0; f < 2; ++f) {
+      const double sign = f == 0 ? 1.0 : -1.0;
+      const Vec3 centre_ik = g.pad_center + sign * (0.5 * g.open_gap + 0.5 * pad_thickness) * g.closing_axis;
+      const RigidTransform X_WF = X_WIk * MakeTransform(centre_ik, Mat3::Identity());
+      Finger& finger = fingers[s][f];
+      finger.body = NewBody();
+      SetMass(finger.body, {ShapeKind::kBox, g.pad_size}, g.finger_mass);
+      dBodySetGravityMode(finger.body, 0);
+      SetBodyPose(finger.body, X_WF);
+      dGeomID pad = CreateGeom(space, {ShapeKind::kBox, g.pad_size});
+      Tag(pad, Material::kFingerPad, kRobotBit, kObjectBit | kStaticBit);
+      dGeomSetBody(pad, finger.body);
+      finger.X_PF_open = BodyPose(palm_body[s]).inverse() * X_WF;
+      // A slider motor moves body1 along the axis relative to body2: (finger, palm), axis
+      // pointing inward, so positive positions close the gripper.
+      finger.slider = dJointCreateSlider(world, nullptr);
+      dJointAttach(finger.slider, finger.body, palm_body[s]);
+      const Vec3 inward = -sign * (X_WIk.linear() * g.closing_axis);
+      dJointSetSliderAxis(finger.slider, inward.x(), inward.y(), inward.z());
+      dJointSetSliderParam(finger.slider, dParamLoStop, 0.0);
+      dJointSetSliderParam(finger.slider, dParamHiStop, travel);
+      dJointSetSliderParam(finger.slider, dParamFMax, g.max_force);
+    }
+  }
+
+  void BuildObjects() {
+    for (const ObjectSpec& spec : model.objects) {
+      dBodyID body = NewBody();
+      SetMass(body, spec.shape, spec.mass);
+      dGeomID geom = CreateGeom(space, spec.shape);
+      Tag(geom, spec.material, kObjectBit, kRobotBit | kObjectBit | kStaticBit);
+      dGeomSetBody(geom, body);
+      dBodyDisable(body);
+      dGeomDisable(geom);
+      object_body.push_back(body);
+      object_geom.push_back(geom);
+    }
+  }
+
+  void BuildStaticScene() {
+    for (const StaticPart& part : model.static_parts) {
+      if (!part.collides) continue;
+      dGeomID geom = CreateGeom(space, part.shape);
+      Tag(geom, part.material, kStaticBit, kRobotBit | kObjectBit);
+      SetStaticGeomPose(geom, part.X_WS);
+    }
+    dGeomID ground = dCreatePlane(space, 0, 0, 1, 0);
+    Tag(ground, Material::kDefault, kStaticBit, kRobotBit | kObjectBit);
+  }
+
+  static void NearCallback(void* data, dGeomID a, dGeomID b) {
+    static_cast<Impl*>(data)->Collide(a, b);
+  }
+
+  void Collide(dGeomID a, dGeomID b) {
+    dBodyID body_a = dGeomGetBody(a);
+    dBodyID body_b = dGeomGetBody(b);
+    if (body_a == nullptr && body_b == nullptr) return;
+    constexpr int kMaxContacts = 8;
+    dContactGeom contact_geoms[kMaxContacts];
+    const int max_contacts = std::min(kMaxContacts, model.physics.max_contacts_per_pair);
+    const int n = dCollide(a, b, max_contacts, contact_geoms, sizeof(dContactGeom));
+    if (n == 0) return;
+    const auto* info_a = static_cast<const GeomInfo*>(dGeomGetData(a));
+    const auto* info_b = static_cast<const GeomInfo*>(dGeomGetData(b));
+    const double mu = 0.5 * (materials.Friction(info_a->material) + materials.Friction(info_b->material));
+    for (int i = 0; i < n; ++i) {
+      dContact contact{};
+      contact.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+      contact.surface.mu = mu;
+      contact.surface.soft_erp = model.physics.contact_erp;
+      contact.surface.soft_cfm = model.physics.contact_cfm;
+      contact.geom = contact_geoms[i];
+      dJointID joint = dJointCreateContact(world, contacts, &contact);
+      dJointAttach(joint, body_a, body_b);
+    }
+  }
+
+  bool BodiesAreSane() const {
+    const double max_linear = model.physics.runaway_linear_speed;
+    const double max_angular = model.physics.runaway_angular_speed;
+    for (dBodyID body : all_bodies) {
+      const dReal* p = dBodyGetPosition(body);
+      const dReal* v = dBodyGetLinearVel(body);
+      const dReal* w = dBodyGetAngularVel(body);
+      const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      const double spin = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+      if (!std::isfinite(p[0] + p[1] + p[2]) || !(speed < max_linear) || !(spin < max_angular)) return false;
+    }
+    return true;
+  }
+};
+
+PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Impl>(model, 0)) {
+  EnsureOdeReadyOnThisThread();
+  Impl& s = *impl_;
+  s.world = dWorldCreate();
+  dWorldSetGravity(s.world, 0, 0, model.physics.gravity);
+  dWorldSetQuickStepNumIterations(s.world, model.physics.solver_iterations);
+  dWorldSetContactSurfaceLayer(s.world, 0.0005);
+  dWorldSetContactMaxCorrectingVel(s.world, 1.0);
+  s.threading = dThreadingAllocateSelfThreadedImplementation();
+  dWorldSetStepThreadingImplementation(s.world, dThreadingImplementationGetFunctions(s.threading), s.threading);
+  s.space = dSimpleSpaceCreate(nullptr);
+  s.contacts = dJointGroupCreate(0);
+  // Every geom gets one info record; reserving keeps their addresses stable for dGeomSetData.
+  s.geom_infos.reserve(model.robot.shapes.size() + 6 + model.objects.size() + model.static_parts.size() + 1);
+  s.ClassifyLinks();
+  s.BuildRobot();
+  s.BuildObjects();
+  s.BuildStaticScene();
+}
+
+PhysicsWorld::~PhysicsWorld() {
+  EnsureOdeReadyOnThisThread();
+  dJointGroupDestroy(impl_->contacts);
+  dSpaceDestroy(impl_->space);
+  dWorldDestroy(impl_->world);
+  dThreadingFreeImplementation(impl_->threading);
+}
+
+void PhysicsWorld::ResetRobot(const double* q, uint32_t solver_seed) {
+  Impl& s = *impl_;
+  s.random_seed = solver_seed;
+  const RobotModel& robot = s.model.robot;
+  const RigidTransform X_WB = MakeTransform(robot.root_world, Mat3::Identity());
+  kinematics::ComputeLinkPoses(robot, q, s.X_BL.data());
+  for (int i = 0; i < robot.num_links(); ++i) {
+    if (s.link_body[i] != nullptr) SetBodyPose(s.link_body[i], X_WB * s.X_BL[i]);
+  }
+  for (int side = 0; side < 2; ++side) {
+    const RigidTransform X_WP = BodyPose(s.palm_body[side]);
+    for (Finger& finger : s.fingers[side]) SetBodyPose(finger.body, X_WP * finger.X_PF_open);
+  }
+  dJointGroupEmpty(s.contacts);
+}
+
+void PhysicsWorld::SetObject(int object, const Vec3& position, const Quat& orientation, bool enabled) {
+  Impl& s = *impl_;
+  dBodyID body = s.object_body[object];
+  SetBodyPose(body, MakeTransform(position, orientation.normalized().toRotationMatrix()));
+  if (enabled) {
+    dBodyEnable(body);
+    dGeomEnable(s.object_geom[object]);
+  } else {
+    dBodyDisable(body);
+    dGeomDisable(s.object_geom[object]);
+  }
+}
+
+bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gripper_command, int substeps) {
+  Impl& s = *impl_;
+  EnsureOdeReadyOnThisThread();
+  const RobotModel& robot = s.model.robot;
+  const double dt = 1.0 / s.model.physics.substep_hz;
+  const kinematics::GripperSpec& g = robot.gripper;
+  const double travel = 0.5 * (g.open_gap - g.closed_gap);
+  const uint32_t outer_seed = ExchangeOdeRandomSeed(s.random_seed);
+  bool sane = true;
+  for (int step = 0; step < substeps && sane; ++step) {
+    // Joint-space servo: the motor's velocity target is proportional to the position error,
+    // bounded by the joint velocity limit; the motor force is bounded by the effort limit.
+    for (const ArmJointMotor& motor : s.motors) {
+      const double error = q_target[motor.joint_index] - dJointGetHingeAngle(motor.joint);
+      const double velocity = std::clamp(robot.arm_actuator.position_gain * error,
+                                         -robot.arm_actuator.velocity_limit, robot.arm_actuator.velocity_limit);
+      dJointSetHingeParam(motor.joint, dParamVel, velocity);
+    }
+    for (int side = 0; side < 2; ++side) {
+      const double closing = 0.5 * (std::clamp(gripper_command[side], -1.0, 1.0) + 1.0) * travel;
+      for (Finger& finger : s.fingers[side]) {
+        const double error = closing - dJointGetSliderPosition(finger.slider);
+        dJointSetSliderParam(finger.slider, dParamVel, std::clamp(40.0 * error, -g.max_speed, g.max_speed));
+      }
+    }
+    dSpaceCollide(s.space, &s, &Impl::NearCallback);
+    dWorldQuickStep(s.world, dt);
+    dJointGroupEmpty(s.contacts);
+    sane = s.BodiesAreSane();
+  }
+  s.random_seed = ExchangeOdeRandomSeed(outer_seed);
+  return sane;
+}
+
+void PhysicsWorld::ReadState(double* q, double* gripper_gap, double* object_pose, double* object_velocity) const {
+  const Impl& s = *impl_;
+  for (const ArmJointMotor& motor : s.motors) q[motor.joint_index] = dJointGetHingeAngle(motor.joint);
+  const kinematics::GripperSpec& g = s.model.robot.gripper;
+  for (int side = 0; side < 2; ++side) {
+    gripper_gap[side] = g.open_gap - dJointGetSliderPosition(s.fingers[side][0].slider) -
+                        dJointGetSliderPosition(s.fingers[side][1].slider);
+  }
+  for (size_t i = 0; i < s.object_body.size(); ++i) {
+    const dReal* p = dBodyGetPosition(s.object_body[i]);
+    const dReal* r = dBodyGetQuaternion(s.object_body[i]);
+    const dReal* v = dBodyGetLinearVel(s.object_body[i]);
+    const dReal* w = dBodyGetAngularVel(s.object_body[i]);
+    double* pose = object_pose + i * kObjectPoseSize;
+    double* velocity = object_velocity + i * kObjectVelocitySize;
+    for (int k = 0; k < 3; ++k) {
+      pose[k] = p[k];
+      velocity[k] = v[k];
+      velocity[3 + k] = w[k];
+    }
+    for (int k = 0; k < 4; ++k) pose[3 + k] = r[k];
+  }
+}
+
+void PhysicsWorld::SetFriction(Material material, double friction) { impl_->materials.Friction(material) = friction; }
+
+}  // namespace tavis::engine

@@ -1,0 +1,72 @@
+// The immutable description shared by all envs of a batch: robot, movable objects, static
+// scene parts, contact materials and clock rates. Scenarios fill it once (Layout); the step
+// only reads it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "kinematics/robot_model.h"
+#include "kinematics/shape.h"
+
+namespace tavis::engine {
+
+// Contact material: the friction of a pair is the average of both (PhysX's default combine).
+enum class Material : int { kDefault = 0, kTable, kObject, kFingerPad, kRobot, kCount };
+
+struct MaterialTable {
+  double friction[static_cast<int>(Material::kCount)] = {0.5, 0.5, 0.5, 1.0, 0.5};
+  double Friction(Material m) const { return friction[static_cast<int>(m)]; }
+  double& Friction(Material m) { return friction[static_cast<int>(m)]; }
+};
+
+// A movable rigid object (YCB stand-in or task primitive).
+struct ObjectSpec {
+  std::string name;
+  Shape shape;
+  double mass = 0.0;
+  Material material = Material::kObject;
+  std::string appearance;  // palette name used by the renderer
+};
+
+// A static part of the scene (table top, screen, shelf board): collides, never moves.
+struct StaticPart {
+  std::string name;
+  Shape shape;
+  RigidTransform X_WS = RigidTransform::Identity();
+  Material material = Material::kTable;
+  std::string appearance;
+  bool collides = true;  // cue cards and lights are visual only
+};
+
+struct PhysicsSettings {
+  double substep_hz = 240.0;
+  double control_hz = 60.0;
+  double policy_hz = 20.0;
+  double episode_length_s = 20.0;
+  double gravity = -9.81;
+  int solver_iterations = 40;
+  double contact_erp = 0.2;
+  double contact_cfm = 1e-5;
+  int max_contacts_per_pair = 6;
+  // Speeds above these mark an env as blown up (failed with a reason, then reset).
+  double runaway_linear_speed = 20.0;
+  double runaway_angular_speed = 200.0;
+
+  int substeps_per_control() const { return static_cast<int>(substep_hz / control_hz + 0.5); }
+  int controls_per_policy() const { return static_cast<int>(control_hz / policy_hz + 0.5); }
+  int max_control_steps() const { return static_cast<int>(episode_length_s * control_hz + 0.5); }
+};
+
+struct WorldModel {
+  kinematics::RobotModel robot;
+  std::vector<ObjectSpec> objects;
+  std::vector<StaticPart> static_parts;
+  MaterialTable materials;
+  PhysicsSettings physics;
+
+  int num_objects() const { return static_cast<int>(objects.size()); }
+  int ObjectIndex(const std::string& name) const;  // throws std::out_of_range naming it
+};
+
+}  // namespace tavis::engine

@@ -1,0 +1,84 @@
+#include "scenarios/clutter_pick_cube.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "engine/object_catalog.h"
+#include "scenarios/object_placement.h"
+#include "scenarios/pick_expert.h"
+
+namespace tavis::scenarios {
+namespace {
+
+constexpr int kRedCube = 5;  // index in the world's object list, after the five YCB objects
+constexpr int kTargetVar = 0;
+constexpr double kSuccessHeight = 1.2;
+constexpr double kSuccessMaxSpeed = 1.0;
+
+void Layout(engine::WorldModel& model) {
+  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  model.objects.push_back(engine::MakeCatalogObject("red_cube"));
+  model.static_parts.push_back(engine::MakeTable());
+}
+
+PlacementRanges RangesFor(Split split) {
+  PlacementRanges ranges;
+  const bool wide = split == Split::kOodSpatial;
+  ranges.x = wide ? Range{0.30, 0.50} : Range{0.35, 0.45};
+  ranges.y = wide ? Range{-0.35, 0.35} : Range{-0.25, 0.25};
+  ranges.z = {1.1, 1.1};
+  ranges.roll = {-1.5708, -1.5708};
+  ranges.pitch = {0.0, 0.0};
+  ranges.yaw = {-3.14159, 3.14159};
+  ranges.min_separation = wide ? 0.05 : 0.10;
+  return ranges;
+}
+
+void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
+  engine::RandomStream& rng = state.task_rng[env];
+  const std::vector<Placement> placements = SampleSeparatedPlacements(RangesFor(split), model.num_objects(), rng);
+  // sample_trial: random.sample(TAVIS_HEAD_OBJECT_NAMES, 4); the one left out is hidden. The
+  // hidden object's sampled pose still constrained the others, as in the reference.
+  std::vector<int> order(engine::TavisHeadObjectNames().size());
+  std::iota(order.begin(), order.end(), 0);
+  for (int i = 0; i < 4; ++i) std::swap(order[i], order[i + rng.UniformInt(static_cast<int>(order.size()) - i)]);
+  const int hidden = order[4];
+  for (int object = 0; object < model.num_objects(); ++object) {
+    double* pose = state.object_pose_row(env, object);
+    const Quat q = QuatFromYaw(placements[object].yaw);
+    const Vec3& p = placements[object].position;
+    const double values[engine::kObjectPoseSize] = {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()};
+    std::copy(values, values + engine::kObjectPoseSize, pose);
+    state.object_enabled_at(env, object) = object != hidden;
+  }
+  state.task_vars_row(env)[kTargetVar] = kRedCube;
+}
+
+bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
+  return state.ObjectPosition(env, kRedCube).z() > kSuccessHeight &&
+         state.ObjectLinearVelocity(env, kRedCube).norm() < kSuccessMaxSpeed;
+}
+
+std::string Prompt(const engine::BatchState&, int) { return "Find the red cube and pick it up."; }
+
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings = PickSettingsFor(model.robot);
+  settings.target_task_var = kTargetVar;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
+}  // namespace
+
+ScenarioDef ClutterPickCube() {
+  ScenarioDef def;
+  def.name = "clutter-pick-cube";
+  def.suite = "tavis-head";
+  def.layout = &Layout;
+  def.reset = &Reset;
+  def.evaluate = &Evaluate;
+  def.prompt = &Prompt;
+  def.make_expert = &MakeExpert;
+  return def;
+}
+
+}  // namespace tavis::scenarios

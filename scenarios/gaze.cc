@@ -1,0 +1,65 @@
+#include "scenarios/gaze.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "kinematics/forward_kinematics.h"
+
+namespace tavis::scenarios {
+namespace {
+
+// Direction to the target in the head camera frame (x forward, y left, z up).
+Vec3 TargetInCamera(const kinematics::RobotModel& robot, const std::vector<double>& q, const Vec3& target_world) {
+  std::vector<RigidTransform> X_BL(robot.links.size());
+  kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+  const RigidTransform X_BC = kinematics::CameraPose(robot, robot.CameraIndex("head"), X_BL.data());
+  return X_BC.inverse() * (target_world - robot.root_world);
+}
+
+// Horizontal and vertical angular offsets of the target from the optical axis.
+Eigen::Vector2d AngularOffsets(const Vec3& t) {
+  return Eigen::Vector2d(std::atan2(t.y(), t.x()), std::atan2(t.z(), std::hypot(t.x(), t.y())));
+}
+
+}  // namespace
+
+std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q_in,
+                                         const Vec3& target_world) {
+  std::vector<double> q(q_in, q_in + robot.num_joints());
+  const int roll = robot.neck_joints[0];
+  const int pitch = robot.neck_joints[1];
+  const int yaw = robot.neck_joints[2];
+  q[roll] = 0.0;
+  auto clamp_to_limits = [&](int joint) {
+    q[joint] = std::clamp(q[joint], robot.joints[joint].lower, robot.joints[joint].upper);
+  };
+  // Gauss-Newton on (yaw, pitch) with a finite-difference Jacobian: the head chain is short and
+  // the camera's mount offset makes a closed form awkward.
+  for (int iteration = 0; iteration < 12; ++iteration) {
+    const Eigen::Vector2d offsets = AngularOffsets(TargetInCamera(robot, q, target_world));
+    if (offsets.norm() < 1e-5) break;
+    Eigen::Matrix2d J;
+    const double h = 1e-5;
+    const int joints[2] = {yaw, pitch};
+    for (int c = 0; c < 2; ++c) {
+      std::vector<double> q_h = q;
+      q_h[joints[c]] += h;
+      J.col(c) = (AngularOffsets(TargetInCamera(robot, q_h, target_world)) - offsets) / h;
+    }
+    const Eigen::Vector2d step = J.colPivHouseholderQr().solve(-offsets);
+    q[yaw] += step[0];
+    q[pitch] += step[1];
+    clamp_to_limits(yaw);
+    clamp_to_limits(pitch);
+  }
+  return {0.0, q[pitch], q[yaw]};
+}
+
+double GazeError(const kinematics::RobotModel& robot, const double* q_in, const Vec3& target_world) {
+  const std::vector<double> q(q_in, q_in + robot.num_joints());
+  const Vec3 t = TargetInCamera(robot, q, target_world);
+  return std::acos(std::clamp(t.normalized().x(), -1.0, 1.0));
+}
+
+}  // namespace tavis::scenarios

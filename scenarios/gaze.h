@@ -1,0 +1,19 @@
+// Where to point the head: the neck angles that put a world point on the head camera's
+// optical axis.
+#pragma once
+
+#include <array>
+
+#include "kinematics/robot_model.h"
+
+namespace tavis::scenarios {
+
+// Neck (roll, pitch, yaw) with roll 0 that centres `target_world` in the head camera, within
+// the neck's joint limits. `q` supplies the other joints (they do not affect the head).
+std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q,
+                                         const Vec3& target_world);
+
+// Angle (rad) between the head camera's optical axis and the direction to `target_world`.
+double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world);
+
+}  // namespace tavis::scenarios

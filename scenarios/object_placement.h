@@ -1,0 +1,32 @@
+// IsaacLab's randomize_object_pose rejection sampler (reference 4.3), on the episode's stream.
+#pragma once
+
+#include <vector>
+
+#include "engine/random.h"
+#include "kinematics/pose.h"
+
+namespace tavis::scenarios {
+
+struct Range {
+  double low = 0.0;
+  double high = 0.0;
+};
+
+struct PlacementRanges {
+  Range x, y, z, roll, pitch, yaw;
+  double min_separation = 0.0;
+};
+
+struct Placement {
+  Vec3 position = Vec3::Zero();
+  double yaw = 0.0;  // roll and pitch are drawn (to keep the draw order) but our primitives are z-up
+};
+
+// For each of `count` objects in order, up to 5000 tries: draw x, y, z, roll, pitch, yaw (all
+// six, even for constant ranges); accept the first object, the last try, or a pose whose 3-D
+// distance to every accepted one is strictly greater than min_separation.
+std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, int count,
+                                                 engine::RandomStream& rng);
+
+}  // namespace tavis::scenarios

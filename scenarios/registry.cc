@@ -1,0 +1,25 @@
+#include "scenarios/registry.h"
+
+#include <stdexcept>
+
+#include "scenarios/clutter_pick_cube.h"
+
+namespace tavis::scenarios {
+
+const std::vector<ScenarioDef>& AllScenarios() {
+  static const std::vector<ScenarioDef> scenarios = {
+      ClutterPickCube(),
+  };
+  return scenarios;
+}
+
+const ScenarioDef& FindScenario(const std::string& name) {
+  std::string known;
+  for (const ScenarioDef& scenario : AllScenarios()) {
+    if (scenario.name == name) return scenario;
+    known += (known.empty() ? "" : ", ") + scenario.name;
+  }
+  throw std::invalid_argument("unknown task '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace tavis::scenarios

@@ -1,0 +1,15 @@
+// Evaluation splits (reference 3, 7.3). New axes are new entries, not booleans.
+#pragma once
+
+#include <string>
+
+namespace tavis::scenarios {
+
+enum class Split { kId, kOodSpatial, kOodInitPose };
+
+// Accepts "id", "ood-spatial", "ood-init-pose" (and the reference's underscore spellings);
+// throws std::invalid_argument naming the value and the accepted ones.
+Split ParseSplit(const std::string& text);
+const char* ToString(Split split);
+
+}  // namespace tavis::scenarios
