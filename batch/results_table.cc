@@ -277,6 +277,19 @@ std::string FormatMarkdown(const ResultsTable& table, bool with_intervals) {
     }
     out << "\n";
   }
+  // The suite means of a column without every task are easy to misread: name those columns.
+  std::string incomplete;
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    const auto evaluated = std::count_if(table.cells.begin(), table.cells.end(),
+                                         [c](const auto& row) { return row[c].has_value(); });
+    if (static_cast<std::size_t>(evaluated) == table.tasks.size()) continue;
+    incomplete += (incomplete.empty() ? "" : "; ") + table.columns[c].label() + " (" +
+                  std::to_string(evaluated) + " of " + std::to_string(table.tasks.size()) +
+                  " tasks)";
+  }
+  if (!incomplete.empty()) {
+    out << "\nSuite means over the evaluated tasks only: " << incomplete << ".\n";
+  }
   return out.str();
 }
 

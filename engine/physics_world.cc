@@ -7,7 +7,6 @@
 #include <ode/ode.h>
 
 #include "engine/batch_state.h"
-#include "engine/convex_prism.h"
 #include "engine/ode_runtime.h"
 #include "kinematics/forward_kinematics.h"
 
@@ -18,8 +17,6 @@ using kinematics::RobotModel;
 using kinematics::Side;
 
 // Collision categories: the robot does not collide with itself (reference: self-collisions off).
-constexpr int kPrismSides = 16;
-
 enum CategoryBits : unsigned long { kRobotBit = 1, kObjectBit = 2, kStaticBit = 4 };
 
 struct GeomInfo {
@@ -104,7 +101,6 @@ struct PhysicsWorld::Impl {
   std::vector<dBodyID> object_body;
   std::vector<dGeomID> object_geom;
   std::vector<dBodyID> all_bodies;
-  std::vector<std::unique_ptr<ConvexPrism>> prisms;
   std::vector<GeomInfo> geom_infos;  // stable storage: reserved up front, never reallocated
   std::vector<RigidTransform> X_BL;  // FK scratch
 
@@ -115,15 +111,17 @@ struct PhysicsWorld::Impl {
 
   Impl(const WorldModel& m, uint32_t seed) : model(m), random_seed(seed), materials(m.materials) {}
 
-  // ODE capsules take (radius, length) along their local z axis, as Shape does; cylinders
-  // become convex prisms (convex_prism.h).
+  // ODE capsules take (radius, length) along their local z axis, as Shape does. Cylinders
+  // collide as boxes: Debian's ODE has no libccd, its cylinder-box test asserts on parallel
+  // axes (an upright can on a table), and its convex-polytope tests produced NaNs in our
+  // grasps (docs/fidelity.md).
   dGeomID CreateGeom(dSpaceID geom_space, const Shape& shape) {
     switch (shape.kind) {
       case ShapeKind::kBox: return dCreateBox(geom_space, shape.size.x(), shape.size.y(), shape.size.z());
       case ShapeKind::kCylinder: {
-        prisms.push_back(std::make_unique<ConvexPrism>(MakeCylinderPrism(shape.Radius(), shape.Length(), kPrismSides)));
-        const ConvexPrism& p = *prisms.back();
-        return dCreateConvex(geom_space, p.planes.data(), p.face_count, p.points.data(), p.point_count, p.polygons.data());
+        // The circumscribed square prism: see the note above.
+        const double side = 2.0 * shape.Radius();
+        return dCreateBox(geom_space, side, side, shape.Length());
       }
       case ShapeKind::kCapsule: return dCreateCapsule(geom_space, shape.Radius(), shape.Length());
       case ShapeKind::kSphere: return dCreateSphere(geom_space, shape.Radius());
@@ -234,7 +232,11 @@ struct PhysicsWorld::Impl {
       const RigidTransform X_WF = X_WIk * MakeTransform(centre_ik, Mat3::Identity());
       Finger& finger = fingers[s][f];
       finger.body = NewBody();
-      SetMass(finger.body, {ShapeKind::kBox, g.pad_size}, g.finger_mass);
+      // Sphere-like inertia, as for the links: a pad's true inertia is tiny next to the arm's,
+      // and that ratio stalls the iterative solver (the fingers chatter).
+      dMass finger_mass;
+      dMassSetSphereTotal(&finger_mass, g.finger_mass, 0.05);
+      dBodySetMass(finger.body, &finger_mass);
       dBodySetGravityMode(finger.body, 0);
       SetBodyPose(finger.body, X_WF);
       dGeomID pad = CreateGeom(space, {ShapeKind::kBox, g.pad_size});

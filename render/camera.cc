@@ -48,6 +48,22 @@ void ValidateCamera(const CameraSpec& camera) {
     fail("far_m", camera.far_m, "must be finite and beyond near_m");
 }
 
+RigidTransform CameraLookAt(const Vec3& eye, const Vec3& target, const Vec3& up) {
+  const Vec3 view = target - eye;
+  const Vec3 side = up.cross(view);
+  if (!view.allFinite() || view.norm() < 1e-9 || side.norm() < 1e-9 * view.norm()) {
+    std::ostringstream message;
+    message << "CameraLookAt: eye (" << eye.transpose() << "), target (" << target.transpose() << ") and up ("
+            << up.transpose() << ") do not define a view";
+    throw std::invalid_argument(message.str());
+  }
+  Mat3 R;
+  R.col(0) = view.normalized();               // forward
+  R.col(1) = side.normalized();               // image-left
+  R.col(2) = R.col(0).cross(R.col(1));        // image-up
+  return MakeTransform(eye, R);
+}
+
 namespace {
 
 CameraSpec MakeSpec(const std::string& name, int width, int height, double focal_mm, double near_m, double far_m) {

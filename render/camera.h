@@ -51,6 +51,10 @@ bool IsVisibleInImage(const CameraSpec& camera, const PixelProjection& projectio
 // resolution, focal length or aperture, near <= 0, far <= near, or a non-finite number.
 void ValidateCamera(const CameraSpec& camera);
 
+// Camera pose at `eye` looking at `target` with image-up as close as possible to `up`. Throws
+// std::invalid_argument when eye == target or the view direction is parallel to `up`.
+RigidTransform CameraLookAt(const Vec3& eye, const Vec3& target, const Vec3& up = Vec3::UnitZ());
+
 // The reference benchmark's cameras at any resolution (640x480 in the reference).
 CameraSpec HeadCameraSpec(int width = 640, int height = 480);   // 15 mm, clip 0.15-10 m
 CameraSpec WristCameraSpec(const std::string& name, int width = 640,

@@ -149,7 +149,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       RigidTransform lifted = hand;
       lifted.translation().z() = settings_.lift_to_z - model.robot.root_world.z() - model.robot.canonical_offset.z() -
                                  (hand.linear() * model.robot.gripper.tcp).z();
-      MoveToward(hand, lifted, settings_.hand_speed * dt, settings_.hand_turn_speed * dt);
+      MoveToward(hand, lifted, settings_.descend_speed * dt, settings_.hand_turn_speed * dt);
       break;
     }
   }

@@ -16,7 +16,7 @@ struct PickExpertSettings {
   double grasp_tilt = 0.0;           // rad: approach tilted forward from vertical
   double grasp_height = 0.0;         // m: TCP above the object's centre at the grasp
   double approach_height = 0.10;     // m: pre-grasp above the grasp
-  double lift_to_z = 1.32;           // m: world height of the TCP after lifting
+  double lift_to_z = 1.26;           // m: world height of the TCP after lifting (success: 1.2)
   double hand_speed = 0.30;          // m/s
   double descend_speed = 0.15;       // m/s
   double hand_turn_speed = 1.5;      // rad/s

@@ -1,4 +1,6 @@
 // `tavis galt`: the GALT detector on commanded-action CSV files, one JSON object per line.
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -16,12 +18,12 @@ namespace {
 
 constexpr const char* kFormatHelp = R"(Input format:
   One CSV file per episode: one row per policy step (sampled at --fps), 19 comma-separated
-  numbers per row, the canonical action in canonical-frame coordinates:
+  numbers per row, the canonical action in canonical-frame coordinates (0-based columns):
     0-2   left end-effector target x, y, z (m)      3-6   left target quaternion w, x, y, z
     7-9   right end-effector target x, y, z (m)     10-13 right target quaternion w, x, y, z
     14-16 neck roll, pitch, yaw (rad)               17, 18 left, right gripper (-1 open, +1 closed)
-  An optional header row (no numeric field) may come first; blank lines are skipped.
-  Values must be finite numbers.
+  A gripper command >= 0 counts as closed. An optional header row (no numeric field) may come
+  first; blank lines are skipped. Values must be finite numbers.
 
 Output:
   One JSON object per file (per gripper event with --multi-event, with an "event" index) with
@@ -97,7 +99,15 @@ void RegisterGaltCommand(CLI::App& app) {
       "galt", "Gaze-Action Lead Time of commanded-action trajectories (CSV, T x 19)");
   command->add_option("--fps", options->fps, "Sampling rate of the rows in Hz (20 for policies)")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(
+          [](const std::string& text) -> std::string {
+            char* end = nullptr;
+            const double fps = std::strtod(text.c_str(), &end);
+            const bool positive = end != text.c_str() && *end == '\0' && fps > 0.0 &&
+                                  std::isfinite(fps);
+            return positive ? "" : "must be a positive number of rows per second, got " + text;
+          },
+          "POSITIVE");
   command->add_flag("--multi-event", options->multi_event,
                     "One result per gripper event of each arm instead of the latest event only");
   command->add_option("files", options->files, "CSV files, one episode each")->required();

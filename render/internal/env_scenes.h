@@ -1,0 +1,52 @@
+// One top-level Embree scene per env: an instance of the shared shape BVH for every InstanceSpec,
+// moved to the tick's pose, and the same poses in float for shading.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "render/internal/embree_device.h"
+#include "render/internal/shape_library.h"
+#include "render/render_inputs.h"
+
+namespace tavis::render::internal {
+
+// X_WI as a column-major 3x4 float matrix [R | t], the layout Embree reads.
+struct InstanceFrame {
+  float xfm[12];
+
+  Eigen::Vector3f ToLocal(const Eigen::Vector3f& p_W) const {
+    const Eigen::Vector3f d(p_W.x() - xfm[9], p_W.y() - xfm[10], p_W.z() - xfm[11]);
+    return {xfm[0] * d.x() + xfm[1] * d.y() + xfm[2] * d.z(), xfm[3] * d.x() + xfm[4] * d.y() + xfm[5] * d.z(),
+            xfm[6] * d.x() + xfm[7] * d.y() + xfm[8] * d.z()};
+  }
+  Eigen::Vector3f RotateToWorld(const Eigen::Vector3f& v) const {
+    return {xfm[0] * v.x() + xfm[3] * v.y() + xfm[6] * v.z(), xfm[1] * v.x() + xfm[4] * v.y() + xfm[7] * v.z(),
+            xfm[2] * v.x() + xfm[5] * v.y() + xfm[8] * v.z()};
+  }
+};
+
+class EnvScenes {
+ public:
+  EnvScenes(RTCDevice device, const ShapeLibrary& shapes, int n_envs, int n_instances);
+
+  // Sets env `env`'s instance poses and visibility from the inputs and commits its scene.
+  // Hidden instances and instances with a non-finite pose are left out of the scene.
+  void Update(int env, const RenderInputs& inputs);
+
+  RTCScene scene(int env) const { return scenes_[static_cast<std::size_t>(env)].get(); }
+  const InstanceFrame* frames(int env) const {
+    return frames_.data() + static_cast<std::size_t>(env) * static_cast<std::size_t>(n_instances_);
+  }
+
+ private:
+  int n_instances_;
+  std::vector<ScenePtr> scenes_;
+  std::vector<GeometryPtr> instances_;  // [env][instance]
+  std::vector<InstanceFrame> frames_;   // [env][instance]
+  std::vector<uint8_t> enabled_;        // [env][instance], mirrors Embree's enable state
+};
+
+}  // namespace tavis::render::internal

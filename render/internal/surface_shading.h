@@ -1,0 +1,101 @@
+// Per-instance surface model: smooth normals of the tessellated primitives, evaluated from the
+// exact shape, and the procedural labels. Everything is in the shape's local frame.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "render/internal/shape_mesh.h"
+#include "render/scene_layout.h"
+
+namespace tavis::render::internal {
+
+struct SurfaceModel {
+  ShapeKind kind = ShapeKind::kBox;
+  Eigen::Vector3f half_extents = Eigen::Vector3f::Zero();  // bounding box half sizes
+  float capsule_half_length = 0.0f;                         // half distance between sphere centres
+  float checker_cell = 0.0f;
+  uint32_t side_begin = 0;  // cylinder side triangles
+  uint32_t side_end = 0;
+  Appearance appearance;
+  int32_t object_id = kBackgroundObjectId;
+};
+
+SurfaceModel MakeSurfaceModel(const InstanceSpec& instance, const ShapeMesh& mesh);
+
+inline Eigen::Vector3f NormalizedOrUp(const Eigen::Vector3f& v) {
+  const float length = v.norm();
+  return length > 1e-12f ? Eigen::Vector3f(v / length) : Eigen::Vector3f::UnitZ();
+}
+
+// Outward unit normal of the exact shape at local point p on triangle `primitive` of its mesh.
+inline Eigen::Vector3f LocalNormal(const SurfaceModel& surface, const Eigen::Vector3f& p, uint32_t primitive) {
+  switch (surface.kind) {
+    case ShapeKind::kBox: {
+      const uint32_t face = primitive / 2;
+      Eigen::Vector3f n = Eigen::Vector3f::Zero();
+      n[kBoxFaceAxis[face]] = kBoxFaceSign[face];
+      return n;
+    }
+    case ShapeKind::kCylinder:
+      if (primitive >= surface.side_begin && primitive < surface.side_end) {
+        return NormalizedOrUp(Eigen::Vector3f(p.x(), p.y(), 0.0f));
+      }
+      return Eigen::Vector3f(0.0f, 0.0f, p.z() >= 0.0f ? 1.0f : -1.0f);
+    case ShapeKind::kCapsule: {
+      const float h = surface.capsule_half_length;
+      const float centre_z = std::fmax(-h, std::fmin(h, p.z()));
+      return NormalizedOrUp(Eigen::Vector3f(p.x(), p.y(), p.z() - centre_z));
+    }
+    case ShapeKind::kSphere:
+      return NormalizedOrUp(p);
+    case ShapeKind::kPlane:
+      return Eigen::Vector3f::UnitZ();
+  }
+  return Eigen::Vector3f::UnitZ();
+}
+
+// Position across a side face in [-1, 1]: the angle about z (over pi) on round shapes, the
+// horizontal face coordinate on boxes.
+inline float AcrossSide(const SurfaceModel& surface, const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+  if (surface.kind != ShapeKind::kBox) return std::atan2(p.y(), p.x()) * 0.318309886f;
+  return std::fabs(n.x()) > 0.5f ? p.y() / surface.half_extents.y() : p.x() / surface.half_extents.x();
+}
+
+inline bool InsideLabel(const SurfaceModel& surface, const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+  const LabelPattern label = surface.appearance.label;
+  if (label == LabelPattern::kChecker) {
+    const float c = surface.checker_cell;
+    const int parity = static_cast<int>(std::floor(p.x() / c) + std::floor(p.y() / c) + std::floor(p.z() / c));
+    return (parity & 1) != 0;
+  }
+  const bool cap = std::fabs(n.z()) > 0.7f;
+  if (label == LabelPattern::kCaps) return cap;
+  if (cap || surface.kind == ShapeKind::kPlane) return false;
+  const float height = p.z() / surface.half_extents.z();
+  switch (label) {
+    case LabelPattern::kBand:
+      return std::fabs(height) < 0.3f;
+    case LabelPattern::kStripes: {
+      const int stripe = static_cast<int>(std::floor((AcrossSide(surface, p, n) + 1.0f) * 4.0f));
+      return (stripe & 1) != 0;
+    }
+    case LabelPattern::kFrontPanel: {
+      const float across_limit = surface.kind == ShapeKind::kBox ? 0.6f : 0.25f;
+      return std::fabs(height) < 0.5f && std::fabs(AcrossSide(surface, p, n)) < across_limit;
+    }
+    default:
+      return false;
+  }
+}
+
+// Diffuse reflectance at p: the label colour inside the label, else `base_rgb`.
+inline Eigen::Vector3f Reflectance(const SurfaceModel& surface, const Eigen::Vector3f& base_rgb,
+                                   const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+  if (surface.appearance.label == LabelPattern::kNone) return base_rgb;
+  return InsideLabel(surface, p, n) ? surface.appearance.label_rgb : base_rgb;
+}
+
+}  // namespace tavis::render::internal

@@ -1,0 +1,87 @@
+#include "batch/action_csv.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+namespace tavis::batch {
+namespace {
+
+std::string Row(double first, double rest = 0.0) {
+  std::string row = std::to_string(first);
+  for (int column = 1; column < 19; ++column) row += "," + std::to_string(rest);
+  return row + "\n";
+}
+
+ActionTrajectory Parse(const std::string& text) {
+  std::istringstream in(text);
+  return ParseActionCsv(in, "episode.csv");
+}
+
+// The message of the error that parsing `text` throws.
+std::string ErrorOf(const std::string& text) {
+  try {
+    Parse(text);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ActionCsv, ReadsRowsWithOptionalHeaderAndBlankLines) {
+  std::string header = "left_x";
+  for (int column = 1; column < 19; ++column) header += ",c" + std::to_string(column);
+  const ActionTrajectory trajectory =
+      Parse(header + "\r\n" + Row(1.5, -1) + "\n" + " +2.5e-1 , 3" + Row(0).substr(17));
+  EXPECT_EQ(trajectory.num_steps, 2);
+  EXPECT_EQ(trajectory.num_columns, 19);
+  EXPECT_EQ(trajectory.view().at(0, 0), 1.5);
+  EXPECT_EQ(trajectory.view().at(0, 18), -1.0);
+  EXPECT_EQ(trajectory.view().at(1, 0), 0.25);
+  EXPECT_EQ(trajectory.view().at(1, 1), 3.0);
+}
+
+TEST(ActionCsv, ParsesLikePythonFloat) {
+  // 7 significant digits as in the conformance vectors; correctly rounded.
+  const ActionTrajectory trajectory = Parse("0.2644762" + Row(0).substr(8));
+  EXPECT_EQ(trajectory.values[0], 0.2644762);
+}
+
+TEST(ActionCsv, MalformedInputNamesFileAndLine) {
+  EXPECT_EQ(ErrorOf(Row(1) + "1,2,3\n"),
+            "episode.csv:2: expected 19 comma-separated values, found 3");
+  EXPECT_EQ(ErrorOf(Row(1) + Row(2) + "x" + Row(0).substr(8)),
+            "episode.csv:3: column 1: not a number: 'x'");
+  EXPECT_EQ(ErrorOf(Row(1) + "nan" + Row(0).substr(8)),
+            "episode.csv:2: column 1: non-finite or out-of-range value 'nan'");
+  EXPECT_EQ(ErrorOf("inf" + Row(0).substr(8)),
+            "episode.csv:1: column 1: non-finite or out-of-range value 'inf'");
+  EXPECT_EQ(ErrorOf("1e999" + Row(0).substr(8)),
+            "episode.csv:1: column 1: non-finite or out-of-range value '1e999'");
+  EXPECT_EQ(ErrorOf(Row(1) + "1,,2" + Row(0).substr(8)),
+            "episode.csv:2: expected 19 comma-separated values, found 21");
+  EXPECT_EQ(ErrorOf("0.5.1" + Row(0).substr(8)),
+            "episode.csv:1: column 1: not a number: '0.5.1'");
+  EXPECT_EQ(ErrorOf(""), "episode.csv: no data rows");
+  EXPECT_EQ(ErrorOf("\n\n"), "episode.csv: no data rows");
+}
+
+TEST(ActionCsv, HeaderOnlyCountsAsEmptyAndLaterHeadersAreErrors) {
+  std::string header = "a";
+  for (int column = 1; column < 19; ++column) header += ",b";
+  EXPECT_EQ(ErrorOf(header + "\n"), "episode.csv: no data rows");
+  EXPECT_EQ(ErrorOf(Row(1) + header + "\n"), "episode.csv:2: column 1: not a number: 'a'");
+}
+
+TEST(ActionCsv, MissingFileIsAnError) {
+  try {
+    ReadActionCsv("/nonexistent/episode.csv");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/episode.csv: no such file");
+  }
+}
+
+}  // namespace
+}  // namespace tavis::batch

@@ -1,0 +1,45 @@
+#include "batch/statistics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace tavis::batch {
+namespace {
+
+// Percent rounded to 0.1, as the paper prints intervals.
+double RoundedPercent(double fraction) { return std::round(fraction * 1000.0) / 10.0; }
+
+void ExpectInterval(int successes, int trials, double low_percent, double high_percent) {
+  const ProportionInterval interval = WilsonInterval(successes, trials);
+  EXPECT_DOUBLE_EQ(RoundedPercent(interval.low), low_percent) << successes << "/" << trials;
+  EXPECT_DOUBLE_EQ(RoundedPercent(interval.high), high_percent) << successes << "/" << trials;
+}
+
+// The paper's figures (reference spec 14): a cell, an empty cell, a pooled suite mean.
+TEST(WilsonInterval, MatchesThePaper) {
+  ExpectInterval(84, 96, 79.4, 92.7);
+  ExpectInterval(0, 96, 0.0, 3.8);
+  ExpectInterval(226, 480, 42.7, 51.6);
+}
+
+TEST(WilsonInterval, StaysInsideTheUnitIntervalAndContainsTheRate) {
+  for (int successes = 0; successes <= 20; ++successes) {
+    const ProportionInterval interval = WilsonInterval(successes, 20);
+    EXPECT_GE(interval.low, 0.0);
+    EXPECT_LE(interval.high, 1.0);
+    EXPECT_LE(interval.low, successes / 20.0);
+    EXPECT_GE(interval.high, successes / 20.0);
+  }
+  EXPECT_DOUBLE_EQ(WilsonInterval(20, 20).high, 1.0);
+}
+
+TEST(WilsonInterval, WiderZGivesAWiderInterval) {
+  const ProportionInterval z196 = WilsonInterval(30, 60);
+  const ProportionInterval z258 = WilsonInterval(30, 60, 2.576);
+  EXPECT_LT(z258.low, z196.low);
+  EXPECT_GT(z258.high, z196.high);
+}
+
+}  // namespace
+}  // namespace tavis::batch

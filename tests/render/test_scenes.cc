@@ -1,0 +1,124 @@
+#include "tests/render/test_scenes.h"
+
+#include <cmath>
+
+#include "render/palette.h"
+
+namespace tavis::render::testing {
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+RigidTransform At(double x, double y, double z, double yaw_deg = 0.0) {
+  return MakeTransform(Vec3(x, y, z), QuatFromYaw(yaw_deg * kDegToRad).toRotationMatrix());
+}
+
+}  // namespace
+
+void TestScene::Add(const ShapeGeometry& geometry, const Appearance& appearance, int32_t object_id,
+                    const RigidTransform& pose) {
+  layout.instances.push_back({geometry, appearance, object_id});
+  X_WI.push_back(pose);
+  instance_visible.push_back(1);
+}
+
+void TestScene::AddCamera(const CameraSpec& camera, const RigidTransform& pose) {
+  layout.cameras.push_back(camera);
+  X_WC.push_back(pose);
+  camera_enabled.push_back(1);
+}
+
+void TestScene::Replicate(int n) {
+  auto repeat = [n](auto* values) {
+    const auto first_env = *values;
+    for (int env = 1; env < n; ++env) values->insert(values->end(), first_env.begin(), first_env.end());
+  };
+  repeat(&X_WI);
+  repeat(&X_WC);
+  repeat(&instance_visible);
+  repeat(&camera_enabled);
+  n_envs = n;
+}
+
+RenderInputs TestScene::Inputs() const {
+  RenderInputs inputs;
+  inputs.X_WI = X_WI;
+  inputs.X_WC = X_WC;
+  inputs.instance_visible = instance_visible;
+  inputs.camera_enabled = camera_enabled;
+  return inputs;
+}
+
+RigidTransform PitchedHeadCameraPose(double pitch_deg) {
+  const Mat3 R = Eigen::AngleAxisd(pitch_deg * kDegToRad, Vec3::UnitY()).toRotationMatrix();
+  return MakeTransform(Vec3(0.105, 0.0, 1.454), R);
+}
+
+RigidTransform Gr1t2WristCameraPose(const RigidTransform& X_W_hand) {
+  const RigidTransform X_hand_camera =
+      MakeTransform(Vec3(0.15, 0.0, 0.05), QuatFromWxyz(0.4617486, 0.0, 0.8870108, 0.0).normalized().toRotationMatrix());
+  return X_W_hand * X_hand_camera;
+}
+
+TestScene GoldenScene(int width, int height) {
+  TestScene scene;
+  scene.Add(MakePlane(), PaletteAppearance("floor"), kBackgroundObjectId, RigidTransform::Identity());
+  const Appearance& table = PaletteAppearance("table");
+  scene.Add(MakeBox(Vec3(0.9, 1.2, 0.04)), table, kBackgroundObjectId, At(0.6, -0.1, 0.98));
+  for (const double x : {0.2, 1.0}) {
+    for (const double y : {-0.65, 0.45}) scene.Add(MakeBox(Vec3(0.05, 0.05, 0.96)), table, kBackgroundObjectId, At(x, y, 0.48));
+  }
+  scene.Add(MakeBox(Vec3::Constant(0.055)), PaletteAppearance("red_cube"), 0, At(0.45, 0.0, 1.0275, 20.0));
+  scene.Add(MakeCylinder(0.0248, 0.0758), PaletteAppearance("soup_can"), 1, At(0.42, 0.15, 1.0379));
+  RigidTransform capsule_pose = At(0.38, -0.16, 1.06, 30.0);
+  capsule_pose.rotate(Eigen::AngleAxisd(90.0 * kDegToRad, Vec3::UnitY()));
+  scene.Add(MakeCapsule(0.03, 0.16), PaletteAppearance("robot_link"), 2, capsule_pose);
+
+  scene.AddCamera(HeadCameraSpec(width, height), PitchedHeadCameraPose(45.0));
+  scene.AddCamera(FixedCameraSpec(width, height), FixedCameraPose());
+  scene.AddCamera(WristCameraSpec("left_wrist", width, height),
+                  CameraLookAt(Vec3(0.22, 0.25, 1.32), Vec3(0.45, 0.08, 1.0)));
+  scene.AddCamera(WristCameraSpec("right_wrist", width, height),
+                  CameraLookAt(Vec3(0.22, -0.25, 1.32), Vec3(0.45, -0.08, 1.0)));
+  return scene;
+}
+
+PixelBlob FindObject(const ImageBatch& images, int env, int camera, int32_t object_id) {
+  const int32_t* ids = images.object_id(env, camera);
+  PixelBlob blob;
+  double sum_u = 0.0;
+  double sum_v = 0.0;
+  for (int row = 0; row < images.height(camera); ++row) {
+    for (int column = 0; column < images.width(camera); ++column) {
+      if (ids[row * images.width(camera) + column] != object_id) continue;
+      ++blob.count;
+      sum_u += column + 0.5;
+      sum_v += row + 0.5;
+    }
+  }
+  if (blob.count > 0) {
+    blob.u = sum_u / static_cast<double>(blob.count);
+    blob.v = sum_v / static_cast<double>(blob.count);
+  }
+  return blob;
+}
+
+int Brightness(const ImageBatch& images, int env, int camera, double u, double v) {
+  const int column = static_cast<int>(std::floor(u));
+  const int row = static_cast<int>(std::floor(v));
+  const uint8_t* pixel = images.rgb(env, camera) + 3 * (row * images.width(camera) + column);
+  return pixel[0] + pixel[1] + pixel[2];
+}
+
+bool AllZero(const ImageBatch& images, int env, int camera) {
+  const uint8_t* rgb = images.rgb(env, camera);
+  const int64_t bytes = 3LL * images.width(camera) * images.height(camera);
+  for (int64_t i = 0; i < bytes; ++i) {
+    if (rgb[i] != 0) return false;
+  }
+  return true;
+}
+
+std::string GoldenDirectory() { return std::string(TAVIS_TEST_DATA_DIR) + "/golden"; }
+
+}  // namespace tavis::render::testing
