@@ -17,6 +17,8 @@ using kinematics::RobotModel;
 using kinematics::Side;
 
 // Collision categories: the robot does not collide with itself (reference: self-collisions off).
+constexpr double kPadContactRadius = 0.01;  // m, effective radius of a finger pad's contact
+
 enum CategoryBits : unsigned long { kRobotBit = 1, kObjectBit = 2, kStaticBit = 4 };
 
 struct GeomInfo {
@@ -193,11 +195,12 @@ struct PhysicsWorld::Impl {
       motors.push_back({hinge, link.joint});
     }
     for (const kinematics::LinkShape& link_shape : robot.shapes) {
-      const LinkRole role = link_role[link_shape.link];
+      const bool on_base = link_shape.link == kinematics::kBaseLink;
+      const LinkRole role = on_base ? LinkRole::kStatic : link_role[link_shape.link];
       if (role == LinkRole::kNeck) continue;
       dGeomID geom = CreateGeom(space, link_shape.shape);
       Tag(geom, Material::kRobot, kRobotBit, kObjectBit | kStaticBit);
-      const RigidTransform X_WS = X_WB * X_BL[link_shape.link] * link_shape.X_LS;
+      const RigidTransform X_WS = X_WB * (on_base ? link_shape.X_LS : X_BL[link_shape.link] * link_shape.X_LS);
       if (role == LinkRole::kStatic) {
         SetStaticGeomPose(geom, X_WS);
         continue;
@@ -296,9 +299,17 @@ struct PhysicsWorld::Impl {
     const auto* info_a = static_cast<const GeomInfo*>(dGeomGetData(a));
     const auto* info_b = static_cast<const GeomInfo*>(dGeomGetData(b));
     const double mu = 0.5 * (materials.Friction(info_a->material) + materials.Friction(info_b->material));
+    // Point contacts carry no torsional friction, so a held object would pivot about the line
+    // through its few pad contacts. A pad's area contact resists that twist: spinning friction
+    // over the pad's effective radius.
+    const bool pad_contact = info_a->material == Material::kFingerPad || info_b->material == Material::kFingerPad;
     for (int i = 0; i < n; ++i) {
       dContact contact{};
       contact.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+      if (pad_contact) {
+        contact.surface.mode |= dContactRolling;
+        contact.surface.rhoN = mu * kPadContactRadius;
+      }
       contact.surface.mu = mu;
       contact.surface.soft_erp = model.physics.contact_erp;
       contact.surface.soft_cfm = model.physics.contact_cfm;
@@ -406,7 +417,7 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
       }
     }
     dSpaceCollide(s.space, &s, &Impl::NearCallback);
-    dWorldQuickStep(s.world, dt);
+    dWorldStep(s.world, dt);
     dJointGroupEmpty(s.contacts);
     sane = s.BodiesAreSane();
   }

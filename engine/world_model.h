@@ -15,7 +15,7 @@ namespace tavis::engine {
 enum class Material : int { kDefault = 0, kTable, kObject, kFingerPad, kRobot, kCount };
 
 struct MaterialTable {
-  double friction[static_cast<int>(Material::kCount)] = {0.5, 0.5, 0.5, 1.0, 0.5};
+  double friction[static_cast<int>(Material::kCount)] = {0.5, 0.5, 0.5, 1.5, 0.5};
   double Friction(Material m) const { return friction[static_cast<int>(m)]; }
   double& Friction(Material m) { return friction[static_cast<int>(m)]; }
 };
@@ -47,7 +47,7 @@ struct PhysicsSettings {
   double gravity = -9.81;
   int solver_iterations = 40;
   double contact_erp = 0.2;
-  double contact_cfm = 1e-5;
+  double contact_cfm = 1e-6;
   int max_contacts_per_pair = 6;
   // Speeds above these mark an env as blown up (failed with a reason, then reset).
   double runaway_linear_speed = 20.0;

@@ -17,7 +17,7 @@ namespace tavis::kinematics {
 // joint about `axis`: X_PL(q) = origin * Rot(axis, q). Links are stored parents-first.
 struct Link {
   std::string name;
-  int parent = -1;  // -1: the robot's base link
+  int parent = -1;  // -1 (kBaseLink): the robot's base link
   RigidTransform origin = RigidTransform::Identity();
   int joint = -1;  // index into the joint vector, -1 for a fixed frame
   double mass = 0.0;
@@ -32,8 +32,11 @@ struct Joint {
   double default_position = 0.0;
 };
 
+// The robot's base link (root) is not in `links`; shapes and frames on it use this index.
+constexpr int kBaseLink = -1;
+
 struct LinkShape {
-  int link = -1;
+  int link = kBaseLink;
   Shape shape;
   RigidTransform X_LS = RigidTransform::Identity();  // shape frame in the link frame
 };

@@ -1,9 +1,10 @@
 // Batched Embree ray tracer: renders every camera of every env of a SceneLayout in one call.
 //
 // Per call: each env's instance scene is updated from the poses and committed once, then rays are
-// traced in coherent packets over (env x camera x 16x16 tile) work items with TBB. Primary hits
-// are shaded with a dome term plus one distant light whose visibility is a shadow-ray packet.
-// Results do not depend on the number of threads.
+// traced over (env x camera x 16x16-pixel tile) work items with TBB, in packets of 16 rays
+// (4x4 pixels; 8 rays, 4x2 pixels, on CPUs without AVX-512). Primary hits are shaded with a dome
+// term plus one distant light whose visibility is a shadow-ray packet. Results do not depend on
+// the number of threads.
 #pragma once
 
 #include <cstdint>

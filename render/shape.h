@@ -5,6 +5,7 @@
 #include <string>
 
 #include "kinematics/pose.h"
+#include "kinematics/shape.h"
 
 namespace tavis::render {
 
@@ -31,6 +32,9 @@ ShapeGeometry MakeCylinder(double radius, double height);
 ShapeGeometry MakeCapsule(double radius, double segment_length);
 ShapeGeometry MakeSphere(double radius);
 ShapeGeometry MakePlane();
+
+// The same primitive as the engine's collision shape (same size convention).
+ShapeGeometry ToShapeGeometry(const Shape& shape);
 
 const char* ShapeKindName(ShapeKind kind);
 

@@ -62,7 +62,7 @@ bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int en
 std::string Prompt(const engine::BatchState&, int) { return "Find the red cube and pick it up."; }
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
-  PickExpertSettings settings = PickSettingsFor(model.robot);
+  PickExpertSettings settings;
   settings.target_task_var = kTargetVar;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }

@@ -4,25 +4,13 @@
 #include <cmath>
 
 #include "kinematics/forward_kinematics.h"
+#include "scenarios/arm_planner.h"
 #include "scenarios/gaze.h"
 
 namespace tavis::scenarios {
 namespace {
 
 using kinematics::Side;
-
-// Moves `current` toward `goal` by at most max_step metres and max_turn radians; returns true
-// once it is there.
-bool MoveToward(RigidTransform& current, const RigidTransform& goal, double max_step, double max_turn) {
-  const Vec3 delta = goal.translation() - current.translation();
-  const double distance = delta.norm();
-  current.translation() += distance > max_step ? delta * (max_step / distance) : delta;
-  const Quat from(current.linear());
-  const Quat to(goal.linear());
-  const double angle = from.angularDistance(to);
-  current.linear() = (angle > max_turn ? from.slerp(max_turn / angle, to) : to).toRotationMatrix();
-  return distance <= max_step && angle <= max_turn;
-}
 
 void WriteArm(kinematics::Action& action, Side side, const RigidTransform& X_CanonicalHand) {
   const int p = kinematics::action::kArmPosition[kinematics::Index(side)];
@@ -44,13 +32,23 @@ double FoldedYaw(const Quat& orientation) {
   return yaw - quarter * std::round(yaw / quarter);
 }
 
-}  // namespace
+// Grasp orientations tried in order: approach tilted forward from vertical, heading turned
+// by quarter turns about the vertical (the box is symmetric under them), and the hand turned
+// half a turn about its approach axis (so is the gripper). The fingers stay horizontal.
+struct GraspCandidate {
+  double tilt;
+  double heading_offset;
+  double turn;
+};
+constexpr double kQuarter = M_PI / 2;
+constexpr GraspCandidate kGraspCandidates[] = {
+    {0.8, 0.0, 0.0},       {0.8, 0.0, M_PI},       {0.6, 0.0, 0.0},       {0.6, 0.0, M_PI},
+    {1.0, 0.0, 0.0},       {1.0, 0.0, M_PI},       {0.8, kQuarter, 0.0},  {0.8, -kQuarter, 0.0},
+    {0.8, kQuarter, M_PI}, {0.8, -kQuarter, M_PI}, {0.6, kQuarter, 0.0},  {0.6, -kQuarter, 0.0},
+    {0.6, kQuarter, M_PI}, {0.6, -kQuarter, M_PI}, {1.0, kQuarter, 0.0},  {1.0, -kQuarter, 0.0},
+};
 
-PickExpertSettings PickSettingsFor(const kinematics::RobotModel& robot) {
-  PickExpertSettings settings;
-  settings.grasp_tilt = robot.name == "reachy2" ? 0.6 : 0.35;
-  return settings;
-}
+}  // namespace
 
 PickExpert::PickExpert(const engine::WorldModel&, int num_envs, PickExpertSettings settings)
     : settings_(settings), memory_(num_envs) {}
@@ -64,29 +62,11 @@ void PickExpert::Reset(const engine::WorldModel& model, const engine::BatchState
   const kinematics::RobotModel& robot = model.robot;
   EnvMemory& m = memory_[env];
   m = EnvMemory();
-  std::vector<RigidTransform> X_BL(robot.links.size());
-  kinematics::ComputeLinkPoses(robot, state.q_row(env), X_BL.data());
-  for (Side side : kinematics::kSides) {
-    RigidTransform X = X_BL[robot.arm(side).ik_link];
-    X.translation() = robot.BaseToCanonical(X.translation());
-    m.hand_command[kinematics::Index(side)] = X;
-  }
+  m.q_plan.assign(state.q_row(env), state.q_row(env) + robot.num_joints());
+  for (Side side : kinematics::kSides) m.hand_command[kinematics::Index(side)] = HandPoseCanonical(robot, side, state.q_row(env));
   for (int i = 0; i < kinematics::kNeckDof; ++i) m.neck_command[i] = state.q_row(env)[robot.neck_joints[i]];
   m.neck_goal = m.neck_command;
   m.fixated_point = Vec3::Constant(1e9);
-}
-
-RigidTransform PickExpert::GraspPose(const engine::WorldModel& model, const engine::BatchState& state, int env,
-                                     double height_above) const {
-  const kinematics::RobotModel& robot = model.robot;
-  const int target = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
-  const Vec3 p_object = state.ObjectPosition(env, target);
-  const Mat3 R = (Eigen::AngleAxisd(FoldedYaw(state.ObjectOrientation(env, target)), Vec3::UnitZ()) *
-                  Eigen::AngleAxisd(-settings_.grasp_tilt, Vec3::UnitY()))
-                     .toRotationMatrix();
-  const Vec3 tcp_world = p_object + Vec3(0.0, 0.0, settings_.grasp_height + height_above);
-  const Vec3 hand_base = tcp_world - robot.root_world - R * robot.gripper.tcp;
-  return MakeTransform(robot.BaseToCanonical(hand_base), R);
 }
 
 void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::BatchState& state, int env,
@@ -106,14 +86,76 @@ void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::Batch
   }
 }
 
+bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchState& state, int env,
+                           EnvMemory& m) const {
+  const kinematics::RobotModel& robot = model.robot;
+  const int target = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
+  const Vec3 p_object = state.ObjectPosition(env, target);
+  const double yaw = FoldedYaw(state.ObjectOrientation(env, target));
+  m.side = p_object.y() >= 0.0 ? Side::kLeft : Side::kRight;
+  const auto& arm_joints = robot.arm(m.side).joints;
+  const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
+  auto target_for = [&](const Mat3& R, double tcp_z) {
+    const Vec3 tcp_world(p_object.x(), p_object.y(), tcp_z);
+    return kinematics::PoseTarget{tcp_world - robot.root_world - R * robot.gripper.tcp, Quat(R)};
+  };
+  auto arm_of = [&](const std::vector<double>& q) {
+    ArmJoints joints{};
+    for (int k = 0; k < kinematics::kArmDof; ++k) joints[k] = q[arm_joints[k]];
+    return joints;
+  };
+  const double grasp_z = p_object.z() + settings_.grasp_height;
+  for (const GraspCandidate& candidate : kGraspCandidates) {
+    const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
+                    Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
+                    Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
+                       .toRotationMatrix();
+    const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, target_for(R, grasp_z));
+    if (!q_grasp) continue;
+    const auto q_pre = SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height));
+    if (!q_pre) continue;
+    const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, settings_.lift_to_z));
+    if (!q_lift) continue;
+    m.q_pre = arm_of(*q_pre);
+    m.q_grasp = arm_of(*q_grasp);
+    m.q_lift = arm_of(*q_lift);
+    return true;
+  }
+  return false;
+}
+
+void PickExpert::StartSegment(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& from,
+                              const ArmJoints& to, double cartesian_speed) const {
+  const kinematics::RobotModel& robot = model.robot;
+  const auto& arm_joints = robot.arm(m.side).joints;
+  double joint_distance = 0.0;
+  for (int k = 0; k < kinematics::kArmDof; ++k) joint_distance = std::max(joint_distance, std::abs(to[k] - from[k]));
+  for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = from[k];
+  const Vec3 start = HandPoseCanonical(robot, m.side, m.q_plan.data()).translation();
+  for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = to[k];
+  const Vec3 end = HandPoseCanonical(robot, m.side, m.q_plan.data()).translation();
+  const double duration = std::max({joint_distance / settings_.joint_speed, (end - start).norm() / cartesian_speed, 0.1});
+  m.segment = {from, to, 0.0, 1.0 / (duration * model.physics.control_hz)};
+}
+
+bool PickExpert::FollowSegment(const engine::WorldModel& model, EnvMemory& m) const {
+  const kinematics::RobotModel& robot = model.robot;
+  Segment& s = m.segment;
+  s.progress = std::min(1.0, s.progress + s.rate);
+  // Smoothstep timing: the hand starts and stops gently.
+  const double blend = s.progress * s.progress * (3.0 - 2.0 * s.progress);
+  const auto& arm_joints = robot.arm(m.side).joints;
+  for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = s.from[k] + blend * (s.to[k] - s.from[k]);
+  m.hand_command[kinematics::Index(m.side)] = HandPoseCanonical(robot, m.side, m.q_plan.data());
+  return s.progress >= 1.0;
+}
+
 void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
                      kinematics::Action& action) {
   EnvMemory& m = memory_[env];
   const int step = state.control_step[env];
-  const double dt = 1.0 / model.physics.control_hz;
-  const double elapsed = (step - m.phase_start_step) * dt;
+  const double elapsed = (step - m.phase_start_step) / model.physics.control_hz;
   UpdateNeck(model, state, env, m);
-  RigidTransform& hand = m.hand_command[kinematics::Index(m.side)];
 
   switch (m.phase) {
     case Phase::kLook: {
@@ -124,34 +166,37 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
     }
     case Phase::kSettle:
       if (elapsed >= settings_.settle_s) {
-        const int target = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
-        m.side = state.ObjectPosition(env, target).y() >= 0.0 ? kinematics::Side::kLeft : kinematics::Side::kRight;
+        if (!PlanGrasp(model, state, env, m)) {
+          Enter(m, Phase::kGiveUp, step);
+          break;
+        }
+        ArmJoints q_now{};
+        for (int k = 0; k < kinematics::kArmDof; ++k) q_now[k] = state.q_row(env)[model.robot.arm(m.side).joints[k]];
+        StartSegment(model, m, q_now, m.q_pre, settings_.hand_speed);
         Enter(m, Phase::kApproach, step);
       }
       break;
     case Phase::kApproach:
-      if (MoveToward(hand, GraspPose(model, state, env, settings_.approach_height), settings_.hand_speed * dt,
-                     settings_.hand_turn_speed * dt)) {
+      if (FollowSegment(model, m)) {
+        StartSegment(model, m, m.q_pre, m.q_grasp, settings_.slow_hand_speed);
         Enter(m, Phase::kDescend, step);
       }
       break;
     case Phase::kDescend:
-      if (MoveToward(hand, GraspPose(model, state, env, 0.0), settings_.descend_speed * dt,
-                     settings_.hand_turn_speed * dt)) {
-        Enter(m, Phase::kClose, step);
-      }
+      if (FollowSegment(model, m)) Enter(m, Phase::kClose, step);
       break;
     case Phase::kClose:
       m.gripper_command[kinematics::Index(m.side)] = 1.0;
-      if (elapsed >= settings_.close_s) Enter(m, Phase::kLift, step);
+      if (elapsed >= settings_.close_s) {
+        StartSegment(model, m, m.q_grasp, m.q_lift, settings_.slow_hand_speed);
+        Enter(m, Phase::kLift, step);
+      }
       break;
-    case Phase::kLift: {
-      RigidTransform lifted = hand;
-      lifted.translation().z() = settings_.lift_to_z - model.robot.root_world.z() - model.robot.canonical_offset.z() -
-                                 (hand.linear() * model.robot.gripper.tcp).z();
-      MoveToward(hand, lifted, settings_.descend_speed * dt, settings_.hand_turn_speed * dt);
+    case Phase::kLift:
+      FollowSegment(model, m);
       break;
-    }
+    case Phase::kGiveUp:
+      break;
   }
 
   for (Side side : kinematics::kSides) WriteArm(action, side, m.hand_command[kinematics::Index(side)]);

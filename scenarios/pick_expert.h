@@ -1,7 +1,9 @@
 // A privileged scripted expert that picks one object and lifts it, looking before it reaches
-// (the human teleoperator's timing that GALT measures): it turns the head to fixate the object,
-// lets the neck settle, then moves the nearer arm above the object, descends, closes and lifts.
-// Motions are smooth and speed-limited at the control rate.
+// (the human teleoperator's timing that GALT measures): it turns the head to fixate the object
+// and lets the neck settle, then plans a grasp the arm can reach and moves the nearer arm above
+// the object, descends, closes and lifts. Arm motions follow straight joint-space paths
+// (arm_planner.h), speed-limited at the control rate; the commanded action is the hand pose
+// along the path, as a teleoperator's would be.
 #pragma once
 
 #include <array>
@@ -12,23 +14,18 @@
 namespace tavis::scenarios {
 
 struct PickExpertSettings {
-  int target_task_var = 0;           // task variable holding the target object's index
-  double grasp_tilt = 0.0;           // rad: approach tilted forward from vertical
-  double grasp_height = 0.0;         // m: TCP above the object's centre at the grasp
-  double approach_height = 0.10;     // m: pre-grasp above the grasp
-  double lift_to_z = 1.26;           // m: world height of the TCP after lifting (success: 1.2)
-  double hand_speed = 0.30;          // m/s
-  double descend_speed = 0.15;       // m/s
-  double hand_turn_speed = 1.5;      // rad/s
-  double neck_gain = 5.0;            // 1/s
-  double neck_max_speed = 1.5;       // rad/s
-  double settle_s = 0.4;             // head still before the hand moves
-  double close_s = 0.6;              // gripper closing time
+  int target_task_var = 0;        // task variable holding the target object's index
+  double grasp_height = 0.003;    // m: TCP above the object's centre at the grasp
+  double approach_height = 0.10;  // m: pre-grasp above the grasp
+  double lift_to_z = 1.26;        // m: world height of the TCP after lifting (success: 1.2)
+  double hand_speed = 0.30;       // m/s, approach
+  double slow_hand_speed = 0.12;  // m/s, descend and lift
+  double joint_speed = 1.2;       // rad/s, the fastest arm joint
+  double neck_gain = 5.0;         // 1/s
+  double neck_max_speed = 1.5;    // rad/s
+  double settle_s = 0.4;          // head still before the hand moves
+  double close_s = 0.6;           // gripper closing time
 };
-
-// Grasp tilt for each robot: the tilt at which the robot's wrist reaches top-down grasps
-// over the table (chosen with the IK; see the scenario tests).
-PickExpertSettings PickSettingsFor(const kinematics::RobotModel& robot);
 
 class PickExpert : public Expert {
  public:
@@ -37,10 +34,20 @@ class PickExpert : public Expert {
   void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
            kinematics::Action& action) override;
 
-  enum class Phase { kLook, kSettle, kApproach, kDescend, kClose, kLift };
+  enum class Phase { kLook, kSettle, kApproach, kDescend, kClose, kLift, kGiveUp };
   Phase phase(int env) const { return memory_[env].phase; }
 
  private:
+  using ArmJoints = std::array<double, kinematics::kArmDof>;
+
+  // A straight joint-space segment, traversed at a speed set by its length.
+  struct Segment {
+    ArmJoints from{};
+    ArmJoints to{};
+    double progress = 0.0;  // 0..1
+    double rate = 0.0;      // progress per control tick
+  };
+
   struct EnvMemory {
     Phase phase = Phase::kLook;
     int phase_start_step = 0;
@@ -50,12 +57,18 @@ class PickExpert : public Expert {
     std::array<double, 3> neck_goal{};
     Vec3 fixated_point = Vec3::Zero();
     std::array<double, 2> gripper_command{-1.0, -1.0};
+    std::vector<double> q_plan;  // full joint vector used to evaluate the arm path
+    ArmJoints q_pre{}, q_grasp{}, q_lift{};
+    Segment segment;
   };
 
   void Enter(EnvMemory& m, Phase phase, int step) const;
-  RigidTransform GraspPose(const engine::WorldModel& model, const engine::BatchState& state, int env,
-                           double height_above) const;
   void UpdateNeck(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
+  bool PlanGrasp(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
+  void StartSegment(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& from, const ArmJoints& to,
+                    double cartesian_speed) const;
+  // Advances the segment and writes the commanded hand pose; true when it has ended.
+  bool FollowSegment(const engine::WorldModel& model, EnvMemory& m) const;
 
   PickExpertSettings settings_;
   std::vector<EnvMemory> memory_;

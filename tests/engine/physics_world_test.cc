@@ -2,10 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "configs/robot_config.h"
 #include "engine/batch_state.h"
 #include "engine/object_catalog.h"
 #include "kinematics/inverse_kinematics.h"
+#include "scenarios/arm_planner.h"
 
 namespace tavis::engine {
 namespace {
@@ -23,19 +26,16 @@ WorldModel CubeOnTableWorld() {
   return model;
 }
 
-// Joint positions that put the left gripper's TCP at `tcp_world`, approach tilted 0.35 rad
-// forward from vertical (kinematic IK iterations from the default pose).
-std::vector<double> LeftArmAt(const kinematics::RobotModel& robot, const Vec3& tcp_world) {
-  const Mat3 R = Eigen::AngleAxisd(-0.35, Vec3::UnitY()).toRotationMatrix();
+// Joint positions that put the left gripper's TCP at `tcp_world` with a reachable grasp
+// orientation (approach tilted 0.8 rad forward, fingers closing along world y), via the
+// experts' planner, starting from `q_start`.
+std::vector<double> LeftArmAt(const kinematics::RobotModel& robot, const Vec3& tcp_world,
+                              const std::vector<double>& q_start) {
+  const Mat3 R = Eigen::AngleAxisd(-0.8, Vec3::UnitY()).toRotationMatrix();
   const kinematics::PoseTarget target{tcp_world - robot.root_world - R * robot.gripper.tcp, Quat(R)};
-  std::vector<double> q = robot.DefaultPositions();
-  std::vector<RigidTransform> X_BL(robot.links.size());
-  for (int i = 0; i < 400; ++i) {
-    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
-    const auto next = kinematics::IkStep(robot, Side::kLeft, q.data(), X_BL.data(), target);
-    for (int k = 0; k < kinematics::kArmDof; ++k) q[robot.arm(Side::kLeft).joints[k]] = next[k];
-  }
-  return q;
+  const auto q = scenarios::SolveArmConfiguration(robot, Side::kLeft, q_start, target);
+  EXPECT_TRUE(q.has_value()) << "no arm configuration for the test pose";
+  return q ? *q : q_start;
 }
 
 struct Observed {
@@ -45,16 +45,26 @@ struct Observed {
   double velocity[kObjectVelocitySize] = {};
 };
 
-Observed StepFor(PhysicsWorld& world, const std::vector<double>& q_target, double gripper, double seconds,
-                 const WorldModel& model) {
+// Servos the joints along a straight joint-space path from q_from to q_to over `seconds`
+// (the left gripper held at `gripper`), then reads the world.
+Observed StepAlong(PhysicsWorld& world, const std::vector<double>& q_from, const std::vector<double>& q_to,
+                   double gripper, double seconds, const WorldModel& model) {
   Observed o;
-  o.q = q_target;
+  o.q = q_to;
   const int ticks = static_cast<int>(seconds * model.physics.control_hz);
-  for (int t = 0; t < ticks; ++t) {
+  std::vector<double> q_target(q_to.size());
+  for (int t = 1; t <= ticks; ++t) {
+    const double s = std::min(1.0, 1.5 * t / ticks);  // the last third holds the goal
+    for (size_t j = 0; j < q_to.size(); ++j) q_target[j] = q_from[j] + s * (q_to[j] - q_from[j]);
     EXPECT_TRUE(world.Step(q_target.data(), {gripper, -1.0}, model.physics.substeps_per_control()));
   }
   world.ReadState(o.q.data(), o.gap, o.pose, o.velocity);
   return o;
+}
+
+Observed StepFor(PhysicsWorld& world, const std::vector<double>& q_target, double gripper, double seconds,
+                 const WorldModel& model) {
+  return StepAlong(world, q_target, q_target, gripper, seconds, model);
 }
 
 // Grasps the cube on the table from above, closes, lifts the hand 15 cm; returns the cube height.
@@ -63,46 +73,39 @@ double CubeHeightAfterLift(double friction) {
   PhysicsWorld world(model);
   world.SetFriction(Material::kFingerPad, friction);
   world.SetFriction(Material::kObject, friction);
-  const std::vector<double> q_grasp = LeftArmAt(model.robot, kCubeOnTable + Vec3(0, 0, 0.005));
+  const std::vector<double> q_grasp = LeftArmAt(model.robot, kCubeOnTable + Vec3(0, 0, 0.005), model.robot.DefaultPositions());
   world.ResetRobot(q_grasp.data(), 1);
   world.SetObject(kCube, kCubeOnTable, Quat::Identity(), true);
   const Observed closed = StepFor(world, q_grasp, 1.0, 0.8, model);
+  EXPECT_NEAR(closed.pose[2], kCubeOnTable.z(), 0.005) << "closing should not move the cube";
   EXPECT_NEAR(closed.gap[0], 0.055, 0.004) << "the fingers should stop on the cube's faces";
-  const std::vector<double> q_lift = LeftArmAt(model.robot, kCubeOnTable + Vec3(0, 0, 0.15));
-  return StepFor(world, q_lift, 1.0, 1.5, model).pose[2];
+  const std::vector<double> q_lift = LeftArmAt(model.robot, kCubeOnTable + Vec3(0, 0, 0.15), q_grasp);
+  return StepAlong(world, q_grasp, q_lift, 1.0, 1.5, model).pose[2];
 }
 
-// DISABLED: these fail today (issue 2 stays open): the gripper pads and hand boxes make no
-// contact with the cube or the table, so the fingers close through the cube and the hand
-// passes through the table. They are the acceptance checks for the fix.
-TEST(PhysicsWorld, DISABLED_FrictionGraspLiftsTheCube) {
+TEST(PhysicsWorld, FrictionGraspLiftsTheCube) {
   EXPECT_GT(CubeHeightAfterLift(1.0), kCubeOnTable.z() + 0.10);
 }
 
-// DISABLED: these fail today (issue 2 stays open): the gripper pads and hand boxes make no
-// contact with the cube or the table, so the fingers close through the cube and the hand
-// passes through the table. They are the acceptance checks for the fix.
-TEST(PhysicsWorld, DISABLED_FrictionlessGraspLetsTheCubeSlip) {
+TEST(PhysicsWorld, FrictionlessGraspLetsTheCubeSlip) {
   EXPECT_LT(CubeHeightAfterLift(0.0), kCubeOnTable.z() + 0.02);
 }
 
-// DISABLED: these fail today (issue 2 stays open): the gripper pads and hand boxes make no
-// contact with the cube or the table, so the fingers close through the cube and the hand
-// passes through the table. They are the acceptance checks for the fix.
-TEST(PhysicsWorld, DISABLED_MotionCommandedIntoTheTableStopsAtTheTable) {
+TEST(PhysicsWorld, MotionCommandedIntoTheTableStopsAtTheTable) {
   const WorldModel model = CubeOnTableWorld();
   PhysicsWorld world(model);
   const Vec3 above(0.45, 0.15, kTableHeight + 0.10);
-  const std::vector<double> q_above = LeftArmAt(model.robot, above);
+  const std::vector<double> q_above = LeftArmAt(model.robot, above, model.robot.DefaultPositions());
   world.ResetRobot(q_above.data(), 1);
-  const std::vector<double> q_through = LeftArmAt(model.robot, above - Vec3(0, 0, 0.20));
-  const Observed o = StepFor(world, q_through, -1.0, 2.0, model);
+  const std::vector<double> q_through = LeftArmAt(model.robot, above - Vec3(0, 0, 0.20), q_above);
+  const Observed o = StepAlong(world, q_above, q_through, -1.0, 2.0, model);
   std::vector<RigidTransform> X_BL(model.robot.links.size());
   kinematics::ComputeLinkPoses(model.robot, o.q.data(), X_BL.data());
   const RigidTransform& X_BH = X_BL[model.robot.arm(Side::kLeft).ik_link];
   const double tcp_z = (X_BH * model.robot.gripper.tcp + model.robot.root_world).z();
-  // Unobstructed, the TCP would end 10 cm below the table top; the pads stop on it.
-  EXPECT_GT(tcp_z, kTableHeight) << "TCP went through the table";
+  // Unobstructed, the TCP would end 10 cm below the table top; the pads (whose tips reach
+  // about 1.5 cm past the TCP) stop on it.
+  EXPECT_GT(tcp_z, kTableHeight - 0.01) << "the hand went through the table";
   EXPECT_LT(tcp_z, kTableHeight + 0.06) << "the hand should have come down to the table";
 }
 

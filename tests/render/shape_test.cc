@@ -68,6 +68,13 @@ TEST(ShapeTest, CapsuleIsAsTallAsItsDiameterAndAsWideAsItsLength) {
   EXPECT_NEAR(row_pixels, 2.0 * fx * std::tan(end_angle), 1.5);
 }
 
+TEST(ShapeTest, EngineShapesConvertOneToOne) {
+  const Shape can{tavis::ShapeKind::kCylinder, Vec3(0.03, 0.03, 0.1)};
+  EXPECT_EQ(ToShapeGeometry(can), MakeCylinder(0.03, 0.1));
+  const Shape link{tavis::ShapeKind::kCapsule, Vec3(0.04, 0.04, 0.2)};
+  EXPECT_EQ(ToShapeGeometry(link), MakeCapsule(0.04, 0.2));
+}
+
 TEST(ShapeTest, IdenticalShapesShareOneBvh) {
   const testing::TestScene scene = testing::GoldenScene(32, 24);
   BatchRenderer renderer(scene.layout, 1);

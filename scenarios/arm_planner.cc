@@ -1,0 +1,71 @@
+#include "scenarios/arm_planner.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tavis::scenarios {
+namespace {
+
+constexpr double kPositionTolerance = 0.002;
+constexpr double kAngleTolerance = 0.03;
+constexpr int kIterationsPerSeed = 150;
+constexpr int kSeeds = 24;
+
+// Iterates the controller's IK step kinematically (joint limits respected); returns the error.
+double Converge(const kinematics::RobotModel& robot, kinematics::Side side, std::vector<double>& q,
+                const kinematics::PoseTarget& target, std::vector<RigidTransform>& X_BL) {
+  for (int i = 0; i < kIterationsPerSeed; ++i) {
+    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    const auto next = kinematics::IkStep(robot, side, q.data(), X_BL.data(), target);
+    for (int k = 0; k < kinematics::kArmDof; ++k) q[robot.arm(side).joints[k]] = next[k];
+  }
+  kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+  const Vec6 error = kinematics::IkPoseError(robot, side, X_BL.data(), target);
+  return error.head<3>().norm() / kPositionTolerance + error.tail<3>().norm() / kAngleTolerance;
+}
+
+// The i-th seed: a fixed low-discrepancy spread over the joint ranges (golden-ratio sequence),
+// so planning is deterministic.
+void SpreadSeed(const kinematics::RobotModel& robot, kinematics::Side side, int i, std::vector<double>& q) {
+  const auto& joints = robot.arm(side).joints;
+  for (int k = 0; k < kinematics::kArmDof; ++k) {
+    const kinematics::Joint& joint = robot.joints[joints[k]];
+    const double u = std::fmod(0.5 + (i + 1) * (0.6180339887498949 + 0.1 * k), 1.0);
+    // Stay within the middle of wide ranges: full turns are never the useful branch.
+    const double low = std::max(joint.lower, joint.default_position - 2.0);
+    const double high = std::min(joint.upper, joint.default_position + 2.0);
+    q[joints[k]] = low + u * (high - low);
+  }
+}
+
+}  // namespace
+
+std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::RobotModel& robot, kinematics::Side side,
+                                                         const std::vector<double>& q_start,
+                                                         const kinematics::PoseTarget& target) {
+  std::vector<RigidTransform> X_BL(robot.links.size());
+  std::vector<double> best;
+  double best_score = 1e300;
+  for (int seed = -1; seed < kSeeds; ++seed) {
+    std::vector<double> q = q_start;
+    if (seed >= 0) SpreadSeed(robot, side, seed, q);
+    const double score = Converge(robot, side, q, target, X_BL);
+    if (score < best_score) {
+      best_score = score;
+      best = q;
+    }
+    if (best_score <= 1.0 && seed < 0) break;  // the start's own basin is preferred
+  }
+  if (best_score > 2.0) return std::nullopt;
+  return best;
+}
+
+RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q) {
+  std::vector<RigidTransform> X_BL(robot.links.size());
+  kinematics::ComputeLinkPoses(robot, q, X_BL.data());
+  RigidTransform X = X_BL[robot.arm(side).ik_link];
+  X.translation() = robot.BaseToCanonical(X.translation());
+  return X;
+}
+
+}  // namespace tavis::scenarios

@@ -1,0 +1,24 @@
+// Joint-space planning for scripted experts. The controller's damped-least-squares IK only
+// tracks targets near the arm's current configuration; across the workspace it can stall at a
+// joint limit. The expert therefore solves for the goal configuration offline (several seeds,
+// joint limits respected) and commands the hand poses of a straight joint-space path to it,
+// which the controller can follow.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "kinematics/inverse_kinematics.h"
+
+namespace tavis::scenarios {
+
+// A full joint vector whose arm joints put the IK link at `target` (base frame) within 2 mm and
+// 0.03 rad, trying `q_start` first, then deterministic spreads of seeds; nullopt if none does.
+std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::RobotModel& robot, kinematics::Side side,
+                                                         const std::vector<double>& q_start,
+                                                         const kinematics::PoseTarget& target);
+
+// IK link pose (canonical frame) for joint vector q.
+RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q);
+
+}  // namespace tavis::scenarios
