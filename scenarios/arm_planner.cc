@@ -54,10 +54,32 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
       best_score = score;
       best = q;
     }
-    if (best_score <= 1.0 && seed < 0) break;  // the start's own basin is preferred
+    if (best_score <= 2.0 && seed < 0) break;  // the start's own basin is preferred
   }
   if (best_score > 2.0) return std::nullopt;
   return best;
+}
+
+bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_start,
+                          const kinematics::PoseTarget& goal, int ticks) {
+  constexpr double kPathTolerance = 0.01;
+  std::vector<RigidTransform> X_BL(robot.links.size());
+  std::vector<double> q = q_start;
+  kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+  const RigidTransform start = X_BL[robot.arm(side).ik_link];
+  const Quat start_orientation(start.linear());
+  for (int tick = 1; tick <= ticks + 30; ++tick) {
+    const double s = std::min(1.0, static_cast<double>(tick) / ticks);
+    const kinematics::PoseTarget target{(1.0 - s) * start.translation() + s * goal.position,
+                                        start_orientation.slerp(s, goal.orientation)};
+    const auto next = kinematics::IkStep(robot, side, q.data(), X_BL.data(), target);
+    for (int k = 0; k < kinematics::kArmDof; ++k) q[robot.arm(side).joints[k]] = next[k];
+    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    const Vec6 error = kinematics::IkPoseError(robot, side, X_BL.data(), target);
+    if (error.head<3>().norm() > kPathTolerance) return false;
+  }
+  const Vec6 final_error = kinematics::IkPoseError(robot, side, X_BL.data(), goal);
+  return final_error.head<3>().norm() < kPositionTolerance && final_error.tail<3>().norm() < kAngleTolerance;
 }
 
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q) {

@@ -18,6 +18,12 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
                                                          const std::vector<double>& q_start,
                                                          const kinematics::PoseTarget& target);
 
+// True if the controller, stepping its IK once per tick along the straight hand path (position
+// line, orientation slerp) from q_start's hand pose to `goal` in `ticks` ticks, stays within
+// 1 cm of the path and ends within tolerance of the goal (kinematic rehearsal, limits held).
+bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_start,
+                          const kinematics::PoseTarget& goal, int ticks);
+
 // IK link pose (canonical frame) for joint vector q.
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q);
 

@@ -150,6 +150,38 @@ bool PickExpert::FollowSegment(const engine::WorldModel& model, EnvMemory& m) co
   return s.progress >= 1.0;
 }
 
+bool PickExpert::ApproachLineIsTrackable(const engine::WorldModel& model, const engine::BatchState& state, int env,
+                                         EnvMemory& m) const {
+  const kinematics::RobotModel& robot = model.robot;
+  const auto& arm_joints = robot.arm(m.side).joints;
+  for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = m.q_pre[k];
+  RigidTransform goal = HandPoseCanonical(robot, m.side, m.q_plan.data());
+  const RigidTransform start = m.hand_command[kinematics::Index(m.side)];
+  // MoveHandToward's line at hand speed, rehearsed over the same number of ticks.
+  const int ticks = std::max(1, static_cast<int>((goal.translation() - start.translation()).norm() /
+                                                 settings_.hand_speed * model.physics.control_hz));
+  const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
+  return CanTrackStraightPath(robot, m.side, q_now,
+                              {robot.CanonicalToBase(goal.translation()), Quat(goal.linear())}, ticks);
+}
+
+bool PickExpert::MoveHandToward(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& goal,
+                                double speed) const {
+  const auto& arm_joints = model.robot.arm(m.side).joints;
+  for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = goal[k];
+  const RigidTransform target = HandPoseCanonical(model.robot, m.side, m.q_plan.data());
+  RigidTransform& hand = m.hand_command[kinematics::Index(m.side)];
+  const Vec3 delta = target.translation() - hand.translation();
+  const double max_step = speed / model.physics.control_hz;
+  const double distance = delta.norm();
+  // The same fraction of the remaining translation and rotation: a straight line with the
+  // orientation turning in proportion.
+  const double fraction = distance > max_step ? max_step / distance : 1.0;
+  hand.translation() += fraction * delta;
+  hand.linear() = Quat(hand.linear()).slerp(fraction, Quat(target.linear())).toRotationMatrix();
+  return fraction >= 1.0;
+}
+
 void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
                      kinematics::Action& action) {
   EnvMemory& m = memory_[env];
@@ -173,27 +205,25 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
         ArmJoints q_now{};
         for (int k = 0; k < kinematics::kArmDof; ++k) q_now[k] = state.q_row(env)[model.robot.arm(m.side).joints[k]];
         StartSegment(model, m, q_now, m.q_pre, settings_.hand_speed);
+        m.cartesian_approach = ApproachLineIsTrackable(model, state, env, m);
         Enter(m, Phase::kApproach, step);
       }
       break;
-    case Phase::kApproach:
-      if (FollowSegment(model, m)) {
-        StartSegment(model, m, m.q_pre, m.q_grasp, settings_.slow_hand_speed);
-        Enter(m, Phase::kDescend, step);
-      }
+    case Phase::kApproach: {
+      const bool arrived = m.cartesian_approach ? MoveHandToward(model, m, m.q_pre, settings_.hand_speed)
+                                                : FollowSegment(model, m);
+      if (arrived) Enter(m, Phase::kDescend, step);
       break;
+    }
     case Phase::kDescend:
-      if (FollowSegment(model, m)) Enter(m, Phase::kClose, step);
+      if (MoveHandToward(model, m, m.q_grasp, settings_.slow_hand_speed)) Enter(m, Phase::kClose, step);
       break;
     case Phase::kClose:
       m.gripper_command[kinematics::Index(m.side)] = 1.0;
-      if (elapsed >= settings_.close_s) {
-        StartSegment(model, m, m.q_grasp, m.q_lift, settings_.slow_hand_speed);
-        Enter(m, Phase::kLift, step);
-      }
+      if (elapsed >= settings_.close_s) Enter(m, Phase::kLift, step);
       break;
     case Phase::kLift:
-      FollowSegment(model, m);
+      MoveHandToward(model, m, m.q_lift, settings_.slow_hand_speed);
       break;
     case Phase::kGiveUp:
       break;

@@ -1,9 +1,10 @@
 // A privileged scripted expert that picks one object and lifts it, looking before it reaches
 // (the human teleoperator's timing that GALT measures): it turns the head to fixate the object
 // and lets the neck settle, then plans a grasp the arm can reach and moves the nearer arm above
-// the object, descends, closes and lifts. Arm motions follow straight joint-space paths
-// (arm_planner.h), speed-limited at the control rate; the commanded action is the hand pose
-// along the path, as a teleoperator's would be.
+// the object, descends, closes and lifts. The approach is a straight hand line when the
+// controller can track it (checked kinematically beforehand), otherwise a straight joint-space
+// path (arm_planner.h); descending and lifting are straight hand lines. All are speed-limited at
+// the control rate; the commanded action is the hand pose along the way, as a teleoperator's is.
 #pragma once
 
 #include <array>
@@ -15,9 +16,9 @@ namespace tavis::scenarios {
 
 struct PickExpertSettings {
   int target_task_var = 0;        // task variable holding the target object's index
-  double grasp_height = 0.003;    // m: TCP above the object's centre at the grasp
-  double approach_height = 0.10;  // m: pre-grasp above the grasp
-  double lift_to_z = 1.26;        // m: world height of the TCP after lifting (success: 1.2)
+  double grasp_height = 0.012;    // m: TCP above the object's centre (keeps the palm off its top)
+  double approach_height = 0.18;  // m: pre-grasp above the grasp, clear of the clutter
+  double lift_to_z = 1.24;        // m: world height of the TCP after lifting (success: 1.2)
   double hand_speed = 0.30;       // m/s, approach
   double slow_hand_speed = 0.12;  // m/s, descend and lift
   double joint_speed = 1.2;       // rad/s, the fastest arm joint
@@ -60,6 +61,7 @@ class PickExpert : public Expert {
     std::vector<double> q_plan;  // full joint vector used to evaluate the arm path
     ArmJoints q_pre{}, q_grasp{}, q_lift{};
     Segment segment;
+    bool cartesian_approach = false;
   };
 
   void Enter(EnvMemory& m, Phase phase, int step) const;
@@ -69,6 +71,11 @@ class PickExpert : public Expert {
                     double cartesian_speed) const;
   // Advances the segment and writes the commanded hand pose; true when it has ended.
   bool FollowSegment(const engine::WorldModel& model, EnvMemory& m) const;
+  // True if the controller can follow a straight hand line from the current pose to the pre-grasp.
+  bool ApproachLineIsTrackable(const engine::WorldModel& model, const engine::BatchState& state, int env,
+                               EnvMemory& m) const;
+  // Moves the commanded hand straight toward the pose of arm configuration `goal`; true there.
+  bool MoveHandToward(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& goal, double speed) const;
 
   PickExpertSettings settings_;
   std::vector<EnvMemory> memory_;
