@@ -23,11 +23,15 @@ void WriteArm(kinematics::Action& action, Side side, const RigidTransform& X_Can
   action[r + 3] = q.z();
 }
 
-// Yaw of a z-up object's x axis, folded into [-pi/4, pi/4]: a parallel gripper can take a box
-// by either pair of faces.
+// Yaw of a box's most horizontal axis, folded into [-pi/4, pi/4]: a parallel gripper can take
+// a box by either pair of side faces, and a cube that fell on its side is still upright.
 double FoldedYaw(const Quat& orientation) {
-  const Vec3 x_axis = orientation * Vec3::UnitX();
-  const double yaw = std::atan2(x_axis.y(), x_axis.x());
+  const Mat3 R = orientation.toRotationMatrix();
+  int flattest = 0;
+  for (int axis = 1; axis < 3; ++axis) {
+    if (std::abs(R(2, axis)) < std::abs(R(2, flattest))) flattest = axis;
+  }
+  const double yaw = std::atan2(R(1, flattest), R(0, flattest));
   const double quarter = M_PI / 2.0;
   return yaw - quarter * std::round(yaw / quarter);
 }
@@ -47,6 +51,28 @@ constexpr GraspCandidate kGraspCandidates[] = {
     {0.8, kQuarter, M_PI}, {0.8, -kQuarter, M_PI}, {0.6, kQuarter, 0.0},  {0.6, -kQuarter, 0.0},
     {0.6, kQuarter, M_PI}, {0.6, -kQuarter, M_PI}, {1.0, kQuarter, 0.0},  {1.0, -kQuarter, 0.0},
 };
+
+// True if neither open finger, lowered around the target, lands on another object: each
+// object is taken as its bounding circle on the table.
+bool FingersClearNeighbours(const engine::WorldModel& model, const engine::BatchState& state, int env, int target,
+                            const Mat3& R) {
+  constexpr double kMargin = 0.01;
+  const kinematics::GripperSpec& g = model.robot.gripper;
+  const Vec3 centre = state.ObjectPosition(env, target);
+  const Vec3 closing = R * g.closing_axis;
+  const double pad_half_width = 0.5 * std::abs(g.pad_size.dot(g.closing_axis)) + 0.5 * g.open_gap;
+  for (int object = 0; object < model.num_objects(); ++object) {
+    if (object == target || !state.object_enabled_at(env, object)) continue;
+    const Shape& shape = model.objects[object].shape;
+    const double radius = shape.kind == ShapeKind::kBox ? 0.5 * std::hypot(shape.size.x(), shape.size.y()) : shape.Radius();
+    for (double sign : {-1.0, 1.0}) {
+      const Vec3 finger = centre + sign * pad_half_width * closing;
+      const Vec3 offset = state.ObjectPosition(env, object) - finger;
+      if (std::hypot(offset.x(), offset.y()) < radius + kMargin) return false;
+    }
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -95,9 +121,10 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   m.side = p_object.y() >= 0.0 ? Side::kLeft : Side::kRight;
   const auto& arm_joints = robot.arm(m.side).joints;
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
-  auto target_for = [&](const Mat3& R, double tcp_z) {
-    const Vec3 tcp_world(p_object.x(), p_object.y(), tcp_z);
-    return kinematics::PoseTarget{tcp_world - robot.root_world - R * robot.gripper.tcp, Quat(R)};
+  // Hand target that puts the pads' centre at the given world point.
+  auto target_for = [&](const Mat3& R, double pad_z) {
+    const Vec3 pad_world(p_object.x(), p_object.y(), pad_z);
+    return kinematics::PoseTarget{pad_world - robot.root_world - R * robot.gripper.pad_center, Quat(R)};
   };
   auto arm_of = [&](const std::vector<double>& q) {
     ArmJoints joints{};
@@ -105,11 +132,14 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     return joints;
   };
   const double grasp_z = p_object.z() + settings_.grasp_height;
+  // First only grasps whose fingers land clear of the neighbours, then any reachable one.
+  for (const bool need_clearance : {true, false}) {
   for (const GraspCandidate& candidate : kGraspCandidates) {
     const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
                     Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
                     Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
                        .toRotationMatrix();
+    if (need_clearance && !FingersClearNeighbours(model, state, env, target, R)) continue;
     const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, target_for(R, grasp_z));
     if (!q_grasp) continue;
     const auto q_pre = SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height));
@@ -120,6 +150,7 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     m.q_grasp = arm_of(*q_grasp);
     m.q_lift = arm_of(*q_lift);
     return true;
+  }
   }
   return false;
 }

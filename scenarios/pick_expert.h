@@ -16,9 +16,9 @@ namespace tavis::scenarios {
 
 struct PickExpertSettings {
   int target_task_var = 0;        // task variable holding the target object's index
-  double grasp_height = 0.012;    // m: TCP above the object's centre (keeps the palm off its top)
+  double grasp_height = 0.010;    // m: pad centre above the object's centre at the grasp
   double approach_height = 0.18;  // m: pre-grasp above the grasp, clear of the clutter
-  double lift_to_z = 1.24;        // m: world height of the TCP after lifting (success: 1.2)
+  double lift_to_z = 1.27;        // m: world height of the pads' centre after lifting (success: 1.2)
   double hand_speed = 0.30;       // m/s, approach
   double slow_hand_speed = 0.12;  // m/s, descend and lift
   double joint_speed = 1.2;       // rad/s, the fastest arm joint
