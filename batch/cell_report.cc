@@ -37,6 +37,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
         {"end", engine::ToString(record.end)},
         {"length_steps", record.length_steps},
         {"length_control_ticks", record.length_control_ticks},
+        {"solver_messages", record.solver_messages},
     };
     episodes_text += line.dump() + "\n";
   }

@@ -78,6 +78,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
       record.success = state.end[slot] == engine::EpisodeEnd::kSuccess;
       record.length_control_ticks = state.control_step[slot];
       record.length_steps = (state.control_step[slot] + ticks_per_policy_step - 1) / ticks_per_policy_step;
+      record.solver_messages = env.solver_messages(slot);
       record.actions = action_logs[slot];
       result.successes += record.success ? 1 : 0;
       ++finished;

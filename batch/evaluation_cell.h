@@ -31,6 +31,7 @@ struct EpisodeRecord {
   engine::EpisodeEnd end = engine::EpisodeEnd::kRunning;
   int length_steps = 0;          // policy-rate (20 Hz) steps, as the reference counts them
   int length_control_ticks = 0;  // 60 Hz control ticks
+  int solver_messages = 0;       // ODE solver messages (degenerate contacts), for diagnosis
   std::vector<kinematics::Action> actions;  // commanded action of every control tick
 };
 

@@ -68,9 +68,7 @@ void VecEnv::ResetEnv(int env, int64_t episode) {
   scenario_.reset(model_, split_, state_, env);
 
   engine::PhysicsWorld& world = *worlds_[env];
-  const auto solver_seed = static_cast<uint32_t>(engine::DeriveKey(seed_, static_cast<uint64_t>(engine::RandomStreamId::kPhysics),
-                                                                   static_cast<uint64_t>(episode)));
-  world.ResetRobot(state_.q_row(env), solver_seed);
+  world.ResetRobot(state_.q_row(env));
   for (int object = 0; object < model_.num_objects(); ++object) {
     world.SetObject(object, state_.ObjectPosition(env, object), state_.ObjectOrientation(env, object),
                     state_.object_enabled_at(env, object) != 0);

@@ -41,6 +41,9 @@ class VecEnv {
   // actions[env]. Ends episodes on success, time-out, blow-up or an invalid action.
   void Step(const std::vector<kinematics::Action>& actions);
 
+  // ODE solver messages (degenerate contact sets) in the env's current episode.
+  int solver_messages(int env) const { return worlds_[env]->solver_messages(); }
+
   // For an env ended by kInvalidAction: the first bad action entry and its value.
   int invalid_action_index(int env) const { return invalid_index_[env]; }
   double invalid_action_value(int env) const { return invalid_value_[env]; }

@@ -6,13 +6,12 @@
 namespace tavis::engine {
 
 // Initialises ODE once per process and allocates ODE's per-thread data on the calling thread
-// the first time it is called there. Cheap after the first call; call it before any ODE use.
+// the first time it is called there (cheap afterwards). Called by every PhysicsWorld entry
+// point, so TBB workers need no scheduler observer.
 void EnsureOdeReadyOnThisThread();
 
-// ODE's QuickStep shuffles constraints with a process-global random seed, which makes results
-// depend on how threads interleave. The engine replaces ODE's dRandInt with one that draws from
-// a thread-local seed; each world installs its own seed around its step.
-uint32_t ExchangeOdeRandomSeed(uint32_t seed);
-uint64_t OdeRandomDrawCount();  // draws made on this thread through the replacement
+// ODE's solver messages (e.g. "LCP internal error" on a degenerate contact set) are not
+// printed but counted, per thread; worlds read the count around their step.
+uint64_t OdeMessagesOnThisThread();
 
 }  // namespace tavis::engine

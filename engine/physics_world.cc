@@ -86,7 +86,7 @@ struct Finger {
 
 struct PhysicsWorld::Impl {
   const WorldModel& model;
-  uint32_t random_seed;
+  int solver_messages = 0;
   dWorldID world = nullptr;
   dSpaceID space = nullptr;
   dJointGroupID contacts = nullptr;
@@ -103,6 +103,8 @@ struct PhysicsWorld::Impl {
   std::vector<dBodyID> object_body;
   std::vector<dGeomID> object_geom;
   std::vector<dBodyID> all_bodies;
+  std::vector<dGeomID> all_geoms;  // creation order
+  std::vector<double> aabbs;        // (geoms x 6) broad-phase scratch
   std::vector<GeomInfo> geom_infos;  // stable storage: reserved up front, never reallocated
   std::vector<RigidTransform> X_BL;  // FK scratch
 
@@ -111,7 +113,7 @@ struct PhysicsWorld::Impl {
     return all_bodies.back();
   }
 
-  Impl(const WorldModel& m, uint32_t seed) : model(m), random_seed(seed), materials(m.materials) {}
+  explicit Impl(const WorldModel& m) : model(m), materials(m.materials) {}
 
   // ODE capsules take (radius, length) along their local z axis, as Shape does. Cylinders
   // collide as boxes: Debian's ODE has no libccd, its cylinder-box test asserts on parallel
@@ -137,6 +139,7 @@ struct PhysicsWorld::Impl {
   }
 
   void Tag(dGeomID geom, Material material, unsigned long category, unsigned long collides_with) {
+    all_geoms.push_back(geom);
     dGeomSetData(geom, NewGeomInfo(material));
     dGeomSetCategoryBits(geom, category);
     dGeomSetCollideBits(geom, collides_with);
@@ -283,10 +286,6 @@ struct PhysicsWorld::Impl {
     Tag(ground, Material::kDefault, kStaticBit, kRobotBit | kObjectBit);
   }
 
-  static void NearCallback(void* data, dGeomID a, dGeomID b) {
-    static_cast<Impl*>(data)->Collide(a, b);
-  }
-
   void Collide(dGeomID a, dGeomID b) {
     dBodyID body_a = dGeomGetBody(a);
     dBodyID body_b = dGeomGetBody(b);
@@ -319,6 +318,31 @@ struct PhysicsWorld::Impl {
     }
   }
 
+  // Broad phase over all geom pairs in creation order. ODE's spaces move each geom that moved
+  // to the front of their lists, so the order of contact pairs (and, through floating-point
+  // summation order, the solution) would depend on the world's past episodes; a fixed order
+  // makes an episode depend on its own inputs only. A few dozen geoms make this cheap.
+  void CollideAllPairs() {
+    const size_t n = all_geoms.size();
+    for (size_t i = 0; i < n; ++i) dGeomGetAABB(all_geoms[i], &aabbs[6 * i]);
+    for (size_t i = 0; i < n; ++i) {
+      dGeomID a = all_geoms[i];
+      if (!dGeomIsEnabled(a)) continue;
+      const double* box_a = &aabbs[6 * i];
+      for (size_t j = i + 1; j < n; ++j) {
+        dGeomID b = all_geoms[j];
+        if (!dGeomIsEnabled(b)) continue;
+        if (!(dGeomGetCategoryBits(a) & dGeomGetCollideBits(b)) && !(dGeomGetCategoryBits(b) & dGeomGetCollideBits(a))) continue;
+        const double* box_b = &aabbs[6 * j];
+        if (box_a[0] > box_b[1] || box_b[0] > box_a[1] || box_a[2] > box_b[3] || box_b[2] > box_a[3] ||
+            box_a[4] > box_b[5] || box_b[4] > box_a[5]) {
+          continue;
+        }
+        Collide(a, b);
+      }
+    }
+  }
+
   bool BodiesAreSane() const {
     const double max_linear = model.physics.runaway_linear_speed;
     const double max_angular = model.physics.runaway_angular_speed;
@@ -334,17 +358,16 @@ struct PhysicsWorld::Impl {
   }
 };
 
-PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Impl>(model, 0)) {
+PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Impl>(model)) {
   EnsureOdeReadyOnThisThread();
   Impl& s = *impl_;
   s.world = dWorldCreate();
   dWorldSetGravity(s.world, 0, 0, model.physics.gravity);
-  dWorldSetQuickStepNumIterations(s.world, model.physics.solver_iterations);
   dWorldSetContactSurfaceLayer(s.world, 0.0005);
   dWorldSetContactMaxCorrectingVel(s.world, 1.0);
   s.threading = dThreadingAllocateSelfThreadedImplementation();
   dWorldSetStepThreadingImplementation(s.world, dThreadingImplementationGetFunctions(s.threading), s.threading);
-  s.space = dSimpleSpaceCreate(nullptr);
+  s.space = dSimpleSpaceCreate(nullptr);  // owns the geoms; pairs come from CollideAllPairs
   s.contacts = dJointGroupCreate(0);
   // Every geom gets one info record; reserving keeps their addresses stable for dGeomSetData.
   s.geom_infos.reserve(model.robot.shapes.size() + 6 + model.objects.size() + model.static_parts.size() + 1);
@@ -352,6 +375,7 @@ PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Imp
   s.BuildRobot();
   s.BuildObjects();
   s.BuildStaticScene();
+  s.aabbs.resize(6 * s.all_geoms.size());
 }
 
 PhysicsWorld::~PhysicsWorld() {
@@ -362,9 +386,9 @@ PhysicsWorld::~PhysicsWorld() {
   dThreadingFreeImplementation(impl_->threading);
 }
 
-void PhysicsWorld::ResetRobot(const double* q, uint32_t solver_seed) {
+void PhysicsWorld::ResetRobot(const double* q) {
   Impl& s = *impl_;
-  s.random_seed = solver_seed;
+  s.solver_messages = 0;
   const RobotModel& robot = s.model.robot;
   const RigidTransform X_WB = MakeTransform(robot.root_world, Mat3::Identity());
   kinematics::ComputeLinkPoses(robot, q, s.X_BL.data());
@@ -398,7 +422,7 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
   const double dt = 1.0 / s.model.physics.substep_hz;
   const kinematics::GripperSpec& g = robot.gripper;
   const double travel = 0.5 * (g.open_gap - g.closed_gap);
-  const uint32_t outer_seed = ExchangeOdeRandomSeed(s.random_seed);
+  const uint64_t messages_before = OdeMessagesOnThisThread();
   bool sane = true;
   for (int step = 0; step < substeps && sane; ++step) {
     // Joint-space servo: the motor's velocity target is proportional to the position error,
@@ -416,12 +440,14 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
         dJointSetSliderParam(finger.slider, dParamVel, std::clamp(40.0 * error, -g.max_speed, g.max_speed));
       }
     }
-    dSpaceCollide(s.space, &s, &Impl::NearCallback);
+    s.CollideAllPairs();
+    // The exact solver, not QuickStep: QuickStep's iterative friction let held objects creep
+    // out of the fingers, and it shuffles constraints with a process-global random seed.
     dWorldStep(s.world, dt);
     dJointGroupEmpty(s.contacts);
     sane = s.BodiesAreSane();
   }
-  s.random_seed = ExchangeOdeRandomSeed(outer_seed);
+  s.solver_messages += static_cast<int>(OdeMessagesOnThisThread() - messages_before);
   return sane;
 }
 
@@ -448,6 +474,8 @@ void PhysicsWorld::ReadState(double* q, double* gripper_gap, double* object_pose
     for (int k = 0; k < 4; ++k) pose[3 + k] = r[k];
   }
 }
+
+int PhysicsWorld::solver_messages() const { return impl_->solver_messages; }
 
 void PhysicsWorld::SetFriction(Material material, double friction) { impl_->materials.Friction(material) = friction; }
 

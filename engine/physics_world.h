@@ -21,9 +21,10 @@ class PhysicsWorld {
   PhysicsWorld& operator=(const PhysicsWorld&) = delete;
 
   // Places the arms at joint positions q (num_joints; neck entries ignored) at rest, fingers
-  // open, clears contacts and reseeds the solver's constraint ordering, so that an episode's
-  // physics depends only on its own inputs, never on what the world ran before.
-  void ResetRobot(const double* q, uint32_t solver_seed);
+  // open, and clears contacts and the message count. The step is ODE's exact (Dantzig LCP)
+  // solver, which carries no state between steps, so an episode's physics depends only on its
+  // own inputs, never on what the world ran before.
+  void ResetRobot(const double* q);
   // Places an object at rest; a disabled object takes no part in the simulation.
   void SetObject(int object, const Vec3& position, const Quat& orientation, bool enabled);
 
@@ -35,6 +36,9 @@ class PhysicsWorld {
   // Writes arm joint positions into q (num_joints; other entries untouched), the gripper gaps,
   // and object poses (num_objects x 7) and velocities (num_objects x 6).
   void ReadState(double* q, double* gripper_gap, double* object_pose, double* object_velocity) const;
+
+  // Solver messages (degenerate contact sets) since the last reset.
+  int solver_messages() const;
 
   // Friction of a material, changeable for tests (e.g. a frictionless grasp).
   void SetFriction(Material material, double friction);

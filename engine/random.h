@@ -20,7 +20,7 @@ constexpr uint64_t DeriveKey(uint64_t seed, uint64_t stream, uint64_t index) {
 }
 
 // Named streams so that adding draws to one purpose never shifts another's numbers.
-enum class RandomStreamId : uint64_t { kLayout = 1, kInitPose = 2, kPhysics = 3, kTask = 4 };
+enum class RandomStreamId : uint64_t { kTask = 1, kInitPose = 2 };
 
 class RandomStream {
  public:

@@ -45,7 +45,6 @@ struct PhysicsSettings {
   double policy_hz = 20.0;
   double episode_length_s = 20.0;
   double gravity = -9.81;
-  int solver_iterations = 40;
   double contact_erp = 0.2;
   double contact_cfm = 1e-6;
   int max_contacts_per_pair = 6;

@@ -74,7 +74,7 @@ double CubeHeightAfterLift(double friction) {
   world.SetFriction(Material::kFingerPad, friction);
   world.SetFriction(Material::kObject, friction);
   const std::vector<double> q_grasp = LeftArmAt(model.robot, kCubeOnTable + Vec3(0, 0, 0.005), model.robot.DefaultPositions());
-  world.ResetRobot(q_grasp.data(), 1);
+  world.ResetRobot(q_grasp.data());
   world.SetObject(kCube, kCubeOnTable, Quat::Identity(), true);
   const Observed closed = StepFor(world, q_grasp, 1.0, 0.8, model);
   EXPECT_NEAR(closed.pose[2], kCubeOnTable.z(), 0.005) << "closing should not move the cube";
@@ -96,7 +96,7 @@ TEST(PhysicsWorld, MotionCommandedIntoTheTableStopsAtTheTable) {
   PhysicsWorld world(model);
   const Vec3 above(0.45, 0.15, kTableHeight + 0.10);
   const std::vector<double> q_above = LeftArmAt(model.robot, above, model.robot.DefaultPositions());
-  world.ResetRobot(q_above.data(), 1);
+  world.ResetRobot(q_above.data());
   const std::vector<double> q_through = LeftArmAt(model.robot, above - Vec3(0, 0, 0.20), q_above);
   const Observed o = StepAlong(world, q_above, q_through, -1.0, 2.0, model);
   std::vector<RigidTransform> X_BL(model.robot.links.size());
@@ -113,7 +113,7 @@ TEST(PhysicsWorld, DisabledObjectsDoNotMove) {
   const WorldModel model = CubeOnTableWorld();
   PhysicsWorld world(model);
   const std::vector<double> q = model.robot.DefaultPositions();
-  world.ResetRobot(q.data(), 1);
+  world.ResetRobot(q.data());
   world.SetObject(kCube, Vec3(0.4, 0.0, 1.5), Quat::Identity(), false);
   EXPECT_NEAR(StepFor(world, q, -1.0, 0.5, model).pose[2], 1.5, 1e-12);
 }

@@ -11,7 +11,7 @@ TEST(RandomStream, SameKeySameNumbersOtherKeysDiffer) {
   RandomStream a(7, RandomStreamId::kTask, 3);
   RandomStream b(7, RandomStreamId::kTask, 3);
   RandomStream other_episode(7, RandomStreamId::kTask, 4);
-  RandomStream other_stream(7, RandomStreamId::kPhysics, 3);
+  RandomStream other_stream(7, RandomStreamId::kInitPose, 3);
   for (int i = 0; i < 100; ++i) {
     const double x = a.Uniform();
     EXPECT_EQ(x, b.Uniform());
