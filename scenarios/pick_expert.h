@@ -16,7 +16,7 @@ namespace tavis::scenarios {
 
 struct PickExpertSettings {
   int target_task_var = 0;        // task variable holding the target object's index
-  double grasp_height = 0.010;    // m: pad centre above the object's centre at the grasp
+  double grasp_height = 0.000;    // m: pad centre above the object's centre at the grasp
   double approach_height = 0.18;  // m: pre-grasp above the grasp, clear of the clutter
   double lift_to_z = 1.27;        // m: world height of the pads' centre after lifting (success: 1.2)
   double hand_speed = 0.30;       // m/s, approach
