@@ -1,7 +1,10 @@
 #include "batch/builtin_policies.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
+
+#include "batch/action_csv.h"
 
 #include "kinematics/forward_kinematics.h"
 
@@ -56,14 +59,36 @@ class HoldPolicy : public Policy {
   std::vector<kinematics::Action> reset_action_;
 };
 
+class ReplayPolicy : public Policy {
+ public:
+  explicit ReplayPolicy(const std::string& actions_file) : trajectory_(ReadActionCsv(actions_file)) {}
+  std::string name() const override { return "replay"; }
+  int control_ticks_per_action() const override { return kControlTicksPerRow; }
+  void Reset(const engine::WorldModel&, const engine::BatchState&, int) override {}
+  void Act(const engine::WorldModel&, const engine::BatchState& state, int env, kinematics::Action& action) override {
+    const int row = std::min(state.control_step[env] / kControlTicksPerRow, trajectory_.num_steps - 1);
+    std::copy_n(&trajectory_.values[static_cast<size_t>(row) * kinematics::action::kSize], kinematics::action::kSize,
+                action.begin());
+  }
+
+ private:
+  static constexpr int kControlTicksPerRow = 3;  // rows are 20 Hz policy steps
+  ActionTrajectory trajectory_;
+};
+
 }  // namespace
 
-const char* BuiltinPolicyNames() { return "expert, hold"; }
+const char* BuiltinPolicyNames() { return "expert, hold, replay"; }
 
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
-                                          const engine::WorldModel& model, int num_envs) {
+                                          const engine::WorldModel& model, int num_envs,
+                                          const std::string& actions_file) {
   if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
   if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
+  if (name == "replay") {
+    if (actions_file.empty()) throw std::invalid_argument("policy 'replay' needs an actions file (--actions FILE.csv)");
+    return std::make_unique<ReplayPolicy>(actions_file);
+  }
   throw std::invalid_argument("unknown policy '" + name + "' (built in: " + BuiltinPolicyNames() + ")");
 }
 

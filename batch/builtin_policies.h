@@ -1,4 +1,5 @@
-// Policies built into the simulator: the task's scripted expert and a hold-still baseline.
+// Policies built into the simulator: the task's scripted expert, a hold-still baseline and the
+// replay of a recorded action trajectory.
 #pragma once
 
 #include <memory>
@@ -14,8 +15,12 @@ const char* BuiltinPolicyNames();
 
 // "expert": the scenario's privileged scripted expert at the control rate.
 // "hold": keeps the arms at their reset pose, head still, grippers open (a lower reference).
-// Throws std::invalid_argument naming an unknown policy.
+// "replay": plays the rows of `actions_file` (T x 19 CSV, one row per 20 Hz policy step, as
+// `tavis galt` reads them) in every episode, holding the last row.
+// Throws std::invalid_argument naming an unknown policy, std::runtime_error naming the file and
+// line of a malformed or non-finite action.
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
-                                          const engine::WorldModel& model, int num_envs);
+                                          const engine::WorldModel& model, int num_envs,
+                                          const std::string& actions_file = "");
 
 }  // namespace tavis::batch

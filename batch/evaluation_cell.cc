@@ -30,7 +30,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
 
   const int slots = std::min(config.envs, config.episodes);
   VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
-  std::unique_ptr<Policy> policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots);
+  std::unique_ptr<Policy> policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
   const int hold_ticks = policy->control_ticks_per_action();
   const int ticks_per_policy_step = env.model().physics.controls_per_policy();
 

@@ -19,6 +19,7 @@ struct EvaluationCellConfig {
   std::string robot = "gr1t2";
   scenarios::Split split = scenarios::Split::kId;
   std::string policy = "expert";
+  std::string actions_file;  // for the replay policy
   int episodes = 96;
   int envs = 32;  // parallel env slots
   uint64_t seed = 0;

@@ -68,6 +68,8 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
   eval->add_option("--policy", options->cell.policy, std::string("Policy (") + batch::BuiltinPolicyNames() + ")")
       ->capture_default_str();
+  eval->add_option("--actions", options->cell.actions_file,
+                   "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step");
   eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")->capture_default_str();
   eval->add_option("--seed", options->cell.seed, "Seed: episode i draws its randomness from (seed, i)")
       ->capture_default_str();
