@@ -80,6 +80,12 @@ class ReplayPolicy : public Policy {
 
 const char* BuiltinPolicyNames() { return "expert, hold, replay"; }
 
+void CheckBuiltinPolicyName(const std::string& name) {
+  if (name != "expert" && name != "hold" && name != "replay") {
+    throw std::invalid_argument("unknown policy '" + name + "' (built in: " + BuiltinPolicyNames() + ")");
+  }
+}
+
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
                                           const engine::WorldModel& model, int num_envs,
                                           const std::string& actions_file) {
@@ -89,7 +95,8 @@ std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenari
     if (actions_file.empty()) throw std::invalid_argument("policy 'replay' needs an actions file (--actions FILE.csv)");
     return std::make_unique<ReplayPolicy>(actions_file);
   }
-  throw std::invalid_argument("unknown policy '" + name + "' (built in: " + BuiltinPolicyNames() + ")");
+  CheckBuiltinPolicyName(name);
+  return nullptr;
 }
 
 }  // namespace tavis::batch

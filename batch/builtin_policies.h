@@ -12,6 +12,8 @@ namespace tavis::batch {
 
 // Names accepted by MakeBuiltinPolicy, for --help texts and errors.
 const char* BuiltinPolicyNames();
+// Throws std::invalid_argument naming an unknown policy (checked before any work is done).
+void CheckBuiltinPolicyName(const std::string& name);
 
 // "expert": the scenario's privileged scripted expert at the control rate.
 // "hold": keeps the arms at their reset pose, head still, grippers open (a lower reference).

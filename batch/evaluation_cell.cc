@@ -18,6 +18,10 @@ namespace {
 void ValidateConfig(const EvaluationCellConfig& config) {
   if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
+  CheckBuiltinPolicyName(config.policy);
+  if (config.split == scenarios::Split::kOodInitPose) {
+    throw std::invalid_argument("split 'ood-init-pose' is not implemented yet (its warm-up perturbation is open work)");
+  }
 }
 
 }  // namespace

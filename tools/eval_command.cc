@@ -65,17 +65,19 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--task", options->cell.task, "Task (" + KnownTasks() + ")")->capture_default_str();
   eval->add_option("--robot", options->cell.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
-  eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
+  eval->add_option("--split", options->split, "Split: id or ood-spatial (ood-init-pose: not yet)")->capture_default_str();
   eval->add_option("--policy", options->cell.policy, std::string("Policy (") + batch::BuiltinPolicyNames() + ")")
       ->capture_default_str();
   eval->add_option("--actions", options->cell.actions_file,
                    "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step");
   eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")->capture_default_str();
   eval->add_option("--seed", options->cell.seed, "Seed: episode i draws its randomness from (seed, i)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   eval->add_option("--envs", options->cell.envs, "Parallel env slots (results do not depend on it)")
       ->capture_default_str();
   eval->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<policy>_s<seed>)");
   eval->add_option("--config-dir", options->cell.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
