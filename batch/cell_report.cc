@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/galt_summary.h"
 #include "batch/statistics.h"
 
 namespace tavis::batch {
@@ -39,12 +40,26 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
         {"length_control_ticks", record.length_control_ticks},
         {"solver_messages", record.solver_messages},
     };
+    if (record.galt) {
+      line["galt_s"] = record.galt->galt_s ? nlohmann::json(*record.galt->galt_s) : nlohmann::json();
+      line["galt_reason"] = kinematics::ToString(record.galt->reason);
+    }
     episodes_text += line.dump() + "\n";
   }
   WriteAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);
 
   const int n = static_cast<int>(result.episodes.size());
   const ProportionInterval ci = WilsonInterval(result.successes, n);
+  std::vector<kinematics::GaltResult> galt_results;
+  for (const EpisodeRecord& record : result.episodes) {
+    if (record.galt) galt_results.push_back(*record.galt);
+  }
+  const GaltSummary galt = SummarizeGalt(galt_results);
+  nlohmann::json galt_reasons = nlohmann::json::object();
+  for (int r = 0; r < kinematics::kGaltReasonCount; ++r) {
+    if (galt.reason_counts[r] > 0) galt_reasons[kinematics::ToString(static_cast<kinematics::GaltReason>(r))] = galt.reason_counts[r];
+  }
+  auto optional_number = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
   const nlohmann::json summary = {
       {"task", config.task},
       {"robot", config.robot},
@@ -62,6 +77,14 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
       {"threads", info.threads},
       {"control_ticks", result.control_ticks},
       {"control_ticks_per_s", result.wall_s > 0 ? static_cast<double>(result.control_ticks) / result.wall_s : 0.0},
+      {"galt",
+       {{"fps", result.galt_fps},
+        {"n_episodes", galt.n_episodes},
+        {"n_valid", galt.n_valid},
+        {"mean_s", optional_number(galt.mean_s)},
+        {"median_s", optional_number(galt.median_s)},
+        {"std_s", optional_number(galt.std_s)},
+        {"reasons", galt_reasons}}},
   };
   WriteAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
 }

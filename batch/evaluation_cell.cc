@@ -24,6 +24,22 @@ void ValidateConfig(const EvaluationCellConfig& config) {
   }
 }
 
+// GALT over the successful episodes' commanded actions, sampled when the policy acted (every
+// `hold_ticks` control ticks), as the reference records them at its policy rate.
+void AddGalt(CellResult& result, int hold_ticks, double control_hz) {
+  result.galt_fps = control_hz / hold_ticks;
+  std::vector<kinematics::TrajectoryView> views;
+  std::vector<EpisodeRecord*> successful;
+  for (EpisodeRecord& record : result.episodes) {
+    if (!record.success || record.actions.empty()) continue;
+    const int samples = (static_cast<int>(record.actions.size()) + hold_ticks - 1) / hold_ticks;
+    views.push_back({record.actions.front().data(), samples, kinematics::action::kSize * hold_ticks});
+    successful.push_back(&record);
+  }
+  const std::vector<kinematics::GaltResult> galt = kinematics::ComputeGaltBatch(views, result.galt_fps);
+  for (size_t i = 0; i < successful.size(); ++i) successful[i]->galt = galt[i];
+}
+
 }  // namespace
 
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress) {
@@ -90,6 +106,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
       start_episode(slot);
     }
   }
+  AddGalt(result, hold_ticks, env.model().physics.control_hz);
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -5,11 +5,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/batch_state.h"
 #include "kinematics/action.h"
+#include "kinematics/galt.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {
@@ -34,6 +36,9 @@ struct EpisodeRecord {
   int length_control_ticks = 0;  // 60 Hz control ticks
   int solver_messages = 0;       // ODE solver messages (degenerate contacts), for diagnosis
   std::vector<kinematics::Action> actions;  // commanded action of every control tick
+  // GALT of the commanded actions at the policy's action rate, for successful episodes only
+  // (the reference computes it for those).
+  std::optional<kinematics::GaltResult> galt;
 };
 
 struct CellResult {
@@ -42,6 +47,7 @@ struct CellResult {
   int successes = 0;
   double wall_s = 0.0;
   int64_t control_ticks = 0;  // env control ticks simulated, for throughput
+  double galt_fps = 0.0;      // rate of the action samples GALT was computed on
 };
 
 // Called after each finished episode with (finished, total).

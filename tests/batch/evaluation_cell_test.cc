@@ -64,12 +64,16 @@ void ExpectWellFormed(const CellResult& result) {
     EXPECT_EQ(static_cast<int>(record.actions.size()), record.length_control_ticks);
     // 20 Hz policy steps from 60 Hz control ticks, rounded up.
     EXPECT_EQ(record.length_steps, (record.length_control_ticks + 2) / 3);
+    // GALT is computed for successful episodes only, and the expert grasps in each of them.
+    EXPECT_EQ(record.galt.has_value(), record.success);
+    if (record.galt) EXPECT_NE(record.galt->reason, kinematics::GaltReason::kNoGrasp);
     successes += record.success ? 1 : 0;
     ticks += record.length_control_ticks;
   }
   EXPECT_EQ(result.successes, successes);
   EXPECT_EQ(result.control_ticks, ticks);
   EXPECT_GT(result.wall_s, 0.0);
+  EXPECT_DOUBLE_EQ(result.galt_fps, 60.0);  // the expert acts at the control rate
 }
 
 TEST(EvaluationCell, RecordsAreIdenticalForOneAndTwoThreads) {
