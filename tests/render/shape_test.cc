@@ -12,7 +12,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-int64_t SilhouettePixels(const ShapeGeometry& shape, const RigidTransform& X_WI) {
+// One shape (object id 0) in front of a head camera at the origin, rendered with object ids.
+ImageBatch RenderAlone(const ShapeGeometry& shape, const RigidTransform& X_WI) {
   testing::TestScene scene;
   scene.Add(shape, PaletteAppearance("robot_link"), 0, X_WI);
   scene.AddCamera(HeadCameraSpec(), RigidTransform::Identity());
@@ -21,7 +22,11 @@ int64_t SilhouettePixels(const ShapeGeometry& shape, const RigidTransform& X_WI)
   BatchRenderer renderer(scene.layout, 1, options);
   ImageBatch images = renderer.MakeImageBatch();
   renderer.Render(scene.Inputs(), &images);
-  return testing::FindObject(images, 0, 0, 0).count;
+  return images;
+}
+
+int64_t SilhouettePixels(const ShapeGeometry& shape, const RigidTransform& X_WI) {
+  return testing::FindObject(RenderAlone(shape, X_WI), 0, 0, 0).count;
 }
 
 TEST(ShapeTest, SphereSilhouetteIsTheExactDisc) {
@@ -45,16 +50,9 @@ TEST(ShapeTest, CylinderSeenEndOnIsTheExactDisc) {
 
 TEST(ShapeTest, CapsuleIsAsTallAsItsDiameterAndAsWideAsItsLength) {
   // Capsule across the view (axis along world y) 0.6 m away: centre row spans its full length.
-  testing::TestScene scene;
   const RigidTransform X_WI =
       MakeTransform(Vec3(0.6, 0.0, 0.0), Eigen::AngleAxisd(0.5 * kPi, Vec3::UnitX()).toRotationMatrix());
-  scene.Add(MakeCapsule(0.03, 0.2), PaletteAppearance("robot_link"), 0, X_WI);
-  scene.AddCamera(HeadCameraSpec(), RigidTransform::Identity());
-  RenderOptions options;
-  options.with_object_id = true;
-  BatchRenderer renderer(scene.layout, 1, options);
-  ImageBatch images = renderer.MakeImageBatch();
-  renderer.Render(scene.Inputs(), &images);
+  const ImageBatch images = RenderAlone(MakeCapsule(0.03, 0.2), X_WI);
   const int32_t* ids = images.object_id(0, 0);
   int row_pixels = 0;
   int column_pixels = 0;
