@@ -16,9 +16,12 @@ std::string ReadFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-// Writes `text` to a temporary robot file and returns the loader's error message.
+// Writes `text` to a temporary robot file and returns the loader's error message. ctest runs
+// each case as its own process in parallel, so the file is named after the running test.
 std::string LoadError(const std::string& text) {
-  const std::string path = (std::filesystem::temp_directory_path() / "tavis_robot_config_test.yaml").string();
+  const std::string test_name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("tavis_robot_config_" + test_name + ".yaml")).string();
   std::ofstream(path) << text;
   try {
     LoadRobotModel(path);
