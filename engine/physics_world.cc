@@ -16,9 +16,15 @@ namespace {
 using kinematics::RobotModel;
 using kinematics::Side;
 
-// Collision categories: the robot does not collide with itself (reference: self-collisions off).
 constexpr double kPadContactRadius = 0.01;  // m, effective radius of a finger pad's contact
+// Joint stops sit this far outside the limits the servo targets respect. A joint driven by its
+// motor while resting on a stop gets ODE's stop/motor fallback, a full-force impulse for one
+// step (scaled by the fudge factor), which kicked wrists by 0.1-0.2 rad and fingers by 2 cm
+// mid-grasp. Servoed within its limits a joint never reaches the stops; they remain hard limits.
+constexpr double kHingeStopClearance = 0.02;   // rad
+constexpr double kSliderStopClearance = 0.002;  // m
 
+// Collision categories: the robot does not collide with itself (reference: self-collisions off).
 enum CategoryBits : unsigned long { kRobotBit = 1, kObjectBit = 2, kStaticBit = 4 };
 
 struct GeomInfo {
@@ -192,8 +198,8 @@ struct PhysicsWorld::Impl {
       const Vec3 axis = X_WL.linear() * robot.joints[link.joint].axis;
       dJointSetHingeAnchor(hinge, X_WL.translation().x(), X_WL.translation().y(), X_WL.translation().z());
       dJointSetHingeAxis(hinge, axis.x(), axis.y(), axis.z());
-      dJointSetHingeParam(hinge, dParamLoStop, robot.joints[link.joint].lower);
-      dJointSetHingeParam(hinge, dParamHiStop, robot.joints[link.joint].upper);
+      dJointSetHingeParam(hinge, dParamLoStop, robot.joints[link.joint].lower - kHingeStopClearance);
+      dJointSetHingeParam(hinge, dParamHiStop, robot.joints[link.joint].upper + kHingeStopClearance);
       dJointSetHingeParam(hinge, dParamFMax, robot.arm_actuator.effort_limit);
       motors.push_back({hinge, link.joint});
     }
@@ -255,8 +261,8 @@ struct PhysicsWorld::Impl {
       dJointAttach(finger.slider, finger.body, palm_body[s]);
       const Vec3 inward = -sign * (X_WIk.linear() * g.closing_axis);
       dJointSetSliderAxis(finger.slider, inward.x(), inward.y(), inward.z());
-      dJointSetSliderParam(finger.slider, dParamLoStop, 0.0);
-      dJointSetSliderParam(finger.slider, dParamHiStop, travel);
+      dJointSetSliderParam(finger.slider, dParamLoStop, -kSliderStopClearance);
+      dJointSetSliderParam(finger.slider, dParamHiStop, travel + kSliderStopClearance);
       dJointSetSliderParam(finger.slider, dParamFMax, g.max_force);
     }
   }
@@ -427,8 +433,11 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
   for (int step = 0; step < substeps && sane; ++step) {
     // Joint-space servo: the motor's velocity target is proportional to the position error,
     // bounded by the joint velocity limit; the motor force is bounded by the effort limit.
+    // Targets stay within the joint limits, clear of the stops (see kHingeStopClearance).
     for (const ArmJointMotor& motor : s.motors) {
-      const double error = q_target[motor.joint_index] - dJointGetHingeAngle(motor.joint);
+      const kinematics::Joint& joint = robot.joints[motor.joint_index];
+      const double target = std::clamp(q_target[motor.joint_index], joint.lower, joint.upper);
+      const double error = target - dJointGetHingeAngle(motor.joint);
       const double velocity = std::clamp(robot.arm_actuator.position_gain * error,
                                          -robot.arm_actuator.velocity_limit, robot.arm_actuator.velocity_limit);
       dJointSetHingeParam(motor.joint, dParamVel, velocity);

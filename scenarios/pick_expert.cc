@@ -132,25 +132,42 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     return joints;
   };
   const double grasp_z = p_object.z() + settings_.grasp_height;
-  // First only grasps whose fingers land clear of the neighbours, then any reachable one.
-  for (const bool need_clearance : {true, false}) {
-  for (const GraspCandidate& candidate : kGraspCandidates) {
-    const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
-                    Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
-                    Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
-                       .toRotationMatrix();
-    if (need_clearance && !FingersClearNeighbours(model, state, env, target, R)) continue;
-    const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, target_for(R, grasp_z));
-    if (!q_grasp) continue;
-    const auto q_pre = SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height));
-    if (!q_pre) continue;
-    const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, settings_.lift_to_z));
-    if (!q_lift) continue;
-    m.q_pre = arm_of(*q_pre);
-    m.q_grasp = arm_of(*q_grasp);
-    m.q_lift = arm_of(*q_lift);
-    return true;
-  }
+  // Ticks the descent and the lift take at the slow hand speed, for their rehearsal.
+  auto line_ticks = [&](double distance) {
+    return std::max(1, static_cast<int>(distance / settings_.slow_hand_speed * model.physics.control_hz));
+  };
+  // Preferred first: fingers that land clear of the neighbours, and a descent and lift the
+  // controller can track as straight hand lines (its IK, started at the planned configuration,
+  // can stall on a wrist limit centimetres off the line and push the object with a finger).
+  struct Tier {
+    bool need_clearance;
+    bool need_trackable_lines;
+  };
+  for (const Tier tier : {Tier{true, true}, Tier{false, true}, Tier{false, false}}) {
+    for (const GraspCandidate& candidate : kGraspCandidates) {
+      const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
+                      Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
+                      Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
+                         .toRotationMatrix();
+      if (tier.need_clearance && !FingersClearNeighbours(model, state, env, target, R)) continue;
+      const kinematics::PoseTarget grasp = target_for(R, grasp_z);
+      const kinematics::PoseTarget lift = target_for(R, settings_.lift_to_z);
+      const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);
+      if (!q_grasp) continue;
+      const auto q_pre = SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height));
+      if (!q_pre) continue;
+      const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift);
+      if (!q_lift) continue;
+      if (tier.need_trackable_lines &&
+          !(CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_height)) &&
+            CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks(settings_.lift_to_z - grasp_z)))) {
+        continue;
+      }
+      m.q_pre = arm_of(*q_pre);
+      m.q_grasp = arm_of(*q_grasp);
+      m.q_lift = arm_of(*q_lift);
+      return true;
+    }
   }
   return false;
 }
