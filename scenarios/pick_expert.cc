@@ -226,7 +226,10 @@ bool PickExpert::MoveHandToward(const engine::WorldModel& model, EnvMemory& m, c
   // orientation turning in proportion.
   const double fraction = distance > max_step ? max_step / distance : 1.0;
   hand.translation() += fraction * delta;
-  hand.linear() = Quat(hand.linear()).slerp(fraction, Quat(target.linear())).toRotationMatrix();
+  // Normalised at every step: repeated matrix-quaternion round trips otherwise drift off the
+  // rotation group, and the drift grows until the commanded hand turns away from its target.
+  hand.linear() =
+      Quat(hand.linear()).normalized().slerp(fraction, Quat(target.linear()).normalized()).normalized().toRotationMatrix();
   return fraction >= 1.0;
 }
 
