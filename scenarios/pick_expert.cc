@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "kinematics/forward_kinematics.h"
 #include "scenarios/arm_planner.h"
 #include "scenarios/gaze.h"
+#include "scenarios/grasp_clearance.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -36,9 +38,10 @@ double FoldedYaw(const Quat& orientation) {
   return yaw - quarter * std::round(yaw / quarter);
 }
 
-// Grasp orientations tried in order: approach tilted forward from vertical, heading turned
-// by quarter turns about the vertical (the box is symmetric under them), and the hand turned
-// half a turn about its approach axis (so is the gripper). The fingers stay horizontal.
+// Grasp orientations in the order tried: the approach tilted forward from vertical, its
+// heading turned by quarter turns about the vertical (the box is symmetric under them), and the
+// hand turned half a turn about its approach axis (the gripper nearly is). The fingers stay
+// horizontal.
 struct GraspCandidate {
   double tilt;
   double heading_offset;
@@ -51,28 +54,6 @@ constexpr GraspCandidate kGraspCandidates[] = {
     {0.8, kQuarter, M_PI}, {0.8, -kQuarter, M_PI}, {0.6, kQuarter, 0.0},  {0.6, -kQuarter, 0.0},
     {0.6, kQuarter, M_PI}, {0.6, -kQuarter, M_PI}, {1.0, kQuarter, 0.0},  {1.0, -kQuarter, 0.0},
 };
-
-// True if neither open finger, lowered around the target, lands on another object: each
-// object is taken as its bounding circle on the table.
-bool FingersClearNeighbours(const engine::WorldModel& model, const engine::BatchState& state, int env, int target,
-                            const Mat3& R) {
-  constexpr double kMargin = 0.01;
-  const kinematics::GripperSpec& g = model.robot.gripper;
-  const Vec3 centre = state.ObjectPosition(env, target);
-  const Vec3 closing = R * g.closing_axis;
-  const double pad_half_width = 0.5 * std::abs(g.pad_size.dot(g.closing_axis)) + 0.5 * g.open_gap;
-  for (int object = 0; object < model.num_objects(); ++object) {
-    if (object == target || !state.object_enabled_at(env, object)) continue;
-    const Shape& shape = model.objects[object].shape;
-    const double radius = shape.kind == ShapeKind::kBox ? 0.5 * std::hypot(shape.size.x(), shape.size.y()) : shape.Radius();
-    for (double sign : {-1.0, 1.0}) {
-      const Vec3 finger = centre + sign * pad_half_width * closing;
-      const Vec3 offset = state.ObjectPosition(env, object) - finger;
-      if (std::hypot(offset.x(), offset.y()) < radius + kMargin) return false;
-    }
-  }
-  return true;
-}
 
 }  // namespace
 
@@ -121,10 +102,14 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   m.side = p_object.y() >= 0.0 ? Side::kLeft : Side::kRight;
   const auto& arm_joints = robot.arm(m.side).joints;
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
-  // Hand target that puts the pads' centre at the given world point.
-  auto target_for = [&](const Mat3& R, double pad_z) {
-    const Vec3 pad_world(p_object.x(), p_object.y(), pad_z);
-    return kinematics::PoseTarget{pad_world - robot.root_world - R * robot.gripper.pad_center, Quat(R)};
+  // The pads' centre at height pad_z over the object, shifted `lateral` along the closing axis.
+  auto pad_point = [&](const Mat3& R, double pad_z, double lateral) -> Vec3 {
+    return Vec3(p_object.x(), p_object.y(), pad_z) + lateral * (R * robot.gripper.closing_axis);
+  };
+  // Hand target (base frame) that puts the pads' centre there.
+  auto target_for = [&](const Mat3& R, double pad_z, double lateral) {
+    return kinematics::PoseTarget{pad_point(R, pad_z, lateral) - robot.root_world - R * robot.gripper.pad_center,
+                                  Quat(R)};
   };
   auto arm_of = [&](const std::vector<double>& q) {
     ArmJoints joints{};
@@ -132,41 +117,64 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     return joints;
   };
   const double grasp_z = p_object.z() + settings_.grasp_height;
+  // The open hand's `parts`, lowered from the pre-grasp to the grasp, stay clear of the other objects.
+  auto HandClearsNeighboursOnDescent = [&](const Mat3& R, double lateral, HandParts parts) {
+    constexpr int kSamples = 4;
+    for (int i = 0; i <= kSamples; ++i) {
+      const Vec3 pad_world = pad_point(R, grasp_z + settings_.approach_height * i / kSamples, lateral);
+      const RigidTransform X_W_ik = MakeTransform(pad_world - R * robot.gripper.pad_center, R);
+      if (!OpenHandClearsNeighbours(model, state, env, target, X_W_ik, robot.gripper.open_gap, settings_.clearance, parts)) {
+        return false;
+      }
+    }
+    return true;
+  };
   // Ticks the descent and the lift take at the slow hand speed, for their rehearsal.
   auto line_ticks = [&](double distance) {
     return std::max(1, static_cast<int>(distance / settings_.slow_hand_speed * model.physics.control_hz));
   };
-  // Preferred first: fingers that land clear of the neighbours, and a descent and lift the
-  // controller can track as straight hand lines (its IK, started at the planned configuration,
-  // can stall on a wrist limit centimetres off the line and push the object with a finger).
+  // Preferred first: a hand that descends clear of the neighbours, palm included, then with
+  // its fingers clear; among those, a descent and lift the controller can track as straight
+  // hand lines (its IK, started at the planned configuration, can stall on a wrist limit
+  // centimetres off the line and push the object with a finger). Then any reachable grasp.
+  // To clear a close neighbour the hand may also come down off-centre, one open finger just
+  // outside the object's face; closing then slides the object to the hand's centre.
   struct Tier {
-    bool need_clearance;
+    std::optional<HandParts> clear_parts;
     bool need_trackable_lines;
   };
-  for (const Tier tier : {Tier{true, true}, Tier{false, true}, Tier{false, false}}) {
+  const Tier tiers[] = {{HandParts::kPadsAndHousing, true}, {HandParts::kPads, true}, {std::nullopt, true},
+                        {std::nullopt, false}};
+  for (const Tier& tier : tiers) {
     for (const GraspCandidate& candidate : kGraspCandidates) {
       const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
                       Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
                       Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
                          .toRotationMatrix();
-      if (tier.need_clearance && !FingersClearNeighbours(model, state, env, target, R)) continue;
-      const kinematics::PoseTarget grasp = target_for(R, grasp_z);
-      const kinematics::PoseTarget lift = target_for(R, settings_.lift_to_z);
-      const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);
-      if (!q_grasp) continue;
-      const auto q_pre = SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height));
-      if (!q_pre) continue;
-      const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift);
-      if (!q_lift) continue;
-      if (tier.need_trackable_lines &&
-          !(CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_height)) &&
-            CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks(settings_.lift_to_z - grasp_z)))) {
-        continue;
+      const double half_width = HalfExtentAlong(model, state, env, target, R * robot.gripper.closing_axis);
+      const double shift = std::max(0.0, 0.5 * robot.gripper.open_gap - half_width - settings_.clearance);
+      for (const double lateral : {0.0, shift, -shift}) {
+        if (lateral != 0.0 && !tier.clear_parts) break;
+        if (tier.clear_parts && !HandClearsNeighboursOnDescent(R, lateral, *tier.clear_parts)) continue;
+        const kinematics::PoseTarget grasp = target_for(R, grasp_z, lateral);
+        const kinematics::PoseTarget lift = target_for(R, settings_.lift_to_z, lateral);
+        const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);
+        if (!q_grasp) continue;
+        const auto q_pre =
+            SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height, lateral));
+        if (!q_pre) continue;
+        const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift);
+        if (!q_lift) continue;
+        if (tier.need_trackable_lines &&
+            !(CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_height)) &&
+              CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks(settings_.lift_to_z - grasp_z)))) {
+          continue;
+        }
+        m.q_pre = arm_of(*q_pre);
+        m.q_grasp = arm_of(*q_grasp);
+        m.q_lift = arm_of(*q_lift);
+        return true;
       }
-      m.q_pre = arm_of(*q_pre);
-      m.q_grasp = arm_of(*q_grasp);
-      m.q_lift = arm_of(*q_lift);
-      return true;
     }
   }
   return false;

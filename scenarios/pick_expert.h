@@ -26,6 +26,7 @@ struct PickExpertSettings {
   double neck_max_speed = 1.5;    // rad/s
   double settle_s = 0.4;          // head still before the hand moves
   double close_s = 0.6;           // gripper closing time
+  double clearance = 0.005;       // m: preferred gap between the open hand and other objects
 };
 
 class PickExpert : public Expert {

@@ -1,0 +1,26 @@
+// Whether an open hand at a planned pose stays clear of the objects around the one it grasps.
+// The expert uses it to prefer grasps whose fingers and palm do not land on a neighbour.
+#pragma once
+
+#include "engine/batch_state.h"
+#include "engine/world_model.h"
+#include "kinematics/pose.h"
+
+namespace tavis::scenarios {
+
+// Half the width of object `object` of `env` along a world direction (unit), from its bounding box.
+double HalfExtentAlong(const engine::WorldModel& model, const engine::BatchState& state, int env, int object,
+                       const Vec3& direction);
+
+enum class HandParts { kPads, kPadsAndHousing };
+
+// True if both open pads (gap `open_gap`), and with kPadsAndHousing the gripper housing, with the
+// IK link at X_W_ik (world frame), stay at least `margin` outside every enabled object of `env`
+// except `target`.
+// Boxes and cylinders are taken as their bounding boxes (as the physics collides cylinders);
+// the test samples each hand box on a 3x3x3 grid of points, which the hand's few-centimetre
+// boxes make dense enough against objects of similar size.
+bool OpenHandClearsNeighbours(const engine::WorldModel& model, const engine::BatchState& state, int env, int target,
+                              const RigidTransform& X_W_ik, double open_gap, double margin, HandParts parts);
+
+}  // namespace tavis::scenarios
