@@ -1,6 +1,8 @@
 #include "scenarios/pick_expert.h"
 
 #include <algorithm>
+#include <array>
+#include <iterator>
 #include <cmath>
 #include <optional>
 
@@ -145,34 +147,53 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   };
   const Tier tiers[] = {{HandParts::kPadsAndHousing, true}, {HandParts::kPads, true}, {std::nullopt, true},
                         {std::nullopt, false}};
+  // The arm configurations of a hand orientation and lateral shift, solved once across tiers.
+  struct ArmPlan {
+    bool reachable = false;
+    bool trackable = false;
+    ArmJoints pre{}, grasp{}, lift{};
+  };
+  auto solve = [&](const Mat3& R, double lateral) {
+    ArmPlan plan;
+    const kinematics::PoseTarget grasp = target_for(R, grasp_z, lateral);
+    const kinematics::PoseTarget lift = target_for(R, settings_.lift_to_z, lateral);
+    const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);
+    if (!q_grasp) return plan;
+    const auto q_pre =
+        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height, lateral));
+    if (!q_pre) return plan;
+    const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift);
+    if (!q_lift) return plan;
+    plan.reachable = true;
+    plan.trackable = CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_height)) &&
+                     CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks(settings_.lift_to_z - grasp_z));
+    plan.pre = arm_of(*q_pre);
+    plan.grasp = arm_of(*q_grasp);
+    plan.lift = arm_of(*q_lift);
+    return plan;
+  };
+  constexpr int kLaterals = 3;  // centred, shifted either way along the closing axis
+  std::array<std::optional<ArmPlan>, std::size(kGraspCandidates) * kLaterals> plans;
   for (const Tier& tier : tiers) {
-    for (const GraspCandidate& candidate : kGraspCandidates) {
+    for (std::size_t c = 0; c < std::size(kGraspCandidates); ++c) {
+      const GraspCandidate& candidate = kGraspCandidates[c];
       const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
                       Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
                       Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
                          .toRotationMatrix();
       const double half_width = HalfExtentAlong(model, state, env, target, R * robot.gripper.closing_axis);
       const double shift = std::max(0.0, 0.5 * robot.gripper.open_gap - half_width - settings_.clearance);
-      for (const double lateral : {0.0, shift, -shift}) {
-        if (lateral != 0.0 && !tier.clear_parts) break;
-        if (tier.clear_parts && !HandClearsNeighboursOnDescent(R, lateral, *tier.clear_parts)) continue;
-        const kinematics::PoseTarget grasp = target_for(R, grasp_z, lateral);
-        const kinematics::PoseTarget lift = target_for(R, settings_.lift_to_z, lateral);
-        const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);
-        if (!q_grasp) continue;
-        const auto q_pre =
-            SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height, lateral));
-        if (!q_pre) continue;
-        const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift);
-        if (!q_lift) continue;
-        if (tier.need_trackable_lines &&
-            !(CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_height)) &&
-              CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks(settings_.lift_to_z - grasp_z)))) {
-          continue;
-        }
-        m.q_pre = arm_of(*q_pre);
-        m.q_grasp = arm_of(*q_grasp);
-        m.q_lift = arm_of(*q_lift);
+      const double laterals[kLaterals] = {0.0, shift, -shift};
+      // Shifted descents only serve clearance.
+      const int num_laterals = tier.clear_parts && shift > 0.0 ? kLaterals : 1;
+      for (int l = 0; l < num_laterals; ++l) {
+        if (tier.clear_parts && !HandClearsNeighboursOnDescent(R, laterals[l], *tier.clear_parts)) continue;
+        std::optional<ArmPlan>& plan = plans[c * kLaterals + static_cast<std::size_t>(l)];
+        if (!plan) plan = solve(R, laterals[l]);
+        if (!plan->reachable || (tier.need_trackable_lines && !plan->trackable)) continue;
+        m.q_pre = plan->pre;
+        m.q_grasp = plan->grasp;
+        m.q_lift = plan->lift;
         return true;
       }
     }
