@@ -21,7 +21,9 @@ void Layout(engine::WorldModel& model) {
   model.static_parts.push_back(engine::MakeTable());
 }
 
-PlacementRanges RangesFor(Split split) {
+}  // namespace
+
+PlacementRanges ClutterPlacementRanges(Split split) {
   PlacementRanges ranges;
   const bool wide = split == Split::kOodSpatial;
   ranges.x = wide ? Range{0.30, 0.50} : Range{0.35, 0.45};
@@ -34,9 +36,11 @@ PlacementRanges RangesFor(Split split) {
   return ranges;
 }
 
+namespace {
+
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
-  const std::vector<Placement> placements = SampleSeparatedPlacements(RangesFor(split), model.num_objects(), rng);
+  const std::vector<Placement> placements = SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_objects(), rng);
   // sample_trial: random.sample(TAVIS_HEAD_OBJECT_NAMES, 4); the one left out is hidden. The
   // hidden object's sampled pose still constrained the others, as in the reference.
   std::vector<int> order(engine::TavisHeadObjectNames().size());
@@ -44,11 +48,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   for (int i = 0; i < 4; ++i) std::swap(order[i], order[i + rng.UniformInt(static_cast<int>(order.size()) - i)]);
   const int hidden = order[4];
   for (int object = 0; object < model.num_objects(); ++object) {
-    double* pose = state.object_pose_row(env, object);
-    const Quat q = QuatFromYaw(placements[object].yaw);
-    const Vec3& p = placements[object].position;
-    const double values[engine::kObjectPoseSize] = {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()};
-    std::copy(values, values + engine::kObjectPoseSize, pose);
+    PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
     state.object_enabled_at(env, object) = object != hidden;
   }
   state.task_vars_row(env)[kTargetVar] = kRedCube;
@@ -78,6 +78,14 @@ ScenarioDef ClutterPickCube() {
   def.evaluate = &Evaluate;
   def.prompt = &Prompt;
   def.make_expert = &MakeExpert;
+  return def;
+}
+
+ScenarioDef BlockedClutterPickCube() {
+  ScenarioDef def = ClutterPickCube();
+  def.name = "blocked-clutter-pick-cube";
+  def.suite = "tavis-hands";
+  def.black_cameras = {"head"};
   return def;
 }
 

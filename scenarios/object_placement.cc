@@ -1,5 +1,7 @@
 #include "scenarios/object_placement.h"
 
+#include <algorithm>
+
 namespace tavis::scenarios {
 
 std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, int count,
@@ -30,6 +32,13 @@ std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, 
     }
   }
   return accepted;
+}
+
+void PlaceUpright(engine::BatchState& state, int env, int object, const Vec3& position, double yaw) {
+  const Quat q = QuatFromYaw(yaw);
+  const double values[engine::kObjectPoseSize] = {position.x(), position.y(), position.z(), q.w(), q.x(), q.y(), q.z()};
+  std::copy(values, values + engine::kObjectPoseSize, state.object_pose_row(env, object));
+  state.object_enabled_at(env, object) = 1;
 }
 
 }  // namespace tavis::scenarios

@@ -1,8 +1,10 @@
-// IsaacLab's randomize_object_pose rejection sampler (reference 4.3), on the episode's stream.
+// Object placement: IsaacLab's randomize_object_pose rejection sampler (reference 4.3), on the
+// episode's stream, and writing an upright object pose.
 #pragma once
 
 #include <vector>
 
+#include "engine/batch_state.h"
 #include "engine/random.h"
 #include "kinematics/pose.h"
 
@@ -28,5 +30,9 @@ struct Placement {
 // distance to every accepted one is strictly greater than min_separation.
 std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, int count,
                                                  engine::RandomStream& rng);
+
+// Writes an object's pose, standing on its base turned `yaw` about the vertical (the
+// reference's place_object; our primitives are modelled z-up), and enables it.
+void PlaceUpright(engine::BatchState& state, int env, int object, const Vec3& position, double yaw);
 
 }  // namespace tavis::scenarios

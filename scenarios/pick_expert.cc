@@ -118,9 +118,16 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     for (int k = 0; k < kinematics::kArmDof; ++k) joints[k] = q[arm_joints[k]];
     return joints;
   };
-  const double grasp_z = p_object.z() + settings_.grasp_height;
+  // Pads' centre height at the grasp: at the object's centre, but with the pads (turned by R)
+  // clear of the surface the object stands on, for low objects such as the tuna can.
+  const double support_z = p_object.z() - HalfExtentAlong(model, state, env, target, Vec3::UnitZ());
+  auto grasp_z_for = [&](const Mat3& R) {
+    const double pad_half_height = (R.transpose() * Vec3::UnitZ()).cwiseAbs().dot(0.5 * robot.gripper.pad_size);
+    return std::max(p_object.z() + settings_.grasp_height, support_z + pad_half_height + settings_.clearance);
+  };
   // The open hand's `parts`, lowered from the pre-grasp to the grasp, stay clear of the other objects.
   auto HandClearsNeighboursOnDescent = [&](const Mat3& R, double lateral, HandParts parts) {
+    const double grasp_z = grasp_z_for(R);
     constexpr int kSamples = 4;
     for (int i = 0; i <= kSamples; ++i) {
       const Vec3 pad_world = pad_point(R, grasp_z + settings_.approach_height * i / kSamples, lateral);
@@ -155,6 +162,7 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   };
   auto solve = [&](const Mat3& R, double lateral) {
     ArmPlan plan;
+    const double grasp_z = grasp_z_for(R);
     const kinematics::PoseTarget grasp = target_for(R, grasp_z, lateral);
     const kinematics::PoseTarget lift = target_for(R, settings_.lift_to_z, lateral);
     const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);

@@ -3,12 +3,15 @@
 #include <stdexcept>
 
 #include "scenarios/clutter_pick_cube.h"
+#include "scenarios/clutter_pick_lift.h"
 
 namespace tavis::scenarios {
 
 const std::vector<ScenarioDef>& AllScenarios() {
   static const std::vector<ScenarioDef> scenarios = {
       ClutterPickCube(),
+      ClutterPickLift(),
+      BlockedClutterPickCube(),
   };
   return scenarios;
 }

@@ -36,6 +36,8 @@ struct ScenarioDef {
   bool (*evaluate)(const engine::WorldModel& model, const engine::BatchState& state, int env) = nullptr;
   std::string (*prompt)(const engine::BatchState& state, int env) = nullptr;
   std::unique_ptr<Expert> (*make_expert)(const engine::WorldModel& model, int num_envs) = nullptr;
+  // Cameras whose image the policy receives all black (the camera still moves).
+  std::vector<std::string> black_cameras;
 };
 
 }  // namespace tavis::scenarios

@@ -1,0 +1,82 @@
+#include "scenarios/clutter_pick_lift.h"
+
+#include <array>
+
+#include "engine/object_catalog.h"
+#include "scenarios/clutter_pick_cube.h"
+#include "scenarios/object_placement.h"
+#include "scenarios/pick_expert.h"
+
+namespace tavis::scenarios {
+namespace {
+
+constexpr int kTargetVar = 0;
+constexpr int kPromptVar = 1;
+constexpr double kSuccessHeight = 1.2;
+constexpr double kSuccessMaxSpeed = 1.0;
+
+// Reference 4.4, in TAVIS_HEAD_OBJECT_NAMES order.
+constexpr std::array<std::array<const char*, 3>, 5> kPrompts = {{
+    {"Pick up the tomato soup can and lift it.", "Grasp the soup can and hold it up.",
+     "Lift the red soup can off the table."},
+    {"Pick up the potted meat can and lift it.", "Grasp the can of spam and hold it up.",
+     "Lift the meat can off the table."},
+    {"Pick up the tuna fish can and lift it.", "Grasp the tuna can and hold it up.",
+     "Lift the tuna fish can off the table."},
+    {"Pick up the gelatin box and lift it.", "Grasp the gelatin box and hold it up.",
+     "Lift the gelatin box off the table."},
+    {"Pick up the pudding box and lift it.", "Grasp the pudding box and hold it up.",
+     "Lift the pudding box off the table."},
+}};
+
+void Layout(engine::WorldModel& model) {
+  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  model.static_parts.push_back(engine::MakeTable());
+}
+
+void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
+  engine::RandomStream& rng = state.task_rng[env];
+  // sample_target draws before the placements: the target, then its phrasing.
+  const int target = rng.UniformInt(model.num_objects());
+  const int prompt = rng.UniformInt(static_cast<int>(kPrompts[0].size()));
+  const std::vector<Placement> placements =
+      SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_objects(), rng);
+  for (int object = 0; object < model.num_objects(); ++object) {
+    PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
+  }
+  state.task_vars_row(env)[kTargetVar] = target;
+  state.task_vars_row(env)[kPromptVar] = prompt;
+}
+
+bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
+  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  return state.ObjectPosition(env, target).z() > kSuccessHeight &&
+         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
+}
+
+std::string Prompt(const engine::BatchState& state, int env) {
+  const double* vars = state.task_vars_row(env);
+  return kPrompts[static_cast<std::size_t>(vars[kTargetVar])][static_cast<std::size_t>(vars[kPromptVar])];
+}
+
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings;
+  settings.target_task_var = kTargetVar;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
+}  // namespace
+
+ScenarioDef ClutterPickLift() {
+  ScenarioDef def;
+  def.name = "clutter-pick-lift";
+  def.suite = "tavis-head";
+  def.layout = &Layout;
+  def.reset = &Reset;
+  def.evaluate = &Evaluate;
+  def.prompt = &Prompt;
+  def.make_expert = &MakeExpert;
+  return def;
+}
+
+}  // namespace tavis::scenarios
