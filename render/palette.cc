@@ -30,8 +30,8 @@ Appearance Emissive(float r, float g, float b) {
   return a;
 }
 
-const std::array<NamedAppearance, 12>& Palette() {
-  static const std::array<NamedAppearance, 12> palette = {{
+const std::array<NamedAppearance, 15>& Palette() {
+  static const std::array<NamedAppearance, 15> palette = {{
       {"floor", Plain(0.12f, 0.12f, 0.13f)},
       // Brushed-metal grey, brighter than the floor so the table edge reads clearly.
       {"table", Plain(0.38f, 0.38f, 0.40f)},
@@ -50,6 +50,10 @@ const std::array<NamedAppearance, 12>& Palette() {
       {"red_cube", Plain(0.9f, 0.1f, 0.1f)},
       {"cue_card", Emissive(0.9f, 0.9f, 0.9f)},
       {"signal_light", Emissive(0.9f, 0.05f, 0.05f)},
+      // Reference 4.5-4.7 materials: wooden box walls and shelves, the monitor's frame and panel.
+      {"wood", Plain(0.55f, 0.35f, 0.20f)},
+      {"screen_frame", Plain(0.18f, 0.18f, 0.18f)},
+      {"screen_panel", Plain(0.05f, 0.05f, 0.05f)},
   }};
   return palette;
 }

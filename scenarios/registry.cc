@@ -4,6 +4,7 @@
 
 #include "scenarios/clutter_pick_cube.h"
 #include "scenarios/clutter_pick_lift.h"
+#include "scenarios/occluded_reach.h"
 
 namespace tavis::scenarios {
 
@@ -12,6 +13,7 @@ const std::vector<ScenarioDef>& AllScenarios() {
       ClutterPickCube(),
       ClutterPickLift(),
       BlockedClutterPickCube(),
+      OccludedReach(),
   };
   return scenarios;
 }

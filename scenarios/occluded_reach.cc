@@ -1,0 +1,78 @@
+#include "scenarios/occluded_reach.h"
+
+#include "engine/object_catalog.h"
+#include "scenarios/object_placement.h"
+#include "scenarios/pick_expert.h"
+
+namespace tavis::scenarios {
+namespace {
+
+constexpr int kTargetVar = 0;
+constexpr double kSuccessHeight = 1.25;
+constexpr double kSuccessMaxSpeed = 1.0;
+constexpr double kDropZ = 1.1;
+
+engine::StaticPart ScreenPart(const std::string& name, const Vec3& size, const Vec3& centre,
+                              const std::string& appearance) {
+  engine::StaticPart part;
+  part.name = name;
+  part.shape = {ShapeKind::kBox, size};
+  part.X_WS = MakeTransform(centre, Mat3::Identity());
+  part.material = engine::Material::kDefault;
+  part.appearance = appearance;
+  return part;
+}
+
+void Layout(engine::WorldModel& model) {
+  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  model.static_parts.push_back(engine::MakeTable());
+  model.static_parts.push_back(ScreenPart("screen_base", {0.15, 0.10, 0.02}, {0.27, 0.0, 1.01}, "screen_frame"));
+  model.static_parts.push_back(ScreenPart("screen_post", {0.03, 0.03, 0.10}, {0.27, 0.0, 1.07}, "screen_frame"));
+  model.static_parts.push_back(ScreenPart("screen_panel", {0.015, 0.16, 0.40}, {0.27, 0.0, 1.32}, "screen_panel"));
+}
+
+void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
+  engine::RandomStream& rng = state.task_rng[env];
+  const bool wide = split == Split::kOodSpatial;
+  const Range x = wide ? Range{0.36, 0.53} : Range{0.40, 0.50};
+  const Range y = wide ? Range{-0.30, 0.30} : Range{-0.20, 0.20};
+  // Draw order: target, x, y, yaw.
+  const int target = rng.UniformInt(model.num_objects());
+  const double px = rng.Uniform(x.low, x.high);
+  const double py = rng.Uniform(y.low, y.high);
+  const double yaw = rng.Uniform(-M_PI, M_PI);
+  for (int object = 0; object < model.num_objects(); ++object) state.object_enabled_at(env, object) = 0;
+  PlaceUpright(state, env, target, Vec3(px, py, kDropZ), yaw);
+  state.task_vars_row(env)[kTargetVar] = target;
+}
+
+bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
+  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  return state.ObjectPosition(env, target).z() > kSuccessHeight &&
+         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
+}
+
+std::string Prompt(const engine::BatchState&, int) { return "Reach around the screen and pick up the object behind it."; }
+
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings;
+  settings.target_task_var = kTargetVar;
+  settings.lift_to_z = kSuccessHeight + 0.07;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
+}  // namespace
+
+ScenarioDef OccludedReach() {
+  ScenarioDef def;
+  def.name = "occluded-reach";
+  def.suite = "tavis-hands";
+  def.layout = &Layout;
+  def.reset = &Reset;
+  def.evaluate = &Evaluate;
+  def.prompt = &Prompt;
+  def.make_expert = &MakeExpert;
+  return def;
+}
+
+}  // namespace tavis::scenarios
