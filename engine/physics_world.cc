@@ -267,8 +267,21 @@ struct PhysicsWorld::Impl {
     }
   }
 
+  // Dynamic objects get a body; kinematic ones only a geom without a body (if they collide),
+  // which SetObject moves.
   void BuildObjects() {
     for (const ObjectSpec& spec : model.objects) {
+      if (spec.motion == ObjectMotion::kKinematic) {
+        dGeomID geom = nullptr;
+        if (spec.collides) {
+          geom = CreateGeom(space, spec.shape);
+          Tag(geom, spec.material, kStaticBit, kRobotBit | kObjectBit);
+          dGeomDisable(geom);
+        }
+        object_body.push_back(nullptr);
+        object_geom.push_back(geom);
+        continue;
+      }
       dBodyID body = NewBody();
       SetMass(body, spec.shape, spec.mass);
       dGeomID geom = CreateGeom(space, spec.shape);
@@ -410,14 +423,24 @@ void PhysicsWorld::ResetRobot(const double* q) {
 
 void PhysicsWorld::SetObject(int object, const Vec3& position, const Quat& orientation, bool enabled) {
   Impl& s = *impl_;
+  const RigidTransform X_WO = MakeTransform(position, orientation.normalized().toRotationMatrix());
   dBodyID body = s.object_body[object];
-  SetBodyPose(body, MakeTransform(position, orientation.normalized().toRotationMatrix()));
+  dGeomID geom = s.object_geom[object];
+  if (body != nullptr) {
+    SetBodyPose(body, X_WO);
+    if (enabled) {
+      dBodyEnable(body);
+    } else {
+      dBodyDisable(body);
+    }
+  } else if (geom != nullptr) {
+    SetStaticGeomPose(geom, X_WO);
+  }
+  if (geom == nullptr) return;
   if (enabled) {
-    dBodyEnable(body);
-    dGeomEnable(s.object_geom[object]);
+    dGeomEnable(geom);
   } else {
-    dBodyDisable(body);
-    dGeomDisable(s.object_geom[object]);
+    dGeomDisable(geom);
   }
 }
 
@@ -469,6 +492,10 @@ void PhysicsWorld::ReadState(double* q, double* gripper_gap, double* object_pose
                         dJointGetSliderPosition(s.fingers[side][1].slider);
   }
   for (size_t i = 0; i < s.object_body.size(); ++i) {
+    if (s.object_body[i] == nullptr) {  // kinematic: the task's pose stands, and it is at rest
+      std::fill_n(object_velocity + i * kObjectVelocitySize, kObjectVelocitySize, 0.0);
+      continue;
+    }
     const dReal* p = dBodyGetPosition(s.object_body[i]);
     const dReal* r = dBodyGetQuaternion(s.object_body[i]);
     const dReal* v = dBodyGetLinearVel(s.object_body[i]);

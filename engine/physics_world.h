@@ -34,7 +34,8 @@ class PhysicsWorld {
   bool Step(const double* q_target, const std::array<double, 2>& gripper_command, int substeps);
 
   // Writes arm joint positions into q (num_joints; other entries untouched), the gripper gaps,
-  // and object poses (num_objects x 7) and velocities (num_objects x 6).
+  // and object poses (num_objects x 7) and velocities (num_objects x 6). Kinematic objects keep
+  // the pose the task gave them and read as at rest.
   void ReadState(double* q, double* gripper_gap, double* object_pose, double* object_velocity) const;
 
   // Solver messages (degenerate contact sets) since the last reset.

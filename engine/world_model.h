@@ -20,13 +20,19 @@ struct MaterialTable {
   double& Friction(Material m) { return friction[static_cast<int>(m)]; }
 };
 
-// A movable rigid object (YCB stand-in or task primitive).
+// Dynamic objects are simulated; kinematic ones (a cue card, a signal light, a box's walls)
+// stay where the task's reset puts them and only collide if `collides`.
+enum class ObjectMotion : uint8_t { kDynamic, kKinematic };
+
+// A rigid object whose pose is part of the batch state (YCB stand-in or task primitive).
 struct ObjectSpec {
   std::string name;
   Shape shape;
   double mass = 0.0;
   Material material = Material::kObject;
   std::string appearance;  // palette name used by the renderer
+  ObjectMotion motion = ObjectMotion::kDynamic;
+  bool collides = true;
 };
 
 // A static part of the scene (table top, screen, shelf board): collides, never moves.

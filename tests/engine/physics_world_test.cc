@@ -118,5 +118,46 @@ TEST(PhysicsWorld, DisabledObjectsDoNotMove) {
   EXPECT_NEAR(StepFor(world, q, -1.0, 0.5, model).pose[2], 1.5, 1e-12);
 }
 
+// A kinematic shelf board with a dynamic cube dropped on it; the board may be visual only.
+WorldModel CubeOverKinematicBoard(bool board_collides) {
+  WorldModel model = CubeOnTableWorld();
+  ObjectSpec board;
+  board.name = "board";
+  board.shape = {ShapeKind::kBox, Vec3(0.2, 0.2, 0.02)};
+  board.motion = ObjectMotion::kKinematic;
+  board.collides = board_collides;
+  board.appearance = "wood";
+  model.objects.push_back(board);
+  return model;
+}
+
+double CubeHeightOverBoard(bool board_collides) {
+  const WorldModel model = CubeOverKinematicBoard(board_collides);
+  PhysicsWorld world(model);
+  const std::vector<double> q = model.robot.DefaultPositions();
+  world.ResetRobot(q.data());
+  world.SetObject(kCube, Vec3(0.5, -0.3, 1.25), Quat::Identity(), true);
+  world.SetObject(1, Vec3(0.5, -0.3, 1.15), Quat::Identity(), true);
+  Observed o = StepFor(world, q, -1.0, 1.0, model);
+  // The board's pose and velocity are the task's: ReadState leaves the pose and reports rest.
+  double poses[2 * kObjectPoseSize] = {};
+  poses[kObjectPoseSize] = 123.0;
+  double velocities[2 * kObjectVelocitySize];
+  std::fill_n(velocities, 2 * kObjectVelocitySize, 9.0);
+  world.ReadState(o.q.data(), o.gap, poses, velocities);
+  EXPECT_EQ(poses[kObjectPoseSize], 123.0);
+  for (int k = 0; k < kObjectVelocitySize; ++k) EXPECT_EQ(velocities[kObjectVelocitySize + k], 0.0);
+  return poses[2];
+}
+
+TEST(PhysicsWorld, KinematicObjectHoldsWhatFallsOnIt) {
+  // Board top at 1.16: the cube (5.5 cm) rests with its centre at 1.1875.
+  EXPECT_NEAR(CubeHeightOverBoard(true), 1.1875, 0.003);
+}
+
+TEST(PhysicsWorld, VisualOnlyKinematicObjectLetsThingsThrough) {
+  EXPECT_NEAR(CubeHeightOverBoard(false), kCubeOnTable.z(), 0.003);
+}
+
 }  // namespace
 }  // namespace tavis::engine
