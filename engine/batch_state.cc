@@ -25,6 +25,7 @@ void BatchState::Allocate(int envs, int joints, int objects) {
   object_pose.assign(n * objects * kObjectPoseSize, 0.0);
   object_velocity.assign(n * objects * kObjectVelocitySize, 0.0);
   object_enabled.assign(n * objects, 0);
+  object_rgb.assign(n * objects * 3, -1.0f);
   task_vars.assign(n * kMaxTaskVars, 0.0);
   control_step.assign(n, 0);
   episode.assign(n, -1);

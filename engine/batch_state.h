@@ -30,6 +30,9 @@ struct BatchState {
   std::vector<double> object_pose;      // (num_envs x num_objects x 7)
   std::vector<double> object_velocity;  // (num_envs x num_objects x 6)
   std::vector<uint8_t> object_enabled;  // (num_envs x num_objects) hidden objects are disabled
+  // (num_envs x num_objects x 3) linear RGB a task gives an object (the cue card's red or green,
+  // the light turning green); negative: the object's palette colour.
+  std::vector<float> object_rgb;
   std::vector<double> task_vars;        // (num_envs x kMaxTaskVars) task-defined (target index...)
   std::vector<int> control_step;        // (num_envs) control ticks since the episode's reset
   std::vector<int64_t> episode;         // (num_envs) episode index in the slot, -1 when idle
@@ -49,6 +52,12 @@ struct BatchState {
   }
   const double* object_velocity_row(int env, int object) const {
     return &object_velocity[(static_cast<size_t>(env) * num_objects + object) * kObjectVelocitySize];
+  }
+  float* object_rgb_row(int env, int object) {
+    return &object_rgb[(static_cast<size_t>(env) * num_objects + object) * 3];
+  }
+  const float* object_rgb_row(int env, int object) const {
+    return &object_rgb[(static_cast<size_t>(env) * num_objects + object) * 3];
   }
   double* task_vars_row(int env) { return &task_vars[static_cast<size_t>(env) * kMaxTaskVars]; }
   const double* task_vars_row(int env) const { return &task_vars[static_cast<size_t>(env) * kMaxTaskVars]; }

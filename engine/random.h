@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace tavis::engine {
 
@@ -38,6 +40,14 @@ class RandomStream {
     // Box-Muller; 1 - Uniform() lies in (0, 1], so the logarithm is finite.
     const double radius = std::sqrt(-2.0 * std::log(1.0 - Uniform()));
     return mean + stddev * radius * std::cos(2.0 * M_PI * Uniform());
+  }
+  // random.sample(range(n), k): k distinct indices in draw order (partial Fisher-Yates); the
+  // remaining n - k follow, so the result is a permutation of 0..n-1.
+  std::vector<int> Sample(int n, int k) {
+    std::vector<int> order(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) order[static_cast<size_t>(i)] = i;
+    for (int i = 0; i < k; ++i) std::swap(order[static_cast<size_t>(i)], order[static_cast<size_t>(i + UniformInt(n - i))]);
+    return order;
   }
   uint32_t counter() const { return static_cast<uint32_t>(counter_); }
 

@@ -1,7 +1,6 @@
 #include "scenarios/clutter_pick_cube.h"
 
 #include <algorithm>
-#include <numeric>
 
 #include "engine/object_catalog.h"
 #include "scenarios/object_placement.h"
@@ -43,10 +42,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   const std::vector<Placement> placements = SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_objects(), rng);
   // sample_trial: random.sample(TAVIS_HEAD_OBJECT_NAMES, 4); the one left out is hidden. The
   // hidden object's sampled pose still constrained the others, as in the reference.
-  std::vector<int> order(engine::TavisHeadObjectNames().size());
-  std::iota(order.begin(), order.end(), 0);
-  for (int i = 0; i < 4; ++i) std::swap(order[i], order[i + rng.UniformInt(static_cast<int>(order.size()) - i)]);
-  const int hidden = order[4];
+  const int hidden = rng.Sample(static_cast<int>(engine::TavisHeadObjectNames().size()), 4)[4];
   for (int object = 0; object < model.num_objects(); ++object) {
     PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
     state.object_enabled_at(env, object) = object != hidden;

@@ -29,9 +29,12 @@ struct ScenarioDef {
   std::string suite;  // "tavis-head" or "tavis-hands"
   // Adds the task's objects and static parts to the world (once per batch).
   void (*layout)(engine::WorldModel& model) = nullptr;
-  // Draws a new episode for `env` from its task stream (state.task_rng[env]): object poses and
-  // enabled flags, task variables.
+  // Draws a new episode for `env` from its task stream (state.task_rng[env]): object poses,
+  // enabled flags and colours, task variables.
   void (*reset)(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) = nullptr;
+  // Optional: advances the task's own clock once per control tick, after physics and before
+  // evaluate (wait-then-act's light turning green).
+  void (*update)(const engine::WorldModel& model, engine::BatchState& state, int env) = nullptr;
   // True on the first control tick the success rule holds.
   bool (*evaluate)(const engine::WorldModel& model, const engine::BatchState& state, int env) = nullptr;
   std::string (*prompt)(const engine::BatchState& state, int env) = nullptr;
