@@ -76,12 +76,20 @@ void PickExpert::Reset(const engine::WorldModel& model, const engine::BatchState
   for (int i = 0; i < kinematics::kNeckDof; ++i) m.neck_command[i] = state.q_row(env)[robot.neck_joints[i]];
   m.neck_goal = m.neck_command;
   m.fixated_point = Vec3::Constant(1e9);
+  m.phase = settings_.cue_object >= 0 ? Phase::kWatchCue : Phase::kLook;
+}
+
+double PickExpert::NeckError(const EnvMemory& m) {
+  double error = 0.0;
+  for (int i = 0; i < kinematics::kNeckDof; ++i) error = std::max(error, std::abs(m.neck_goal[i] - m.neck_command[i]));
+  return error;
 }
 
 void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::BatchState& state, int env,
                             EnvMemory& m) const {
-  const int target = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
-  const Vec3 p_object = state.ObjectPosition(env, target);
+  const int fixated = m.phase == Phase::kWatchCue ? settings_.cue_object
+                                                  : static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
+  const Vec3 p_object = state.ObjectPosition(env, fixated);
   // Re-aim only when the object has moved noticeably: the solve is the expert's costliest step.
   if ((p_object - m.fixated_point).norm() > 0.01) {
     m.neck_goal = FixationNeckAngles(model.robot, state.q_row(env), p_object);
@@ -278,10 +286,15 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
   UpdateNeck(model, state, env, m);
 
   switch (m.phase) {
+    case Phase::kWatchCue: {
+      // The neck has settled on the cue when its command stops changing.
+      if (NeckError(m) >= 0.01) m.phase_start_step = step;
+      const bool go = settings_.go_task_var < 0 || state.task_vars_row(env)[settings_.go_task_var] != 0.0;
+      if (elapsed >= settings_.cue_look_s && go) Enter(m, Phase::kLook, step);
+      break;
+    }
     case Phase::kLook: {
-      double neck_error = 0.0;
-      for (int i = 0; i < kinematics::kNeckDof; ++i) neck_error = std::max(neck_error, std::abs(m.neck_goal[i] - m.neck_command[i]));
-      if (neck_error < 0.01) Enter(m, Phase::kSettle, step);
+      if (NeckError(m) < 0.01) Enter(m, Phase::kSettle, step);
       break;
     }
     case Phase::kSettle:

@@ -1,5 +1,6 @@
 // A privileged scripted expert that picks one object and lifts it, looking before it reaches
-// (the human teleoperator's timing that GALT measures): it turns the head to fixate the object
+// (the human teleoperator's timing that GALT measures): it first reads the task's cue if there is
+// one (fixates a card, watches a light until it turns green), then turns the head to fixate the object
 // and lets the neck settle, then plans a grasp the arm can reach and moves the nearer arm above
 // the object, descends, closes and lifts. The approach is a straight hand line when the
 // controller can track it (checked kinematically beforehand), otherwise a straight joint-space
@@ -16,6 +17,12 @@ namespace tavis::scenarios {
 
 struct PickExpertSettings {
   int target_task_var = 0;        // task variable holding the target object's index
+  // A cue to read before looking at the target (cue card, signal light), or -1: the expert
+  // fixates it for cue_look_s once the neck has settled, and if go_task_var >= 0 keeps
+  // watching until that task variable turns nonzero (the light turning green).
+  int cue_object = -1;
+  double cue_look_s = 0.5;
+  int go_task_var = -1;
   double grasp_height = 0.000;    // m: pad centre above the object's centre at the grasp
   double approach_height = 0.18;  // m: pre-grasp above the grasp, clear of the clutter
   double lift_to_z = 1.27;        // m: world height of the pads' centre after lifting (success: 1.2)
@@ -36,7 +43,7 @@ class PickExpert : public Expert {
   void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
            kinematics::Action& action) override;
 
-  enum class Phase { kLook, kSettle, kApproach, kDescend, kClose, kLift, kGiveUp };
+  enum class Phase { kWatchCue, kLook, kSettle, kApproach, kDescend, kClose, kLift, kGiveUp };
   Phase phase(int env) const { return memory_[env].phase; }
 
  private:
@@ -66,6 +73,8 @@ class PickExpert : public Expert {
   };
 
   void Enter(EnvMemory& m, Phase phase, int step) const;
+  // Largest distance of the neck command from its fixation goal, rad.
+  static double NeckError(const EnvMemory& m);
   void UpdateNeck(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
   bool PlanGrasp(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
   void StartSegment(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& from, const ArmJoints& to,

@@ -3,13 +3,17 @@
 #include <stdexcept>
 
 #include "scenarios/clutter_pick_cube.h"
+#include "scenarios/conditional_pick.h"
 #include "scenarios/clutter_pick_lift.h"
 #include "scenarios/occluded_reach.h"
+#include "scenarios/wait_then_act.h"
 
 namespace tavis::scenarios {
 
 const std::vector<ScenarioDef>& AllScenarios() {
   static const std::vector<ScenarioDef> scenarios = {
+      ConditionalPick(),
+      WaitThenAct(),
       ClutterPickCube(),
       ClutterPickLift(),
       BlockedClutterPickCube(),

@@ -1,0 +1,100 @@
+#include "scenarios/conditional_pick.h"
+
+#include "engine/object_catalog.h"
+#include "scenarios/object_placement.h"
+#include "scenarios/pick_expert.h"
+
+namespace tavis::scenarios {
+namespace {
+
+constexpr int kCard = 5;  // after the five YCB objects
+constexpr int kTargetVar = 0;
+constexpr int kCardIsRedVar = 1;
+constexpr double kSuccessHeight = 1.2;
+constexpr double kSuccessMaxSpeed = 1.0;
+constexpr double kDropZ = 1.1;
+constexpr double kCardZ = 1.002;
+
+void Layout(engine::WorldModel& model) {
+  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  engine::ObjectSpec card;
+  card.name = "cue_card";
+  card.shape = {ShapeKind::kBox, Vec3(0.08, 0.05, 0.003)};
+  card.motion = engine::ObjectMotion::kKinematic;
+  card.collides = false;  // visual only, as in the reference
+  card.appearance = "cue_card";
+  model.objects.push_back(card);
+  model.static_parts.push_back(engine::MakeTable());
+}
+
+struct Zones {
+  Range left_x, left_y, right_x, right_y, card_x, card_y;
+};
+
+Zones ZonesFor(Split split) {
+  if (split == Split::kOodSpatial) {
+    return {{0.30, 0.50}, {0.10, 0.35}, {0.30, 0.50}, {-0.35, -0.10}, {0.30, 0.50}, {-0.08, 0.08}};
+  }
+  return {{0.35, 0.45}, {0.15, 0.25}, {0.35, 0.45}, {-0.25, -0.15}, {0.35, 0.45}, {-0.05, 0.05}};
+}
+
+void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, int env) {
+  engine::RandomStream& rng = state.task_rng[env];
+  const Zones zones = ZonesFor(split);
+  const int num_ycb = static_cast<int>(engine::TavisHeadObjectNames().size());
+  // Reference draw order: the two objects, the card's colour, left pose, right pose, card pose.
+  const std::vector<int> order = rng.Sample(num_ycb, 2);
+  const int left = order[0];
+  const int right = order[1];
+  const bool card_is_red = rng.UniformInt(2) == 0;
+  for (int object = 0; object < num_ycb; ++object) state.object_enabled_at(env, object) = 0;
+  for (const auto& [object, x, y] : {std::tuple{left, zones.left_x, zones.left_y},
+                                     std::tuple{right, zones.right_x, zones.right_y}}) {
+    const double px = rng.Uniform(x.low, x.high);
+    const double py = rng.Uniform(y.low, y.high);
+    const double yaw = rng.Uniform(-M_PI, M_PI);
+    PlaceUpright(state, env, object, Vec3(px, py, kDropZ), yaw);
+  }
+  const double cx = rng.Uniform(zones.card_x.low, zones.card_x.high);
+  const double cy = rng.Uniform(zones.card_y.low, zones.card_y.high);
+  PlaceUpright(state, env, kCard, Vec3(cx, cy, kCardZ), 0.0);
+  float* rgb = state.object_rgb_row(env, kCard);
+  rgb[0] = card_is_red ? 1.0f : 0.0f;
+  rgb[1] = card_is_red ? 0.0f : 1.0f;
+  rgb[2] = 0.0f;
+  state.task_vars_row(env)[kTargetVar] = card_is_red ? left : right;
+  state.task_vars_row(env)[kCardIsRedVar] = card_is_red ? 1.0 : 0.0;
+}
+
+bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
+  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  return state.ObjectPosition(env, target).z() > kSuccessHeight &&
+         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
+}
+
+std::string Prompt(const engine::BatchState&, int) {
+  return "Look at the card. If it is red, pick the object on the left. If it is green, pick the object on the right.";
+}
+
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings;
+  settings.target_task_var = kTargetVar;
+  settings.cue_object = kCard;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
+}  // namespace
+
+ScenarioDef ConditionalPick() {
+  ScenarioDef def;
+  def.name = "conditional-pick";
+  def.suite = "tavis-head";
+  def.layout = &Layout;
+  def.reset = &Reset;
+  def.evaluate = &Evaluate;
+  def.prompt = &Prompt;
+  def.make_expert = &MakeExpert;
+  return def;
+}
+
+}  // namespace tavis::scenarios

@@ -1,0 +1,109 @@
+#include "scenarios/wait_then_act.h"
+
+#include "engine/object_catalog.h"
+#include "scenarios/object_placement.h"
+#include "scenarios/pick_expert.h"
+
+namespace tavis::scenarios {
+namespace {
+
+constexpr int kLight = 5;  // after the five YCB objects
+constexpr int kTargetVar = 0;
+constexpr int kGreenVar = 1;
+constexpr int kGreenStepVar = 2;  // policy step at which the light turns green
+constexpr double kSuccessHeight = 1.2;
+constexpr double kSuccessMaxSpeed = 1.0;
+constexpr double kDropZ = 1.1;
+constexpr double kLightZ = 1.03;
+
+void SetLightColour(engine::BatchState& state, int env, bool green) {
+  float* rgb = state.object_rgb_row(env, kLight);
+  rgb[0] = green ? 0.0f : 1.0f;
+  rgb[1] = green ? 1.0f : 0.0f;
+  rgb[2] = 0.0f;
+}
+
+void Layout(engine::WorldModel& model) {
+  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  engine::ObjectSpec light;
+  light.name = "signal_light";
+  light.shape = {ShapeKind::kSphere, Vec3::Constant(0.03)};
+  light.motion = engine::ObjectMotion::kKinematic;
+  light.collides = false;  // visual only, as in the reference
+  light.appearance = "signal_light";
+  model.objects.push_back(light);
+  model.static_parts.push_back(engine::MakeTable());
+}
+
+void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
+  engine::RandomStream& rng = state.task_rng[env];
+  const bool wide = split == Split::kOodSpatial;
+  const Range object_x = wide ? Range{0.30, 0.50} : Range{0.35, 0.45};
+  const Range object_y = wide ? Range{-0.20, 0.20} : Range{-0.12, 0.12};
+  const Range light_x = wide ? Range{0.55, 0.75} : Range{0.60, 0.70};
+  const Range light_y = wide ? Range{-0.15, 0.15} : Range{-0.10, 0.10};
+  const Range delay_s = wide ? Range{2.0, 8.0} : Range{2.0, 5.0};
+  const int num_ycb = static_cast<int>(engine::TavisHeadObjectNames().size());
+  // Reference draw order: target, delay, object x, y, yaw, light x, y.
+  const int target = rng.UniformInt(num_ycb);
+  const double delay = rng.Uniform(delay_s.low, delay_s.high);
+  const double px = rng.Uniform(object_x.low, object_x.high);
+  const double py = rng.Uniform(object_y.low, object_y.high);
+  const double yaw = rng.Uniform(-M_PI, M_PI);
+  const double lx = rng.Uniform(light_x.low, light_x.high);
+  const double ly = rng.Uniform(light_y.low, light_y.high);
+  for (int object = 0; object < num_ycb; ++object) state.object_enabled_at(env, object) = 0;
+  PlaceUpright(state, env, target, Vec3(px, py, kDropZ), yaw);
+  PlaceUpright(state, env, kLight, Vec3(lx, ly, kLightZ), 0.0);
+  SetLightColour(state, env, false);
+  double* vars = state.task_vars_row(env);
+  vars[kTargetVar] = target;
+  vars[kGreenVar] = 0.0;
+  // green_step = int(delay_s / step_dt) at the 20 Hz policy rate.
+  vars[kGreenStepVar] = std::floor(delay * model.physics.policy_hz);
+}
+
+// The reference flips the light inside its success term once the episode's policy-step count
+// reaches green_step; control ticks count three to a policy step.
+void Update(const engine::WorldModel& model, engine::BatchState& state, int env) {
+  double* vars = state.task_vars_row(env);
+  if (vars[kGreenVar] != 0.0) return;
+  if (state.control_step[env] >= vars[kGreenStepVar] * model.physics.controls_per_policy()) {
+    vars[kGreenVar] = 1.0;
+    SetLightColour(state, env, true);
+  }
+}
+
+bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
+  const double* vars = state.task_vars_row(env);
+  const int target = static_cast<int>(vars[kTargetVar]);
+  return vars[kGreenVar] != 0.0 && state.ObjectPosition(env, target).z() > kSuccessHeight &&
+         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
+}
+
+std::string Prompt(const engine::BatchState&, int) { return "Watch the red light. When it turns green, pick up the object."; }
+
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings;
+  settings.target_task_var = kTargetVar;
+  settings.cue_object = kLight;
+  settings.go_task_var = kGreenVar;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
+}  // namespace
+
+ScenarioDef WaitThenAct() {
+  ScenarioDef def;
+  def.name = "wait-then-act";
+  def.suite = "tavis-head";
+  def.layout = &Layout;
+  def.reset = &Reset;
+  def.update = &Update;
+  def.evaluate = &Evaluate;
+  def.prompt = &Prompt;
+  def.make_expert = &MakeExpert;
+  return def;
+}
+
+}  // namespace tavis::scenarios
