@@ -63,11 +63,19 @@ struct PhysicsSettings {
   int max_control_steps() const { return static_cast<int>(episode_length_s * control_hz + 0.5); }
 };
 
+// The scene's distant (shadow-casting) light, reference 2.1; multi-shelf-scan overrides it.
+// The dome light is the same everywhere.
+struct SceneLighting {
+  Vec3 distant_direction = Vec3(-0.342, -0.321, -0.883);  // direction of travel
+  double distant_intensity = 2000.0;
+};
+
 struct WorldModel {
   kinematics::RobotModel robot;
   std::vector<ObjectSpec> objects;
   std::vector<StaticPart> static_parts;
   MaterialTable materials;
+  SceneLighting lighting;
   PhysicsSettings physics;
 
   int num_objects() const { return static_cast<int>(objects.size()); }

@@ -5,6 +5,7 @@
 #include "scenarios/clutter_pick_cube.h"
 #include "scenarios/conditional_pick.h"
 #include "scenarios/clutter_pick_lift.h"
+#include "scenarios/multi_shelf_scan.h"
 #include "scenarios/occluded_reach.h"
 #include "scenarios/wait_then_act.h"
 
@@ -16,6 +17,7 @@ const std::vector<ScenarioDef>& AllScenarios() {
       WaitThenAct(),
       ClutterPickCube(),
       ClutterPickLift(),
+      MultiShelfScan(),
       BlockedClutterPickCube(),
       OccludedReach(),
   };

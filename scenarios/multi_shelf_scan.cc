@@ -1,0 +1,118 @@
+#include "scenarios/multi_shelf_scan.h"
+
+#include <algorithm>
+#include <array>
+
+#include "engine/object_catalog.h"
+#include "scenarios/object_placement.h"
+#include "scenarios/pick_expert.h"
+
+namespace tavis::scenarios {
+namespace {
+
+constexpr int kTargetVar = 0;
+constexpr int kPromptVar = 1;
+constexpr double kSuccessMaxX = 0.52 - 0.055 - 0.03;  // 0.435, the code's threshold
+constexpr double kSuccessMaxSpeed = 1.0;
+
+// Cabinet constants (reference 4.5).
+constexpr double kCentreX = 0.52;
+constexpr double kDepth = 0.11;
+constexpr double kWidth = 0.70;
+constexpr double kBoard = 0.02;
+constexpr double kBackThickness = 0.01;
+constexpr std::array<double, 3> kShelfZ = {0.97, 1.10, 1.27};
+constexpr double kTopZ = 1.52;
+constexpr double kUnitMidZ = 1.245;
+constexpr double kUnitSpan = 0.57;
+constexpr std::array<double, 2> kSlotY = {0.15, -0.15};
+
+constexpr std::array<std::array<const char*, 3>, 5> kPrompts = {{
+    {"Find the tomato soup can on the shelf and bring it to me.", "Retrieve the soup can from the shelves.",
+     "Look through the shelves, find the red soup can, and take it."},
+    {"Find the potted meat can on the shelf and bring it to me.", "Retrieve the spam can from the shelves.",
+     "Look through the shelves, find the meat can, and take it."},
+    {"Find the tuna fish can on the shelf and bring it to me.", "Retrieve the tuna can from the shelves.",
+     "Look through the shelves, find the tuna can, and take it."},
+    {"Find the gelatin box on the shelf and bring it to me.", "Retrieve the gelatin box from the shelves.",
+     "Look through the shelves, find the gelatin box, and take it."},
+    {"Find the pudding box on the shelf and bring it to me.", "Retrieve the pudding box from the shelves.",
+     "Look through the shelves, find the pudding box, and take it."},
+}};
+
+engine::StaticPart Panel(const std::string& name, const Vec3& size, const Vec3& centre) {
+  engine::StaticPart part;
+  part.name = name;
+  part.shape = {ShapeKind::kBox, size};
+  part.X_WS = MakeTransform(centre, Mat3::Identity());
+  part.material = engine::Material::kTable;
+  part.appearance = "wood";
+  return part;
+}
+
+void Layout(engine::WorldModel& model) {
+  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  const Vec3 board(kDepth, kWidth, kBoard);
+  for (std::size_t shelf = 0; shelf < kShelfZ.size(); ++shelf) {
+    model.static_parts.push_back(
+        Panel("shelf_board_" + std::to_string(shelf), board, {kCentreX, 0.0, kShelfZ[shelf]}));
+  }
+  model.static_parts.push_back(Panel("shelf_board_top", board, {kCentreX, 0.0, kTopZ}));
+  const Vec3 side(kDepth, kBoard, kUnitSpan);
+  const double side_y = 0.5 * kWidth + 0.5 * kBoard;
+  model.static_parts.push_back(Panel("shelf_side_left", side, {kCentreX, side_y, kUnitMidZ}));
+  model.static_parts.push_back(Panel("shelf_side_right", side, {kCentreX, -side_y, kUnitMidZ}));
+  model.static_parts.push_back(Panel("shelf_back", {kBackThickness, kWidth, kUnitSpan},
+                                     {kCentreX + 0.5 * kDepth + 0.5 * kBackThickness, 0.0, kUnitMidZ}));
+  // The task's own shadow light: intensity 1000 from above-behind the robot into the cabinet.
+  model.lighting.distant_direction = Vec3(0.643, -0.236, -0.728);
+  model.lighting.distant_intensity = 1000.0;
+}
+
+void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
+  engine::RandomStream& rng = state.task_rng[env];
+  const double jitter_x = 0.03;
+  const double jitter_y = split == Split::kOodSpatial ? 0.10 : 0.03;
+  constexpr int kSlots = static_cast<int>(kShelfZ.size() * kSlotY.size());
+  // Reference draw order: the five slots, the target, its phrasing, then each object's pose.
+  const std::vector<int> slots = rng.Sample(kSlots, model.num_objects());
+  const int target = rng.UniformInt(model.num_objects());
+  const int prompt = rng.UniformInt(static_cast<int>(kPrompts[0].size()));
+  for (int object = 0; object < model.num_objects(); ++object) {
+    const int slot = slots[static_cast<std::size_t>(object)];
+    const double shelf_z = kShelfZ[static_cast<std::size_t>(slot) / kSlotY.size()];
+    const double slot_y = kSlotY[static_cast<std::size_t>(slot) % kSlotY.size()];
+    const double x = std::clamp(kCentreX + rng.Uniform(-jitter_x, jitter_x), 0.485, 0.555);
+    const double y = std::clamp(slot_y + rng.Uniform(-jitter_y, jitter_y), -0.32, 0.32);
+    const double yaw = rng.Uniform(-M_PI, M_PI);
+    PlaceUpright(state, env, object, Vec3(x, y, shelf_z + 0.01 + 0.04), yaw);
+  }
+  state.task_vars_row(env)[kTargetVar] = target;
+  state.task_vars_row(env)[kPromptVar] = prompt;
+}
+
+bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
+  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  return state.ObjectPosition(env, target).x() < kSuccessMaxX &&
+         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
+}
+
+std::string Prompt(const engine::BatchState& state, int env) {
+  const double* vars = state.task_vars_row(env);
+  return kPrompts[static_cast<std::size_t>(vars[kTargetVar])][static_cast<std::size_t>(vars[kPromptVar])];
+}
+
+}  // namespace
+
+ScenarioDef MultiShelfScan() {
+  ScenarioDef def;
+  def.name = "multi-shelf-scan";
+  def.suite = "tavis-head";
+  def.layout = &Layout;
+  def.reset = &Reset;
+  def.evaluate = &Evaluate;
+  def.prompt = &Prompt;
+  return def;
+}
+
+}  // namespace tavis::scenarios
