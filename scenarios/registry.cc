@@ -7,6 +7,7 @@
 #include "scenarios/clutter_pick_lift.h"
 #include "scenarios/multi_shelf_scan.h"
 #include "scenarios/occluded_reach.h"
+#include "scenarios/peeking_box.h"
 #include "scenarios/wait_then_act.h"
 
 namespace tavis::scenarios {
@@ -18,8 +19,9 @@ const std::vector<ScenarioDef>& AllScenarios() {
       ClutterPickCube(),
       ClutterPickLift(),
       MultiShelfScan(),
-      BlockedClutterPickCube(),
+      PeekingBox(),
       OccludedReach(),
+      BlockedClutterPickCube(),
   };
   return scenarios;
 }
