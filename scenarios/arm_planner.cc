@@ -10,6 +10,7 @@ constexpr double kPositionTolerance = 0.002;
 constexpr double kAngleTolerance = 0.03;
 constexpr int kIterationsPerSeed = 150;
 constexpr int kSeeds = 24;
+constexpr double kStillStep = 1e-9;  // rad
 
 // Iterates the controller's IK step kinematically (joint limits respected); returns the error.
 double Converge(const kinematics::RobotModel& robot, kinematics::Side side, std::vector<double>& q,
@@ -17,7 +18,13 @@ double Converge(const kinematics::RobotModel& robot, kinematics::Side side, std:
   for (int i = 0; i < kIterationsPerSeed; ++i) {
     kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
     const auto next = kinematics::IkStep(robot, side, q.data(), X_BL.data(), target);
-    for (int k = 0; k < kinematics::kArmDof; ++k) q[robot.arm(side).joints[k]] = next[k];
+    double change = 0.0;
+    for (int k = 0; k < kinematics::kArmDof; ++k) {
+      double& q_k = q[robot.arm(side).joints[k]];
+      change = std::max(change, std::abs(next[k] - q_k));
+      q_k = next[k];
+    }
+    if (change < kStillStep) break;  // a fixed point: further steps would not move the arm
   }
   kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
   const Vec6 error = kinematics::IkPoseError(robot, side, X_BL.data(), target);
