@@ -20,9 +20,9 @@ class ExpertPolicy : public Policy {
   void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) override {
     expert_->Reset(model, state, env);
   }
-  void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
+  void Act(const engine::WorldModel& model, const Observation& observation, int env,
            kinematics::Action& action) override {
-    expert_->Act(model, state, env, action);
+    expert_->Act(model, observation.state, env, action);
   }
 
  private:
@@ -51,7 +51,7 @@ class HoldPolicy : public Policy {
       action[kinematics::action::kGripper[i]] = -1.0;
     }
   }
-  void Act(const engine::WorldModel&, const engine::BatchState&, int env, kinematics::Action& action) override {
+  void Act(const engine::WorldModel&, const Observation&, int env, kinematics::Action& action) override {
     action = reset_action_[env];
   }
 
@@ -65,8 +65,8 @@ class ReplayPolicy : public Policy {
   std::string name() const override { return "replay"; }
   int control_ticks_per_action() const override { return kControlTicksPerRow; }
   void Reset(const engine::WorldModel&, const engine::BatchState&, int) override {}
-  void Act(const engine::WorldModel&, const engine::BatchState& state, int env, kinematics::Action& action) override {
-    const int row = std::min(state.control_step[env] / kControlTicksPerRow, trajectory_.num_steps - 1);
+  void Act(const engine::WorldModel&, const Observation& observation, int env, kinematics::Action& action) override {
+    const int row = std::min(observation.state.control_step[env] / kControlTicksPerRow, trajectory_.num_steps - 1);
     std::copy_n(&trajectory_.values[static_cast<size_t>(row) * kinematics::action::kSize], kinematics::action::kSize,
                 action.begin());
   }
@@ -89,7 +89,12 @@ void CheckBuiltinPolicyName(const std::string& name) {
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
                                           const engine::WorldModel& model, int num_envs,
                                           const std::string& actions_file) {
-  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
+  if (name == "expert") {
+    if (scenario.make_expert == nullptr) {
+      throw std::invalid_argument("task '" + scenario.name + "' has no scripted expert yet");
+    }
+    return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
+  }
   if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
   if (name == "replay") {
     if (actions_file.empty()) throw std::invalid_argument("policy 'replay' needs an actions file (--actions FILE.csv)");

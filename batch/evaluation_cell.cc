@@ -19,9 +19,20 @@ void ValidateConfig(const EvaluationCellConfig& config) {
   if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
   CheckBuiltinPolicyName(config.policy);
-  if (config.split == scenarios::Split::kOodInitPose) {
-    throw std::invalid_argument("split 'ood-init-pose' is not implemented yet (its warm-up perturbation is open work)");
+  CameraSettings cameras;
+  cameras.cameras = config.render_cameras;
+  cameras.width = config.image_width;
+  cameras.height = config.image_height;
+  ValidateCameraSettings(cameras);
+}
+
+// The policy's cameras first (its images keep their order), then the extra cameras to render.
+std::vector<std::string> CamerasToRender(const Policy& policy, const EvaluationCellConfig& config) {
+  std::vector<std::string> cameras = policy.cameras();
+  for (const std::string& name : config.render_cameras) {
+    if (std::find(cameras.begin(), cameras.end(), name) == cameras.end()) cameras.push_back(name);
   }
+  return cameras;
 }
 
 // GALT over the successful episodes' commanded actions, sampled when the policy acted (every
@@ -53,9 +64,17 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   std::unique_ptr<Policy> policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
   const int hold_ticks = policy->control_ticks_per_action();
   const int ticks_per_policy_step = env.model().physics.controls_per_policy();
+  const std::vector<std::string> cameras = CamerasToRender(*policy, config);
+  if (!policy->cameras().empty() && hold_ticks % ticks_per_policy_step != 0) {
+    throw std::invalid_argument("policy '" + policy->name() + "' uses cameras but acts every " +
+                                std::to_string(hold_ticks) + " control ticks; it must act on policy ticks (a multiple of " +
+                                std::to_string(ticks_per_policy_step) + "), where its images are rendered");
+  }
+  if (!cameras.empty()) env.EnableCameras({cameras, config.image_width, config.image_height, false, false});
 
   CellResult result;
   result.config = config;
+  result.rendered_cameras = cameras;
   result.episodes.resize(config.episodes);
   std::vector<kinematics::Action> actions(slots);
   std::vector<std::vector<kinematics::Action>> action_logs(slots);
@@ -76,9 +95,10 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   int finished = 0;
   while (finished < config.episodes) {
     const engine::BatchState& state = env.state();
+    const Observation observation = env.Observe();  // renders only if cameras are enabled
     tbb::parallel_for(0, slots, [&](int slot) {
       if (state.episode[slot] < 0) return;
-      if (state.control_step[slot] % hold_ticks == 0) policy->Act(env.model(), state, slot, actions[slot]);
+      if (state.control_step[slot] % hold_ticks == 0) policy->Act(env.model(), observation, slot, actions[slot]);
       action_logs[slot].push_back(actions[slot]);
     });
     env.Step(actions);
@@ -107,6 +127,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     }
   }
   AddGalt(result, hold_ticks, env.model().physics.control_hz);
+  result.rendered_images = env.rendered_images();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -26,6 +26,11 @@ struct EvaluationCellConfig {
   int envs = 32;  // parallel env slots
   uint64_t seed = 0;
   std::string config_dir;  // holds robots/*.yaml
+  // Cameras rendered on every policy tick even if the policy does not consume them (throughput
+  // runs); the policy's own cameras() are always rendered. Names from SceneCameraNames().
+  std::vector<std::string> render_cameras;
+  int image_width = 640;  // resolution of every rendered camera (the reference's 640 x 480)
+  int image_height = 480;
 };
 
 struct EpisodeRecord {
@@ -48,6 +53,8 @@ struct CellResult {
   double wall_s = 0.0;
   int64_t control_ticks = 0;  // env control ticks simulated, for throughput
   double galt_fps = 0.0;      // rate of the action samples GALT was computed on
+  std::vector<std::string> rendered_cameras;  // the policy's cameras, then the extra render_cameras
+  int64_t rendered_images = 0;                // env-camera images rendered
 };
 
 // Called after each finished episode with (finished, total).

@@ -153,7 +153,7 @@ const std::vector<std::string>& SuiteTasks(const std::string& suite) {
   return FindSuite(suite).tasks;
 }
 
-CellResult ReadCellResult(const std::filesystem::path& path) {
+CellCounts ReadCellResult(const std::filesystem::path& path) {
   const std::string source = path.string();
   std::ifstream in(path);
   if (!in) throw std::runtime_error(source + ": cannot open file");
@@ -165,7 +165,7 @@ CellResult ReadCellResult(const std::filesystem::path& path) {
   }
   if (!summary.is_object()) throw std::runtime_error(source + ": expected a JSON object");
 
-  CellResult cell;
+  CellCounts cell;
   cell.source = source;
   cell.task = KebabCase(ReadString(summary, "task", source));
   cell.robot = ReadString(summary, "robot", source);
@@ -181,7 +181,7 @@ CellResult ReadCellResult(const std::filesystem::path& path) {
   return cell;
 }
 
-std::vector<CellResult> LoadCellResults(const std::filesystem::path& folder) {
+std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder) {
   if (!std::filesystem::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": not a directory");
   }
@@ -192,13 +192,13 @@ std::vector<CellResult> LoadCellResults(const std::filesystem::path& folder) {
     }
   }
   std::sort(paths.begin(), paths.end());
-  std::vector<CellResult> cells;
+  std::vector<CellCounts> cells;
   cells.reserve(paths.size());
   for (const std::filesystem::path& path : paths) cells.push_back(ReadCellResult(path));
   return cells;
 }
 
-ResultsTable BuildResultsTable(const std::vector<CellResult>& cells, const std::string& suite) {
+ResultsTable BuildResultsTable(const std::vector<CellCounts>& cells, const std::string& suite) {
   ResultsTable table;
   table.suite = suite;
   table.tasks = SuiteTasks(suite);
@@ -209,8 +209,8 @@ ResultsTable BuildResultsTable(const std::vector<CellResult>& cells, const std::
     return CellKey{task, column.robot, column.split, column.camera};
   };
   std::map<CellKey, RateCell> pooled_by_key;
-  const CellResult* policy_source = nullptr;
-  for (const CellResult& cell : cells) {
+  const CellCounts* policy_source = nullptr;
+  for (const CellCounts& cell : cells) {
     const auto task = std::find(table.tasks.begin(), table.tasks.end(), cell.task);
     if (task == table.tasks.end() || cell.n_episodes == 0) continue;
     if (policy_source && policy_source->policy != cell.policy) {

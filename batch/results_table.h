@@ -25,7 +25,9 @@
 
 namespace tavis::batch {
 
-struct CellResult {
+// One summary.json's counts. (Not evaluation_cell.h's CellResult: two classes of one name in
+// one namespace break the one-definition rule and crash in their destructors.)
+struct CellCounts {
   std::string task;
   std::string robot;
   std::string split;
@@ -41,10 +43,10 @@ struct CellResult {
 const std::vector<std::string>& SuiteTasks(const std::string& suite);
 
 // Reads one summary.json; throws std::runtime_error naming the file, the key and the value.
-CellResult ReadCellResult(const std::filesystem::path& path);
+CellCounts ReadCellResult(const std::filesystem::path& path);
 
 // Every summary.json under `folder`, in path order.
-std::vector<CellResult> LoadCellResults(const std::filesystem::path& folder);
+std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder);
 
 struct TableColumn {
   std::string robot;
@@ -74,7 +76,7 @@ struct ResultsTable {
 
 // Throws std::invalid_argument for an unknown suite, std::runtime_error when cells that would
 // share a table disagree on the policy, or when no cell belongs to the suite.
-ResultsTable BuildResultsTable(const std::vector<CellResult>& cells, const std::string& suite);
+ResultsTable BuildResultsTable(const std::vector<CellCounts>& cells, const std::string& suite);
 
 // Rates in percent with one decimal, optionally followed by the 95% Wilson interval
 // "[low, high]"; a missing cell is "-" in Markdown and empty in CSV. The CSV has one column per

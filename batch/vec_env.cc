@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "batch/init_pose_warmup.h"
 #include "kinematics/inverse_kinematics.h"
 
 namespace tavis::batch {
@@ -47,6 +48,8 @@ VecEnv::VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario,
   tbb::parallel_for(0, num_envs, [&](int env) { worlds_[env] = std::make_unique<engine::PhysicsWorld>(model_); });
   invalid_index_.assign(num_envs, -1);
   invalid_value_.assign(num_envs, 0.0);
+  images_current_.assign(num_envs, 0);
+  render_env_.assign(num_envs, 0);
 }
 
 VecEnv::~VecEnv() {
@@ -61,10 +64,12 @@ void VecEnv::ResetEnv(int env, int64_t episode) {
   state_.control_step[env] = 0;
   state_.task_rng[env] = engine::RandomStream(seed_, engine::RandomStreamId::kTask, static_cast<uint64_t>(episode));
   invalid_index_[env] = -1;
+  images_current_[env] = 0;
   const std::vector<double> q_default = robot.DefaultPositions();
   std::copy(q_default.begin(), q_default.end(), state_.q_row(env));
   std::copy(q_default.begin(), q_default.end(), state_.q_target_row(env));
   std::fill_n(&state_.task_vars[static_cast<size_t>(env) * engine::kMaxTaskVars], engine::kMaxTaskVars, 0.0);
+  std::fill_n(state_.object_rgb_row(env, 0), 3 * model_.num_objects(), -1.0f);
   scenario_.reset(model_, split_, state_, env);
 
   engine::PhysicsWorld& world = *worlds_[env];
@@ -75,6 +80,15 @@ void VecEnv::ResetEnv(int env, int64_t episode) {
   }
   world.ReadState(state_.q_row(env), &state_.gripper_gap[2 * env], state_.object_pose_row(env, 0),
                   &state_.object_velocity[static_cast<size_t>(env) * model_.num_objects() * engine::kObjectVelocitySize]);
+
+  // ood-init-pose: the warm-up belongs to the reset (the policy first sees its end) but its
+  // ticks count toward the episode, as in the reference's InitPoseWrapper.
+  if (split_ == scenarios::Split::kOodInitPose) {
+    engine::RandomStream rng(seed_, engine::RandomStreamId::kInitPose, static_cast<uint64_t>(episode));
+    const kinematics::Action warmup = InitPoseWarmupAction(robot, rng);
+    const int ticks = kInitPoseWarmupPolicySteps * model_.physics.controls_per_policy();
+    for (int tick = 0; tick < ticks && state_.end[env] == engine::EpisodeEnd::kRunning; ++tick) StepEnv(env, warmup);
+  }
 }
 
 void VecEnv::Step(const std::vector<kinematics::Action>& actions) {
@@ -131,8 +145,10 @@ void VecEnv::StepEnv(int env, const kinematics::Action& action) {
   const double max_move = robot.neck_actuator.velocity_limit * dt;
   for (int joint : robot.neck_joints) q[joint] += std::clamp(blend * (q_target[joint] - q[joint]), -max_move, max_move);
 
-  // Stage: task evaluation and episode end.
+  // Stage: the task's clock, its evaluation and the episode's end.
   state_.control_step[env] += 1;
+  if (scenario_.update != nullptr) scenario_.update(model_, state_, env);
+  images_current_[env] = 0;
   if (!sane) {
     state_.end[env] = engine::EpisodeEnd::kPhysicsBlowUp;
   } else if (scenario_.evaluate(model_, state_, env)) {
@@ -140,6 +156,46 @@ void VecEnv::StepEnv(int env, const kinematics::Action& action) {
   } else if (state_.control_step[env] >= model_.physics.max_control_steps()) {
     state_.end[env] = engine::EpisodeEnd::kTimeOut;
   }
+}
+
+void VecEnv::EnableCameras(const CameraSettings& settings) {
+  cameras_ = std::make_unique<SceneRender>(model_, num_envs(), settings);
+  // The task's black cameras (blocked-clutter-pick-cube's head, reference 4.8) give all-zero
+  // images; the reference renders them and then replaces the image, here no ray is traced.
+  for (const std::string& name : scenario_.black_cameras) {
+    const int camera = cameras_->CameraIndex(name);
+    if (camera < 0) continue;
+    for (int env = 0; env < num_envs(); ++env) cameras_->SetCameraEnabled(env, camera, false);
+  }
+  std::fill(images_current_.begin(), images_current_.end(), 0);
+}
+
+void VecEnv::SetCameraBlocked(int env, int camera, bool blocked) {
+  if (!cameras_) throw std::logic_error("VecEnv::SetCameraBlocked: cameras are not enabled (call EnableCameras)");
+  cameras_->SetCameraEnabled(env, camera, !blocked);
+  images_current_[env] = 0;
+}
+
+Observation VecEnv::Observe() {
+  if (!cameras_) return Observation{state_, nullptr};
+  const int ticks_per_policy_step = model_.physics.controls_per_policy();
+  bool stale = false;
+  int rendered_envs = 0;
+  for (int env = 0; env < num_envs(); ++env) {
+    const bool at_policy_tick = state_.episode[env] >= 0 && state_.end[env] == engine::EpisodeEnd::kRunning &&
+                                state_.control_step[env] % ticks_per_policy_step == 0;
+    render_env_[env] = at_policy_tick ? 1 : 0;
+    stale = stale || (at_policy_tick && images_current_[env] == 0);
+    rendered_envs += at_policy_tick ? 1 : 0;
+  }
+  // One render call for all envs at their policy tick: the call clears the other envs' images,
+  // so envs already current are drawn again rather than left out.
+  if (stale) {
+    cameras_->Render(state_, render_env_.data());
+    for (int env = 0; env < num_envs(); ++env) images_current_[env] = render_env_[env];
+    rendered_images_ += static_cast<int64_t>(rendered_envs) * cameras_->num_cameras();
+  }
+  return Observation{state_, &cameras_->images()};
 }
 
 }  // namespace tavis::batch

@@ -2,18 +2,25 @@
 // scripted expert, seed 0, 96 episodes over 32 env slots, on 2 threads. One cell per iteration;
 // use --benchmark_repetitions=N for a spread. Counters: episodes/s, env control ticks/s (60 Hz
 // ticks simulated per wall second) and the cell's success rate.
+//
+// BM_EvalCellRendering is the same cell while the head and both wrist cameras are rendered at
+// 224x224 on every policy tick (20 Hz), as a learned policy would see them; the expert ignores the
+// images, which are discarded. Extra counter: rendered images per second.
+//
+// Run: tavis_eval_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "batch/evaluation_cell.h"
 
 namespace tavis::batch {
 namespace {
 
-void BM_EvalCell(benchmark::State& state, const char* robot) {
-  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+EvaluationCellConfig DefaultCell(const char* robot) {
   EvaluationCellConfig config;
   config.task = "clutter-pick-cube";
   config.robot = robot;
@@ -23,27 +30,46 @@ void BM_EvalCell(benchmark::State& state, const char* robot) {
   config.envs = 32;
   config.seed = 0;
   config.config_dir = TAVIS_CONFIG_DIR;
+  return config;
+}
 
+void RunCells(benchmark::State& state, const EvaluationCellConfig& config) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
   double wall_s = 0.0;
   int64_t episodes = 0;
   int64_t successes = 0;
   int64_t control_ticks = 0;
+  int64_t images = 0;
   for (auto _ : state) {
     const CellResult result = RunEvaluationCell(config);
     wall_s += result.wall_s;
     episodes += static_cast<int64_t>(result.episodes.size());
     successes += result.successes;
     control_ticks += result.control_ticks;
+    images += result.rendered_images;
     benchmark::DoNotOptimize(result.successes);
   }
   state.counters["episodes/s"] = static_cast<double>(episodes) / wall_s;
   state.counters["ticks/s"] = static_cast<double>(control_ticks) / wall_s;
   state.counters["success_rate"] = static_cast<double>(successes) / static_cast<double>(episodes);
   state.counters["cell_wall_s"] = wall_s / static_cast<double>(state.iterations());
+  if (images > 0) state.counters["images/s"] = static_cast<double>(images) / wall_s;
+}
+
+void BM_EvalCell(benchmark::State& state, const char* robot) { RunCells(state, DefaultCell(robot)); }
+
+void BM_EvalCellRendering(benchmark::State& state, const char* robot) {
+  EvaluationCellConfig config = DefaultCell(robot);
+  config.render_cameras = {"head", "left_wrist", "right_wrist"};
+  config.image_width = 224;
+  config.image_height = 224;
+  RunCells(state, config);
 }
 
 BENCHMARK_CAPTURE(BM_EvalCell, gr1t2, "gr1t2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_EvalCell, reachy2, "reachy2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_EvalCellRendering, gr1t2, "gr1t2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_EvalCellRendering, reachy2, "reachy2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 }  // namespace tavis::batch

@@ -8,6 +8,7 @@ namespace tavis::tools {
 
 void RegisterEvalCommand(CLI::App& app);
 void RegisterGaltCommand(CLI::App& app);
+void RegisterRenderCommand(CLI::App& app);
 void RegisterTableCommand(CLI::App& app);
 
 }  // namespace tavis::tools

@@ -3,6 +3,8 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -10,6 +12,7 @@
 #include "batch/builtin_policies.h"
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
+#include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
 
@@ -20,6 +23,8 @@ struct EvalOptions {
   batch::EvaluationCellConfig cell;
   std::string split = "id";
   std::string out;
+  std::string render_cameras;
+  std::string image_size = "640x480";
   int threads = 0;
   bool quiet = false;
 };
@@ -38,9 +43,32 @@ void PrintProgress(int finished, int total) {
   if (finished == total) std::fprintf(stderr, "\n");
 }
 
+// "224x224" -> (224, 224); throws std::invalid_argument naming the value.
+std::pair<int, int> ParseImageSize(const std::string& text) {
+  const std::size_t x = text.find('x');
+  int width = 0;
+  int height = 0;
+  std::size_t used_width = 0;
+  std::size_t used_height = 0;
+  try {
+    if (x != std::string::npos) {
+      width = std::stoi(text.substr(0, x), &used_width);
+      height = std::stoi(text.substr(x + 1), &used_height);
+    }
+  } catch (const std::exception&) {
+    used_width = 0;
+  }
+  if (x == std::string::npos || used_width != x || used_height != text.size() - x - 1 || width < 1 || height < 1) {
+    throw std::invalid_argument("--image-size '" + text + "' must be WIDTHxHEIGHT with positive integers, e.g. 224x224");
+  }
+  return {width, height};
+}
+
 void RunEval(const EvalOptions& options) {
   batch::EvaluationCellConfig cell = options.cell;
   cell.split = scenarios::ParseSplit(options.split);
+  if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
+  std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
   scenarios::FindScenario(cell.task);  // fail fast on an unknown task, before any work
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
@@ -65,7 +93,7 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--task", options->cell.task, "Task (" + KnownTasks() + ")")->capture_default_str();
   eval->add_option("--robot", options->cell.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
-  eval->add_option("--split", options->split, "Split: id or ood-spatial (ood-init-pose: not yet)")->capture_default_str();
+  eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
   eval->add_option("--policy", options->cell.policy, std::string("Policy (") + batch::BuiltinPolicyNames() + ")")
       ->capture_default_str();
   eval->add_option("--actions", options->cell.actions_file,
@@ -78,6 +106,12 @@ void RegisterEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  eval->add_option("--render-cameras", options->render_cameras,
+                   "Comma-separated cameras to render on every policy tick (20 Hz) even if the policy uses no\n"
+                   "images, e.g. head,left_wrist,right_wrist (known: head, fixed, left_wrist, right_wrist); the\n"
+                   "images are discarded: for measuring throughput with rendering");
+  eval->add_option("--image-size", options->image_size, "Resolution of rendered cameras, WIDTHxHEIGHT")
       ->capture_default_str();
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<policy>_s<seed>)");
   eval->add_option("--config-dir", options->cell.config_dir, "Directory holding robots/*.yaml")->capture_default_str();

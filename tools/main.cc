@@ -9,11 +9,13 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   tavis::tools::RegisterEvalCommand(app);
   tavis::tools::RegisterGaltCommand(app);
+  tavis::tools::RegisterRenderCommand(app);
   tavis::tools::RegisterTableCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help exits 0; every usage error exits 1, like the errors below.
+    return app.exit(e) == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::cerr << "tavis: error: " << e.what() << "\n";
     return 1;

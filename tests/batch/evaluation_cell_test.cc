@@ -66,7 +66,9 @@ void ExpectWellFormed(const CellResult& result) {
     EXPECT_EQ(record.length_steps, (record.length_control_ticks + 2) / 3);
     // GALT is computed for successful episodes only, and the expert grasps in each of them.
     EXPECT_EQ(record.galt.has_value(), record.success);
-    if (record.galt) EXPECT_NE(record.galt->reason, kinematics::GaltReason::kNoGrasp);
+    if (record.galt) {
+      EXPECT_NE(record.galt->reason, kinematics::GaltReason::kNoGrasp);
+    }
     successes += record.success ? 1 : 0;
     ticks += record.length_control_ticks;
   }
@@ -108,6 +110,26 @@ TEST(EvaluationCell, SameSeedRepeatsAndOtherSeedDiffers) {
   EXPECT_EQ(differing, static_cast<int>(first.episodes.size()));
 }
 
+TEST(EvaluationCell, RenderedCamerasLeaveRecordsUnchangedAndRenderEveryPolicyStep) {
+  EvaluationCellConfig plain = SmallCell(3, 2);
+  plain.episodes = 3;
+  EvaluationCellConfig rendered = plain;
+  rendered.render_cameras = {"head", "left_wrist", "right_wrist"};
+  rendered.image_width = 32;
+  rendered.image_height = 24;
+  const CellResult without = RunWithThreads(plain, 2);
+  const CellResult with = RunWithThreads(rendered, 2);
+  ExpectWellFormed(with);
+  ExpectSameRecords(without, with, "without vs with rendering");
+  EXPECT_EQ(without.rendered_images, 0) << "the expert needs no images: nothing is rendered";
+  EXPECT_TRUE(without.rendered_cameras.empty());
+  EXPECT_EQ(with.rendered_cameras, rendered.render_cameras);
+  // One render per 20 Hz policy step of every episode (control ticks 0, 3, 6, ...), 3 cameras.
+  int64_t policy_steps = 0;
+  for (const EpisodeRecord& record : with.episodes) policy_steps += record.length_steps;
+  EXPECT_EQ(with.rendered_images, 3 * policy_steps);
+}
+
 template <typename Error>
 void ExpectErrorNaming(const EvaluationCellConfig& config, const std::string& needle) {
   try {
@@ -132,6 +154,13 @@ TEST(EvaluationCell, BadSettingsThrowNamingTheValue) {
   config = SmallCell();
   config.task = "clutter-pick-sphere";
   ExpectErrorNaming<std::invalid_argument>(config, "clutter-pick-sphere");
+
+  config = SmallCell();
+  config.render_cameras = {"head", "chest"};
+  ExpectErrorNaming<std::invalid_argument>(config, "unknown camera 'chest'");
+  config.render_cameras = {"head"};
+  config.image_width = 0;
+  ExpectErrorNaming<std::invalid_argument>(config, "image size 0x480");
 
   config = SmallCell();
   config.robot = "robby";

@@ -32,7 +32,7 @@ std::vector<kinematics::Action> HoldActions(const VecEnv& env) {
   std::vector<kinematics::Action> actions(env.num_envs());
   for (int slot = 0; slot < env.num_envs(); ++slot) {
     hold->Reset(env.model(), env.state(), slot);
-    hold->Act(env.model(), env.state(), slot, actions[slot]);
+    hold->Act(env.model(), Observation{env.state()}, slot, actions[slot]);
   }
   return actions;
 }

@@ -1,93 +1,20 @@
 // Runs the real `tavis` program (TAVIS_BINARY) and checks its exit status, output and files.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "tool_runner.h"
+
 namespace tavis::tools {
 namespace {
 
-namespace fs = std::filesystem;
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string Quote(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty()) lines.push_back(line);
-  }
-  return lines;
-}
-
-class EvalCommand : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::temp_directory_path() /
-            ("tavis_tools_test_" + std::to_string(getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(root_, ignored);
-  }
-
-  // Runs `tavis ARGS`, capturing stdout and stderr separately.
-  RunResult Run(const std::string& args) const {
-    const fs::path out = root_ / "stdout.txt";
-    const fs::path err = root_ / "stderr.txt";
-    const std::string command =
-        Quote(TAVIS_BINARY) + " " + args + " >" + Quote(out.string()) + " 2>" + Quote(err.string());
-    const int status = std::system(command.c_str());
-    RunResult result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    result.out = ReadText(out);
-    result.err = ReadText(err);
-    fs::remove(out);
-    fs::remove(err);
-    return result;
-  }
-
-  // Every regular file under `dir` with its content.
-  static std::map<std::string, std::string> Snapshot(const fs::path& dir) {
-    std::map<std::string, std::string> files;
-    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-      if (entry.is_regular_file()) files[entry.path().string()] = ReadText(entry.path());
-    }
-    return files;
-  }
-
-  fs::path root_;
-};
+using EvalCommand = TavisCommandTest;
 
 TEST_F(EvalCommand, SmallCellWritesEpisodesSummaryAndOneLine) {
   const fs::path dir = root_ / "cell";
@@ -161,6 +88,36 @@ TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {
   }
 }
 
+TEST_F(EvalCommand, RenderCamerasAreRenderedAndReported) {
+  const fs::path dir = root_ / "cell";
+  const RunResult run = Run("eval --episodes 1 --envs 1 --quiet --render-cameras head,right_wrist --image-size 32x24 --out " +
+                            Quote(dir.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "summary.json"));
+  const nlohmann::json& render = summary.at("render");
+  EXPECT_EQ(render.at("cameras"), nlohmann::json({"head", "right_wrist"}));
+  EXPECT_EQ(render.at("width").get<int>(), 32);
+  EXPECT_EQ(render.at("height").get<int>(), 24);
+  const nlohmann::json episode = nlohmann::json::parse(Lines(ReadText(dir / "episodes.jsonl")).at(0));
+  EXPECT_EQ(render.at("images").get<int>(), 2 * episode.at("length_steps").get<int>());
+}
+
+TEST_F(EvalCommand, BadRenderOptionsExitOneNamingTheValue) {
+  const fs::path dir = root_ / "never";
+  for (const auto& [args, needle] : std::vector<std::pair<std::string, std::string>>{
+           {"--render-cameras head,nose", "'nose'"},
+           {"--render-cameras head,head", "'head' is listed twice"},
+           {"--render-cameras head --image-size 224", "'224'"},
+           {"--render-cameras head --image-size 0x10", "'0x10'"},
+           {"--render-cameras head --image-size 22x2y", "'22x2y'"}}) {
+    SCOPED_TRACE(args);
+    const RunResult run = Run("eval --episodes 1 --quiet " + args + " --out " + Quote(dir.string()));
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_NE(run.err.find(needle), std::string::npos) << "stderr: " << run.err;
+    EXPECT_FALSE(fs::exists(dir));
+  }
+}
+
 TEST_F(EvalCommand, BadInputDoesNotCreateTheOutputDirectory) {
   const fs::path dir = root_ / "never";
   const RunResult run = Run("eval --quiet --robot nope --out " + Quote(dir.string()));
@@ -171,7 +128,8 @@ TEST_F(EvalCommand, BadInputDoesNotCreateTheOutputDirectory) {
 TEST_F(EvalCommand, HelpExitsZeroAndListsOptions) {
   const RunResult run = Run("eval --help");
   EXPECT_EQ(run.exit_code, 0) << run.err;
-  for (const char* option : {"--task", "--robot", "--split", "--policy", "--episodes", "--seed", "--out"}) {
+  for (const char* option : {"--task", "--robot", "--split", "--policy", "--episodes", "--seed", "--out",
+                             "--render-cameras", "--image-size"}) {
     EXPECT_NE(run.out.find(option), std::string::npos) << option << " missing in:\n" << run.out;
   }
 }
