@@ -137,6 +137,9 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
     layout.cameras.push_back(SpecOf(name, robot, settings.width, settings.height, &mount));
     camera_mount->push_back(mount);
   }
+  // The task's shadow light (multi-shelf-scan has its own); the dome light is shared.
+  layout.lighting.distant_direction = model.lighting.distant_direction.cast<float>();
+  layout.lighting.distant_intensity = static_cast<float>(model.lighting.distant_intensity);
   return layout;
 }
 
