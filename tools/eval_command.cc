@@ -1,10 +1,13 @@
-// `tavis eval`: one evaluation cell, written to DIR/episodes.jsonl and DIR/summary.json.
+// `tavis eval`: one evaluation cell, written to DIR/episodes.jsonl and DIR/summary.json, or one
+// cell per task of a suite.
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -25,6 +28,8 @@ struct EvalOptions {
   std::string out;
   std::string render_cameras;
   std::string image_size = "640x480";
+  std::string suite;
+  bool task_given = false;
   int threads = 0;
   bool quiet = false;
 };
@@ -64,21 +69,73 @@ std::pair<int, int> ParseImageSize(const std::string& text) {
   return {width, height};
 }
 
+std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split) {
+  return cell.task + "_" + cell.robot + "_" + split + "_" + cell.policy + "_s" + std::to_string(cell.seed);
+}
+
+batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
+                          const std::string& out) {
+  const batch::CellResult result =
+      batch::RunEvaluationCell(cell, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress));
+  batch::WriteCellReport(result, {threads}, out);
+  std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
+  return result;
+}
+
+// Every task of the suite, one cell each in OUT/<task>_<robot>_<split>_<policy>_s<seed>, then the
+// suite mean as the paper reports it (task average) and pooled over episodes. A task without a
+// scripted expert is reported and makes the exit status 1; the others still run.
+void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int threads) {
+  std::vector<std::string> tasks;
+  for (const auto& scenario : scenarios::AllScenarios()) {
+    if (scenario.suite == options.suite) tasks.push_back(scenario.name);
+  }
+  if (tasks.empty()) {
+    throw std::invalid_argument("unknown suite '" + options.suite + "' (known: tavis-head, tavis-hands)");
+  }
+  const std::string base = options.out.empty() ? "results/" + options.suite : options.out;
+  double rate_sum = 0.0;
+  int cells = 0, successes = 0, episodes = 0;
+  std::vector<std::string> failed;
+  for (const std::string& task : tasks) {
+    cell.task = task;
+    try {
+      const batch::CellResult result = RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, options.split));
+      rate_sum += static_cast<double>(result.successes) / static_cast<double>(result.episodes.size());
+      successes += result.successes;
+      episodes += static_cast<int>(result.episodes.size());
+      ++cells;
+    } catch (const std::invalid_argument& error) {
+      std::cout << task << ": not run: " << error.what() << "\n";
+      failed.push_back(task);
+    }
+  }
+  if (cells > 0) {
+    std::printf("%s %s %s policy=%s: suite mean over %d tasks %.1f%% (task average), %.1f%% pooled (%d/%d)\n",
+                options.suite.c_str(), cell.robot.c_str(), options.split.c_str(), cell.policy.c_str(), cells,
+                100.0 * rate_sum / cells, 100.0 * successes / episodes, successes, episodes);
+  }
+  if (!failed.empty()) {
+    std::string names;
+    for (const std::string& task : failed) names += (names.empty() ? "" : ", ") + task;
+    throw std::runtime_error("suite incomplete: " + names + " not run");
+  }
+}
+
 void RunEval(const EvalOptions& options) {
   batch::EvaluationCellConfig cell = options.cell;
   cell.split = scenarios::ParseSplit(options.split);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
   std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
-  scenarios::FindScenario(cell.task);  // fail fast on an unknown task, before any work
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-  const std::string out = options.out.empty() ? "results/" + cell.task + "_" + cell.robot + "_" + options.split +
-                                                    "_" + cell.policy + "_s" + std::to_string(cell.seed)
-                                              : options.out;
-  const batch::CellResult result =
-      batch::RunEvaluationCell(cell, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress));
-  batch::WriteCellReport(result, {threads}, out);
-  std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
+  if (!options.suite.empty()) {
+    if (options.task_given) throw std::invalid_argument("give either --task or --suite, not both");
+    RunSuite(cell, options, threads);
+    return;
+  }
+  scenarios::FindScenario(cell.task);  // fail fast on an unknown task, before any work
+  RunCell(cell, options, threads, options.out.empty() ? "results/" + DefaultCellDirName(cell, options.split) : options.out);
 }
 
 }  // namespace
@@ -91,6 +148,10 @@ void RegisterEvalCommand(CLI::App& app) {
               "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
               "rate with its 95% Wilson interval, wall time, throughput).");
   eval->add_option("--task", options->cell.task, "Task (" + KnownTasks() + ")")->capture_default_str();
+  eval->add_option("--suite", options->suite,
+                   "Run every task of a suite instead of one task: tavis-head or tavis-hands; cells go to\n"
+                   "OUT/<task>_<robot>_<split>_<policy>_s<seed> (OUT defaults to results/<suite>), then the\n"
+                   "suite mean is printed as a task average and pooled over episodes");
   eval->add_option("--robot", options->cell.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
   eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
@@ -116,7 +177,10 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<policy>_s<seed>)");
   eval->add_option("--config-dir", options->cell.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
   eval->add_flag("--quiet", options->quiet, "No progress bar");
-  eval->callback([options] { RunEval(*options); });
+  eval->callback([options, eval] {
+    options->task_given = eval->count("--task") > 0;
+    RunEval(*options);
+  });
 }
 
 }  // namespace tavis::tools

@@ -78,6 +78,7 @@ TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {
       {"--episodes 1 --split nope", "nope"},  {"--episodes 1 --policy nope", "nope"},
       {"--episodes 0", "got 0"},              {"--episodes -3", "got -3"},
       {"--episodes 1 --envs 0", "got 0"},     {"--episodes 1 --seed banana", "banana"},
+      {"--episodes 1 --suite nope", "nope"},  {"--episodes 1 --suite tavis-head --task wait-then-act", "--suite"},
   };
   for (const auto& [args, needle] : cases) {
     SCOPED_TRACE(args);
@@ -86,6 +87,19 @@ TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {
     EXPECT_NE(run.err.find(needle), std::string::npos) << "stderr: " << run.err;
     EXPECT_EQ(Snapshot(dir), before) << "a failed run must not touch the output directory";
   }
+}
+
+TEST_F(EvalCommand, SuiteRunsACellPerTaskAndPrintsTheSuiteMean) {
+  const fs::path dir = root_ / "suite";
+  const RunResult run = Run("eval --suite tavis-hands --episodes 1 --envs 1 --quiet --out " + Quote(dir.string()));
+  // peeking-box has no scripted expert yet: it is reported, the others run, the exit status is 1.
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.out.find("peeking-box: not run"), std::string::npos) << run.out;
+  EXPECT_NE(run.err.find("suite incomplete: peeking-box"), std::string::npos) << run.err;
+  for (const char* task : {"occluded-reach", "blocked-clutter-pick-cube"}) {
+    EXPECT_TRUE(fs::exists(dir / (std::string(task) + "_gr1t2_id_expert_s0") / "summary.json")) << task;
+  }
+  EXPECT_NE(run.out.find("tavis-hands gr1t2 id policy=expert: suite mean over 2 tasks"), std::string::npos) << run.out;
 }
 
 TEST_F(EvalCommand, RenderCamerasAreRenderedAndReported) {
