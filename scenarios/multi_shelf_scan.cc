@@ -102,6 +102,19 @@ std::string Prompt(const engine::BatchState& state, int env) {
   return kPrompts[static_cast<std::size_t>(vars[kTargetVar])][static_cast<std::size_t>(vars[kPromptVar])];
 }
 
+// Scans the three rows bottom to top, then reaches level into the target's slot from the front
+// and pulls it straight out past the success line.
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings;
+  settings.target_task_var = kTargetVar;
+  for (const double shelf_z : kShelfZ) settings.scan_points.push_back(Vec3(kCentreX, 0.0, shelf_z + 0.05));
+  settings.approach_offset = Vec3(-0.15, 0.0, 0.0);
+  settings.pull_back_to_x = kSuccessMaxX - 0.07;
+  settings.grasp_candidates = ShelfGraspCandidates();
+  settings.align_to_object = false;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
 }  // namespace
 
 ScenarioDef MultiShelfScan() {
@@ -112,6 +125,7 @@ ScenarioDef MultiShelfScan() {
   def.reset = &Reset;
   def.evaluate = &Evaluate;
   def.prompt = &Prompt;
+  def.make_expert = &MakeExpert;
   return def;
 }
 

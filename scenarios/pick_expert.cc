@@ -14,6 +14,8 @@
 namespace tavis::scenarios {
 namespace {
 
+constexpr double kPullBackRise = 0.015;  // m: the pads rise this much while pulling out of a shelf
+
 using kinematics::Side;
 
 void WriteArm(kinematics::Action& action, Side side, const RigidTransform& X_CanonicalHand) {
@@ -40,24 +42,26 @@ double FoldedYaw(const Quat& orientation) {
   return yaw - quarter * std::round(yaw / quarter);
 }
 
-// Grasp orientations in the order tried: the approach tilted forward from vertical, its
-// heading turned by quarter turns about the vertical (the box is symmetric under them), and the
-// hand turned half a turn about its approach axis (the gripper nearly is). The fingers stay
-// horizontal.
-struct GraspCandidate {
-  double tilt;
-  double heading_offset;
-  double turn;
-};
-constexpr double kQuarter = M_PI / 2;
-constexpr GraspCandidate kGraspCandidates[] = {
-    {0.8, 0.0, 0.0},       {0.8, 0.0, M_PI},       {0.6, 0.0, 0.0},       {0.6, 0.0, M_PI},
-    {1.0, 0.0, 0.0},       {1.0, 0.0, M_PI},       {0.8, kQuarter, 0.0},  {0.8, -kQuarter, 0.0},
-    {0.8, kQuarter, M_PI}, {0.8, -kQuarter, M_PI}, {0.6, kQuarter, 0.0},  {0.6, -kQuarter, 0.0},
-    {0.6, kQuarter, M_PI}, {0.6, -kQuarter, M_PI}, {1.0, kQuarter, 0.0},  {1.0, -kQuarter, 0.0},
-};
-
 }  // namespace
+
+std::vector<GraspCandidate> TableGraspCandidates() {
+  constexpr double kQuarter = M_PI / 2;
+  return {
+      {0.8, 0.0, 0.0},       {0.8, 0.0, M_PI},       {0.6, 0.0, 0.0},       {0.6, 0.0, M_PI},
+      {1.0, 0.0, 0.0},       {1.0, 0.0, M_PI},       {0.8, kQuarter, 0.0},  {0.8, -kQuarter, 0.0},
+      {0.8, kQuarter, M_PI}, {0.8, -kQuarter, M_PI}, {0.6, kQuarter, 0.0},  {0.6, -kQuarter, 0.0},
+      {0.6, kQuarter, M_PI}, {0.6, -kQuarter, M_PI}, {1.0, kQuarter, 0.0},  {1.0, -kQuarter, 0.0},
+  };
+}
+
+std::vector<GraspCandidate> ShelfGraspCandidates() {
+  const double level = M_PI / 2;
+  std::vector<GraspCandidate> candidates;
+  for (const double tilt : {level, level - 0.2, level + 0.2, level - 0.4}) {
+    for (const double turn : {0.0, M_PI}) candidates.push_back({tilt, 0.0, turn});
+  }
+  return candidates;
+}
 
 PickExpert::PickExpert(const engine::WorldModel&, int num_envs, PickExpertSettings settings)
     : settings_(settings), memory_(num_envs) {}
@@ -76,7 +80,7 @@ void PickExpert::Reset(const engine::WorldModel& model, const engine::BatchState
   for (int i = 0; i < kinematics::kNeckDof; ++i) m.neck_command[i] = state.q_row(env)[robot.neck_joints[i]];
   m.neck_goal = m.neck_command;
   m.fixated_point = Vec3::Constant(1e9);
-  m.phase = settings_.cue_object >= 0 ? Phase::kWatchCue : Phase::kLook;
+  m.phase = settings_.cue_object >= 0 || !settings_.scan_points.empty() ? Phase::kWatchCue : Phase::kLook;
 }
 
 double PickExpert::NeckError(const EnvMemory& m) {
@@ -87,9 +91,14 @@ double PickExpert::NeckError(const EnvMemory& m) {
 
 void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::BatchState& state, int env,
                             EnvMemory& m) const {
-  const int fixated = m.phase == Phase::kWatchCue ? settings_.cue_object
-                                                  : static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
-  const Vec3 p_object = state.ObjectPosition(env, fixated);
+  Vec3 p_object;
+  if (m.phase == Phase::kWatchCue && m.scan_index < settings_.scan_points.size()) {
+    p_object = settings_.scan_points[m.scan_index];
+  } else if (m.phase == Phase::kWatchCue) {
+    p_object = state.ObjectPosition(env, settings_.cue_object);
+  } else {
+    p_object = state.ObjectPosition(env, static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]));
+  }
   // Re-aim only when the object has moved noticeably: the solve is the expert's costliest step.
   if ((p_object - m.fixated_point).norm() > 0.01) {
     m.neck_goal = FixationNeckAngles(model.robot, state.q_row(env), p_object);
@@ -108,18 +117,13 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   const kinematics::RobotModel& robot = model.robot;
   const int target = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
   const Vec3 p_object = state.ObjectPosition(env, target);
-  const double yaw = FoldedYaw(state.ObjectOrientation(env, target));
+  const double yaw = settings_.align_to_object ? FoldedYaw(state.ObjectOrientation(env, target)) : 0.0;
   m.side = p_object.y() >= 0.0 ? Side::kLeft : Side::kRight;
   const auto& arm_joints = robot.arm(m.side).joints;
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
-  // The pads' centre at height pad_z over the object, shifted `lateral` along the closing axis.
-  auto pad_point = [&](const Mat3& R, double pad_z, double lateral) -> Vec3 {
-    return Vec3(p_object.x(), p_object.y(), pad_z) + lateral * (R * robot.gripper.closing_axis);
-  };
-  // Hand target (base frame) that puts the pads' centre there.
-  auto target_for = [&](const Mat3& R, double pad_z, double lateral) {
-    return kinematics::PoseTarget{pad_point(R, pad_z, lateral) - robot.root_world - R * robot.gripper.pad_center,
-                                  Quat(R)};
+  // Hand target (base frame) that puts the pads' centre at a world point.
+  auto target_for = [&](const Mat3& R, const Vec3& pad_world) {
+    return kinematics::PoseTarget{pad_world - robot.root_world - R * robot.gripper.pad_center, Quat(R)};
   };
   auto arm_of = [&](const std::vector<double>& q) {
     ArmJoints joints{};
@@ -133,12 +137,21 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     const double pad_half_height = (R.transpose() * Vec3::UnitZ()).cwiseAbs().dot(0.5 * robot.gripper.pad_size);
     return std::max(p_object.z() + settings_.grasp_height, support_z + pad_half_height + settings_.clearance);
   };
-  // The open hand's `parts`, lowered from the pre-grasp to the grasp, stay clear of the other objects.
+  // The pads' centre at the grasp: over the object, shifted `lateral` along the closing axis.
+  auto grasp_point = [&](const Mat3& R, double lateral) -> Vec3 {
+    return Vec3(p_object.x(), p_object.y(), grasp_z_for(R)) + lateral * (R * robot.gripper.closing_axis);
+  };
+  // Where the pads go after closing: up to lift_to_z, or straight back out of a shelf.
+  auto lift_point = [&](const Vec3& grasp) -> Vec3 {
+    if (settings_.pull_back_to_x) return Vec3(*settings_.pull_back_to_x, grasp.y(), grasp.z() + kPullBackRise);
+    return Vec3(grasp.x(), grasp.y(), settings_.lift_to_z);
+  };
+  // The open hand's `parts`, moved from the pre-grasp to the grasp, stay clear of the other objects.
   auto HandClearsNeighboursOnDescent = [&](const Mat3& R, double lateral, HandParts parts) {
-    const double grasp_z = grasp_z_for(R);
+    const Vec3 grasp = grasp_point(R, lateral);
     constexpr int kSamples = 4;
     for (int i = 0; i <= kSamples; ++i) {
-      const Vec3 pad_world = pad_point(R, grasp_z + settings_.approach_height * i / kSamples, lateral);
+      const Vec3 pad_world = grasp + settings_.approach_offset * i / kSamples;
       const RigidTransform X_W_ik = MakeTransform(pad_world - R * robot.gripper.pad_center, R);
       if (!OpenHandClearsNeighbours(model, state, env, target, X_W_ik, robot.gripper.open_gap, settings_.clearance, parts)) {
         return false;
@@ -170,29 +183,32 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   };
   auto solve = [&](const Mat3& R, double lateral) {
     ArmPlan plan;
-    const double grasp_z = grasp_z_for(R);
-    const kinematics::PoseTarget grasp = target_for(R, grasp_z, lateral);
-    const kinematics::PoseTarget lift = target_for(R, settings_.lift_to_z, lateral);
+    const Vec3 grasp_pads = grasp_point(R, lateral);
+    const Vec3 lift_pads = lift_point(grasp_pads);
+    const kinematics::PoseTarget grasp = target_for(R, grasp_pads);
+    const kinematics::PoseTarget lift = target_for(R, lift_pads);
     const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);
     if (!q_grasp) return plan;
     const auto q_pre =
-        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_z + settings_.approach_height, lateral));
+        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_pads + settings_.approach_offset));
     if (!q_pre) return plan;
     const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift);
     if (!q_lift) return plan;
     plan.reachable = true;
-    plan.trackable = CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_height)) &&
-                     CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks(settings_.lift_to_z - grasp_z));
+    plan.trackable =
+        CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_offset.norm())) &&
+        CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks((lift_pads - grasp_pads).norm()));
     plan.pre = arm_of(*q_pre);
     plan.grasp = arm_of(*q_grasp);
     plan.lift = arm_of(*q_lift);
     return plan;
   };
   constexpr int kLaterals = 3;  // centred, shifted either way along the closing axis
-  std::array<std::optional<ArmPlan>, std::size(kGraspCandidates) * kLaterals> plans;
+  const std::vector<GraspCandidate>& candidates = settings_.grasp_candidates;
+  std::vector<std::optional<ArmPlan>> plans(candidates.size() * kLaterals);
   for (const Tier& tier : tiers) {
-    for (std::size_t c = 0; c < std::size(kGraspCandidates); ++c) {
-      const GraspCandidate& candidate = kGraspCandidates[c];
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      const GraspCandidate& candidate = candidates[c];
       const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
                       Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
                       Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
@@ -287,10 +303,16 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
 
   switch (m.phase) {
     case Phase::kWatchCue: {
-      // The neck has settled on the cue when its command stops changing.
+      // Each scan point, then the cue, is looked at for cue_look_s once the neck has settled.
       if (NeckError(m) >= 0.01) m.phase_start_step = step;
+      if (elapsed < settings_.cue_look_s) break;
+      if (m.scan_index < settings_.scan_points.size()) {
+        ++m.scan_index;
+        m.phase_start_step = step;
+        if (m.scan_index < settings_.scan_points.size() || settings_.cue_object >= 0) break;
+      }
       const bool go = settings_.go_task_var < 0 || state.task_vars_row(env)[settings_.go_task_var] != 0.0;
-      if (elapsed >= settings_.cue_look_s && go) Enter(m, Phase::kLook, step);
+      if (go) Enter(m, Phase::kLook, step);
       break;
     }
     case Phase::kLook: {

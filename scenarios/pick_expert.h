@@ -8,12 +8,29 @@
 // the control rate; the commanded action is the hand pose along the way, as a teleoperator's is.
 #pragma once
 
+#include <optional>
+
 #include <array>
 #include <vector>
 
 #include "scenarios/scenario.h"
 
 namespace tavis::scenarios {
+
+// A grasp orientation: the approach (the hand's -Z) tilted `tilt` rad from straight down toward
+// the heading (the object's folded yaw plus heading_offset), the hand then turned `turn` about
+// its approach axis. The fingers stay horizontal.
+struct GraspCandidate {
+  double tilt;
+  double heading_offset;
+  double turn;
+};
+
+// Table grasps, in the order tried: tilted 0.6-1.0 rad forward, heading in quarter turns (a box
+// is symmetric under them), the hand in either half turn (the gripper nearly is).
+std::vector<GraspCandidate> TableGraspCandidates();
+// Shelf grasps: the hand level (tilt pi/2) or nearly, reaching straight in.
+std::vector<GraspCandidate> ShelfGraspCandidates();
 
 struct PickExpertSettings {
   int target_task_var = 0;        // task variable holding the target object's index
@@ -24,8 +41,16 @@ struct PickExpertSettings {
   double cue_look_s = 0.5;
   int go_task_var = -1;
   double grasp_height = 0.000;    // m: pad centre above the object's centre at the grasp
-  double approach_height = 0.18;  // m: pre-grasp above the grasp, clear of the clutter
-  double lift_to_z = 1.27;        // m: world height of the pads' centre after lifting (success: 1.2)
+  Vec3 approach_offset = Vec3(0.0, 0.0, 0.18);  // m, world: pre-grasp pads' centre from the grasp
+  double lift_to_z = 1.27;  // m: world height of the pads' centre after lifting (success: 1.2)
+  // Shelf tasks: after closing, pull the pads straight back to this world x instead of lifting.
+  std::optional<double> pull_back_to_x;
+  std::vector<GraspCandidate> grasp_candidates = TableGraspCandidates();
+  // Headings relative to the object's faces (table grasps), or to the world's +x (reaching
+  // straight into a shelf, where a diagonal approach would catch the shelf's neighbours).
+  bool align_to_object = true;
+  // World points the head fixates in turn before the cue and the target (scanning shelf rows).
+  std::vector<Vec3> scan_points;
   double hand_speed = 0.30;       // m/s, approach
   double slow_hand_speed = 0.12;  // m/s, descend and lift
   double joint_speed = 1.2;       // rad/s, the fastest arm joint
@@ -59,6 +84,7 @@ class PickExpert : public Expert {
 
   struct EnvMemory {
     Phase phase = Phase::kLook;
+    std::size_t scan_index = 0;  // scan points fixated so far
     int phase_start_step = 0;
     kinematics::Side side = kinematics::Side::kLeft;
     std::array<RigidTransform, 2> hand_command;  // IK link targets, canonical frame
