@@ -13,6 +13,27 @@
 namespace tavis::batch {
 namespace {
 
+// The GALT summary over the successful episodes' results in `slot`, computed at `fps`.
+nlohmann::json GaltJson(const CellResult& result, std::optional<kinematics::GaltResult> EpisodeRecord::*slot, double fps) {
+  std::vector<kinematics::GaltResult> results;
+  for (const EpisodeRecord& record : result.episodes) {
+    if (record.*slot) results.push_back(*(record.*slot));
+  }
+  const GaltSummary galt = SummarizeGalt(results);
+  nlohmann::json reasons = nlohmann::json::object();
+  for (int r = 0; r < kinematics::kGaltReasonCount; ++r) {
+    if (galt.reason_counts[r] > 0) reasons[kinematics::ToString(static_cast<kinematics::GaltReason>(r))] = galt.reason_counts[r];
+  }
+  auto optional_number = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
+  return {{"fps", fps},
+          {"n_episodes", galt.n_episodes},
+          {"n_valid", galt.n_valid},
+          {"mean_s", optional_number(galt.mean_s)},
+          {"median_s", optional_number(galt.median_s)},
+          {"std_s", optional_number(galt.std_s)},
+          {"reasons", reasons}};
+}
+
 void WriteAtomically(const std::filesystem::path& path, const std::string& text) {
   const std::filesystem::path temporary = path.string() + ".partial";
   {
@@ -50,17 +71,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
 
   const int n = static_cast<int>(result.episodes.size());
   const ProportionInterval ci = WilsonInterval(result.successes, n);
-  std::vector<kinematics::GaltResult> galt_results;
-  for (const EpisodeRecord& record : result.episodes) {
-    if (record.galt) galt_results.push_back(*record.galt);
-  }
-  const GaltSummary galt = SummarizeGalt(galt_results);
-  nlohmann::json galt_reasons = nlohmann::json::object();
-  for (int r = 0; r < kinematics::kGaltReasonCount; ++r) {
-    if (galt.reason_counts[r] > 0) galt_reasons[kinematics::ToString(static_cast<kinematics::GaltReason>(r))] = galt.reason_counts[r];
-  }
-  auto optional_number = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
-  const nlohmann::json summary = {
+  nlohmann::json summary = {
       {"task", config.task},
       {"robot", config.robot},
       {"split", scenarios::ToString(config.split)},
@@ -82,15 +93,11 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
         {"width", config.image_width},
         {"height", config.image_height},
         {"images", result.rendered_images}}},
-      {"galt",
-       {{"fps", result.galt_fps},
-        {"n_episodes", galt.n_episodes},
-        {"n_valid", galt.n_valid},
-        {"mean_s", optional_number(galt.mean_s)},
-        {"median_s", optional_number(galt.median_s)},
-        {"std_s", optional_number(galt.std_s)},
-        {"reasons", galt_reasons}}},
+      {"galt", GaltJson(result, &EpisodeRecord::galt, result.galt_fps)},
   };
+  if (result.galt_policy_rate_fps > 0.0) {
+    summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
+  }
   WriteAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
 }
 

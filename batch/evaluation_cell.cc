@@ -35,20 +35,31 @@ std::vector<std::string> CamerasToRender(const Policy& policy, const EvaluationC
   return cameras;
 }
 
-// GALT over the successful episodes' commanded actions, sampled when the policy acted (every
-// `hold_ticks` control ticks), as the reference records them at its policy rate.
-void AddGalt(CellResult& result, int hold_ticks, double control_hz) {
-  result.galt_fps = control_hz / hold_ticks;
+// GALT over the successful episodes' commanded actions, one sample every `stride` control ticks,
+// written to `slot` of each record.
+void ComputeGalt(CellResult& result, int stride, double fps, std::optional<kinematics::GaltResult> EpisodeRecord::*slot) {
   std::vector<kinematics::TrajectoryView> views;
   std::vector<EpisodeRecord*> successful;
   for (EpisodeRecord& record : result.episodes) {
     if (!record.success || record.actions.empty()) continue;
-    const int samples = (static_cast<int>(record.actions.size()) + hold_ticks - 1) / hold_ticks;
-    views.push_back({record.actions.front().data(), samples, kinematics::action::kSize * hold_ticks});
+    const int samples = (static_cast<int>(record.actions.size()) + stride - 1) / stride;
+    views.push_back({record.actions.front().data(), samples, kinematics::action::kSize * stride});
     successful.push_back(&record);
   }
-  const std::vector<kinematics::GaltResult> galt = kinematics::ComputeGaltBatch(views, result.galt_fps);
-  for (size_t i = 0; i < successful.size(); ++i) successful[i]->galt = galt[i];
+  const std::vector<kinematics::GaltResult> galt = kinematics::ComputeGaltBatch(views, fps);
+  for (size_t i = 0; i < successful.size(); ++i) successful[i]->*slot = galt[i];
+}
+
+// GALT sampled when the policy acted (every `hold_ticks` control ticks), as the reference records
+// actions at its policy rate; for a policy acting faster, also at the 20 Hz policy rate.
+void AddGalt(CellResult& result, int hold_ticks, const engine::PhysicsSettings& physics) {
+  result.galt_fps = physics.control_hz / hold_ticks;
+  ComputeGalt(result, hold_ticks, result.galt_fps, &EpisodeRecord::galt);
+  const int policy_stride = physics.controls_per_policy();
+  if (hold_ticks < policy_stride) {
+    result.galt_policy_rate_fps = physics.control_hz / policy_stride;
+    ComputeGalt(result, policy_stride, result.galt_policy_rate_fps, &EpisodeRecord::galt_policy_rate);
+  }
 }
 
 }  // namespace
@@ -126,7 +137,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
       start_episode(slot);
     }
   }
-  AddGalt(result, hold_ticks, env.model().physics.control_hz);
+  AddGalt(result, hold_ticks, env.model().physics);
   result.rendered_images = env.rendered_images();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

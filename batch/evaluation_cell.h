@@ -44,6 +44,9 @@ struct EpisodeRecord {
   // GALT of the commanded actions at the policy's action rate, for successful episodes only
   // (the reference computes it for those).
   std::optional<kinematics::GaltResult> galt;
+  // The same at the 20 Hz policy rate, for a policy acting faster (the scripted experts at 60 Hz),
+  // as the paper's validation table reports both.
+  std::optional<kinematics::GaltResult> galt_policy_rate;
 };
 
 struct CellResult {
@@ -53,6 +56,7 @@ struct CellResult {
   double wall_s = 0.0;
   int64_t control_ticks = 0;  // env control ticks simulated, for throughput
   double galt_fps = 0.0;      // rate of the action samples GALT was computed on
+  double galt_policy_rate_fps = 0.0;  // 0 when the policy acts at the policy rate
   std::vector<std::string> rendered_cameras;  // the policy's cameras, then the extra render_cameras
   int64_t rendered_images = 0;                // env-camera images rendered
 };

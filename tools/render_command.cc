@@ -72,7 +72,9 @@ void RunRender(const RenderCommandOptions& options) {
   batch::SceneRender scene(env.model(), 1, settings);
   // As the policy receives them: a task's black cameras (blocked-clutter-pick-cube's head).
   for (const std::string& name : scenario.black_cameras) scene.SetCameraEnabled(0, scene.CameraIndex(name), false);
-  std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy("expert", scenario, env.model(), 1);
+  // Tasks still without a scripted expert are shown with the robot holding its reset pose.
+  const bool has_expert = scenario.make_expert != nullptr;
+  std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy(has_expert ? "expert" : "hold", scenario, env.model(), 1);
 
   const std::filesystem::path dir(options.out);
   std::filesystem::create_directories(dir);
@@ -109,6 +111,7 @@ void RunRender(const RenderCommandOptions& options) {
   if (state.end[0] != engine::EpisodeEnd::kRunning) {
     std::cout << " (episode ended: " << engine::ToString(state.end[0]) << ")";
   }
+  if (!has_expert) std::cout << " (no scripted expert for this task: the robot held its reset pose)";
   std::cout << "\n";
   for (const std::string& path : written) std::cout << "  " << path << "\n";
 }
@@ -123,7 +126,8 @@ void RegisterRenderCommand(CLI::App& app) {
       "Render the four cameras (head, fixed, left_wrist, right_wrist) of one episode at its reset and\n"
       "after --steps control ticks (60 Hz) of the scripted expert, or when the episode ends if earlier.\n"
       "Writes DIR/reset_<camera>.png, DIR/tick<T>_<camera>.png and DIR/contact_sheet.png (the four\n"
-      "views at tick T, labelled). A camera the task blacks out (blocked-clutter-pick-cube's head) is\n"
+      "views at tick T, labelled). A task without a scripted expert is shown with the robot holding\n"
+      "its reset pose. A camera the task blacks out (blocked-clutter-pick-cube's head) is\n"
       "written black, as policies receive it.");
   render->add_option("--task", options->task, "Task (" + KnownTasks() + ")")->capture_default_str();
   render->add_option("--robot", options->robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
