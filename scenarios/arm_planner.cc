@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scenarios/arm_clearance.h"
+
 namespace tavis::scenarios {
 namespace {
 
@@ -49,7 +51,8 @@ void SpreadSeed(const kinematics::RobotModel& robot, kinematics::Side side, int 
 
 std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::RobotModel& robot, kinematics::Side side,
                                                          const std::vector<double>& q_start,
-                                                         const kinematics::PoseTarget& target) {
+                                                         const kinematics::PoseTarget& target,
+                                                         const ArmObstacles* obstacles) {
   std::vector<RigidTransform> X_BL(robot.links.size());
   std::vector<double> best;
   double best_score = 1e300;
@@ -57,6 +60,7 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
     std::vector<double> q = q_start;
     if (seed >= 0) SpreadSeed(robot, side, seed, q);
     const double score = Converge(robot, side, q, target, X_BL);
+    if (obstacles && !obstacles->ArmIsClear(robot, side, X_BL.data())) continue;
     if (score < best_score) {
       best_score = score;
       best = q;
@@ -68,7 +72,7 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
 }
 
 bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_start,
-                          const kinematics::PoseTarget& goal, int ticks) {
+                          const kinematics::PoseTarget& goal, int ticks, const ArmObstacles* obstacles) {
   constexpr double kPathTolerance = 0.01;
   std::vector<RigidTransform> X_BL(robot.links.size());
   std::vector<double> q = q_start;
@@ -84,6 +88,7 @@ bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side 
     kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
     const Vec6 error = kinematics::IkPoseError(robot, side, X_BL.data(), target);
     if (error.head<3>().norm() > kPathTolerance) return false;
+    if (obstacles && !obstacles->ArmIsClear(robot, side, X_BL.data())) return false;
   }
   const Vec6 final_error = kinematics::IkPoseError(robot, side, X_BL.data(), goal);
   return final_error.head<3>().norm() < kPositionTolerance && final_error.tail<3>().norm() < kAngleTolerance;

@@ -12,17 +12,22 @@
 
 namespace tavis::scenarios {
 
+class ArmObstacles;
+
 // A full joint vector whose arm joints put the IK link at `target` (base frame) within 2 mm and
 // 0.03 rad, trying `q_start` first, then deterministic spreads of seeds; nullopt if none does.
+// With `obstacles`, only configurations whose arm is clear of them count.
 std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::RobotModel& robot, kinematics::Side side,
                                                          const std::vector<double>& q_start,
-                                                         const kinematics::PoseTarget& target);
+                                                         const kinematics::PoseTarget& target,
+                                                         const ArmObstacles* obstacles = nullptr);
 
 // True if the controller, stepping its IK once per tick along the straight hand path (position
 // line, orientation slerp) from q_start's hand pose to `goal` in `ticks` ticks, stays within
-// 1 cm of the path and ends within tolerance of the goal (kinematic rehearsal, limits held).
+// 1 cm of the path and ends within tolerance of the goal (kinematic rehearsal, limits held);
+// with `obstacles`, also keeps the arm clear of them at every tick.
 bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_start,
-                          const kinematics::PoseTarget& goal, int ticks);
+                          const kinematics::PoseTarget& goal, int ticks, const ArmObstacles* obstacles = nullptr);
 
 // IK link pose (canonical frame) for joint vector q.
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q);

@@ -2,11 +2,24 @@
 // The expert uses it to prefer grasps whose fingers and palm do not land on a neighbour.
 #pragma once
 
+#include <array>
+
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/pose.h"
+#include "kinematics/robot_model.h"
 
 namespace tavis::scenarios {
+
+// An oriented box: its pose (in whichever frame the caller works) and half extents.
+struct OrientedBox {
+  RigidTransform X = RigidTransform::Identity();
+  Vec3 half_size = Vec3::Zero();
+};
+
+// The open gripper's two pads (gap `open_gap`) and its housing, with the IK link at X_ik.
+std::array<OrientedBox, 3> OpenHandBoxes(const kinematics::GripperSpec& gripper, const RigidTransform& X_ik,
+                                         double open_gap);
 
 // Half the width of object `object` of `env` along a world direction (unit), from its bounding box.
 double HalfExtentAlong(const engine::WorldModel& model, const engine::BatchState& state, int env, int object,

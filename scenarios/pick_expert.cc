@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "kinematics/forward_kinematics.h"
+#include "scenarios/arm_clearance.h"
 #include "scenarios/arm_planner.h"
 #include "scenarios/gaze.h"
 #include "scenarios/grasp_clearance.h"
@@ -15,6 +16,25 @@ namespace tavis::scenarios {
 namespace {
 
 constexpr double kPullBackRise = 0.015;  // m: the pads rise this much while pulling out of a shelf
+constexpr double kArmClearance = 0.01;   // m: planned gap between the arm and fixed obstacles
+
+// True if the arm stays clear of `obstacles` along the straight joint-space path from q_from to
+// q_to (full joint vectors), sampled every 0.05 rad of the largest joint motion.
+bool JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_from,
+                      const std::vector<double>& q_to, const ArmObstacles& obstacles) {
+  double largest = 0.0;
+  for (const int joint : robot.arm(side).joints) largest = std::max(largest, std::abs(q_to[joint] - q_from[joint]));
+  const int samples = std::max(2, static_cast<int>(std::ceil(largest / 0.05)));
+  std::vector<double> q = q_from;
+  std::vector<RigidTransform> X_BL(robot.links.size());
+  for (int i = 1; i <= samples; ++i) {
+    const double s = static_cast<double>(i) / samples;
+    for (const int joint : robot.arm(side).joints) q[joint] = q_from[joint] + s * (q_to[joint] - q_from[joint]);
+    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    if (!obstacles.ArmIsClear(robot, side, X_BL.data())) return false;
+  }
+  return true;
+}
 
 using kinematics::Side;
 
@@ -159,9 +179,9 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     }
     return true;
   };
-  // Ticks the descent and the lift take at the slow hand speed, for their rehearsal.
-  auto line_ticks = [&](double distance) {
-    return std::max(1, static_cast<int>(distance / settings_.slow_hand_speed * model.physics.control_hz));
+  // Ticks a straight hand line takes at `speed`, for its rehearsal.
+  auto line_ticks = [&](double distance, double speed) {
+    return std::max(1, static_cast<int>(distance / speed * model.physics.control_hz));
   };
   // Preferred first: a hand that descends clear of the neighbours, palm included, then with
   // its fingers clear; among those, a descent and lift the controller can track as straight
@@ -169,35 +189,47 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   // centimetres off the line and push the object with a finger). Then any reachable grasp.
   // To clear a close neighbour the hand may also come down off-centre, one open finger just
   // outside the object's face; closing then slides the object to the hand's centre.
+  // Where the scene has fixed obstacles (a screen, shelves, box walls), plans whose arm keeps
+  // clear of them all the way come first; the same tiers without that follow.
+  const ArmObstacles obstacles(model, state, env, kArmClearance);
   struct Tier {
     std::optional<HandParts> clear_parts;
     bool need_trackable_lines;
+    bool arm_clear;
   };
-  const Tier tiers[] = {{HandParts::kPadsAndHousing, true}, {HandParts::kPads, true}, {std::nullopt, true},
-                        {std::nullopt, false}};
+  std::vector<Tier> tiers;
+  for (const bool arm_clear : {true, false}) {
+    if (arm_clear && obstacles.empty()) continue;
+    for (const Tier tier : {Tier{HandParts::kPadsAndHousing, true, arm_clear}, Tier{HandParts::kPads, true, arm_clear},
+                            Tier{std::nullopt, true, arm_clear}, Tier{std::nullopt, false, arm_clear}}) {
+      tiers.push_back(tier);
+    }
+  }
   // The arm configurations of a hand orientation and lateral shift, solved once across tiers.
   struct ArmPlan {
     bool reachable = false;
     bool trackable = false;
     ArmJoints pre{}, grasp{}, lift{};
   };
-  auto solve = [&](const Mat3& R, double lateral) {
+  auto solve = [&](const Mat3& R, double lateral, const ArmObstacles* avoid) {
     ArmPlan plan;
     const Vec3 grasp_pads = grasp_point(R, lateral);
     const Vec3 lift_pads = lift_point(grasp_pads);
     const kinematics::PoseTarget grasp = target_for(R, grasp_pads);
     const kinematics::PoseTarget lift = target_for(R, lift_pads);
-    const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp);
+    const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp, avoid);
     if (!q_grasp) return plan;
     const auto q_pre =
-        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_pads + settings_.approach_offset));
-    if (!q_pre) return plan;
-    const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift);
+        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_pads + settings_.approach_offset), avoid);
+    if (!q_pre || (avoid && !JointPathIsClear(robot, m.side, q_now, *q_pre, *avoid))) return plan;
+    const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift, avoid);
     if (!q_lift) return plan;
     plan.reachable = true;
     plan.trackable =
-        CanTrackStraightPath(robot, m.side, *q_pre, grasp, line_ticks(settings_.approach_offset.norm())) &&
-        CanTrackStraightPath(robot, m.side, *q_grasp, lift, line_ticks((lift_pads - grasp_pads).norm()));
+        CanTrackStraightPath(robot, m.side, *q_pre, grasp,
+                             line_ticks(settings_.approach_offset.norm(), settings_.descend_speed), avoid) &&
+        CanTrackStraightPath(robot, m.side, *q_grasp, lift,
+                             line_ticks((lift_pads - grasp_pads).norm(), settings_.slow_hand_speed), avoid);
     plan.pre = arm_of(*q_pre);
     plan.grasp = arm_of(*q_grasp);
     plan.lift = arm_of(*q_lift);
@@ -205,7 +237,9 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   };
   constexpr int kLaterals = 3;  // centred, shifted either way along the closing axis
   const std::vector<GraspCandidate>& candidates = settings_.grasp_candidates;
-  std::vector<std::optional<ArmPlan>> plans(candidates.size() * kLaterals);
+  // [arm_clear][candidate x lateral]
+  std::array<std::vector<std::optional<ArmPlan>>, 2> plans;
+  for (auto& tier_plans : plans) tier_plans.resize(candidates.size() * kLaterals);
   for (const Tier& tier : tiers) {
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       const GraspCandidate& candidate = candidates[c];
@@ -220,9 +254,10 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
       const int num_laterals = tier.clear_parts && shift > 0.0 ? kLaterals : 1;
       for (int l = 0; l < num_laterals; ++l) {
         if (tier.clear_parts && !HandClearsNeighboursOnDescent(R, laterals[l], *tier.clear_parts)) continue;
-        std::optional<ArmPlan>& plan = plans[c * kLaterals + static_cast<std::size_t>(l)];
-        if (!plan) plan = solve(R, laterals[l]);
+        std::optional<ArmPlan>& plan = plans[tier.arm_clear ? 1 : 0][c * kLaterals + static_cast<std::size_t>(l)];
+        if (!plan) plan = solve(R, laterals[l], tier.arm_clear ? &obstacles : nullptr);
         if (!plan->reachable || (tier.need_trackable_lines && !plan->trackable)) continue;
+        m.arm_clear = tier.arm_clear;
         m.q_pre = plan->pre;
         m.q_grasp = plan->grasp;
         m.q_lift = plan->lift;
@@ -270,8 +305,9 @@ bool PickExpert::ApproachLineIsTrackable(const engine::WorldModel& model, const 
   const int ticks = std::max(1, static_cast<int>((goal.translation() - start.translation()).norm() /
                                                  settings_.hand_speed * model.physics.control_hz));
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
-  return CanTrackStraightPath(robot, m.side, q_now,
-                              {robot.CanonicalToBase(goal.translation()), Quat(goal.linear())}, ticks);
+  const ArmObstacles obstacles(model, state, env, kArmClearance);
+  return CanTrackStraightPath(robot, m.side, q_now, {robot.CanonicalToBase(goal.translation()), Quat(goal.linear())},
+                              ticks, m.arm_clear ? &obstacles : nullptr);
 }
 
 bool PickExpert::MoveHandToward(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& goal,
@@ -339,7 +375,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       break;
     }
     case Phase::kDescend:
-      if (MoveHandToward(model, m, m.q_grasp, settings_.slow_hand_speed)) Enter(m, Phase::kClose, step);
+      if (MoveHandToward(model, m, m.q_grasp, settings_.descend_speed)) Enter(m, Phase::kClose, step);
       break;
     case Phase::kClose:
       m.gripper_command[kinematics::Index(m.side)] = 1.0;

@@ -51,12 +51,13 @@ struct PickExpertSettings {
   bool align_to_object = true;
   // World points the head fixates in turn before the cue and the target (scanning shelf rows).
   std::vector<Vec3> scan_points;
-  double hand_speed = 0.30;       // m/s, approach
-  double slow_hand_speed = 0.12;  // m/s, descend and lift
+  double hand_speed = 0.36;       // m/s, approach
+  double descend_speed = 0.20;    // m/s, from the pre-grasp down to the grasp
+  double slow_hand_speed = 0.12;  // m/s, lifting the held object
   double joint_speed = 1.2;       // rad/s, the fastest arm joint
   double neck_gain = 5.0;         // 1/s
   double neck_max_speed = 1.5;    // rad/s
-  double settle_s = 0.4;          // head still before the hand moves
+  double settle_s = 0.3;          // head still before the hand moves
   double close_s = 0.6;           // gripper closing time
   double clearance = 0.005;       // m: preferred gap between the open hand and other objects
 };
@@ -96,6 +97,7 @@ class PickExpert : public Expert {
     ArmJoints q_pre{}, q_grasp{}, q_lift{};
     Segment segment;
     bool cartesian_approach = false;
+    bool arm_clear = false;  // the plan keeps the arm clear of the scene's fixed obstacles
   };
 
   void Enter(EnvMemory& m, Phase phase, int step) const;

@@ -1,0 +1,88 @@
+#include "scenarios/arm_clearance.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tavis::scenarios {
+namespace {
+
+// True if link `link` moves with one of the arm's joints (it or an ancestor is an arm joint's child).
+bool MovesWithArm(const kinematics::RobotModel& robot, kinematics::Side side, int link) {
+  const auto& arm_joints = robot.arm(side).joints;
+  for (int l = link; l != kinematics::kBaseLink; l = robot.links[static_cast<std::size_t>(l)].parent) {
+    const int joint = robot.links[static_cast<std::size_t>(l)].joint;
+    if (std::find(arm_joints.begin(), arm_joints.end(), joint) != arm_joints.end()) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool BoxesOverlap(const OrientedBox& a, const OrientedBox& b, double margin) {
+  const Mat3& A = a.X.linear();
+  const Mat3& B = b.X.linear();
+  const Vec3 ha = a.half_size + Vec3::Constant(margin);
+  const Vec3& hb = b.half_size;
+  const Vec3 d = b.X.translation() - a.X.translation();
+  // Separated along `axis` if the projected centre distance exceeds the projected half extents.
+  auto separated = [&](const Vec3& axis) {
+    const double length = axis.norm();
+    if (length < 1e-9) return false;  // parallel edges: covered by the face axes
+    const Vec3 u = axis / length;
+    const double ra = (A.transpose() * u).cwiseAbs().dot(ha);
+    const double rb = (B.transpose() * u).cwiseAbs().dot(hb);
+    return std::abs(d.dot(u)) > ra + rb;
+  };
+  for (int i = 0; i < 3; ++i) {
+    if (separated(A.col(i)) || separated(B.col(i))) return false;
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (separated(A.col(i).cross(B.col(j)))) return false;
+    }
+  }
+  return true;
+}
+
+ArmObstacles::ArmObstacles(const engine::WorldModel& model, const engine::BatchState& state, int env, double margin)
+    : margin_(margin) {
+  const Vec3 base = model.robot.root_world;
+  auto in_base = [&](const RigidTransform& X_W) {
+    RigidTransform X_B = X_W;
+    X_B.translation() -= base;
+    return X_B;
+  };
+  for (const engine::StaticPart& part : model.static_parts) {
+    if (!part.collides || part.name == "table") continue;
+    obstacles_.push_back({in_base(part.X_WS), BoundingHalfSize(part.shape)});
+  }
+  for (int object = 0; object < model.num_objects(); ++object) {
+    const engine::ObjectSpec& spec = model.objects[static_cast<std::size_t>(object)];
+    if (spec.motion != engine::ObjectMotion::kKinematic || !spec.collides || !state.object_enabled_at(env, object)) {
+      continue;
+    }
+    const RigidTransform X_WO =
+        MakeTransform(state.ObjectPosition(env, object), state.ObjectOrientation(env, object).toRotationMatrix());
+    obstacles_.push_back({in_base(X_WO), BoundingHalfSize(spec.shape)});
+  }
+}
+
+bool ArmObstacles::ArmIsClear(const kinematics::RobotModel& robot, kinematics::Side side,
+                              const RigidTransform* X_BL) const {
+  if (obstacles_.empty()) return true;
+  auto clear = [&](const OrientedBox& part) {
+    return std::none_of(obstacles_.begin(), obstacles_.end(),
+                        [&](const OrientedBox& obstacle) { return BoxesOverlap(part, obstacle, margin_); });
+  };
+  for (const kinematics::LinkShape& shape : robot.shapes) {
+    if (shape.link == kinematics::kBaseLink || !MovesWithArm(robot, side, shape.link)) continue;
+    if (!clear({X_BL[static_cast<std::size_t>(shape.link)] * shape.X_LS, BoundingHalfSize(shape.shape)})) return false;
+  }
+  const RigidTransform& X_B_ik = X_BL[static_cast<std::size_t>(robot.arm(side).ik_link)];
+  for (const OrientedBox& part : OpenHandBoxes(robot.gripper, X_B_ik, robot.gripper.open_gap)) {
+    if (!clear(part)) return false;
+  }
+  return true;
+}
+
+}  // namespace tavis::scenarios

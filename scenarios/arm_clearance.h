@@ -1,0 +1,36 @@
+// Whether an arm keeps clear of the fixed obstacles of a scene: the monitor of occluded-reach,
+// the cabinet of multi-shelf-scan, the walls of peeking-box's box. The expert's planner uses it
+// to prefer arm configurations and paths that do not push through them (the physics would stop
+// the arm there, and the hand would never reach its grasp).
+#pragma once
+
+#include <vector>
+
+#include "engine/batch_state.h"
+#include "engine/world_model.h"
+#include "kinematics/robot_model.h"
+#include "scenarios/grasp_clearance.h"
+
+namespace tavis::scenarios {
+
+// True if the two boxes come closer than `margin` (separating-axis test on the boxes grown by it).
+bool BoxesOverlap(const OrientedBox& a, const OrientedBox& b, double margin);
+
+class ArmObstacles {
+ public:
+  // The colliding static parts other than the table (the hand works just above it, and the
+  // grasp planner keeps the pads off it), and the env's enabled colliding kinematic objects.
+  ArmObstacles(const engine::WorldModel& model, const engine::BatchState& state, int env, double margin);
+
+  bool empty() const { return obstacles_.empty(); }
+  // True if every collision shape of `side`'s arm, the gripper housing and both open pads, with
+  // the link poses X_BL (kinematics::ComputeLinkPoses), stay `margin` outside every obstacle.
+  // Shapes are taken as their bounding boxes.
+  bool ArmIsClear(const kinematics::RobotModel& robot, kinematics::Side side, const RigidTransform* X_BL) const;
+
+ private:
+  std::vector<OrientedBox> obstacles_;  // base frame
+  double margin_ = 0.0;
+};
+
+}  // namespace tavis::scenarios
