@@ -108,10 +108,10 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
   PickExpertSettings settings;
   settings.target_task_var = kTargetVar;
   for (const double shelf_z : kShelfZ) settings.scan_points.push_back(Vec3(kCentreX, 0.0, shelf_z + 0.05));
-  settings.approach_offset = Vec3(-0.15, 0.0, 0.0);
-  settings.pull_back_to_x = kSuccessMaxX - 0.07;
+  settings.approach_distance = 0.15;
+  settings.lift_to_z = std::nullopt;  // withdrawing 15 cm takes the object past the success line
   settings.grasp_candidates = ShelfGraspCandidates();
-  settings.align_to_object = false;
+  settings.reach_heading = [](const engine::BatchState&, int) { return 0.0; };  // straight in
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 

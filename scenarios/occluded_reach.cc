@@ -58,6 +58,9 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
   PickExpertSettings settings;
   settings.target_task_var = kTargetVar;
   settings.lift_to_z = kSuccessHeight + 0.07;
+  // Coming down from above where the arm clears the screen, else reaching in along the hand from
+  // beside the screen and withdrawing the same way before lifting.
+  settings.grasp_candidates = TableAndSideGraspCandidates();
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 

@@ -15,8 +15,8 @@
 namespace tavis::scenarios {
 namespace {
 
-constexpr double kPullBackRise = 0.015;  // m: the pads rise this much while pulling out of a shelf
-constexpr double kArmClearance = 0.01;   // m: planned gap between the arm and fixed obstacles
+constexpr double kWithdrawRise = 0.015;  // m: the pads rise this much while withdrawing
+constexpr double kArmClearance = 0.005;  // m: planned gap between the arm and fixed obstacles
 
 // True if the arm stays clear of `obstacles` along the straight joint-space path from q_from to
 // q_to (full joint vectors), sampled every 0.05 rad of the largest joint motion.
@@ -74,11 +74,20 @@ std::vector<GraspCandidate> TableGraspCandidates() {
   };
 }
 
+std::vector<GraspCandidate> TableAndSideGraspCandidates() {
+  std::vector<GraspCandidate> candidates = TableGraspCandidates();
+  for (GraspCandidate candidate : TableGraspCandidates()) {
+    candidate.along_hand = true;
+    candidates.push_back(candidate);
+  }
+  return candidates;
+}
+
 std::vector<GraspCandidate> ShelfGraspCandidates() {
   const double level = M_PI / 2;
   std::vector<GraspCandidate> candidates;
   for (const double tilt : {level, level - 0.2, level + 0.2, level - 0.4}) {
-    for (const double turn : {0.0, M_PI}) candidates.push_back({tilt, 0.0, turn});
+    for (const double turn : {0.0, M_PI}) candidates.push_back({tilt, 0.0, turn, /*along_hand=*/true});
   }
   return candidates;
 }
@@ -137,7 +146,8 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   const kinematics::RobotModel& robot = model.robot;
   const int target = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
   const Vec3 p_object = state.ObjectPosition(env, target);
-  const double yaw = settings_.align_to_object ? FoldedYaw(state.ObjectOrientation(env, target)) : 0.0;
+  const double yaw = settings_.reach_heading ? settings_.reach_heading(state, env)
+                                             : FoldedYaw(state.ObjectOrientation(env, target));
   m.side = p_object.y() >= 0.0 ? Side::kLeft : Side::kRight;
   const auto& arm_joints = robot.arm(m.side).joints;
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
@@ -161,17 +171,16 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   auto grasp_point = [&](const Mat3& R, double lateral) -> Vec3 {
     return Vec3(p_object.x(), p_object.y(), grasp_z_for(R)) + lateral * (R * robot.gripper.closing_axis);
   };
-  // Where the pads go after closing: up to lift_to_z, or straight back out of a shelf.
-  auto lift_point = [&](const Vec3& grasp) -> Vec3 {
-    if (settings_.pull_back_to_x) return Vec3(*settings_.pull_back_to_x, grasp.y(), grasp.z() + kPullBackRise);
-    return Vec3(grasp.x(), grasp.y(), settings_.lift_to_z);
+  // The pre-grasp pads' centre from the grasp's, for hand orientation R (approach: the hand's -Z).
+  auto approach_offset = [&](const Mat3& R, bool along_hand) -> Vec3 {
+    return settings_.approach_distance * (along_hand ? Vec3(R.col(2)) : Vec3::UnitZ());
   };
   // The open hand's `parts`, moved from the pre-grasp to the grasp, stay clear of the other objects.
-  auto HandClearsNeighboursOnDescent = [&](const Mat3& R, double lateral, HandParts parts) {
+  auto HandClearsNeighboursOnDescent = [&](const Mat3& R, bool along_hand, double lateral, HandParts parts) {
     const Vec3 grasp = grasp_point(R, lateral);
     constexpr int kSamples = 4;
     for (int i = 0; i <= kSamples; ++i) {
-      const Vec3 pad_world = grasp + settings_.approach_offset * i / kSamples;
+      const Vec3 pad_world = grasp + approach_offset(R, along_hand) * i / kSamples;
       const RigidTransform X_W_ik = MakeTransform(pad_world - R * robot.gripper.pad_center, R);
       if (!OpenHandClearsNeighbours(model, state, env, target, X_W_ik, robot.gripper.open_gap, settings_.clearance, parts)) {
         return false;
@@ -209,30 +218,40 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   struct ArmPlan {
     bool reachable = false;
     bool trackable = false;
-    ArmJoints pre{}, grasp{}, lift{};
+    ArmJoints pre{}, grasp{}, withdraw{}, lift{};
   };
-  auto solve = [&](const Mat3& R, double lateral, const ArmObstacles* avoid) {
+  auto solve = [&](const Mat3& R, bool along_hand, double lateral, const ArmObstacles* avoid) {
     ArmPlan plan;
     const Vec3 grasp_pads = grasp_point(R, lateral);
-    const Vec3 lift_pads = lift_point(grasp_pads);
     const kinematics::PoseTarget grasp = target_for(R, grasp_pads);
-    const kinematics::PoseTarget lift = target_for(R, lift_pads);
     const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp, avoid);
     if (!q_grasp) return plan;
     const auto q_pre =
-        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_pads + settings_.approach_offset), avoid);
+        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_pads + approach_offset(R, along_hand)), avoid);
     if (!q_pre || (avoid && !JointPathIsClear(robot, m.side, q_now, *q_pre, *avoid))) return plan;
-    const auto q_lift = SolveArmConfiguration(robot, m.side, *q_grasp, lift, avoid);
-    if (!q_lift) return plan;
+    plan.trackable = CanTrackStraightPath(robot, m.side, *q_pre, grasp,
+                                          line_ticks(settings_.approach_distance, settings_.descend_speed), avoid);
+    // Then the held object's way out: withdraw (along-hand grasps), lift (if the task lifts).
+    std::vector<double> q_last = *q_grasp;
+    Vec3 last_pads = grasp_pads;
+    auto move_to = [&](const Vec3& pads, ArmJoints& joints) {
+      const kinematics::PoseTarget goal = target_for(R, pads);
+      const auto q = SolveArmConfiguration(robot, m.side, q_last, goal, avoid);
+      if (!q) return false;
+      plan.trackable = plan.trackable && CanTrackStraightPath(robot, m.side, q_last, goal,
+                                                              line_ticks((pads - last_pads).norm(), settings_.slow_hand_speed), avoid);
+      joints = arm_of(*q);
+      q_last = *q;
+      last_pads = pads;
+      return true;
+    };
+    if (along_hand && !move_to(grasp_pads + approach_offset(R, true) + Vec3(0.0, 0.0, kWithdrawRise), plan.withdraw)) {
+      return plan;
+    }
+    if (settings_.lift_to_z && !move_to(Vec3(last_pads.x(), last_pads.y(), *settings_.lift_to_z), plan.lift)) return plan;
     plan.reachable = true;
-    plan.trackable =
-        CanTrackStraightPath(robot, m.side, *q_pre, grasp,
-                             line_ticks(settings_.approach_offset.norm(), settings_.descend_speed), avoid) &&
-        CanTrackStraightPath(robot, m.side, *q_grasp, lift,
-                             line_ticks((lift_pads - grasp_pads).norm(), settings_.slow_hand_speed), avoid);
     plan.pre = arm_of(*q_pre);
     plan.grasp = arm_of(*q_grasp);
-    plan.lift = arm_of(*q_lift);
     return plan;
   };
   constexpr int kLaterals = 3;  // centred, shifted either way along the closing axis
@@ -253,14 +272,19 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
       // Shifted descents only serve clearance.
       const int num_laterals = tier.clear_parts && shift > 0.0 ? kLaterals : 1;
       for (int l = 0; l < num_laterals; ++l) {
-        if (tier.clear_parts && !HandClearsNeighboursOnDescent(R, laterals[l], *tier.clear_parts)) continue;
+        if (tier.clear_parts && !HandClearsNeighboursOnDescent(R, candidate.along_hand, laterals[l], *tier.clear_parts)) {
+          continue;
+        }
         std::optional<ArmPlan>& plan = plans[tier.arm_clear ? 1 : 0][c * kLaterals + static_cast<std::size_t>(l)];
-        if (!plan) plan = solve(R, laterals[l], tier.arm_clear ? &obstacles : nullptr);
+        if (!plan) plan = solve(R, candidate.along_hand, laterals[l], tier.arm_clear ? &obstacles : nullptr);
         if (!plan->reachable || (tier.need_trackable_lines && !plan->trackable)) continue;
         m.arm_clear = tier.arm_clear;
         m.q_pre = plan->pre;
         m.q_grasp = plan->grasp;
+        m.q_withdraw = plan->withdraw;
         m.q_lift = plan->lift;
+        m.withdraws = candidate.along_hand;
+        m.lifts = settings_.lift_to_z.has_value();
         return true;
       }
     }
@@ -379,10 +403,13 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       break;
     case Phase::kClose:
       m.gripper_command[kinematics::Index(m.side)] = 1.0;
-      if (elapsed >= settings_.close_s) Enter(m, Phase::kLift, step);
+      if (elapsed >= settings_.close_s) Enter(m, m.withdraws ? Phase::kWithdraw : Phase::kLift, step);
+      break;
+    case Phase::kWithdraw:
+      if (MoveHandToward(model, m, m.q_withdraw, settings_.slow_hand_speed)) Enter(m, Phase::kLift, step);
       break;
     case Phase::kLift:
-      MoveHandToward(model, m, m.q_lift, settings_.slow_hand_speed);
+      if (m.lifts) MoveHandToward(model, m, m.q_lift, settings_.slow_hand_speed);
       break;
     case Phase::kGiveUp:
       break;

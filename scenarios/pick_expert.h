@@ -19,16 +19,21 @@ namespace tavis::scenarios {
 
 // A grasp orientation: the approach (the hand's -Z) tilted `tilt` rad from straight down toward
 // the heading (the object's folded yaw plus heading_offset), the hand then turned `turn` about
-// its approach axis. The fingers stay horizontal.
+// its approach axis. The fingers stay horizontal. The pre-grasp lies straight above the grasp
+// (coming down onto a table top), or with `along_hand` back along the hand's approach axis
+// (reaching in sideways: into a shelf, around a screen).
 struct GraspCandidate {
   double tilt;
   double heading_offset;
   double turn;
+  bool along_hand = false;
 };
 
 // Table grasps, in the order tried: tilted 0.6-1.0 rad forward, heading in quarter turns (a box
 // is symmetric under them), the hand in either half turn (the gripper nearly is).
 std::vector<GraspCandidate> TableGraspCandidates();
+// The table grasps, then the same reaching in along the hand (around an obstacle).
+std::vector<GraspCandidate> TableAndSideGraspCandidates();
 // Shelf grasps: the hand level (tilt pi/2) or nearly, reaching straight in.
 std::vector<GraspCandidate> ShelfGraspCandidates();
 
@@ -41,14 +46,15 @@ struct PickExpertSettings {
   double cue_look_s = 0.5;
   int go_task_var = -1;
   double grasp_height = 0.000;    // m: pad centre above the object's centre at the grasp
-  Vec3 approach_offset = Vec3(0.0, 0.0, 0.18);  // m, world: pre-grasp pads' centre from the grasp
-  double lift_to_z = 1.27;  // m: world height of the pads' centre after lifting (success: 1.2)
-  // Shelf tasks: after closing, pull the pads straight back to this world x instead of lifting.
-  std::optional<double> pull_back_to_x;
+  double approach_distance = 0.18;  // m: the pre-grasp pads' centre from the grasp
+  // After closing, a hand that reached in along itself first withdraws the way it came, rising
+  // off the support; then the pads lift to this world height (success: 1.2), if the task lifts
+  // (a shelf's object only has to come out).
+  std::optional<double> lift_to_z = 1.27;
   std::vector<GraspCandidate> grasp_candidates = TableGraspCandidates();
-  // Headings relative to the object's faces (table grasps), or to the world's +x (reaching
-  // straight into a shelf, where a diagonal approach would catch the shelf's neighbours).
-  bool align_to_object = true;
+  // Heading reference of the grasp candidates: the object's faces (nullptr), or a direction the
+  // task gives (reaching straight into a shelf, into a box through its open side).
+  double (*reach_heading)(const engine::BatchState& state, int env) = nullptr;
   // World points the head fixates in turn before the cue and the target (scanning shelf rows).
   std::vector<Vec3> scan_points;
   double hand_speed = 0.36;       // m/s, approach
@@ -69,7 +75,7 @@ class PickExpert : public Expert {
   void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
            kinematics::Action& action) override;
 
-  enum class Phase { kWatchCue, kLook, kSettle, kApproach, kDescend, kClose, kLift, kGiveUp };
+  enum class Phase { kWatchCue, kLook, kSettle, kApproach, kDescend, kClose, kWithdraw, kLift, kGiveUp };
   Phase phase(int env) const { return memory_[env].phase; }
 
  private:
@@ -94,7 +100,9 @@ class PickExpert : public Expert {
     Vec3 fixated_point = Vec3::Zero();
     std::array<double, 2> gripper_command{-1.0, -1.0};
     std::vector<double> q_plan;  // full joint vector used to evaluate the arm path
-    ArmJoints q_pre{}, q_grasp{}, q_lift{};
+    ArmJoints q_pre{}, q_grasp{}, q_withdraw{}, q_lift{};
+    bool withdraws = false;  // an along-hand grasp: withdraw before lifting
+    bool lifts = false;
     Segment segment;
     bool cartesian_approach = false;
     bool arm_clear = false;  // the plan keeps the arm clear of the scene's fixed obstacles
