@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kinematics/forward_kinematics.h"
+
 namespace tavis::scenarios {
 namespace {
 
@@ -81,6 +83,24 @@ bool ArmObstacles::ArmIsClear(const kinematics::RobotModel& robot, kinematics::S
   const RigidTransform& X_B_ik = X_BL[static_cast<std::size_t>(robot.arm(side).ik_link)];
   for (const OrientedBox& part : OpenHandBoxes(robot.gripper, X_B_ik, robot.gripper.open_gap)) {
     if (!clear(part)) return false;
+  }
+  return true;
+}
+
+bool ArmObstacles::JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side,
+                                    const std::vector<double>& q_from, const std::vector<double>& q_to) const {
+  if (obstacles_.empty()) return true;
+  constexpr double kSampleStep = 0.05;  // rad
+  double largest = 0.0;
+  for (const int joint : robot.arm(side).joints) largest = std::max(largest, std::abs(q_to[joint] - q_from[joint]));
+  const int samples = std::max(2, static_cast<int>(std::ceil(largest / kSampleStep)));
+  std::vector<double> q = q_from;
+  std::vector<RigidTransform> X_BL(robot.links.size());
+  for (int i = 1; i <= samples; ++i) {
+    const double s = static_cast<double>(i) / samples;
+    for (const int joint : robot.arm(side).joints) q[joint] = q_from[joint] + s * (q_to[joint] - q_from[joint]);
+    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    if (!ArmIsClear(robot, side, X_BL.data())) return false;
   }
   return true;
 }

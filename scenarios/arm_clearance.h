@@ -27,6 +27,10 @@ class ArmObstacles {
   // the link poses X_BL (kinematics::ComputeLinkPoses), stay `margin` outside every obstacle.
   // Shapes are taken as their bounding boxes.
   bool ArmIsClear(const kinematics::RobotModel& robot, kinematics::Side side, const RigidTransform* X_BL) const;
+  // The same along the straight joint-space path from q_from to q_to (full joint vectors),
+  // sampled every 0.05 rad of the largest joint motion.
+  bool JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_from,
+                        const std::vector<double>& q_to) const;
 
  private:
   std::vector<OrientedBox> obstacles_;  // base frame

@@ -52,7 +52,8 @@ void SpreadSeed(const kinematics::RobotModel& robot, kinematics::Side side, int 
 std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::RobotModel& robot, kinematics::Side side,
                                                          const std::vector<double>& q_start,
                                                          const kinematics::PoseTarget& target,
-                                                         const ArmObstacles* obstacles) {
+                                                         const ArmObstacles* obstacles,
+                                                         const std::vector<double>* clear_path_from) {
   std::vector<RigidTransform> X_BL(robot.links.size());
   std::vector<double> best;
   double best_score = 1e300;
@@ -61,6 +62,7 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
     if (seed >= 0) SpreadSeed(robot, side, seed, q);
     const double score = Converge(robot, side, q, target, X_BL);
     if (obstacles && !obstacles->ArmIsClear(robot, side, X_BL.data())) continue;
+    if (obstacles && clear_path_from && !obstacles->JointPathIsClear(robot, side, *clear_path_from, q)) continue;
     if (score < best_score) {
       best_score = score;
       best = q;

@@ -16,11 +16,13 @@ class ArmObstacles;
 
 // A full joint vector whose arm joints put the IK link at `target` (base frame) within 2 mm and
 // 0.03 rad, trying `q_start` first, then deterministic spreads of seeds; nullopt if none does.
-// With `obstacles`, only configurations whose arm is clear of them count.
+// With `obstacles`, only configurations whose arm is clear of them count, and with
+// `clear_path_from` too only those reached from it by a clear straight joint-space path.
 std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::RobotModel& robot, kinematics::Side side,
                                                          const std::vector<double>& q_start,
                                                          const kinematics::PoseTarget& target,
-                                                         const ArmObstacles* obstacles = nullptr);
+                                                         const ArmObstacles* obstacles = nullptr,
+                                                         const std::vector<double>* clear_path_from = nullptr);
 
 // True if the controller, stepping its IK once per tick along the straight hand path (position
 // line, orientation slerp) from q_start's hand pose to `goal` in `ticks` ticks, stays within

@@ -1,9 +1,11 @@
 #include "scenarios/peeking_box.h"
 
 #include <array>
+#include <cmath>
 
 #include "engine/object_catalog.h"
 #include "scenarios/object_placement.h"
+#include "scenarios/pick_expert.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -30,8 +32,11 @@ const std::array<Wall, 5> kWalls = {{
     {"box_wall_pos_y", {0.40, kT, 0.20}, {0.0, 0.074, 1.095}},
     {"box_wall_neg_y", {0.40, kT, 0.20}, {0.0, -0.074, 1.095}},
 }};
+constexpr int kWallBack = kNumYcb;
+constexpr int kWallFront = kNumYcb + 1;
 constexpr int kWallPosY = kNumYcb + 3;
 constexpr int kWallNegY = kNumYcb + 4;
+constexpr double kHalfWidth = 0.074;  // box-local y of the side walls' centres
 
 void Layout(engine::WorldModel& model) {
   for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
@@ -86,6 +91,64 @@ bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int en
 
 std::string Prompt(const engine::BatchState&, int) { return "Retrieve the object from inside the box."; }
 
+double BoxYaw(const engine::BatchState& state, int env) {
+  const Mat3 R = state.ObjectOrientation(env, kWallBack).toRotationMatrix();
+  return std::atan2(R(1, 0), R(0, 0));
+}
+
+// +1 when the robot's left (+y) side is open, -1 for the right.
+double OpenSide(const engine::BatchState& state, int env) { return state.task_vars_row(env)[kOpenSideVar]; }
+
+// Heading of a level hand entering the box through the side `side` (+1: +y): across the box,
+// turned 0.7 rad toward the front as the arm on that side naturally reaches in.
+double IntoBoxHeading(const engine::BatchState& state, int env, double side) {
+  constexpr double kForwardTurn = 0.7;
+  return BoxYaw(state, env) - side * (M_PI / 2 - kForwardTurn);
+}
+
+// Each wrist looks into its side of the box from 16 cm outside it, the hand a little above the
+// object and pointing across the box, so the wrist camera sees the wall or the object.
+std::array<RigidTransform, 2> PeekPoses(const engine::WorldModel& model, const engine::BatchState& state, int env) {
+  constexpr double kPeekDistance = 0.16;
+  constexpr double kPeekTilt = M_PI / 2 - 0.3;  // looking a little down into the opening
+  const Vec3 centre = 0.5 * (state.ObjectPosition(env, kWallBack) + state.ObjectPosition(env, kWallFront));
+  const Mat3 R_box = Eigen::AngleAxisd(BoxYaw(state, env), Vec3::UnitZ()).toRotationMatrix();
+  std::array<RigidTransform, 2> poses;
+  for (const kinematics::Side arm : kinematics::kSides) {
+    const double side = arm == kinematics::Side::kLeft ? 1.0 : -1.0;
+    const Mat3 R = (Eigen::AngleAxisd(IntoBoxHeading(state, env, side), Vec3::UnitZ()) *
+                    Eigen::AngleAxisd(-kPeekTilt, Vec3::UnitY()))
+                       .toRotationMatrix();
+    const Vec3 pads(centre.x(), centre.y(), kObjectZ + 0.06);
+    const Vec3 p_pads = pads + R_box * Vec3(0.0, side * (kHalfWidth + kPeekDistance), 0.0);
+    poses[kinematics::Index(arm)] = MakeTransform(p_pads - R * model.robot.gripper.pad_center, R);
+  }
+  return poses;
+}
+
+// Looks at the box, peeks into both sides with the wrist cameras, then reaches in level through
+// the open side with the arm on that side, closes, withdraws the way it came and lifts.
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings;
+  settings.target_task_var = kTargetVar;
+  settings.peek_poses = &PeekPoses;
+  settings.reach_side = [](const engine::BatchState& state, int env) {
+    return OpenSide(state, env) > 0.0 ? kinematics::Side::kLeft : kinematics::Side::kRight;
+  };
+  settings.reach_heading = [](const engine::BatchState& state, int env) {
+    return IntoBoxHeading(state, env, OpenSide(state, env));
+  };
+  settings.grasp_candidates.clear();
+  const double level = M_PI / 2;
+  for (const double tilt : {level, level - 0.15, level - 0.3}) {
+    for (const double heading : {0.0, 0.25, -0.25, 0.5, -0.5}) {
+      for (const double turn : {0.0, M_PI}) settings.grasp_candidates.push_back({tilt, heading, turn, /*along_hand=*/true});
+    }
+  }
+  settings.lift_to_z = kSuccessHeight + 0.07;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
 }  // namespace
 
 ScenarioDef PeekingBox() {
@@ -96,6 +159,7 @@ ScenarioDef PeekingBox() {
   def.reset = &Reset;
   def.evaluate = &Evaluate;
   def.prompt = &Prompt;
+  def.make_expert = &MakeExpert;
   return def;
 }
 

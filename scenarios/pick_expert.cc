@@ -18,24 +18,6 @@ namespace {
 constexpr double kWithdrawRise = 0.015;  // m: the pads rise this much while withdrawing
 constexpr double kArmClearance = 0.005;  // m: planned gap between the arm and fixed obstacles
 
-// True if the arm stays clear of `obstacles` along the straight joint-space path from q_from to
-// q_to (full joint vectors), sampled every 0.05 rad of the largest joint motion.
-bool JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_from,
-                      const std::vector<double>& q_to, const ArmObstacles& obstacles) {
-  double largest = 0.0;
-  for (const int joint : robot.arm(side).joints) largest = std::max(largest, std::abs(q_to[joint] - q_from[joint]));
-  const int samples = std::max(2, static_cast<int>(std::ceil(largest / 0.05)));
-  std::vector<double> q = q_from;
-  std::vector<RigidTransform> X_BL(robot.links.size());
-  for (int i = 1; i <= samples; ++i) {
-    const double s = static_cast<double>(i) / samples;
-    for (const int joint : robot.arm(side).joints) q[joint] = q_from[joint] + s * (q_to[joint] - q_from[joint]);
-    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
-    if (!obstacles.ArmIsClear(robot, side, X_BL.data())) return false;
-  }
-  return true;
-}
-
 using kinematics::Side;
 
 void WriteArm(kinematics::Action& action, Side side, const RigidTransform& X_CanonicalHand) {
@@ -148,7 +130,7 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   const Vec3 p_object = state.ObjectPosition(env, target);
   const double yaw = settings_.reach_heading ? settings_.reach_heading(state, env)
                                              : FoldedYaw(state.ObjectOrientation(env, target));
-  m.side = p_object.y() >= 0.0 ? Side::kLeft : Side::kRight;
+  m.side = settings_.reach_side ? settings_.reach_side(state, env) : p_object.y() >= 0.0 ? Side::kLeft : Side::kRight;
   const auto& arm_joints = robot.arm(m.side).joints;
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
   // Hand target (base frame) that puts the pads' centre at a world point.
@@ -226,9 +208,9 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     const kinematics::PoseTarget grasp = target_for(R, grasp_pads);
     const auto q_grasp = SolveArmConfiguration(robot, m.side, q_now, grasp, avoid);
     if (!q_grasp) return plan;
-    const auto q_pre =
-        SolveArmConfiguration(robot, m.side, *q_grasp, target_for(R, grasp_pads + approach_offset(R, along_hand)), avoid);
-    if (!q_pre || (avoid && !JointPathIsClear(robot, m.side, q_now, *q_pre, *avoid))) return plan;
+    const auto q_pre = SolveArmConfiguration(robot, m.side, *q_grasp,
+                                             target_for(R, grasp_pads + approach_offset(R, along_hand)), avoid, &q_now);
+    if (!q_pre) return plan;
     plan.trackable = CanTrackStraightPath(robot, m.side, *q_pre, grasp,
                                           line_ticks(settings_.approach_distance, settings_.descend_speed), avoid);
     // Then the held object's way out: withdraw (along-hand grasps), lift (if the task lifts).
@@ -292,30 +274,64 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   return false;
 }
 
-void PickExpert::StartSegment(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& from,
+void PickExpert::StartSegment(const engine::WorldModel& model, EnvMemory& m, Side side, const ArmJoints& from,
                               const ArmJoints& to, double cartesian_speed) const {
   const kinematics::RobotModel& robot = model.robot;
-  const auto& arm_joints = robot.arm(m.side).joints;
+  const auto& arm_joints = robot.arm(side).joints;
   double joint_distance = 0.0;
   for (int k = 0; k < kinematics::kArmDof; ++k) joint_distance = std::max(joint_distance, std::abs(to[k] - from[k]));
   for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = from[k];
-  const Vec3 start = HandPoseCanonical(robot, m.side, m.q_plan.data()).translation();
+  const Vec3 start = HandPoseCanonical(robot, side, m.q_plan.data()).translation();
   for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = to[k];
-  const Vec3 end = HandPoseCanonical(robot, m.side, m.q_plan.data()).translation();
+  const Vec3 end = HandPoseCanonical(robot, side, m.q_plan.data()).translation();
   const double duration = std::max({joint_distance / settings_.joint_speed, (end - start).norm() / cartesian_speed, 0.1});
-  m.segment = {from, to, 0.0, 1.0 / (duration * model.physics.control_hz)};
+  m.segments[kinematics::Index(side)] = {from, to, 0.0, 1.0 / (duration * model.physics.control_hz)};
 }
 
-bool PickExpert::FollowSegment(const engine::WorldModel& model, EnvMemory& m) const {
+bool PickExpert::FollowSegment(const engine::WorldModel& model, EnvMemory& m, Side side) const {
   const kinematics::RobotModel& robot = model.robot;
-  Segment& s = m.segment;
+  Segment& s = m.segments[kinematics::Index(side)];
   s.progress = std::min(1.0, s.progress + s.rate);
   // Smoothstep timing: the hand starts and stops gently.
   const double blend = s.progress * s.progress * (3.0 - 2.0 * s.progress);
-  const auto& arm_joints = robot.arm(m.side).joints;
+  const auto& arm_joints = robot.arm(side).joints;
   for (int k = 0; k < kinematics::kArmDof; ++k) m.q_plan[arm_joints[k]] = s.from[k] + blend * (s.to[k] - s.from[k]);
-  m.hand_command[kinematics::Index(m.side)] = HandPoseCanonical(robot, m.side, m.q_plan.data());
+  m.hand_command[kinematics::Index(side)] = HandPoseCanonical(robot, side, m.q_plan.data());
   return s.progress >= 1.0;
+}
+
+bool PickExpert::StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env,
+                           EnvMemory& m) const {
+  const kinematics::RobotModel& robot = model.robot;
+  const std::array<RigidTransform, 2> peeks = settings_.peek_poses(model, state, env);
+  const ArmObstacles obstacles(model, state, env, kArmClearance);
+  const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
+  for (Side side : kinematics::kSides) {
+    const RigidTransform& X_W_ik = peeks[kinematics::Index(side)];
+    const kinematics::PoseTarget target{X_W_ik.translation() - robot.root_world, Quat(X_W_ik.linear())};
+    const auto q_peek = SolveArmConfiguration(robot, side, q_now, target, &obstacles, &q_now);
+    if (!q_peek) return false;
+    ArmJoints from{}, to{};
+    for (int k = 0; k < kinematics::kArmDof; ++k) {
+      from[k] = q_now[robot.arm(side).joints[k]];
+      to[k] = (*q_peek)[robot.arm(side).joints[k]];
+    }
+    StartSegment(model, m, side, from, to, settings_.hand_speed);
+  }
+  return true;
+}
+
+void PickExpert::StartReach(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
+                            int step) const {
+  if (!PlanGrasp(model, state, env, m)) {
+    Enter(m, Phase::kGiveUp, step);
+    return;
+  }
+  ArmJoints q_now{};
+  for (int k = 0; k < kinematics::kArmDof; ++k) q_now[k] = state.q_row(env)[model.robot.arm(m.side).joints[k]];
+  StartSegment(model, m, m.side, q_now, m.q_pre, settings_.hand_speed);
+  m.cartesian_approach = ApproachLineIsTrackable(model, state, env, m);
+  Enter(m, Phase::kApproach, step);
 }
 
 bool PickExpert::ApproachLineIsTrackable(const engine::WorldModel& model, const engine::BatchState& state, int env,
@@ -380,21 +396,29 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       break;
     }
     case Phase::kSettle:
-      if (elapsed >= settings_.settle_s) {
-        if (!PlanGrasp(model, state, env, m)) {
+      if (elapsed < settings_.settle_s) break;
+      if (settings_.peek_poses && !m.peeked) {
+        m.peeked = true;
+        if (StartPeek(model, state, env, m)) {
+          Enter(m, Phase::kPeek, step);
+        } else {
           Enter(m, Phase::kGiveUp, step);
-          break;
         }
-        ArmJoints q_now{};
-        for (int k = 0; k < kinematics::kArmDof; ++k) q_now[k] = state.q_row(env)[model.robot.arm(m.side).joints[k]];
-        StartSegment(model, m, q_now, m.q_pre, settings_.hand_speed);
-        m.cartesian_approach = ApproachLineIsTrackable(model, state, env, m);
-        Enter(m, Phase::kApproach, step);
+        break;
       }
+      StartReach(model, state, env, m, step);
       break;
+    case Phase::kPeek: {
+      // Both hands go to their peek poses; the clock for peek_s starts when both have arrived.
+      bool arrived = true;
+      for (Side side : kinematics::kSides) arrived = FollowSegment(model, m, side) && arrived;
+      if (!arrived) m.phase_start_step = step;
+      if (arrived && elapsed >= settings_.peek_s) StartReach(model, state, env, m, step);
+      break;
+    }
     case Phase::kApproach: {
       const bool arrived = m.cartesian_approach ? MoveHandToward(model, m, m.q_pre, settings_.hand_speed)
-                                                : FollowSegment(model, m);
+                                                : FollowSegment(model, m, m.side);
       if (arrived) Enter(m, Phase::kDescend, step);
       break;
     }

@@ -57,6 +57,15 @@ struct PickExpertSettings {
   double (*reach_heading)(const engine::BatchState& state, int env) = nullptr;
   // World points the head fixates in turn before the cue and the target (scanning shelf rows).
   std::vector<Vec3> scan_points;
+  // Optional wrist peeks after the head has settled on the target: the IK-link poses (world)
+  // each arm's hand, and with it its wrist camera, takes to look before the reach (peeking-box:
+  // one at each side of the box); both are held for peek_s, then the grasp is planned from there.
+  std::array<RigidTransform, 2> (*peek_poses)(const engine::WorldModel& model, const engine::BatchState& state,
+                                              int env) = nullptr;
+  double peek_s = 0.5;
+  // The arm that reaches: the one on the object's side (nullptr), or the task's choice
+  // (peeking-box: the arm at the open side).
+  kinematics::Side (*reach_side)(const engine::BatchState& state, int env) = nullptr;
   double hand_speed = 0.36;       // m/s, approach
   double descend_speed = 0.20;    // m/s, from the pre-grasp down to the grasp
   double slow_hand_speed = 0.12;  // m/s, lifting the held object
@@ -75,7 +84,7 @@ class PickExpert : public Expert {
   void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
            kinematics::Action& action) override;
 
-  enum class Phase { kWatchCue, kLook, kSettle, kApproach, kDescend, kClose, kWithdraw, kLift, kGiveUp };
+  enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kGiveUp };
   Phase phase(int env) const { return memory_[env].phase; }
 
  private:
@@ -103,7 +112,8 @@ class PickExpert : public Expert {
     ArmJoints q_pre{}, q_grasp{}, q_withdraw{}, q_lift{};
     bool withdraws = false;  // an along-hand grasp: withdraw before lifting
     bool lifts = false;
-    Segment segment;
+    std::array<Segment, 2> segments;  // per arm
+    bool peeked = false;
     bool cartesian_approach = false;
     bool arm_clear = false;  // the plan keeps the arm clear of the scene's fixed obstacles
   };
@@ -113,10 +123,15 @@ class PickExpert : public Expert {
   static double NeckError(const EnvMemory& m);
   void UpdateNeck(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
   bool PlanGrasp(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
-  void StartSegment(const engine::WorldModel& model, EnvMemory& m, const ArmJoints& from, const ArmJoints& to,
-                    double cartesian_speed) const;
-  // Advances the segment and writes the commanded hand pose; true when it has ended.
-  bool FollowSegment(const engine::WorldModel& model, EnvMemory& m) const;
+  void StartSegment(const engine::WorldModel& model, EnvMemory& m, kinematics::Side side, const ArmJoints& from,
+                    const ArmJoints& to, double cartesian_speed) const;
+  // Advances the arm's segment and writes its commanded hand pose; true when it has ended.
+  bool FollowSegment(const engine::WorldModel& model, EnvMemory& m, kinematics::Side side) const;
+  // Plans both arms' joint-space paths to their peek poses; false if one is unreachable.
+  bool StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
+  // Plans the grasp from the current state and starts the approach (or gives up).
+  void StartReach(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
+                  int step) const;
   // True if the controller can follow a straight hand line from the current pose to the pre-grasp.
   bool ApproachLineIsTrackable(const engine::WorldModel& model, const engine::BatchState& state, int env,
                                EnvMemory& m) const;
