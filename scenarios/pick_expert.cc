@@ -306,19 +306,22 @@ bool PickExpert::StartPeek(const engine::WorldModel& model, const engine::BatchS
   const std::array<RigidTransform, 2> peeks = settings_.peek_poses(model, state, env);
   const ArmObstacles obstacles(model, state, env, kArmClearance);
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
+  bool any = false;
   for (Side side : kinematics::kSides) {
     const RigidTransform& X_W_ik = peeks[kinematics::Index(side)];
     const kinematics::PoseTarget target{X_W_ik.translation() - robot.root_world, Quat(X_W_ik.linear())};
     const auto q_peek = SolveArmConfiguration(robot, side, q_now, target, &obstacles, &q_now);
-    if (!q_peek) return false;
     ArmJoints from{}, to{};
-    for (int k = 0; k < kinematics::kArmDof; ++k) {
-      from[k] = q_now[robot.arm(side).joints[k]];
-      to[k] = (*q_peek)[robot.arm(side).joints[k]];
+    for (int k = 0; k < kinematics::kArmDof; ++k) from[k] = q_now[robot.arm(side).joints[k]];
+    if (!q_peek) {  // this wrist cannot look there: it keeps still
+      StartSegment(model, m, side, from, from, settings_.hand_speed);
+      continue;
     }
+    any = true;
+    for (int k = 0; k < kinematics::kArmDof; ++k) to[k] = (*q_peek)[robot.arm(side).joints[k]];
     StartSegment(model, m, side, from, to, settings_.hand_speed);
   }
-  return true;
+  return any;
 }
 
 void PickExpert::StartReach(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
@@ -401,10 +404,8 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
         m.peeked = true;
         if (StartPeek(model, state, env, m)) {
           Enter(m, Phase::kPeek, step);
-        } else {
-          Enter(m, Phase::kGiveUp, step);
+          break;
         }
-        break;
       }
       StartReach(model, state, env, m, step);
       break;

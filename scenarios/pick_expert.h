@@ -127,7 +127,8 @@ class PickExpert : public Expert {
                     const ArmJoints& to, double cartesian_speed) const;
   // Advances the arm's segment and writes its commanded hand pose; true when it has ended.
   bool FollowSegment(const engine::WorldModel& model, EnvMemory& m, kinematics::Side side) const;
-  // Plans both arms' joint-space paths to their peek poses; false if one is unreachable.
+  // Plans both arms' joint-space paths to their peek poses (an arm that cannot reach its pose
+  // keeps still); false if neither can peek.
   bool StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
   // Plans the grasp from the current state and starts the approach (or gives up).
   void StartReach(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
