@@ -142,7 +142,9 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
   const double level = M_PI / 2;
   for (const double tilt : {level, level - 0.15, level - 0.3}) {
     for (const double heading : {0.0, 0.25, -0.25, 0.5, -0.5}) {
-      for (const double turn : {0.0, M_PI}) settings.grasp_candidates.push_back({tilt, heading, turn, /*along_hand=*/true});
+      for (const double turn : {0.0, M_PI}) {
+        settings.grasp_candidates.push_back({tilt, heading, turn, /*along_hand=*/true});
+      }
     }
   }
   settings.lift_to_z = kSuccessHeight + 0.07;
