@@ -241,13 +241,26 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   // [arm_clear][candidate x lateral]
   std::array<std::vector<std::optional<ArmPlan>>, 2> plans;
   for (auto& tier_plans : plans) tier_plans.resize(candidates.size() * kLaterals);
+  // Hand orientations, and the order they are tried in: those whose open jaws straddle the
+  // object with clearance first (a heading the task fixes, as into a box, may leave the object
+  // wider across the jaws than they open: the fingers would push it away).
+  std::vector<Mat3> rotations;
+  std::vector<std::size_t> fitting, too_wide;
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const GraspCandidate& candidate = candidates[c];
+    rotations.push_back((Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
+                         Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
+                         Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
+                            .toRotationMatrix());
+    const double half_width = HalfExtentAlong(model, state, env, target, rotations.back() * robot.gripper.closing_axis);
+    (half_width <= 0.5 * robot.gripper.open_gap - settings_.clearance ? fitting : too_wide).push_back(c);
+  }
+  std::vector<std::size_t> order = fitting;
+  order.insert(order.end(), too_wide.begin(), too_wide.end());
   for (const Tier& tier : tiers) {
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
+    for (const std::size_t c : order) {
       const GraspCandidate& candidate = candidates[c];
-      const Mat3 R = (Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
-                      Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
-                      Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
-                         .toRotationMatrix();
+      const Mat3& R = rotations[c];
       const double half_width = HalfExtentAlong(model, state, env, target, R * robot.gripper.closing_axis);
       const double shift = std::max(0.0, 0.5 * robot.gripper.open_gap - half_width - settings_.clearance);
       const double laterals[kLaterals] = {0.0, shift, -shift};
