@@ -94,6 +94,21 @@ void PickExpert::Reset(const engine::WorldModel& model, const engine::BatchState
   m.phase = settings_.cue_object >= 0 || !settings_.scan_points.empty() ? Phase::kWatchCue : Phase::kLook;
 }
 
+Expert::Gaze PickExpert::gaze(const engine::BatchState& state, int env) const {
+  const EnvMemory& m = memory_[env];
+  Gaze gaze;
+  if (m.phase == Phase::kWatchCue) {
+    if (m.scan_index < settings_.scan_points.size()) return gaze;
+    gaze.object = settings_.cue_object;
+  } else {
+    gaze.object = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
+  }
+  // kLook ends the tick the neck settles; a task that peeks reads the target with its wrists.
+  const bool head_still = m.phase != Phase::kLook && NeckError(m) < 0.01;
+  gaze.settled = head_still && (m.phase == Phase::kWatchCue || !settings_.peek_poses || m.peek_done);
+  return gaze;
+}
+
 double PickExpert::NeckError(const EnvMemory& m) {
   double error = 0.0;
   for (int i = 0; i < kinematics::kNeckDof; ++i) error = std::max(error, std::abs(m.neck_goal[i] - m.neck_command[i]));
@@ -419,6 +434,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
           Enter(m, Phase::kPeek, step);
           break;
         }
+        m.peek_done = true;
       }
       StartReach(model, state, env, m, step);
       break;
@@ -427,6 +443,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       bool arrived = true;
       for (Side side : kinematics::kSides) arrived = FollowSegment(model, m, side) && arrived;
       if (!arrived) m.phase_start_step = step;
+      m.peek_done = arrived;
       if (arrived && elapsed >= settings_.peek_s) StartReach(model, state, env, m, step);
       break;
     }

@@ -83,6 +83,7 @@ class PickExpert : public Expert {
   void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) override;
   void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
            kinematics::Action& action) override;
+  Gaze gaze(const engine::BatchState& state, int env) const override;
 
   enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kGiveUp };
   Phase phase(int env) const { return memory_[env].phase; }
@@ -114,6 +115,7 @@ class PickExpert : public Expert {
     bool lifts = false;
     std::array<Segment, 2> segments;  // per arm
     bool peeked = false;
+    bool peek_done = false;  // the wrists have held their peek poses, or could not take them
     bool cartesian_approach = false;
     bool arm_clear = false;  // the plan keeps the arm clear of the scene's fixed obstacles
   };

@@ -18,10 +18,19 @@ namespace tavis::scenarios {
 // a whole batch; per-env memory lives inside it, indexed by env.
 class Expert {
  public:
+  // Where the expert is looking: the object its head fixates (-1: none, or a scan point), and
+  // whether the cameras it reads that object with have come to rest on it (the head settled; in
+  // a peek, both wrist cameras at their peek poses). The visibility audit samples this.
+  struct Gaze {
+    int object = -1;
+    bool settled = false;
+  };
+
   virtual ~Expert() = default;
   virtual void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) = 0;
   virtual void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
                    kinematics::Action& action) = 0;
+  virtual Gaze gaze(const engine::BatchState& state, int env) const = 0;
 };
 
 struct ScenarioDef {
