@@ -58,6 +58,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
   PickExpertSettings settings;
   settings.target_task_var = kTargetVar;
   settings.lift_to_z = kSuccessHeight + 0.07;
+  settings.grasp_height = 0.012;
   // Coming down from above where the arm clears the screen, else reaching in along the hand from
   // beside the screen and withdrawing the same way before lifting.
   settings.grasp_candidates = TableAndSideGraspCandidates();

@@ -58,9 +58,10 @@ std::vector<GraspCandidate> TableGraspCandidates() {
 
 std::vector<GraspCandidate> TableAndSideGraspCandidates() {
   std::vector<GraspCandidate> candidates = TableGraspCandidates();
-  for (GraspCandidate candidate : TableGraspCandidates()) {
-    candidate.along_hand = true;
-    candidates.push_back(candidate);
+  for (const double tilt : {1.0, M_PI / 2 - 0.3, M_PI / 2}) {
+    for (const double heading : {0.0, 0.35, -0.35, 0.7, -0.7}) {
+      for (const double turn : {0.0, M_PI}) candidates.push_back({tilt, heading, turn, /*along_hand=*/true, /*from_outside=*/true});
+    }
   }
   return candidates;
 }
@@ -157,12 +158,18 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
     for (int k = 0; k < kinematics::kArmDof; ++k) joints[k] = q[arm_joints[k]];
     return joints;
   };
-  // Pads' centre height at the grasp: at the object's centre, but with the pads (turned by R)
-  // clear of the surface the object stands on, for low objects such as the tuna can.
+  // Pads' centre height at the grasp: at the object's centre, but with the open hand (turned by
+  // R) clear of the surface the object stands on, for low objects such as the tuna can; a level
+  // hand's housing reaches lower than its pads.
   const double support_z = p_object.z() - HalfExtentAlong(model, state, env, target, Vec3::UnitZ());
   auto grasp_z_for = [&](const Mat3& R) {
-    const double pad_half_height = (R.transpose() * Vec3::UnitZ()).cwiseAbs().dot(0.5 * robot.gripper.pad_size);
-    return std::max(p_object.z() + settings_.grasp_height, support_z + pad_half_height + settings_.clearance);
+    const RigidTransform X_pads_ik = MakeTransform(-(R * robot.gripper.pad_center), R);
+    double lowest = 0.0;  // below the pads' centre
+    for (const OrientedBox& box : OpenHandBoxes(robot.gripper, X_pads_ik, robot.gripper.open_gap)) {
+      const double half_height = (box.X.linear().transpose() * Vec3::UnitZ()).cwiseAbs().dot(box.half_size);
+      lowest = std::min(lowest, box.X.translation().z() - half_height);
+    }
+    return std::max(p_object.z() + settings_.grasp_height, support_z - lowest + settings_.clearance);
   };
   // The pads' centre at the grasp: over the object, shifted `lateral` along the closing axis.
   auto grasp_point = [&](const Mat3& R, double lateral) -> Vec3 {
@@ -263,7 +270,8 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   std::vector<std::size_t> fitting, too_wide;
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     const GraspCandidate& candidate = candidates[c];
-    rotations.push_back((Eigen::AngleAxisd(yaw + candidate.heading_offset, Vec3::UnitZ()) *
+    const double heading = candidate.from_outside ? (m.side == Side::kLeft ? -M_PI / 2 : M_PI / 2) : yaw;
+    rotations.push_back((Eigen::AngleAxisd(heading + candidate.heading_offset, Vec3::UnitZ()) *
                          Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
                          Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
                             .toRotationMatrix());
