@@ -25,13 +25,14 @@ Eigen::Vector2d AngularOffsets(const Vec3& t) {
 }  // namespace
 
 std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q_in,
-                                         const Vec3& target_world) {
+                                         const Vec3& target_world, NeckLimits limits) {
   std::vector<double> q(q_in, q_in + robot.num_joints());
   const int roll = robot.neck_joints[0];
   const int pitch = robot.neck_joints[1];
   const int yaw = robot.neck_joints[2];
   q[roll] = 0.0;
   auto clamp_to_limits = [&](int joint) {
+    if (limits == NeckLimits::kIgnore) return;
     q[joint] = std::clamp(q[joint], robot.joints[joint].lower, robot.joints[joint].upper);
   };
   // Gauss-Newton on (yaw, pitch) with a finite-difference Jacobian: the head chain is short and

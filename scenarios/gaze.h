@@ -8,10 +8,13 @@
 
 namespace tavis::scenarios {
 
+enum class NeckLimits { kRespect, kIgnore };
+
 // Neck (roll, pitch, yaw) with roll 0 that centres `target_world` in the head camera, within
-// the neck's joint limits. `q` supplies the other joints (they do not affect the head).
+// the neck's joint limits, or with kIgnore as a teleoperator's head turns to it (the robot
+// clamps the command at its limits). `q` supplies the other joints (they do not affect the head).
 std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q,
-                                         const Vec3& target_world);
+                                         const Vec3& target_world, NeckLimits limits = NeckLimits::kRespect);
 
 // Angle (rad) between the head camera's optical axis and the direction to `target_world`.
 double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world);

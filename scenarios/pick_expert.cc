@@ -127,8 +127,10 @@ void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::Batch
     p_object = state.ObjectPosition(env, static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]));
   }
   // Re-aim only when the object has moved noticeably: the solve is the expert's costliest step.
+  // The command is the teleoperator's head turning to the object, past the neck's limits where
+  // the object lies beyond them (Reachy2 looking down at the table): the robot clamps it.
   if ((p_object - m.fixated_point).norm() > 0.01) {
-    m.neck_goal = FixationNeckAngles(model.robot, state.q_row(env), p_object);
+    m.neck_goal = FixationNeckAngles(model.robot, state.q_row(env), p_object, NeckLimits::kIgnore);
     m.fixated_point = p_object;
   }
   const double dt = 1.0 / model.physics.control_hz;
