@@ -64,6 +64,15 @@ void AddGalt(CellResult& result, int hold_ticks, const engine::PhysicsSettings& 
 
 }  // namespace
 
+bool EpisodeDealer::Deal(VecEnv& env, int slot) {
+  if (next_ >= total_) {
+    env.Release(slot);
+    return false;
+  }
+  env.ResetEnv(slot, next_++);
+  return true;
+}
+
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress) {
   ValidateConfig(config);
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
@@ -91,13 +100,9 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   std::vector<std::vector<kinematics::Action>> action_logs(slots);
   for (auto& log : action_logs) log.reserve(env.model().physics.max_control_steps());
 
-  int64_t next_episode = 0;
+  EpisodeDealer dealer(config.episodes);
   auto start_episode = [&](int slot) {
-    if (next_episode >= config.episodes) {
-      env.Release(slot);
-      return;
-    }
-    env.ResetEnv(slot, next_episode++);
+    if (!dealer.Deal(env, slot)) return;
     policy->Reset(env.model(), env.state(), slot);
     action_logs[slot].clear();
   };

@@ -64,6 +64,22 @@ struct CellResult {
 // Called after each finished episode with (finished, total).
 using ProgressCallback = std::function<void(int, int)>;
 
+class VecEnv;
+
+// Hands episodes 0..total-1 to env slots in index order. Episode i draws its randomness from
+// (seed, i) whichever slot runs it, so refilling slots serially in slot order keeps a run's
+// results independent of the thread count and of the number of slots.
+class EpisodeDealer {
+ public:
+  explicit EpisodeDealer(int64_t total) : total_(total) {}
+  // Resets `slot` with the next episode and returns true, or releases the slot when none is left.
+  bool Deal(VecEnv& env, int slot);
+
+ private:
+  int64_t total_ = 0;
+  int64_t next_ = 0;
+};
+
 // Throws std::invalid_argument / configs::ConfigError for bad settings, and std::runtime_error
 // naming the episode, action entry and value if the policy produced a non-finite action.
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr);

@@ -7,6 +7,10 @@
 // 224x224 on every policy tick (20 Hz), as a learned policy would see them; the expert ignores the
 // images, which are discarded. Extra counter: rendered images per second.
 //
+// BM_AllIdExpertCells is the sweep a researcher runs to validate the experts: all 16 `id`
+// cells (eight tasks x two robots, 96 episodes each, no rendering) one after another; its time is
+// the whole sweep (target: at most 5 minutes on 2 threads).
+//
 // Run: tavis_eval_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -16,6 +20,7 @@
 #include <vector>
 
 #include "batch/evaluation_cell.h"
+#include "scenarios/registry.h"
 
 namespace tavis::batch {
 namespace {
@@ -66,10 +71,33 @@ void BM_EvalCellRendering(benchmark::State& state, const char* robot) {
   RunCells(state, config);
 }
 
+void BM_AllIdExpertCells(benchmark::State& state) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+  int64_t episodes = 0;
+  int64_t successes = 0;
+  int64_t control_ticks = 0;
+  for (auto _ : state) {
+    for (const char* robot : {"gr1t2", "reachy2"}) {
+      for (const scenarios::ScenarioDef& scenario : scenarios::AllScenarios()) {
+        EvaluationCellConfig config = DefaultCell(robot);
+        config.task = scenario.name;
+        const CellResult result = RunEvaluationCell(config);
+        episodes += static_cast<int64_t>(result.episodes.size());
+        successes += result.successes;
+        control_ticks += result.control_ticks;
+      }
+    }
+  }
+  state.counters["cells"] = 2.0 * static_cast<double>(scenarios::AllScenarios().size());
+  state.counters["ticks/s"] = benchmark::Counter(static_cast<double>(control_ticks), benchmark::Counter::kIsRate);
+  state.counters["success_rate"] = static_cast<double>(successes) / static_cast<double>(episodes);
+}
+
 BENCHMARK_CAPTURE(BM_EvalCell, gr1t2, "gr1t2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_EvalCell, reachy2, "reachy2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_EvalCellRendering, gr1t2, "gr1t2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_EvalCellRendering, reachy2, "reachy2")->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_AllIdExpertCells)->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 }  // namespace tavis::batch

@@ -18,6 +18,7 @@
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
+#include "tools/option_parsing.h"
 
 namespace tavis::tools {
 namespace {
@@ -34,39 +35,12 @@ struct EvalOptions {
   bool quiet = false;
 };
 
-std::string KnownTasks() {
-  std::string names;
-  for (const auto& scenario : scenarios::AllScenarios()) names += (names.empty() ? "" : ", ") + scenario.name;
-  return names;
-}
-
 void PrintProgress(int finished, int total) {
   const int width = 30;
   const int filled = width * finished / total;
   std::fprintf(stderr, "\r  [%s%s] %d/%d episodes", std::string(filled, '#').c_str(),
                std::string(width - filled, '.').c_str(), finished, total);
   if (finished == total) std::fprintf(stderr, "\n");
-}
-
-// "224x224" -> (224, 224); throws std::invalid_argument naming the value.
-std::pair<int, int> ParseImageSize(const std::string& text) {
-  const std::size_t x = text.find('x');
-  int width = 0;
-  int height = 0;
-  std::size_t used_width = 0;
-  std::size_t used_height = 0;
-  try {
-    if (x != std::string::npos) {
-      width = std::stoi(text.substr(0, x), &used_width);
-      height = std::stoi(text.substr(x + 1), &used_height);
-    }
-  } catch (const std::exception&) {
-    used_width = 0;
-  }
-  if (x == std::string::npos || used_width != x || used_height != text.size() - x - 1 || width < 1 || height < 1) {
-    throw std::invalid_argument("--image-size '" + text + "' must be WIDTHxHEIGHT with positive integers, e.g. 224x224");
-  }
-  return {width, height};
 }
 
 std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split) {

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   tavis::tools::RegisterGaltCommand(app);
   tavis::tools::RegisterRenderCommand(app);
   tavis::tools::RegisterTableCommand(app);
+  tavis::tools::RegisterAuditCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

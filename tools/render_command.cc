@@ -13,6 +13,7 @@
 #include "render/image_io.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
+#include "tools/option_parsing.h"
 
 namespace tavis::tools {
 namespace {
@@ -29,12 +30,6 @@ struct RenderCommandOptions {
   int steps = 120;
   std::string config_dir;
 };
-
-std::string KnownTasks() {
-  std::string names;
-  for (const auto& scenario : scenarios::AllScenarios()) names += (names.empty() ? "" : ", ") + scenario.name;
-  return names;
-}
 
 void RequirePositive(const char* option, int value) {
   if (value < 1) throw std::invalid_argument(std::string(option) + " " + std::to_string(value) + " must be at least 1");

@@ -1,0 +1,26 @@
+#include "tools/option_parsing.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "scenarios/registry.h"
+
+namespace tavis::tools {
+
+std::string KnownTasks() {
+  std::string names;
+  for (const auto& scenario : scenarios::AllScenarios()) names += (names.empty() ? "" : ", ") + scenario.name;
+  return names;
+}
+
+std::pair<int, int> ParseImageSize(const std::string& text) {
+  int width = 0;
+  int height = 0;
+  char trailing = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &trailing) != 2 || width < 1 || height < 1) {
+    throw std::invalid_argument("--image-size '" + text + "' must be WIDTHxHEIGHT with positive integers, e.g. 224x224");
+  }
+  return {width, height};
+}
+
+}  // namespace tavis::tools
