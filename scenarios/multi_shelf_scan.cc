@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "engine/object_catalog.h"
+#include "kinematics/shape.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
 
@@ -82,9 +84,15 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
     const int slot = slots[static_cast<std::size_t>(object)];
     const double shelf_z = kShelfZ[static_cast<std::size_t>(slot) / kSlotY.size()];
     const double slot_y = kSlotY[static_cast<std::size_t>(slot) % kSlotY.size()];
-    const double x = std::clamp(kCentreX + rng.Uniform(-jitter_x, jitter_x), 0.485, 0.555);
+    double x = std::clamp(kCentreX + rng.Uniform(-jitter_x, jitter_x), 0.485, 0.555);
     const double y = std::clamp(slot_y + rng.Uniform(-jitter_y, jitter_y), -0.32, 0.32);
     const double yaw = rng.Uniform(-M_PI, M_PI);
+    // A turned object at the back can overlap the back panel. PhysX pushes it out; ODE's exact
+    // solver fails on the wedged contacts and drops it through the board (docs/fidelity.md), so
+    // it starts just touching the panel instead.
+    const Vec3 half = BoundingHalfSize(model.objects[static_cast<std::size_t>(object)].shape);
+    const double half_depth = half.x() * std::abs(std::cos(yaw)) + half.y() * std::abs(std::sin(yaw));
+    x = std::min(x, kCentreX + 0.5 * kDepth - half_depth - 0.002);
     PlaceUpright(state, env, object, Vec3(x, y, shelf_z + 0.01 + 0.04), yaw);
   }
   state.task_vars_row(env)[kTargetVar] = target;
@@ -111,6 +119,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
   settings.approach_distance = 0.15;
   settings.lift_to_z = std::nullopt;  // withdrawing 15 cm takes the object past the success line
   settings.grasp_candidates = ShelfGraspCandidates();
+  settings.support_under_hand = false;
   settings.reach_heading = [](const engine::BatchState&, int) { return 0.0; };  // straight in
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }

@@ -69,8 +69,10 @@ std::vector<GraspCandidate> TableAndSideGraspCandidates() {
 std::vector<GraspCandidate> ShelfGraspCandidates() {
   const double level = M_PI / 2;
   std::vector<GraspCandidate> candidates;
-  for (const double tilt : {level, level - 0.2, level + 0.2, level - 0.4}) {
-    for (const double turn : {0.0, M_PI}) candidates.push_back({tilt, 0.0, turn, /*along_hand=*/true});
+  for (const double heading : {0.0, 0.25, -0.25, 0.5, -0.5, 0.75, -0.75}) {
+    for (const double tilt : {level, level - 0.2, level + 0.2, level - 0.4}) {
+      for (const double turn : {0.0, M_PI}) candidates.push_back({tilt, heading, turn, /*along_hand=*/true});
+    }
   }
   return candidates;
 }
@@ -166,8 +168,11 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   const double support_z = p_object.z() - HalfExtentAlong(model, state, env, target, Vec3::UnitZ());
   auto grasp_z_for = [&](const Mat3& R) {
     const RigidTransform X_pads_ik = MakeTransform(-(R * robot.gripper.pad_center), R);
+    const std::array<OrientedBox, 3> hand = OpenHandBoxes(robot.gripper, X_pads_ik, robot.gripper.open_gap);
+    const std::size_t parts = settings_.support_under_hand ? hand.size() : 2;  // pads first, then the housing
     double lowest = 0.0;  // below the pads' centre
-    for (const OrientedBox& box : OpenHandBoxes(robot.gripper, X_pads_ik, robot.gripper.open_gap)) {
+    for (std::size_t p = 0; p < parts; ++p) {
+      const OrientedBox& box = hand[p];
       const double half_height = (box.X.linear().transpose() * Vec3::UnitZ()).cwiseAbs().dot(box.half_size);
       lowest = std::min(lowest, box.X.translation().z() - half_height);
     }

@@ -38,7 +38,8 @@ std::vector<GraspCandidate> TableGraspCandidates();
 // The table grasps, then the hand reaching in along itself from the arm's own side, level or
 // tilted down, at headings up to 0.7 rad off straight inward (around a screen).
 std::vector<GraspCandidate> TableAndSideGraspCandidates();
-// Shelf grasps: the hand level (tilt pi/2) or nearly, reaching straight in.
+// Shelf grasps: the hand level (tilt pi/2) or nearly, reaching in straight or turned up to 0.75
+// rad, so that the jaws can meet a turned object's faces.
 std::vector<GraspCandidate> ShelfGraspCandidates();
 
 struct PickExpertSettings {
@@ -50,6 +51,9 @@ struct PickExpertSettings {
   double cue_look_s = 0.5;
   int go_task_var = -1;
   double grasp_height = 0.000;    // m: pad centre above the object's centre at the grasp
+  // The surface the object stands on extends under the whole open hand (a table), so its housing
+  // must clear it too; a shelf board ends just in front of the object, below the housing.
+  bool support_under_hand = true;
   double approach_distance = 0.18;  // m: the pre-grasp pads' centre from the grasp
   // After closing, a hand that reached in along itself first withdraws the way it came, rising
   // off the support; then the pads lift to this world height (success: 1.2), if the task lifts
