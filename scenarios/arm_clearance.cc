@@ -55,8 +55,8 @@ ArmObstacles::ArmObstacles(const engine::WorldModel& model, const engine::BatchS
     return X_B;
   };
   for (const engine::StaticPart& part : model.static_parts) {
-    if (!part.collides || part.name == "table") continue;
-    obstacles_.push_back({in_base(part.X_WS), BoundingHalfSize(part.shape)});
+    if (!part.collides) continue;
+    (part.name == "table" ? link_only_ : obstacles_).push_back({in_base(part.X_WS), BoundingHalfSize(part.shape)});
   }
   for (int object = 0; object < model.num_objects(); ++object) {
     const engine::ObjectSpec& spec = model.objects[static_cast<std::size_t>(object)];
@@ -71,25 +71,25 @@ ArmObstacles::ArmObstacles(const engine::WorldModel& model, const engine::BatchS
 
 bool ArmObstacles::ArmIsClear(const kinematics::RobotModel& robot, kinematics::Side side,
                               const RigidTransform* X_BL) const {
-  if (obstacles_.empty()) return true;
-  auto clear = [&](const OrientedBox& part) {
-    return std::none_of(obstacles_.begin(), obstacles_.end(),
+  auto clear_of = [&](const std::vector<OrientedBox>& obstacles, const OrientedBox& part) {
+    return std::none_of(obstacles.begin(), obstacles.end(),
                         [&](const OrientedBox& obstacle) { return BoxesOverlap(part, obstacle, margin_); });
   };
   for (const kinematics::LinkShape& shape : robot.shapes) {
     if (shape.link == kinematics::kBaseLink || !MovesWithArm(robot, side, shape.link)) continue;
-    if (!clear({X_BL[static_cast<std::size_t>(shape.link)] * shape.X_LS, BoundingHalfSize(shape.shape)})) return false;
+    const OrientedBox link{X_BL[static_cast<std::size_t>(shape.link)] * shape.X_LS, BoundingHalfSize(shape.shape)};
+    if (!clear_of(obstacles_, link) || !clear_of(link_only_, link)) return false;
   }
   const RigidTransform& X_B_ik = X_BL[static_cast<std::size_t>(robot.arm(side).ik_link)];
   for (const OrientedBox& part : OpenHandBoxes(robot.gripper, X_B_ik, robot.gripper.open_gap)) {
-    if (!clear(part)) return false;
+    if (!clear_of(obstacles_, part)) return false;
   }
   return true;
 }
 
 bool ArmObstacles::JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side,
                                     const std::vector<double>& q_from, const std::vector<double>& q_to) const {
-  if (obstacles_.empty()) return true;
+  if (obstacles_.empty() && link_only_.empty()) return true;
   constexpr double kSampleStep = 0.05;  // rad
   double largest = 0.0;
   for (const int joint : robot.arm(side).joints) largest = std::max(largest, std::abs(q_to[joint] - q_from[joint]));

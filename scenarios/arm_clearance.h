@@ -18,14 +18,16 @@ bool BoxesOverlap(const OrientedBox& a, const OrientedBox& b, double margin);
 
 class ArmObstacles {
  public:
-  // The colliding static parts other than the table (the hand works just above it, and the
-  // grasp planner keeps the pads off it), and the env's enabled colliding kinematic objects.
+  // The colliding static parts and the env's enabled colliding kinematic objects. The table
+  // only counts for the arm's links: the hand works just above it, and the grasp planner keeps
+  // the pads off it, but a forearm resting on it stops the hand short of its grasp.
   ArmObstacles(const engine::WorldModel& model, const engine::BatchState& state, int env, double margin);
 
+  // No obstacle besides the table.
   bool empty() const { return obstacles_.empty(); }
   // True if every collision shape of `side`'s arm, the gripper housing and both open pads, with
-  // the link poses X_BL (kinematics::ComputeLinkPoses), stay `margin` outside every obstacle.
-  // Shapes are taken as their bounding boxes.
+  // the link poses X_BL (kinematics::ComputeLinkPoses), stay `margin` outside every obstacle
+  // (the arm's links also outside the table). Shapes are taken as their bounding boxes.
   bool ArmIsClear(const kinematics::RobotModel& robot, kinematics::Side side, const RigidTransform* X_BL) const;
   // The same along the straight joint-space path from q_from to q_to (full joint vectors),
   // sampled every 0.05 rad of the largest joint motion.
@@ -33,7 +35,8 @@ class ArmObstacles {
                         const std::vector<double>& q_to) const;
 
  private:
-  std::vector<OrientedBox> obstacles_;  // base frame
+  std::vector<OrientedBox> obstacles_;    // base frame
+  std::vector<OrientedBox> link_only_;   // the table, base frame
   double margin_ = 0.0;
 };
 
