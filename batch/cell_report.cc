@@ -61,10 +61,13 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
         {"length_control_ticks", record.length_control_ticks},
         {"solver_messages", record.solver_messages},
     };
-    if (record.galt) {
-      line["galt_s"] = record.galt->galt_s ? nlohmann::json(*record.galt->galt_s) : nlohmann::json();
-      line["galt_reason"] = kinematics::ToString(record.galt->reason);
-    }
+    auto add_galt = [&line](const std::optional<kinematics::GaltResult>& galt, const std::string& prefix) {
+      if (!galt) return;
+      line[prefix + "_s"] = galt->galt_s ? nlohmann::json(*galt->galt_s) : nlohmann::json();
+      line[prefix + "_reason"] = kinematics::ToString(galt->reason);
+    };
+    add_galt(record.galt, "galt");
+    add_galt(record.galt_policy_rate, "galt_policy_rate");
     episodes_text += line.dump() + "\n";
   }
   WriteAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);

@@ -39,6 +39,10 @@ TEST_F(EvalCommand, SmallCellWritesEpisodesSummaryAndOneLine) {
     EXPECT_EQ(episode.at("seed").get<int>(), 5);
     EXPECT_GT(episode.at("length_steps").get<int>(), 0);
     EXPECT_EQ(episode.at("success").get<bool>(), episode.at("end").get<std::string>() == "success") << lines[i];
+    // The 60 Hz expert's successful episodes carry GALT at its own rate and at the policy rate.
+    for (const char* key : {"galt_reason", "galt_policy_rate_reason"}) {
+      EXPECT_EQ(episode.contains(key), episode.at("success").get<bool>()) << key << " in " << lines[i];
+    }
     successes += episode.at("success").get<bool>() ? 1 : 0;
   }
 
