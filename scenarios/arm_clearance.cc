@@ -47,7 +47,7 @@ bool BoxesOverlap(const OrientedBox& a, const OrientedBox& b, double margin) {
 }
 
 ArmObstacles::ArmObstacles(const engine::WorldModel& model, const engine::BatchState& state, int env, double margin)
-    : margin_(margin) {
+    : margin_(margin), root_world_(model.robot.root_world) {
   const Vec3 base = model.robot.root_world;
   auto in_base = [&](const RigidTransform& X_W) {
     RigidTransform X_B = X_W;
@@ -85,6 +85,13 @@ bool ArmObstacles::ArmIsClear(const kinematics::RobotModel& robot, kinematics::S
     if (!clear_of(obstacles_, part)) return false;
   }
   return true;
+}
+
+bool ArmObstacles::BoxIsClear(const OrientedBox& box_world) const {
+  OrientedBox box = box_world;
+  box.X.translation() -= root_world_;
+  return std::none_of(obstacles_.begin(), obstacles_.end(),
+                      [&](const OrientedBox& obstacle) { return BoxesOverlap(box, obstacle, margin_); });
 }
 
 bool ArmObstacles::JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side,

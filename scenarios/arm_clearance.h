@@ -33,11 +33,15 @@ class ArmObstacles {
   // sampled every 0.05 rad of the largest joint motion.
   bool JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_from,
                         const std::vector<double>& q_to) const;
+  // True if a box given in the world frame (a held object's way out) stays `margin` outside
+  // every obstacle; the table does not count.
+  bool BoxIsClear(const OrientedBox& box_world) const;
 
  private:
   std::vector<OrientedBox> obstacles_;    // base frame
   std::vector<OrientedBox> link_only_;   // the table, base frame
   double margin_ = 0.0;
+  Vec3 root_world_ = Vec3::Zero();  // the base frame's origin in the world
 };
 
 }  // namespace tavis::scenarios

@@ -6,18 +6,17 @@
 namespace tavis::scenarios {
 namespace {
 
-// The object's collision volume as a box (spheres and capsules by their bounding boxes).
-OrientedBox ObjectBox(const engine::WorldModel& model, const engine::BatchState& state, int env, int object) {
-  return {MakeTransform(state.ObjectPosition(env, object), state.ObjectOrientation(env, object).toRotationMatrix()),
-          BoundingHalfSize(model.objects[object].shape)};
-}
-
 bool Inside(const OrientedBox& box, const Vec3& p_W, double margin) {
   const Vec3 p = box.X.inverse() * p_W;
   return (p.cwiseAbs() - box.half_size).maxCoeff() < margin;
 }
 
 }  // namespace
+
+OrientedBox ObjectBox(const engine::WorldModel& model, const engine::BatchState& state, int env, int object) {
+  return {MakeTransform(state.ObjectPosition(env, object), state.ObjectOrientation(env, object).toRotationMatrix()),
+          BoundingHalfSize(model.objects[object].shape)};
+}
 
 std::array<OrientedBox, 3> OpenHandBoxes(const kinematics::GripperSpec& gripper, const RigidTransform& X_ik,
                                          double open_gap) {

@@ -21,6 +21,10 @@ struct OrientedBox {
 std::array<OrientedBox, 3> OpenHandBoxes(const kinematics::GripperSpec& gripper, const RigidTransform& X_ik,
                                          double open_gap);
 
+// The collision volume of object `object` of `env` as a box, world frame (spheres and capsules
+// by their bounding boxes, cylinders as the physics collides them).
+OrientedBox ObjectBox(const engine::WorldModel& model, const engine::BatchState& state, int env, int object);
+
 // Half the width of object `object` of `env` along a world direction (unit), from its bounding box.
 double HalfExtentAlong(const engine::WorldModel& model, const engine::BatchState& state, int env, int object,
                        const Vec3& direction);

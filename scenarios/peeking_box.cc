@@ -140,7 +140,8 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
   };
   settings.grasp_candidates.clear();
   const double level = M_PI / 2;
-  for (const double tilt : {level, level - 0.15, level - 0.3}) {
+  // Steeper hands last: a level hand's pads pass over a low object such as the tuna can.
+  for (const double tilt : {level, level - 0.15, level - 0.3, level - 0.5, level - 0.7}) {
     for (const double heading : {0.0, 0.25, -0.25, 0.5, -0.5}) {
       for (const double turn : {0.0, M_PI}) {
         settings.grasp_candidates.push_back({tilt, heading, turn, /*along_hand=*/true});

@@ -16,7 +16,17 @@ namespace tavis::scenarios {
 namespace {
 
 constexpr double kWithdrawRise = 0.015;  // m: the pads rise this much while withdrawing
+// m: how much farther than the approach distance a withdrawal may go to bring the object out,
+// in steps of kWithdrawStep.
+constexpr double kMaxExtraWithdrawal = 0.12;
+constexpr double kWithdrawStep = 0.03;
 constexpr double kArmClearance = 0.005;  // m: planned gap between the arm and fixed obstacles
+// The pads must overlap the object over this height, or this fraction of the object's height if
+// that is less: a grip at the very top edge of a low can slides off.
+constexpr double kMinPadOverlap = 0.015;  // m
+constexpr double kMinPadOverlapFraction = 0.6;
+// m: a gripper this close to its fully shut gap holds nothing (the thinnest object is 21 mm).
+constexpr double kEmptyGripMargin = 0.005;
 
 using kinematics::Side;
 
@@ -165,7 +175,8 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   // Pads' centre height at the grasp: at the object's centre, but with the open hand (turned by
   // R) clear of the surface the object stands on, for low objects such as the tuna can; a level
   // hand's housing reaches lower than its pads.
-  const double support_z = p_object.z() - HalfExtentAlong(model, state, env, target, Vec3::UnitZ());
+  const double object_half_height = HalfExtentAlong(model, state, env, target, Vec3::UnitZ());
+  const double support_z = p_object.z() - object_half_height;
   auto grasp_z_for = [&](const Mat3& R) {
     const RigidTransform X_pads_ik = MakeTransform(-(R * robot.gripper.pad_center), R);
     const std::array<OrientedBox, 3> hand = OpenHandBoxes(robot.gripper, X_pads_ik, robot.gripper.open_gap);
@@ -177,6 +188,15 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
       lowest = std::min(lowest, box.X.translation().z() - half_height);
     }
     return std::max(p_object.z() + settings_.grasp_height, support_z - lowest + settings_.clearance);
+  };
+  // Raised until the housing clears the support, a level hand's pads can pass over a low object
+  // (the tuna can) entirely: such a hand orientation is no grasp.
+  auto pads_cover_object = [&](const Mat3& R) {
+    const double pad_half_height = (R.transpose() * Vec3::UnitZ()).cwiseAbs().dot(0.5 * robot.gripper.pad_size);
+    const double z = grasp_z_for(R);
+    const double overlap = std::min(p_object.z() + object_half_height, z + pad_half_height) -
+                           std::max(support_z, z - pad_half_height);
+    return overlap >= std::min(kMinPadOverlap, kMinPadOverlapFraction * 2.0 * object_half_height);
   };
   // The pads' centre at the grasp: over the object, shifted `lateral` along the closing axis.
   auto grasp_point = [&](const Mat3& R, double lateral) -> Vec3 {
@@ -212,6 +232,16 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   // Where the scene has fixed obstacles (a screen, shelves, box walls), plans whose arm keeps
   // clear of them all the way come first; the same tiers without that follow.
   const ArmObstacles obstacles(model, state, env, kArmClearance);
+  // The held object's way out of an along-hand grasp: moved with the pads by `withdrawal`, then
+  // lifted (if the task lifts), its box swept up must clear the fixed obstacles: it has to come
+  // out from under peeking-box's lid before it can rise.
+  const OrientedBox held = ObjectBox(model, state, env, target);
+  auto way_out_is_clear = [&](const Vec3& pads_after_withdrawal, const Vec3& withdrawal) {
+    const double rise = settings_.lift_to_z ? std::max(0.0, *settings_.lift_to_z - pads_after_withdrawal.z()) : 0.0;
+    const Vec3 half = held.X.linear().cwiseAbs() * held.half_size + Vec3(0.0, 0.0, 0.5 * rise);
+    const Vec3 centre = held.X.translation() + withdrawal + Vec3(0.0, 0.0, 0.5 * rise);
+    return obstacles.BoxIsClear({MakeTransform(centre, Mat3::Identity()), half});
+  };
   struct Tier {
     std::optional<HandParts> clear_parts;
     bool need_trackable_lines;
@@ -256,8 +286,17 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
       last_pads = pads;
       return true;
     };
-    if (along_hand && !move_to(grasp_pads + approach_offset(R, true) + Vec3(0.0, 0.0, kWithdrawRise), plan.withdraw)) {
-      return plan;
+    if (along_hand) {
+      // The shortest withdrawal from the approach distance on that brings the object out.
+      auto withdrawn_pads = [&](double distance) -> Vec3 { return grasp_pads + distance * R.col(2) + Vec3(0.0, 0.0, kWithdrawRise); };
+      double distance = settings_.approach_distance;
+      for (double d = distance; d <= settings_.approach_distance + kMaxExtraWithdrawal + 1e-9; d += kWithdrawStep) {
+        if (way_out_is_clear(withdrawn_pads(d), withdrawn_pads(d) - grasp_pads)) {
+          distance = d;
+          break;
+        }
+      }
+      if (!move_to(withdrawn_pads(distance), plan.withdraw)) return plan;
     }
     if (settings_.lift_to_z && !move_to(Vec3(last_pads.x(), last_pads.y(), *settings_.lift_to_z), plan.lift)) return plan;
     plan.reachable = true;
@@ -272,7 +311,8 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
   for (auto& tier_plans : plans) tier_plans.resize(candidates.size() * kLaterals);
   // Hand orientations, and the order they are tried in: those whose open jaws straddle the
   // object with clearance first (a heading the task fixes, as into a box, may leave the object
-  // wider across the jaws than they open: the fingers would push it away).
+  // wider across the jaws than they open: the fingers would push it away). Orientations whose
+  // pads miss the object's height, and those of grasps that already failed, are not tried.
   std::vector<Mat3> rotations;
   std::vector<std::size_t> fitting, too_wide;
   for (std::size_t c = 0; c < candidates.size(); ++c) {
@@ -282,6 +322,8 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
                          Eigen::AngleAxisd(-candidate.tilt, Vec3::UnitY()) *
                          Eigen::AngleAxisd(candidate.turn, Vec3::UnitZ()))
                             .toRotationMatrix());
+    const bool failed = std::find(m.failed_candidates.begin(), m.failed_candidates.end(), c) != m.failed_candidates.end();
+    if (failed || !pads_cover_object(rotations.back())) continue;
     const double half_width = HalfExtentAlong(model, state, env, target, rotations.back() * robot.gripper.closing_axis);
     (half_width <= 0.5 * robot.gripper.open_gap - settings_.clearance ? fitting : too_wide).push_back(c);
   }
@@ -304,6 +346,7 @@ bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchS
         if (!plan) plan = solve(R, candidate.along_hand, laterals[l], tier.arm_clear ? &obstacles : nullptr);
         if (!plan->reachable || (tier.need_trackable_lines && !plan->trackable)) continue;
         m.arm_clear = tier.arm_clear;
+        m.candidate = c;
         m.q_pre = plan->pre;
         m.q_grasp = plan->grasp;
         m.q_withdraw = plan->withdraw;
@@ -369,6 +412,7 @@ bool PickExpert::StartPeek(const engine::WorldModel& model, const engine::BatchS
 
 void PickExpert::StartReach(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
                             int step) const {
+  ++m.attempts;
   if (!PlanGrasp(model, state, env, m)) {
     Enter(m, Phase::kGiveUp, step);
     return;
@@ -378,6 +422,17 @@ void PickExpert::StartReach(const engine::WorldModel& model, const engine::Batch
   StartSegment(model, m, m.side, q_now, m.q_pre, settings_.hand_speed);
   m.cartesian_approach = ApproachLineIsTrackable(model, state, env, m);
   Enter(m, Phase::kApproach, step);
+}
+
+bool PickExpert::HandIsEmpty(const engine::WorldModel& model, const engine::BatchState& state, int env,
+                             const EnvMemory& m) const {
+  const double gap = state.gripper_gap[2 * static_cast<std::size_t>(env) + static_cast<std::size_t>(kinematics::Index(m.side))];
+  return gap <= model.robot.gripper.closed_gap + kEmptyGripMargin;
+}
+
+void PickExpert::StartRetreat(EnvMemory& m, int step) const {
+  m.failed_candidates.push_back(m.candidate);
+  Enter(m, Phase::kRetreat, step);
 }
 
 bool PickExpert::ApproachLineIsTrackable(const engine::WorldModel& model, const engine::BatchState& state, int env,
@@ -473,13 +528,37 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       break;
     case Phase::kClose:
       m.gripper_command[kinematics::Index(m.side)] = 1.0;
-      if (elapsed >= settings_.close_s) Enter(m, m.withdraws ? Phase::kWithdraw : Phase::kLift, step);
+      if (elapsed < settings_.close_s) break;
+      if (HandIsEmpty(model, state, env, m)) {
+        StartRetreat(m, step);
+      } else {
+        Enter(m, m.withdraws ? Phase::kWithdraw : Phase::kLift, step);
+      }
       break;
     case Phase::kWithdraw:
-      if (MoveHandToward(model, m, m.q_withdraw, settings_.slow_hand_speed)) Enter(m, Phase::kLift, step);
+      if (HandIsEmpty(model, state, env, m)) {
+        StartRetreat(m, step);
+      } else if (MoveHandToward(model, m, m.q_withdraw, settings_.slow_hand_speed)) {
+        Enter(m, Phase::kLift, step);
+      }
       break;
     case Phase::kLift:
-      if (m.lifts) MoveHandToward(model, m, m.q_lift, settings_.slow_hand_speed);
+      if (HandIsEmpty(model, state, env, m)) {
+        StartRetreat(m, step);
+      } else if (m.lifts) {
+        MoveHandToward(model, m, m.q_lift, settings_.slow_hand_speed);
+      }
+      break;
+    case Phase::kRetreat:
+      // The hand opens where it is (moving closed fingers through the object would push it),
+      // then backs out to the failed plan's pre-grasp, and a new plan starts from there.
+      m.gripper_command[kinematics::Index(m.side)] = -1.0;
+      if (elapsed < settings_.close_s || !MoveHandToward(model, m, m.q_pre, settings_.hand_speed)) break;
+      if (m.attempts < settings_.max_attempts) {
+        StartReach(model, state, env, m, step);
+      } else {
+        Enter(m, Phase::kGiveUp, step);
+      }
       break;
     case Phase::kGiveUp:
       break;

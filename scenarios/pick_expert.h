@@ -6,6 +6,9 @@
 // controller can track it (checked kinematically beforehand), otherwise a straight joint-space
 // path (arm_planner.h); descending and lifting are straight hand lines. All are speed-limited at
 // the control rate; the commanded action is the hand pose along the way, as a teleoperator's is.
+// A grasp that closes on nothing, or loses the object on the way out, is retried as a
+// teleoperator would: open, back out to the pre-grasp, plan again from what is there now with
+// another hand orientation.
 #pragma once
 
 #include <optional>
@@ -83,6 +86,7 @@ struct PickExpertSettings {
   double settle_s = 0.3;          // head still before the hand moves
   double close_s = 0.6;           // gripper closing time
   double clearance = 0.005;       // m: preferred gap between the open hand and other objects
+  int max_attempts = 3;           // grasps tried before the expert gives up
 };
 
 class PickExpert : public Expert {
@@ -93,8 +97,10 @@ class PickExpert : public Expert {
            kinematics::Action& action) override;
   Gaze gaze(const engine::BatchState& state, int env) const override;
 
-  enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kGiveUp };
+  enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kRetreat, kGiveUp };
   Phase phase(int env) const { return memory_[env].phase; }
+  // Grasps started in the env's episode so far (retries after a miss count).
+  int attempts(int env) const { return memory_[env].attempts; }
 
  private:
   using ArmJoints = std::array<double, kinematics::kArmDof>;
@@ -126,6 +132,9 @@ class PickExpert : public Expert {
     bool peek_done = false;  // the wrists have held their peek poses, or could not take them
     bool cartesian_approach = false;
     bool arm_clear = false;  // the plan keeps the arm clear of the scene's fixed obstacles
+    std::size_t candidate = 0;                  // grasp candidate of the current plan
+    std::vector<std::size_t> failed_candidates;  // candidates whose grasp missed or dropped the object
+    int attempts = 0;
   };
 
   void Enter(EnvMemory& m, Phase phase, int step) const;
@@ -133,6 +142,10 @@ class PickExpert : public Expert {
   static double NeckError(const EnvMemory& m);
   void UpdateNeck(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
   bool PlanGrasp(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
+  // True if the reaching hand's gripper has closed on nothing (fully shut).
+  bool HandIsEmpty(const engine::WorldModel& model, const engine::BatchState& state, int env, const EnvMemory& m) const;
+  // Gives up the current grasp: opens the hand and backs out to the pre-grasp (kRetreat).
+  void StartRetreat(EnvMemory& m, int step) const;
   void StartSegment(const engine::WorldModel& model, EnvMemory& m, kinematics::Side side, const ArmJoints& from,
                     const ArmJoints& to, double cartesian_speed) const;
   // Advances the arm's segment and writes its commanded hand pose; true when it has ended.
