@@ -80,7 +80,7 @@ struct PickExpertSettings {
   double hand_speed = 0.36;       // m/s, approach
   double descend_speed = 0.20;    // m/s, from the pre-grasp down to the grasp
   double slow_hand_speed = 0.12;  // m/s, lifting the held object
-  double joint_speed = 1.2;       // rad/s, the fastest arm joint
+  double joint_speed = 2.0;       // rad/s, the fastest arm joint
   double neck_gain = 5.0;         // 1/s
   double neck_max_speed = 1.5;    // rad/s
   double settle_s = 0.3;          // head still before the hand moves
