@@ -1,8 +1,11 @@
 #include "scenarios/clutter_pick_cube.h"
 
 #include <algorithm>
+#include <array>
+#include <vector>
 
 #include "engine/object_catalog.h"
+#include "scenarios/arm_planner.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
 
@@ -63,6 +66,45 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 
+// Without the head image the teleoperator found the cube in the wrist picture-in-picture: the
+// hand on the cube's side looks down at it from its own side, the wrist camera along the hand's
+// approach, tilted as the table grasps are; the other hand keeps still. Of the lines of sight
+// turned inward from straight ahead, the first the arm can reach is taken (none: both keep still).
+std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, const engine::BatchState& state, int env) {
+  constexpr double kLookDistance = 0.22;  // m, from the cube to the pads' centre
+  constexpr double kLookTilt = 0.8;       // rad, of the line of sight from straight down
+  constexpr std::array<double, 4> kInwardTurns = {1.05, 0.5, 1.5, 0.0};  // rad
+  const kinematics::RobotModel& robot = model.robot;
+  const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
+  std::array<RigidTransform, 2> poses;
+  for (const kinematics::Side side : kinematics::kSides) {
+    RigidTransform X_W_ik = HandPoseCanonical(robot, side, q_now.data());
+    X_W_ik.translation() = robot.CanonicalToBase(X_W_ik.translation()) + robot.root_world;
+    poses[static_cast<std::size_t>(kinematics::Index(side))] = X_W_ik;
+  }
+  const Vec3 cube = state.ObjectPosition(env, kRedCube);
+  const kinematics::Side looking = cube.y() >= 0.0 ? kinematics::Side::kLeft : kinematics::Side::kRight;
+  const double inward = looking == kinematics::Side::kLeft ? -1.0 : 1.0;  // the left hand looks toward -y
+  for (const double turn : kInwardTurns) {
+    const Mat3 R = (Eigen::AngleAxisd(inward * turn, Vec3::UnitZ()) * Eigen::AngleAxisd(-kLookTilt, Vec3::UnitY()))
+                       .toRotationMatrix();
+    const Vec3 pads = cube + kLookDistance * R.col(2);  // back along the approach (the hand's -Z)
+    const RigidTransform X_W_ik = MakeTransform(pads - R * robot.gripper.pad_center, R);
+    if (SolveArmConfiguration(robot, looking, q_now, {X_W_ik.translation() - robot.root_world, Quat(R)})) {
+      poses[static_cast<std::size_t>(kinematics::Index(looking))] = X_W_ik;
+      break;
+    }
+  }
+  return poses;
+}
+
+std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int num_envs) {
+  PickExpertSettings settings;
+  settings.target_task_var = kTargetVar;
+  settings.peek_poses = &WristLookPoses;
+  return std::make_unique<PickExpert>(model, num_envs, settings);
+}
+
 }  // namespace
 
 ScenarioDef ClutterPickCube() {
@@ -82,6 +124,7 @@ ScenarioDef BlockedClutterPickCube() {
   def.name = "blocked-clutter-pick-cube";
   def.suite = "tavis-hands";
   def.black_cameras = {"head"};
+  def.make_expert = &MakeBlockedExpert;
   return def;
 }
 

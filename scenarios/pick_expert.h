@@ -70,7 +70,8 @@ struct PickExpertSettings {
   std::vector<Vec3> scan_points;
   // Optional wrist peeks after the head has settled on the target: the IK-link poses (world)
   // each arm's hand, and with it its wrist camera, takes to look before the reach (peeking-box:
-  // one at each side of the box); both are held for peek_s, then the grasp is planned from there.
+  // one at each side of the box; blocked-clutter-pick-cube: one hand above the cube, the other
+  // where it is); both are held for peek_s, then the grasp is planned from there.
   std::array<RigidTransform, 2> (*peek_poses)(const engine::WorldModel& model, const engine::BatchState& state,
                                               int env) = nullptr;
   double peek_s = 0.5;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -75,6 +76,23 @@ TEST(VisibilityAudit, BlackHeadSeesNothing) {
     }
   }
   EXPECT_GT(result.VisibleAtFixation(0, CameraIndex(result, "fixed")), 0);
+}
+
+// Without the head image, blocked-clutter-pick-cube's expert finds the cube with a wrist camera:
+// at its fixation the wrist on the cube's side looks at the cube, on either robot.
+TEST(VisibilityAudit, BlockedClutterExpertSeesTheCubeWithAWristCamera) {
+  for (const char* robot : {"gr1t2", "reachy2"}) {
+    SCOPED_TRACE(robot);
+    AuditConfig config = SmallAudit("blocked-clutter-pick-cube", 8);
+    config.robot = robot;
+    const AuditResult result = RunVisibilityAudit(config);
+    const int left = CameraIndex(result, "left_wrist");
+    const int right = CameraIndex(result, "right_wrist");
+    ASSERT_EQ(result.Fixated(0), 8);
+    const int at_reset = result.VisibleAtReset(0, left) + result.VisibleAtReset(0, right);
+    EXPECT_GE(result.VisibleAtFixation(0, left) + result.VisibleAtFixation(0, right), std::max(7, at_reset + 4))
+        << "the wrists at rest mostly look away; the look brings the cube into view";
+  }
 }
 
 AuditResult RunWith(AuditConfig config, std::size_t threads, int envs) {
