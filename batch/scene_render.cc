@@ -220,7 +220,7 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
         // has pushed one jaw further than the other (usually < 2 mm, rarely a few cm) the pads
         // are drawn shifted against the object they hold.
         const int side = source.index;
-        const double gap = state.gripper_gap[static_cast<std::size_t>(2 * env + side)];
+        const double gap = state.gripper_gap_row(env)[side];
         const Vec3 centre =
             source.X_local.translation() + source.sign * 0.5 * (gap + pad_thickness) * g.closing_axis;
         const int ik_link = robot_.arms[static_cast<std::size_t>(side)].ik_link;

@@ -46,8 +46,6 @@ VecEnv::VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario,
   state_.Allocate(num_envs, model_.robot.num_joints(), model_.num_objects());
   worlds_.resize(num_envs);
   tbb::parallel_for(0, num_envs, [&](int env) { worlds_[env] = std::make_unique<engine::PhysicsWorld>(model_); });
-  invalid_index_.assign(num_envs, -1);
-  invalid_value_.assign(num_envs, 0.0);
   images_current_.assign(num_envs, 0);
   render_env_.assign(num_envs, 0);
 }
@@ -63,12 +61,12 @@ void VecEnv::ResetEnv(int env, int64_t episode) {
   state_.end[env] = engine::EpisodeEnd::kRunning;
   state_.control_step[env] = 0;
   state_.task_rng[env] = engine::RandomStream(seed_, engine::RandomStreamId::kTask, static_cast<uint64_t>(episode));
-  invalid_index_[env] = -1;
+  state_.invalid_action[env] = engine::InvalidAction();
   images_current_[env] = 0;
   const std::vector<double> q_default = robot.DefaultPositions();
   std::copy(q_default.begin(), q_default.end(), state_.q_row(env));
   std::copy(q_default.begin(), q_default.end(), state_.q_target_row(env));
-  std::fill_n(&state_.task_vars[static_cast<size_t>(env) * engine::kMaxTaskVars], engine::kMaxTaskVars, 0.0);
+  state_.task[env] = engine::TaskVars();
   std::fill_n(state_.object_rgb_row(env, 0), 3 * model_.num_objects(), -1.0f);
   scenario_.reset(model_, split_, state_, env);
 
@@ -78,8 +76,8 @@ void VecEnv::ResetEnv(int env, int64_t episode) {
     world.SetObject(object, state_.ObjectPosition(env, object), state_.ObjectOrientation(env, object),
                     state_.object_enabled_at(env, object) != 0);
   }
-  world.ReadState(state_.q_row(env), &state_.gripper_gap[2 * env], state_.object_pose_row(env, 0),
-                  &state_.object_velocity[static_cast<size_t>(env) * model_.num_objects() * engine::kObjectVelocitySize]);
+  world.ReadState(state_.q_row(env), state_.gripper_gap_row(env), state_.object_pose_row(env, 0),
+                  state_.object_velocity_row(env, 0));
 
   // ood-init-pose: the warm-up belongs to the reset (the policy first sees its end) but its
   // ticks count toward the episode, as in the reference's InitPoseWrapper.
@@ -107,8 +105,7 @@ void VecEnv::StepEnv(int env, const kinematics::Action& action) {
   // Stage: apply the action. A non-finite entry ends the episode; the hot loop never throws.
   const int bad = FirstNonFinite(action);
   if (bad >= 0) {
-    invalid_index_[env] = bad;
-    invalid_value_[env] = action[bad];
+    state_.invalid_action[env] = {bad, action[bad]};
     state_.end[env] = engine::EpisodeEnd::kInvalidAction;
     return;
   }
@@ -122,7 +119,7 @@ void VecEnv::StepEnv(int env, const kinematics::Action& action) {
                                         Quat(action[r], action[r + 1], action[r + 2], action[r + 3])};
     const auto arm_targets = kinematics::IkStep(robot, side, q, X_BL, target);
     for (int k = 0; k < kinematics::kArmDof; ++k) q_target[robot.arm(side).joints[k]] = arm_targets[k];
-    state_.gripper_command[2 * env + i] = std::clamp(action[kinematics::action::kGripper[i]], -1.0, 1.0);
+    state_.gripper_command_row(env)[i] = std::clamp(action[kinematics::action::kGripper[i]], -1.0, 1.0);
   }
   const int neck_entries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
                                                   kinematics::action::kNeckYaw};
@@ -133,10 +130,10 @@ void VecEnv::StepEnv(int env, const kinematics::Action& action) {
 
   // Stage: physics substeps.
   engine::PhysicsWorld& world = *worlds_[env];
-  const std::array<double, 2> gripper = {state_.gripper_command[2 * env], state_.gripper_command[2 * env + 1]};
+  const std::array<double, 2> gripper = {state_.gripper_command_row(env)[0], state_.gripper_command_row(env)[1]};
   const bool sane = world.Step(q_target, gripper, model_.physics.substeps_per_control());
-  world.ReadState(q, &state_.gripper_gap[2 * env], state_.object_pose_row(env, 0),
-                  &state_.object_velocity[static_cast<size_t>(env) * model_.num_objects() * engine::kObjectVelocitySize]);
+  world.ReadState(q, state_.gripper_gap_row(env), state_.object_pose_row(env, 0),
+                  state_.object_velocity_row(env, 0));
 
   // Stage: neck servo. The neck only carries the head, so it is servoed kinematically: first
   // order toward its target at the actuator gain, bounded by the velocity limit.

@@ -65,8 +65,8 @@ class VecEnv {
   int solver_messages(int env) const { return worlds_[env]->solver_messages(); }
 
   // For an env ended by kInvalidAction: the first bad action entry and its value.
-  int invalid_action_index(int env) const { return invalid_index_[env]; }
-  double invalid_action_value(int env) const { return invalid_value_[env]; }
+  int invalid_action_index(int env) const { return state_.invalid_action[env].entry; }
+  double invalid_action_value(int env) const { return state_.invalid_action[env].value; }
 
  private:
   void StepEnv(int env, const kinematics::Action& action);
@@ -77,8 +77,6 @@ class VecEnv {
   uint64_t seed_;
   engine::BatchState state_;
   std::vector<std::unique_ptr<engine::PhysicsWorld>> worlds_;
-  std::vector<int> invalid_index_;
-  std::vector<double> invalid_value_;
   std::unique_ptr<SceneRender> cameras_;
   std::vector<uint8_t> images_current_;  // (num_envs) rendered since the env's last change
   std::vector<uint8_t> render_env_;      // (num_envs) this tick's render flags

@@ -17,9 +17,6 @@
 namespace tavis::batch {
 namespace {
 
-// Every task keeps its target's object index in task variable 0.
-constexpr int kTargetTaskVar = 0;
-
 // The cues a task's information sits in besides the target, by model name.
 std::vector<std::string> AuditedCues(const std::string& task) {
   if (task == "conditional-pick") return {"cue_card"};
@@ -197,7 +194,7 @@ AuditResult RunVisibilityAudit(const AuditConfig& config, const ProgressCallback
     result.episodes[i].objects.resize(static_cast<std::size_t>(num_audited));
   }
   auto object_of = [&](int audited, int slot) {
-    return audited == 0 ? static_cast<int>(state.task_vars_row(slot)[kTargetTaskVar]) : cue_index[audited - 1];
+    return audited == 0 ? state.target(slot) : cue_index[audited - 1];
   };
 
   // Measures audited object `audited` in the flagged slots, at reset or at its fixation.

@@ -9,6 +9,7 @@ const char* ToString(EpisodeEnd end) {
     case EpisodeEnd::kTimeOut: return "time_out";
     case EpisodeEnd::kPhysicsBlowUp: return "physics_blow_up";
     case EpisodeEnd::kInvalidAction: return "invalid_action";
+    case EpisodeEnd::kStopped: return "stopped";
   }
   return "unknown";
 }
@@ -26,10 +27,11 @@ void BatchState::Allocate(int envs, int joints, int objects) {
   object_velocity.assign(n * objects * kObjectVelocitySize, 0.0);
   object_enabled.assign(n * objects, 0);
   object_rgb.assign(n * objects * 3, -1.0f);
-  task_vars.assign(n * kMaxTaskVars, 0.0);
+  task.assign(n, TaskVars());
   control_step.assign(n, 0);
   episode.assign(n, -1);
   end.assign(n, EpisodeEnd::kRunning);
+  invalid_action.assign(n, InvalidAction());
   task_rng.assign(n, RandomStream());
 }
 

@@ -1,22 +1,44 @@
 // Everything that changes during a batch, stored field-major across envs (structure of
-// arrays). Shapes are given in comments; rows are envs. Allocated once by the VecEnv.
+// arrays). Shapes are given in comments; rows are envs. Allocated once by the VecEnv; every
+// per-env array has a row accessor, and indices are checked by the invariant tier.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "engine/random.h"
+#include "kinematics/invariant.h"
 #include "kinematics/pose.h"
 
 namespace tavis::engine {
 
-// Why an episode ended without success.
-enum class EpisodeEnd : uint8_t { kRunning = 0, kSuccess, kTimeOut, kPhysicsBlowUp, kInvalidAction };
+// Why an episode ended. kStopped: the driver ended it early because its sinks had what they
+// needed (the visibility audit); such an episode has no outcome.
+enum class EpisodeEnd : uint8_t { kRunning = 0, kSuccess, kTimeOut, kPhysicsBlowUp, kInvalidAction, kStopped };
 const char* ToString(EpisodeEnd end);
 
 constexpr int kObjectPoseSize = 7;      // x, y, z, qw, qx, qy, qz (world)
 constexpr int kObjectVelocitySize = 6;  // linear xyz, angular xyz (world)
-constexpr int kMaxTaskVars = 8;
+constexpr int kGrippersPerEnv = 2;      // left, right (kinematics::Index(side))
+
+// The per-episode variables of a task, one struct for all tasks: each task sets the fields its
+// scenario declares and leaves the others at their defaults. Reset writes them from the
+// episode's random draws; the task's update hook may change them (wait-then-act's light).
+struct TaskVars {
+  int target = -1;           // index of the object the episode is about (every task)
+  int prompt_variant = 0;    // which phrasing of the prompt (clutter-pick-lift, multi-shelf-scan)
+  bool card_is_red = false;  // conditional-pick: red -> the left object, green -> the right one
+  bool go = false;           // wait-then-act: the light has turned green
+  int go_policy_step = 0;    // wait-then-act: policy step (20 Hz) at which the light turns green
+  int open_side = 0;         // peeking-box: +1 the robot's left (+y) wall is missing, -1 the right
+};
+
+// An invalid action (a non-finite entry) that ended an episode.
+struct InvalidAction {
+  int entry = -1;  // index in the 19-D action, -1 when the episode's actions were all finite
+  double value = 0.0;
+};
 
 struct BatchState {
   int num_envs = 0;
@@ -33,40 +55,40 @@ struct BatchState {
   // (num_envs x num_objects x 3) linear RGB a task gives an object (the cue card's red or green,
   // the light turning green); negative: the object's palette colour.
   std::vector<float> object_rgb;
-  std::vector<double> task_vars;        // (num_envs x kMaxTaskVars) task-defined (target index...)
+  std::vector<TaskVars> task;           // (num_envs) the task's variables
   std::vector<int> control_step;        // (num_envs) control ticks since the episode's reset
   std::vector<int64_t> episode;         // (num_envs) episode index in the slot, -1 when idle
   std::vector<EpisodeEnd> end;          // (num_envs) kRunning until the episode ends
+  std::vector<InvalidAction> invalid_action;  // (num_envs) set when end is kInvalidAction
   std::vector<RandomStream> task_rng;   // (num_envs) the episode's task stream
 
   void Allocate(int envs, int joints, int objects);
 
-  double* q_row(int env) { return &q[static_cast<size_t>(env) * num_joints]; }
-  const double* q_row(int env) const { return &q[static_cast<size_t>(env) * num_joints]; }
-  double* q_target_row(int env) { return &q_target[static_cast<size_t>(env) * num_joints]; }
-  double* object_pose_row(int env, int object) {
-    return &object_pose[(static_cast<size_t>(env) * num_objects + object) * kObjectPoseSize];
-  }
+  // An env whose slot holds an episode that has not ended.
+  bool running(int env) const { return episode[Env(env)] >= 0 && end[Env(env)] == EpisodeEnd::kRunning; }
+
+  double* q_row(int env) { return &q[Env(env) * num_joints]; }
+  const double* q_row(int env) const { return &q[Env(env) * num_joints]; }
+  double* q_target_row(int env) { return &q_target[Env(env) * num_joints]; }
+  const double* q_target_row(int env) const { return &q_target[Env(env) * num_joints]; }
+  double* gripper_command_row(int env) { return &gripper_command[Env(env) * kGrippersPerEnv]; }
+  const double* gripper_command_row(int env) const { return &gripper_command[Env(env) * kGrippersPerEnv]; }
+  double* gripper_gap_row(int env) { return &gripper_gap[Env(env) * kGrippersPerEnv]; }
+  const double* gripper_gap_row(int env) const { return &gripper_gap[Env(env) * kGrippersPerEnv]; }
+  double* object_pose_row(int env, int object) { return &object_pose[EnvObject(env, object) * kObjectPoseSize]; }
   const double* object_pose_row(int env, int object) const {
-    return &object_pose[(static_cast<size_t>(env) * num_objects + object) * kObjectPoseSize];
+    return &object_pose[EnvObject(env, object) * kObjectPoseSize];
+  }
+  double* object_velocity_row(int env, int object) {
+    return &object_velocity[EnvObject(env, object) * kObjectVelocitySize];
   }
   const double* object_velocity_row(int env, int object) const {
-    return &object_velocity[(static_cast<size_t>(env) * num_objects + object) * kObjectVelocitySize];
+    return &object_velocity[EnvObject(env, object) * kObjectVelocitySize];
   }
-  float* object_rgb_row(int env, int object) {
-    return &object_rgb[(static_cast<size_t>(env) * num_objects + object) * 3];
-  }
-  const float* object_rgb_row(int env, int object) const {
-    return &object_rgb[(static_cast<size_t>(env) * num_objects + object) * 3];
-  }
-  double* task_vars_row(int env) { return &task_vars[static_cast<size_t>(env) * kMaxTaskVars]; }
-  const double* task_vars_row(int env) const { return &task_vars[static_cast<size_t>(env) * kMaxTaskVars]; }
-  uint8_t& object_enabled_at(int env, int object) {
-    return object_enabled[static_cast<size_t>(env) * num_objects + object];
-  }
-  uint8_t object_enabled_at(int env, int object) const {
-    return object_enabled[static_cast<size_t>(env) * num_objects + object];
-  }
+  float* object_rgb_row(int env, int object) { return &object_rgb[EnvObject(env, object) * 3]; }
+  const float* object_rgb_row(int env, int object) const { return &object_rgb[EnvObject(env, object) * 3]; }
+  uint8_t& object_enabled_at(int env, int object) { return object_enabled[EnvObject(env, object)]; }
+  uint8_t object_enabled_at(int env, int object) const { return object_enabled[EnvObject(env, object)]; }
 
   Vec3 ObjectPosition(int env, int object) const {
     const double* p = object_pose_row(env, object);
@@ -79,6 +101,22 @@ struct BatchState {
   Vec3 ObjectLinearVelocity(int env, int object) const {
     const double* v = object_velocity_row(env, object);
     return Vec3(v[0], v[1], v[2]);
+  }
+  // The episode's target object (TaskVars::target), checked to be an object of the world.
+  int target(int env) const {
+    const int object = task[Env(env)].target;
+    TAVIS_INVARIANT(object >= 0 && object < num_objects, "the task's reset set a target object");
+    return object;
+  }
+
+ private:
+  size_t Env(int env) const {
+    TAVIS_INVARIANT(env >= 0 && env < num_envs, "env index in range");
+    return static_cast<size_t>(env);
+  }
+  size_t EnvObject(int env, int object) const {
+    TAVIS_INVARIANT(object >= 0 && object < num_objects, "object index in range");
+    return Env(env) * static_cast<size_t>(num_objects) + static_cast<size_t>(object);
   }
 };
 

@@ -13,7 +13,6 @@ namespace tavis::scenarios {
 namespace {
 
 constexpr int kRedCube = 5;  // index in the world's object list, after the five YCB objects
-constexpr int kTargetVar = 0;
 constexpr double kSuccessHeight = 1.2;
 constexpr double kSuccessMaxSpeed = 1.0;
 
@@ -50,7 +49,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
     PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
     state.object_enabled_at(env, object) = object != hidden;
   }
-  state.task_vars_row(env)[kTargetVar] = kRedCube;
+  state.task[env].target = kRedCube;
 }
 
 bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
@@ -62,7 +61,6 @@ std::string Prompt(const engine::BatchState&, int) { return "Find the red cube a
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 
@@ -100,7 +98,6 @@ std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, co
 
 std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   settings.peek_poses = &WristLookPoses;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }

@@ -10,8 +10,6 @@
 namespace tavis::scenarios {
 namespace {
 
-constexpr int kTargetVar = 0;
-constexpr int kPromptVar = 1;
 constexpr double kSuccessHeight = 1.2;
 constexpr double kSuccessMaxSpeed = 1.0;
 
@@ -44,24 +42,23 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   for (int object = 0; object < model.num_objects(); ++object) {
     PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
   }
-  state.task_vars_row(env)[kTargetVar] = target;
-  state.task_vars_row(env)[kPromptVar] = prompt;
+  state.task[env].target = target;
+  state.task[env].prompt_variant = prompt;
 }
 
 bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  const int target = state.target(env);
   return state.ObjectPosition(env, target).z() > kSuccessHeight &&
          state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
 }
 
 std::string Prompt(const engine::BatchState& state, int env) {
-  const double* vars = state.task_vars_row(env);
-  return kPrompts[static_cast<std::size_t>(vars[kTargetVar])][static_cast<std::size_t>(vars[kPromptVar])];
+  const engine::TaskVars& vars = state.task[env];
+  return kPrompts[static_cast<std::size_t>(vars.target)][static_cast<std::size_t>(vars.prompt_variant)];
 }
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 

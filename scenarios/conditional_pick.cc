@@ -8,8 +8,6 @@ namespace tavis::scenarios {
 namespace {
 
 constexpr int kCard = 5;  // after the five YCB objects
-constexpr int kTargetVar = 0;
-constexpr int kCardIsRedVar = 1;
 constexpr double kSuccessHeight = 1.2;
 constexpr double kSuccessMaxSpeed = 1.0;
 constexpr double kDropZ = 1.1;
@@ -62,12 +60,12 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
   rgb[0] = card_is_red ? 1.0f : 0.0f;
   rgb[1] = card_is_red ? 0.0f : 1.0f;
   rgb[2] = 0.0f;
-  state.task_vars_row(env)[kTargetVar] = card_is_red ? left : right;
-  state.task_vars_row(env)[kCardIsRedVar] = card_is_red ? 1.0 : 0.0;
+  state.task[env].target = card_is_red ? left : right;
+  state.task[env].card_is_red = card_is_red;
 }
 
 bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  const int target = state.target(env);
   return state.ObjectPosition(env, target).z() > kSuccessHeight &&
          state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
 }
@@ -78,7 +76,6 @@ std::string Prompt(const engine::BatchState&, int) {
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   settings.cue_object = kCard;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }

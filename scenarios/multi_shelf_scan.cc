@@ -12,8 +12,6 @@
 namespace tavis::scenarios {
 namespace {
 
-constexpr int kTargetVar = 0;
-constexpr int kPromptVar = 1;
 constexpr double kSuccessMaxX = 0.52 - 0.055 - 0.03;  // 0.435, the code's threshold
 constexpr double kSuccessMaxSpeed = 1.0;
 
@@ -95,26 +93,25 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
     x = std::min(x, kCentreX + 0.5 * kDepth - half_depth - 0.002);
     PlaceUpright(state, env, object, Vec3(x, y, shelf_z + 0.01 + 0.04), yaw);
   }
-  state.task_vars_row(env)[kTargetVar] = target;
-  state.task_vars_row(env)[kPromptVar] = prompt;
+  state.task[env].target = target;
+  state.task[env].prompt_variant = prompt;
 }
 
 bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  const int target = state.target(env);
   return state.ObjectPosition(env, target).x() < kSuccessMaxX &&
          state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
 }
 
 std::string Prompt(const engine::BatchState& state, int env) {
-  const double* vars = state.task_vars_row(env);
-  return kPrompts[static_cast<std::size_t>(vars[kTargetVar])][static_cast<std::size_t>(vars[kPromptVar])];
+  const engine::TaskVars& vars = state.task[env];
+  return kPrompts[static_cast<std::size_t>(vars.target)][static_cast<std::size_t>(vars.prompt_variant)];
 }
 
 // Scans the three rows bottom to top, then reaches level into the target's slot from the front
 // and pulls it straight out past the success line.
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   for (const double shelf_z : kShelfZ) settings.scan_points.push_back(Vec3(kCentreX, 0.0, shelf_z + 0.05));
   settings.approach_distance = 0.15;
   settings.lift_to_z = std::nullopt;  // withdrawing 15 cm takes the object past the success line

@@ -7,7 +7,6 @@
 namespace tavis::scenarios {
 namespace {
 
-constexpr int kTargetVar = 0;
 constexpr double kSuccessHeight = 1.25;
 constexpr double kSuccessMaxSpeed = 1.0;
 constexpr double kDropZ = 1.1;
@@ -43,11 +42,11 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   const double yaw = rng.Uniform(-M_PI, M_PI);
   for (int object = 0; object < model.num_objects(); ++object) state.object_enabled_at(env, object) = 0;
   PlaceUpright(state, env, target, Vec3(px, py, kDropZ), yaw);
-  state.task_vars_row(env)[kTargetVar] = target;
+  state.task[env].target = target;
 }
 
 bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  const int target = state.target(env);
   return state.ObjectPosition(env, target).z() > kSuccessHeight &&
          state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
 }
@@ -56,7 +55,6 @@ std::string Prompt(const engine::BatchState&, int) { return "Reach around the sc
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   settings.lift_to_z = kSuccessHeight + 0.07;
   settings.grasp_height = 0.012;
   // Coming down from above where the arm clears the screen, else reaching in along the hand from

@@ -11,8 +11,6 @@ namespace tavis::scenarios {
 namespace {
 
 constexpr int kNumYcb = 5;
-constexpr int kTargetVar = 0;
-constexpr int kOpenSideVar = 1;  // +1: the robot's left (+y) wall is missing, -1: the right
 constexpr double kSuccessHeight = 1.25;
 constexpr double kSuccessMaxSpeed = 1.0;
 constexpr double kObjectZ = 1.05;
@@ -79,12 +77,12 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
   const double object_yaw = rng.Uniform(-M_PI, M_PI);
   for (int object = 0; object < kNumYcb; ++object) state.object_enabled_at(env, object) = 0;
   PlaceUpright(state, env, target, centre + R * Vec3(dx, dy, 0.0) + Vec3(0.0, 0.0, kObjectZ), object_yaw);
-  state.task_vars_row(env)[kTargetVar] = target;
-  state.task_vars_row(env)[kOpenSideVar] = open_pos_y ? 1.0 : -1.0;
+  state.task[env].target = target;
+  state.task[env].open_side = open_pos_y ? 1 : -1;
 }
 
 bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = static_cast<int>(state.task_vars_row(env)[kTargetVar]);
+  const int target = state.target(env);
   return state.ObjectPosition(env, target).z() > kSuccessHeight &&
          state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
 }
@@ -97,7 +95,7 @@ double BoxYaw(const engine::BatchState& state, int env) {
 }
 
 // +1 when the robot's left (+y) side is open, -1 for the right.
-double OpenSide(const engine::BatchState& state, int env) { return state.task_vars_row(env)[kOpenSideVar]; }
+double OpenSide(const engine::BatchState& state, int env) { return state.task[env].open_side; }
 
 // Heading of a level hand entering the box through the side `side` (+1: +y): across the box,
 // turned 0.7 rad toward the front as the arm on that side naturally reaches in.
@@ -130,7 +128,6 @@ std::array<RigidTransform, 2> PeekPoses(const engine::WorldModel& model, const e
 // the open side with the arm on that side, closes, withdraws the way it came and lifts.
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   settings.peek_poses = &PeekPoses;
   settings.reach_side = [](const engine::BatchState& state, int env) {
     return OpenSide(state, env) > 0.0 ? kinematics::Side::kLeft : kinematics::Side::kRight;

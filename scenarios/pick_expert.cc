@@ -114,7 +114,7 @@ Expert::Gaze PickExpert::gaze(const engine::BatchState& state, int env) const {
     if (m.scan_index < settings_.scan_points.size()) return gaze;
     gaze.object = settings_.cue_object;
   } else {
-    gaze.object = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
+    gaze.object = state.target(env);
   }
   // kLook ends the tick the neck settles; a task that peeks reads the target with its wrists.
   const bool head_still = m.phase != Phase::kLook && NeckError(m) < 0.01;
@@ -136,7 +136,7 @@ void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::Batch
   } else if (m.phase == Phase::kWatchCue) {
     p_object = state.ObjectPosition(env, settings_.cue_object);
   } else {
-    p_object = state.ObjectPosition(env, static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]));
+    p_object = state.ObjectPosition(env, state.target(env));
   }
   // Re-aim only when the object has moved noticeably: the solve is the expert's costliest step.
   // The command is the teleoperator's head turning to the object, past the neck's limits where
@@ -156,7 +156,7 @@ void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::Batch
 bool PickExpert::PlanGrasp(const engine::WorldModel& model, const engine::BatchState& state, int env,
                            EnvMemory& m) const {
   const kinematics::RobotModel& robot = model.robot;
-  const int target = static_cast<int>(state.task_vars_row(env)[settings_.target_task_var]);
+  const int target = state.target(env);
   const Vec3 p_object = state.ObjectPosition(env, target);
   const double yaw = settings_.reach_heading ? settings_.reach_heading(state, env)
                                              : FoldedYaw(state.ObjectOrientation(env, target));
@@ -426,7 +426,7 @@ void PickExpert::StartReach(const engine::WorldModel& model, const engine::Batch
 
 bool PickExpert::HandIsEmpty(const engine::WorldModel& model, const engine::BatchState& state, int env,
                              const EnvMemory& m) const {
-  const double gap = state.gripper_gap[2 * static_cast<std::size_t>(env) + static_cast<std::size_t>(kinematics::Index(m.side))];
+  const double gap = state.gripper_gap_row(env)[kinematics::Index(m.side)];
   return gap <= model.robot.gripper.closed_gap + kEmptyGripMargin;
 }
 
@@ -488,7 +488,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
         m.phase_start_step = step;
         if (m.scan_index < settings_.scan_points.size() || settings_.cue_object >= 0) break;
       }
-      const bool go = settings_.go_task_var < 0 || state.task_vars_row(env)[settings_.go_task_var] != 0.0;
+      const bool go = !settings_.wait_for_go || state.task[env].go;
       if (go) Enter(m, Phase::kLook, step);
       break;
     }

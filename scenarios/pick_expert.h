@@ -46,13 +46,12 @@ std::vector<GraspCandidate> TableAndSideGraspCandidates();
 std::vector<GraspCandidate> ShelfGraspCandidates();
 
 struct PickExpertSettings {
-  int target_task_var = 0;        // task variable holding the target object's index
-  // A cue to read before looking at the target (cue card, signal light), or -1: the expert
-  // fixates it for cue_look_s once the neck has settled, and if go_task_var >= 0 keeps
-  // watching until that task variable turns nonzero (the light turning green).
+  // The expert picks the episode's target (TaskVars::target). A cue to read before looking at
+  // it (cue card, signal light), or -1: the expert fixates it for cue_look_s once the neck has
+  // settled, and with wait_for_go keeps watching until the task says go (the light turns green).
   int cue_object = -1;
   double cue_look_s = 0.5;
-  int go_task_var = -1;
+  bool wait_for_go = false;
   double grasp_height = 0.000;    // m: pad centre above the object's centre at the grasp
   // The surface the object stands on extends under the whole open hand (a table), so its housing
   // must clear it too; a shelf board ends just in front of the object, below the housing.

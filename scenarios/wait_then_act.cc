@@ -8,9 +8,6 @@ namespace tavis::scenarios {
 namespace {
 
 constexpr int kLight = 5;  // after the five YCB objects
-constexpr int kTargetVar = 0;
-constexpr int kGreenVar = 1;
-constexpr int kGreenStepVar = 2;  // policy step at which the light turns green
 constexpr double kSuccessHeight = 1.2;
 constexpr double kSuccessMaxSpeed = 1.0;
 constexpr double kDropZ = 1.1;
@@ -56,28 +53,27 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   PlaceUpright(state, env, target, Vec3(px, py, kDropZ), yaw);
   PlaceUpright(state, env, kLight, Vec3(lx, ly, kLightZ), 0.0);
   SetLightColour(state, env, false);
-  double* vars = state.task_vars_row(env);
-  vars[kTargetVar] = target;
-  vars[kGreenVar] = 0.0;
+  engine::TaskVars& vars = state.task[env];
+  vars.target = target;
+  vars.go = false;
   // green_step = int(delay_s / step_dt) at the 20 Hz policy rate.
-  vars[kGreenStepVar] = std::floor(delay * model.physics.policy_hz);
+  vars.go_policy_step = static_cast<int>(std::floor(delay * model.physics.policy_hz));
 }
 
 // The reference flips the light inside its success term once the episode's policy-step count
 // reaches green_step; control ticks count three to a policy step.
 void Update(const engine::WorldModel& model, engine::BatchState& state, int env) {
-  double* vars = state.task_vars_row(env);
-  if (vars[kGreenVar] != 0.0) return;
-  if (state.control_step[env] >= vars[kGreenStepVar] * model.physics.controls_per_policy()) {
-    vars[kGreenVar] = 1.0;
+  engine::TaskVars& vars = state.task[env];
+  if (vars.go) return;
+  if (state.control_step[env] >= vars.go_policy_step * model.physics.controls_per_policy()) {
+    vars.go = true;
     SetLightColour(state, env, true);
   }
 }
 
 bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const double* vars = state.task_vars_row(env);
-  const int target = static_cast<int>(vars[kTargetVar]);
-  return vars[kGreenVar] != 0.0 && state.ObjectPosition(env, target).z() > kSuccessHeight &&
+  const int target = state.target(env);
+  return state.task[env].go && state.ObjectPosition(env, target).z() > kSuccessHeight &&
          state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
 }
 
@@ -85,9 +81,8 @@ std::string Prompt(const engine::BatchState&, int) { return "Watch the red light
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.target_task_var = kTargetVar;
   settings.cue_object = kLight;
-  settings.go_task_var = kGreenVar;
+  settings.wait_for_go = true;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 

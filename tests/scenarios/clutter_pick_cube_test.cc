@@ -28,7 +28,7 @@ TEST(ClutterPickCube, ResetHidesExactlyOneYcbObjectAndTargetsTheCube) {
     for (int object = 0; object < 5; ++object) enabled += state.object_enabled_at(0, object);
     EXPECT_EQ(enabled, 4);
     EXPECT_EQ(state.object_enabled_at(0, 5), 1);
-    EXPECT_EQ(state.task_vars_row(0)[0], 5.0);
+    EXPECT_EQ(state.target(0), 5);
     const Vec3 cube = state.ObjectPosition(0, 5);
     EXPECT_GE(cube.x(), 0.35);
     EXPECT_LE(cube.x(), 0.45);

@@ -31,7 +31,7 @@ TEST(ClutterPickLift, EveryObjectStaysAndThePromptNamesTheTarget) {
       EXPECT_EQ(state.object_enabled_at(0, object), 1);
       EXPECT_LE(std::abs(state.ObjectPosition(0, object).y()), 0.35);
     }
-    const int target = static_cast<int>(state.task_vars_row(0)[0]);
+    const int target = state.target(0);
     ASSERT_GE(target, 0);
     ASSERT_LT(target, 5);
     const std::string prompt = scenario.prompt(state, 0);
@@ -50,7 +50,7 @@ TEST(ClutterPickLift, SuccessFollowsTheTargetOnly) {
   FindScenario("clutter-pick-lift").layout(model);
   engine::BatchState state;
   state.Allocate(1, 17, model.num_objects());
-  state.task_vars_row(0)[0] = 3;
+  state.task[0].target = 3;
   state.object_pose_row(0, 0)[2] = 1.3;  // a non-target object up high does not count
   state.object_pose_row(0, 3)[2] = 1.0;
   EXPECT_FALSE(FindScenario("clutter-pick-lift").evaluate(model, state, 0));

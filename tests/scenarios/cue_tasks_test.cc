@@ -21,7 +21,7 @@ struct TaskBatch {
     state.task_rng[0] = engine::RandomStream(11, engine::RandomStreamId::kTask, episode);
     scenario.reset(model, split, state, 0);
   }
-  int Target() const { return static_cast<int>(state.task_vars_row(0)[0]); }
+  int Target() const { return state.target(0); }
 };
 
 TEST(ConditionalPick, RedCardMeansLeftGreenMeansRight) {
@@ -53,7 +53,7 @@ TEST(WaitThenAct, LightTurnsGreenAfterItsDelayAndOnlyThenCountsSuccess) {
   TaskBatch task("wait-then-act");
   for (uint64_t episode = 0; episode < 50; ++episode) {
     task.Reset(Split::kId, episode);
-    const double green_step = task.state.task_vars_row(0)[2];
+    const double green_step = task.state.task[0].go_policy_step;
     EXPECT_GE(green_step, 40.0);  // 2..5 s at 20 Hz
     EXPECT_LE(green_step, 100.0);
     EXPECT_EQ(task.state.object_rgb_row(0, kCue)[0], 1.0f);
@@ -63,7 +63,7 @@ TEST(WaitThenAct, LightTurnsGreenAfterItsDelayAndOnlyThenCountsSuccess) {
     for (int tick = 1; tick <= green_tick; ++tick) {
       task.state.control_step[0] = tick;
       task.scenario.update(task.model, task.state, 0);
-      const bool green = task.state.task_vars_row(0)[1] != 0.0;
+      const bool green = task.state.task[0].go;
       EXPECT_EQ(green, tick == green_tick) << "tick " << tick;
       EXPECT_EQ(task.scenario.evaluate(task.model, task.state, 0), green);
     }
@@ -76,7 +76,7 @@ TEST(WaitThenAct, OodSplitWidensTheDelay) {
   double longest = 0.0;
   for (uint64_t episode = 0; episode < 200; ++episode) {
     task.Reset(Split::kOodSpatial, episode);
-    longest = std::max(longest, task.state.task_vars_row(0)[2]);
+    longest = std::max(longest, static_cast<double>(task.state.task[0].go_policy_step));
   }
   EXPECT_GT(longest, 100.0);
   EXPECT_LE(longest, 160.0);

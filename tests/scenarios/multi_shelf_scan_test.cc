@@ -54,7 +54,7 @@ TEST(MultiShelfScan, SuccessIsPullingTheTargetPastTheShelfFront) {
   scenario.layout(model);
   engine::BatchState state;
   state.Allocate(1, 17, model.num_objects());
-  state.task_vars_row(0)[0] = 1;
+  state.task[0].target = 1;
   state.object_pose_row(0, 1)[0] = 0.44;
   EXPECT_FALSE(scenario.evaluate(model, state, 0));
   state.object_pose_row(0, 1)[0] = 0.43;

@@ -25,7 +25,7 @@ TEST(OccludedReach, OneObjectBehindTheScreenInItsSplitRange) {
     for (uint64_t episode = 0; episode < 100; ++episode) {
       state.task_rng[0] = engine::RandomStream(7, engine::RandomStreamId::kTask, episode);
       scenario.reset(model, split, state, 0);
-      const int target = static_cast<int>(state.task_vars_row(0)[0]);
+      const int target = state.target(0);
       int enabled = 0;
       for (int object = 0; object < 5; ++object) enabled += state.object_enabled_at(0, object);
       EXPECT_EQ(enabled, 1);
@@ -44,7 +44,7 @@ TEST(OccludedReach, SuccessNeedsTheHigherLift) {
   scenario.layout(model);
   engine::BatchState state;
   state.Allocate(1, 17, model.num_objects());
-  state.task_vars_row(0)[0] = 2;
+  state.task[0].target = 2;
   state.object_pose_row(0, 2)[2] = 1.22;  // enough for the clutter tasks, not for this one
   EXPECT_FALSE(scenario.evaluate(model, state, 0));
   state.object_pose_row(0, 2)[2] = 1.26;

@@ -24,7 +24,7 @@ TEST(PeekingBox, OneSideWallIsMissingAndTheObjectIsInside) {
   for (uint64_t episode = 0; episode < 200; ++episode) {
     state.task_rng[0] = engine::RandomStream(9, engine::RandomStreamId::kTask, episode);
     scenario.reset(model, Split::kId, state, 0);
-    const bool left_open = state.task_vars_row(0)[1] > 0.0;
+    const bool left_open = state.task[0].open_side > 0;
     open_left += left_open;
     EXPECT_EQ(state.object_enabled_at(0, kPosY), left_open ? 0 : 1);
     EXPECT_EQ(state.object_enabled_at(0, kNegY), left_open ? 1 : 0);
@@ -37,7 +37,7 @@ TEST(PeekingBox, OneSideWallIsMissingAndTheObjectIsInside) {
     EXPECT_NEAR((back - front).norm(), 0.408, 1e-9);
     EXPECT_LE(std::abs(std::atan2(axis.y(), axis.x())), 5.0 * M_PI / 180.0 + 1e-9);
     EXPECT_NEAR(state.ObjectPosition(0, kLid).z(), 1.199, 1e-12);
-    const int target = static_cast<int>(state.task_vars_row(0)[0]);
+    const int target = state.target(0);
     const Vec3 offset = state.ObjectPosition(0, target) - centre;
     const double along = offset.x() * axis.x() + offset.y() * axis.y();
     const double across = -offset.x() * axis.y() + offset.y() * axis.x();

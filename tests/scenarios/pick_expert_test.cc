@@ -42,7 +42,7 @@ class PickExpertTest : public ::testing::Test {
     expert_->Reset(model_, state_, 0);
   }
 
-  int Target() const { return static_cast<int>(state_.task_vars_row(0)[0]); }
+  int Target() const { return state_.target(0); }
 
   // Steps the expert `ticks` control ticks. A closed gripper reads `held_gap` (the object's
   // width when it holds it, the shut gap when it closed on nothing); an open one, its open gap.
