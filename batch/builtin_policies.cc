@@ -5,39 +5,22 @@
 #include <vector>
 
 #include "batch/action_csv.h"
-
 #include "kinematics/forward_kinematics.h"
 
 namespace tavis::batch {
 namespace {
 
-class ExpertPolicy : public Policy {
- public:
-  ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs)
-      : expert_(scenario.make_expert(model, num_envs)) {}
-  std::string name() const override { return "expert"; }
-  int control_ticks_per_action() const override { return 1; }
-  void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) override {
-    expert_->Reset(model, state, env);
-  }
-  void Act(const engine::WorldModel& model, const Observation& observation, int env,
-           kinematics::Action& action) override {
-    expert_->Act(model, observation.state, env, action);
-  }
-
- private:
-  std::unique_ptr<scenarios::Expert> expert_;
-};
-
-class HoldPolicy : public Policy {
+class HoldPolicy : public PerEnvPolicy {
  public:
   explicit HoldPolicy(int num_envs) : reset_action_(num_envs) {}
   std::string name() const override { return "hold"; }
   int control_ticks_per_action() const override { return 3; }
-  void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) override {
-    const kinematics::RobotModel& robot = model.robot;
+
+ private:
+  void ResetEnv(const Observation& observation, int env) override {
+    const kinematics::RobotModel& robot = observation.model.robot;
     std::vector<RigidTransform> X_BL(robot.links.size());
-    kinematics::ComputeLinkPoses(robot, state.q_row(env), X_BL.data());
+    kinematics::ComputeLinkPoses(robot, observation.state.q_row(env), X_BL.data());
     kinematics::Action& action = reset_action_[env];
     action.fill(0.0);
     for (kinematics::Side side : kinematics::kSides) {
@@ -51,32 +34,49 @@ class HoldPolicy : public Policy {
       action[kinematics::action::kGripper[i]] = -1.0;
     }
   }
-  void Act(const engine::WorldModel&, const Observation&, int env, kinematics::Action& action) override {
-    action = reset_action_[env];
-  }
+  void ActEnv(const Observation&, int env, kinematics::Action& action) override { action = reset_action_[env]; }
 
- private:
   std::vector<kinematics::Action> reset_action_;
 };
 
-class ReplayPolicy : public Policy {
+class ReplayPolicy : public PerEnvPolicy {
  public:
   explicit ReplayPolicy(const std::string& actions_file) : trajectory_(ReadActionCsv(actions_file)) {}
   std::string name() const override { return "replay"; }
   int control_ticks_per_action() const override { return kControlTicksPerRow; }
-  void Reset(const engine::WorldModel&, const engine::BatchState&, int) override {}
-  void Act(const engine::WorldModel&, const Observation& observation, int env, kinematics::Action& action) override {
+
+ private:
+  void ResetEnv(const Observation&, int) override {}
+  void ActEnv(const Observation& observation, int env, kinematics::Action& action) override {
     const int row = std::min(observation.state.control_step[env] / kControlTicksPerRow, trajectory_.num_steps - 1);
     std::copy_n(&trajectory_.values[static_cast<size_t>(row) * kinematics::action::kSize], kinematics::action::kSize,
                 action.begin());
   }
 
- private:
   static constexpr int kControlTicksPerRow = 3;  // rows are 20 Hz policy steps
   ActionTrajectory trajectory_;
 };
 
+std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model,
+                                              int num_envs) {
+  if (scenario.make_expert == nullptr) {
+    throw std::invalid_argument("task '" + scenario.name + "' has no scripted expert yet");
+  }
+  return scenario.make_expert(model, num_envs);
+}
+
 }  // namespace
+
+ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs)
+    : expert_(MakeExpert(scenario, model, num_envs)) {}
+
+void ExpertPolicy::ResetEnv(const Observation& observation, int env) {
+  expert_->Reset(observation.model, observation.state, env);
+}
+
+void ExpertPolicy::ActEnv(const Observation& observation, int env, kinematics::Action& action) {
+  expert_->Act(observation.model, observation.state, env, action);
+}
 
 const char* BuiltinPolicyNames() { return "expert, hold, replay"; }
 
@@ -89,19 +89,11 @@ void CheckBuiltinPolicyName(const std::string& name) {
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
                                           const engine::WorldModel& model, int num_envs,
                                           const std::string& actions_file) {
-  if (name == "expert") {
-    if (scenario.make_expert == nullptr) {
-      throw std::invalid_argument("task '" + scenario.name + "' has no scripted expert yet");
-    }
-    return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
-  }
-  if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
-  if (name == "replay") {
-    if (actions_file.empty()) throw std::invalid_argument("policy 'replay' needs an actions file (--actions FILE.csv)");
-    return std::make_unique<ReplayPolicy>(actions_file);
-  }
   CheckBuiltinPolicyName(name);
-  return nullptr;
+  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
+  if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
+  if (actions_file.empty()) throw std::invalid_argument("policy 'replay' needs an actions file (--actions FILE.csv)");
+  return std::make_unique<ReplayPolicy>(actions_file);
 }
 
 }  // namespace tavis::batch

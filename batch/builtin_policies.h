@@ -15,7 +15,24 @@ const char* BuiltinPolicyNames();
 // Throws std::invalid_argument naming an unknown policy (checked before any work is done).
 void CheckBuiltinPolicyName(const std::string& name);
 
-// "expert": the scenario's privileged scripted expert at the control rate.
+// The scenario's privileged scripted expert at the control rate. expert() exposes the scripted
+// expert itself, e.g. where it is looking (the visibility audit).
+class ExpertPolicy : public PerEnvPolicy {
+ public:
+  // Throws std::invalid_argument if the task has no scripted expert.
+  ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs);
+  std::string name() const override { return "expert"; }
+  int control_ticks_per_action() const override { return 1; }
+  const scenarios::Expert& expert() const { return *expert_; }
+
+ private:
+  void ResetEnv(const Observation& observation, int env) override;
+  void ActEnv(const Observation& observation, int env, kinematics::Action& action) override;
+
+  std::unique_ptr<scenarios::Expert> expert_;
+};
+
+// "expert": ExpertPolicy.
 // "hold": keeps the arms at their reset pose, head still, grippers open (a lower reference).
 // "replay": plays the rows of `actions_file` (T x 19 CSV, one row per 20 Hz policy step, as
 // `tavis galt` reads them) in every episode, holding the last row.

@@ -2,10 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
-#include <sstream>
 #include <stdexcept>
-
-#include <tbb/parallel_for.h>
 
 #include "batch/builtin_policies.h"
 #include "batch/vec_env.h"
@@ -64,15 +61,6 @@ void AddGalt(CellResult& result, int hold_ticks, const engine::PhysicsSettings& 
 
 }  // namespace
 
-bool EpisodeDealer::Deal(VecEnv& env, int slot) {
-  if (next_ >= total_) {
-    env.Release(slot);
-    return false;
-  }
-  env.ResetEnv(slot, next_++);
-  return true;
-}
-
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress) {
   ValidateConfig(config);
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
@@ -82,67 +70,22 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   const int slots = std::min(config.envs, config.episodes);
   VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
   std::unique_ptr<Policy> policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
-  const int hold_ticks = policy->control_ticks_per_action();
-  const int ticks_per_policy_step = env.model().physics.controls_per_policy();
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);
-  if (!policy->cameras().empty() && hold_ticks % ticks_per_policy_step != 0) {
-    throw std::invalid_argument("policy '" + policy->name() + "' uses cameras but acts every " +
-                                std::to_string(hold_ticks) + " control ticks; it must act on policy ticks (a multiple of " +
-                                std::to_string(ticks_per_policy_step) + "), where its images are rendered");
-  }
   if (!cameras.empty()) env.EnableCameras({cameras, config.image_width, config.image_height, false, false});
+
+  EpisodeRecorder recorder(config.episodes, slots, env.model().physics.max_control_steps());
+  EpisodeDriver driver(env, *policy, config.episodes);
+  driver.AddSink(recorder);
+  driver.SetProgress(progress);
+  driver.Run();
 
   CellResult result;
   result.config = config;
   result.rendered_cameras = cameras;
-  result.episodes.resize(config.episodes);
-  std::vector<kinematics::Action> actions(slots);
-  std::vector<std::vector<kinematics::Action>> action_logs(slots);
-  for (auto& log : action_logs) log.reserve(env.model().physics.max_control_steps());
-
-  EpisodeDealer dealer(config.episodes);
-  auto start_episode = [&](int slot) {
-    if (!dealer.Deal(env, slot)) return;
-    policy->Reset(env.model(), env.state(), slot);
-    action_logs[slot].clear();
-  };
-  for (int slot = 0; slot < slots; ++slot) start_episode(slot);
-
-  int finished = 0;
-  while (finished < config.episodes) {
-    const engine::BatchState& state = env.state();
-    const Observation observation = env.Observe();  // renders only if cameras are enabled
-    tbb::parallel_for(0, slots, [&](int slot) {
-      if (state.episode[slot] < 0) return;
-      if (state.control_step[slot] % hold_ticks == 0) policy->Act(env.model(), observation, slot, actions[slot]);
-      action_logs[slot].push_back(actions[slot]);
-    });
-    env.Step(actions);
-    result.control_ticks += std::count_if(state.episode.begin(), state.episode.end(), [](int64_t e) { return e >= 0; });
-    // Serial, in slot order: finished episodes are recorded and slots refilled deterministically.
-    for (int slot = 0; slot < slots; ++slot) {
-      if (state.episode[slot] < 0 || state.end[slot] == engine::EpisodeEnd::kRunning) continue;
-      if (state.end[slot] == engine::EpisodeEnd::kInvalidAction) {
-        std::ostringstream message;
-        message << "policy '" << config.policy << "' produced a non-finite action in episode " << state.episode[slot]
-                << ": entry " << env.invalid_action_index(slot) << " = " << env.invalid_action_value(slot);
-        throw std::runtime_error(message.str());
-      }
-      EpisodeRecord& record = result.episodes[state.episode[slot]];
-      record.episode = state.episode[slot];
-      record.end = state.end[slot];
-      record.success = state.end[slot] == engine::EpisodeEnd::kSuccess;
-      record.length_control_ticks = state.control_step[slot];
-      record.length_steps = (state.control_step[slot] + ticks_per_policy_step - 1) / ticks_per_policy_step;
-      record.solver_messages = env.solver_messages(slot);
-      record.actions = action_logs[slot];
-      result.successes += record.success ? 1 : 0;
-      ++finished;
-      if (progress) progress(finished, config.episodes);
-      start_episode(slot);
-    }
-  }
-  AddGalt(result, hold_ticks, env.model().physics);
+  result.episodes = std::move(recorder.records());
+  result.successes = recorder.successes();
+  result.control_ticks = driver.control_ticks();
+  AddGalt(result, policy->control_ticks_per_action(), env.model().physics);
   result.rendered_images = env.rendered_images();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

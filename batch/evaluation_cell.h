@@ -4,14 +4,11 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "engine/batch_state.h"
-#include "kinematics/action.h"
-#include "kinematics/galt.h"
+#include "batch/episode_driver.h"
+#include "batch/episode_recorder.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {
@@ -33,22 +30,6 @@ struct EvaluationCellConfig {
   int image_height = 480;
 };
 
-struct EpisodeRecord {
-  int64_t episode = 0;
-  bool success = false;
-  engine::EpisodeEnd end = engine::EpisodeEnd::kRunning;
-  int length_steps = 0;          // policy-rate (20 Hz) steps, as the reference counts them
-  int length_control_ticks = 0;  // 60 Hz control ticks
-  int solver_messages = 0;       // ODE solver messages (degenerate contacts), for diagnosis
-  std::vector<kinematics::Action> actions;  // commanded action of every control tick
-  // GALT of the commanded actions at the policy's action rate, for successful episodes only
-  // (the reference computes it for those).
-  std::optional<kinematics::GaltResult> galt;
-  // The same at the 20 Hz policy rate, for a policy acting faster (the scripted experts at 60 Hz),
-  // as the paper's validation table reports both.
-  std::optional<kinematics::GaltResult> galt_policy_rate;
-};
-
 struct CellResult {
   EvaluationCellConfig config;
   std::vector<EpisodeRecord> episodes;  // ordered by episode index
@@ -59,25 +40,6 @@ struct CellResult {
   double galt_policy_rate_fps = 0.0;  // 0 when the policy acts at the policy rate
   std::vector<std::string> rendered_cameras;  // the policy's cameras, then the extra render_cameras
   int64_t rendered_images = 0;                // env-camera images rendered
-};
-
-// Called after each finished episode with (finished, total).
-using ProgressCallback = std::function<void(int, int)>;
-
-class VecEnv;
-
-// Hands episodes 0..total-1 to env slots in index order. Episode i draws its randomness from
-// (seed, i) whichever slot runs it, so refilling slots serially in slot order keeps a run's
-// results independent of the thread count and of the number of slots.
-class EpisodeDealer {
- public:
-  explicit EpisodeDealer(int64_t total) : total_(total) {}
-  // Resets `slot` with the next episode and returns true, or releases the slot when none is left.
-  bool Deal(VecEnv& env, int slot);
-
- private:
-  int64_t total_ = 0;
-  int64_t next_ = 0;
 };
 
 // Throws std::invalid_argument / configs::ConfigError for bad settings, and std::runtime_error

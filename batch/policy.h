@@ -1,9 +1,10 @@
-// Batched policies: given an observation of the batch (its state and, for policies that ask for
-// cameras, the rendered images), an action per env. Act is called per env inside the parallel
-// step, so implementations keep per-env memory.
+// Batched policies. At a control tick the episode driver hands the policy the observation of the
+// whole batch and the envs that act now; the policy fills their actions at once (a served policy
+// sends one request for all of them, a per-env policy runs them in parallel). An env that does
+// not act holds its previous action.
 #pragma once
 
-#include <memory>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,15 +15,21 @@
 
 namespace tavis::batch {
 
-// What a policy sees at a control tick. Images are rendered only on policy ticks (control_step a
-// multiple of PhysicsSettings::controls_per_policy(), 20 Hz) and only for the envs at one, so an
-// env's images are current exactly when its control_step is a multiple of that.
+// What a policy sees of the batch at a control tick: the observation contract. Images are
+// rendered only on policy ticks (control_step a multiple of PhysicsSettings::controls_per_policy(),
+// 20 Hz) and only for the envs at one, so an env's images are current exactly when its
+// control_step is a multiple of that.
 struct Observation {
-  const engine::BatchState& state;  // proprioception, and the privileged state experts use
+  const engine::WorldModel& model;
+  const engine::BatchState& state;  // proprioception, the step index, and the privileged state experts use
   // The policy's cameras() in that order (ImageBatch camera i = cameras()[i]), at the configured
   // resolution; null when the policy asked for none.
   const render::ImageBatch* images = nullptr;
+  // (num_envs) each env's instruction for its episode (the task's prompt), null for idle slots.
+  const std::vector<const char*>& prompts;
 };
+
+using ActionBatch = std::vector<kinematics::Action>;  // (num_envs)
 
 class Policy {
  public:
@@ -35,9 +42,22 @@ class Policy {
   // Cameras whose RGB the policy consumes, from batch::SceneCameraNames() (head, fixed,
   // left_wrist, right_wrist). None by default: nothing is rendered for such a policy.
   virtual std::vector<std::string> cameras() const { return {}; }
-  virtual void Reset(const engine::WorldModel& model, const engine::BatchState& state, int env) = 0;
-  virtual void Act(const engine::WorldModel& model, const Observation& observation, int env,
-                   kinematics::Action& action) = 0;
+  // New episodes started in the envs with started[env] != 0 (their state is the reset's).
+  virtual void Reset(const Observation& observation, const std::vector<uint8_t>& started) = 0;
+  // Writes actions[env] for every env with acting[env] != 0; leaves the other entries alone.
+  virtual void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) = 0;
+};
+
+// A policy that decides each env on its own (the built-in ones): the batch calls run the envs
+// in parallel.
+class PerEnvPolicy : public Policy {
+ public:
+  void Reset(const Observation& observation, const std::vector<uint8_t>& started) final;
+  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) final;
+
+ protected:
+  virtual void ResetEnv(const Observation& observation, int env) = 0;
+  virtual void ActEnv(const Observation& observation, int env, kinematics::Action& action) = 0;
 };
 
 }  // namespace tavis::batch

@@ -11,36 +11,12 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/statistics.h"
+#include "scenarios/registry.h"
 
 namespace tavis::batch {
 namespace {
 
-struct SuiteDefinition {
-  std::string name;
-  std::string title;
-  std::vector<std::string> tasks;
-};
-
-// Suite task order of the paper's tables (reference spec sections 3 and 10.4).
-const std::vector<SuiteDefinition>& Suites() {
-  static const std::vector<SuiteDefinition> suites = {
-      {"tavis-head",
-       "TAVIS-Head",
-       {"clutter-pick-lift", "clutter-pick-cube", "conditional-pick", "wait-then-act",
-        "multi-shelf-scan"}},
-      {"tavis-hands",
-       "TAVIS-Hands",
-       {"peeking-box", "occluded-reach", "blocked-clutter-pick-cube"}},
-  };
-  return suites;
-}
-
-const SuiteDefinition& FindSuite(const std::string& suite) {
-  for (const SuiteDefinition& definition : Suites()) {
-    if (definition.name == suite) return definition;
-  }
-  throw std::invalid_argument("unknown suite '" + suite + "' (known: tavis-head, tavis-hands)");
-}
+std::string SuiteTitle(const std::string& suite) { return scenarios::Title(scenarios::ParseSuite(suite)); }
 
 // The reference writes task and split names in snake_case, this project in kebab-case.
 std::string KebabCase(std::string name) {
@@ -85,9 +61,14 @@ std::pair<std::size_t, std::string> OrderKey(const std::string& name,
   return {static_cast<std::size_t>(it - known.begin()), name};
 }
 
+// Columns: robots by name, then splits and camera modes in the paper's order.
 bool ColumnBefore(const TableColumn& a, const TableColumn& b) {
-  static const std::vector<std::string> robots = {"gr1t2", "reachy2"};
-  static const std::vector<std::string> splits = {"id", "ood-spatial", "ood-init-pose"};
+  static const std::vector<std::string> robots;  // none known: alphabetical
+  static const std::vector<std::string> splits = [] {
+    std::vector<std::string> names;
+    for (const scenarios::Split split : scenarios::kAllSplits) names.push_back(scenarios::ToString(split));
+    return names;
+  }();
   static const std::vector<std::string> cameras = {"head", "fixed"};
   return std::make_tuple(OrderKey(a.robot, robots), OrderKey(a.split, splits),
                          OrderKey(a.camera, cameras)) <
@@ -125,7 +106,7 @@ struct FormattedRow {
 };
 
 std::vector<FormattedRow> FormatRows(const ResultsTable& table) {
-  const std::string title = FindSuite(table.suite).title;
+  const std::string title = SuiteTitle(table.suite);
   std::vector<FormattedRow> rows;
   for (std::size_t t = 0; t < table.tasks.size(); ++t) {
     FormattedRow row{table.tasks[t], {}};
@@ -149,8 +130,12 @@ std::vector<FormattedRow> FormatRows(const ResultsTable& table) {
 
 }  // namespace
 
-const std::vector<std::string>& SuiteTasks(const std::string& suite) {
-  return FindSuite(suite).tasks;
+std::vector<std::string> SuiteTasks(const std::string& suite) {
+  std::vector<std::string> tasks;
+  for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(suite))) {
+    tasks.push_back(scenario->name);
+  }
+  return tasks;
 }
 
 CellCounts ReadCellResult(const std::filesystem::path& path) {
@@ -257,7 +242,7 @@ ResultsTable BuildResultsTable(const std::vector<CellCounts>& cells, const std::
 
 std::string FormatMarkdown(const ResultsTable& table, bool with_intervals) {
   std::ostringstream out;
-  out << "**" << FindSuite(table.suite).title << "**: success rate (%)"
+  out << "**" << SuiteTitle(table.suite) << "**: success rate (%)"
       << (with_intervals ? " [95% Wilson interval]" : "") << "\n\n";
   out << "| task |";
   for (const TableColumn& column : table.columns) out << " " << column.label() << " |";

@@ -38,9 +38,9 @@ struct CellCounts {
   std::string source;  // file it came from, for error messages
 };
 
-// The suite's tasks in table order; throws std::invalid_argument for an unknown suite
-// (known: "tavis-head", "tavis-hands").
-const std::vector<std::string>& SuiteTasks(const std::string& suite);
+// The suite's tasks in table order (the task registry's); throws std::invalid_argument for an
+// unknown suite, naming the known ones.
+std::vector<std::string> SuiteTasks(const std::string& suite);
 
 // Reads one summary.json; throws std::runtime_error naming the file, the key and the value.
 CellCounts ReadCellResult(const std::filesystem::path& path);

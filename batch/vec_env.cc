@@ -1,6 +1,7 @@
 #include "batch/vec_env.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,8 @@ namespace {
 using kinematics::Side;
 
 constexpr int kMaxRobotLinks = 64;
+constexpr int kNeckActionEntries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
+                                                          kinematics::action::kNeckYaw};
 
 // The first non-finite entry of an action, or -1.
 int FirstNonFinite(const kinematics::Action& action) {
@@ -27,6 +30,19 @@ int FirstNonFinite(const kinematics::Action& action) {
 }
 
 }  // namespace
+
+const char* ToString(Stage stage) {
+  switch (stage) {
+    case Stage::kApplyActions: return "apply_actions";
+    case Stage::kStepPhysics: return "step_physics";
+    case Stage::kServoNeck: return "servo_neck";
+    case Stage::kUpdateTask: return "update_task";
+    case Stage::kEndEpisodes: return "end_episodes";
+    case Stage::kRender: return "render";
+    case Stage::kReset: return "reset";
+  }
+  return "unknown";
+}
 
 engine::WorldModel BuildWorldModel(const kinematics::RobotModel& robot, const scenarios::ScenarioDef& scenario) {
   engine::WorldModel model;
@@ -46,8 +62,9 @@ VecEnv::VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario,
   state_.Allocate(num_envs, model_.robot.num_joints(), model_.num_objects());
   worlds_.resize(num_envs);
   tbb::parallel_for(0, num_envs, [&](int env) { worlds_[env] = std::make_unique<engine::PhysicsWorld>(model_); });
-  images_current_.assign(num_envs, 0);
+  physics_sane_.assign(num_envs, 1);
   render_env_.assign(num_envs, 0);
+  warmup_actions_.assign(num_envs, kinematics::Action{});
 }
 
 VecEnv::~VecEnv() {
@@ -55,14 +72,44 @@ VecEnv::~VecEnv() {
   tbb::parallel_for(0, num_envs(), [&](int env) { worlds_[env].reset(); });
 }
 
-void VecEnv::ResetEnv(int env, int64_t episode) {
+template <typename Body>
+void VecEnv::Timed(Stage stage, Body&& body) {
+  if (!stage_timing_) {
+    body();
+    return;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  body();
+  const auto elapsed = std::chrono::steady_clock::now() - start;
+  stage_nanoseconds_[static_cast<int>(stage)] += std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count();
+}
+
+void VecEnv::EnableStageTiming(bool enabled) {
+  stage_timing_ = enabled;
+  for (auto& nanoseconds : stage_nanoseconds_) nanoseconds = 0;
+}
+
+std::array<double, kNumStages> VecEnv::stage_seconds() const {
+  std::array<double, kNumStages> seconds{};
+  for (int i = 0; i < kNumStages; ++i) seconds[i] = 1e-9 * static_cast<double>(stage_nanoseconds_[i].load());
+  return seconds;
+}
+
+void VecEnv::Reset(const std::vector<EpisodeStart>& starts) {
+  Timed(Stage::kReset, [&] {
+    tbb::parallel_for(0, static_cast<int>(starts.size()), [&](int i) { ResetOne(starts[i]); });
+  });
+}
+
+void VecEnv::ResetOne(const EpisodeStart& start) {
+  const int env = start.env;
   const kinematics::RobotModel& robot = model_.robot;
-  state_.episode[env] = episode;
+  state_.episode[env] = start.episode;
   state_.end[env] = engine::EpisodeEnd::kRunning;
   state_.control_step[env] = 0;
-  state_.task_rng[env] = engine::RandomStream(seed_, engine::RandomStreamId::kTask, static_cast<uint64_t>(episode));
+  state_.task_rng[env] = engine::RandomStream(seed_, engine::RandomStreamId::kTask, static_cast<uint64_t>(start.episode));
   state_.invalid_action[env] = engine::InvalidAction();
-  images_current_[env] = 0;
+  state_.images_current[env] = 0;
   const std::vector<double> q_default = robot.DefaultPositions();
   std::copy(q_default.begin(), q_default.end(), state_.q_row(env));
   std::copy(q_default.begin(), q_default.end(), state_.q_target_row(env));
@@ -79,79 +126,113 @@ void VecEnv::ResetEnv(int env, int64_t episode) {
   world.ReadState(state_.q_row(env), state_.gripper_gap_row(env), state_.object_pose_row(env, 0),
                   state_.object_velocity_row(env, 0));
 
-  // ood-init-pose: the warm-up belongs to the reset (the policy first sees its end) but its
-  // ticks count toward the episode, as in the reference's InitPoseWrapper.
   if (split_ == scenarios::Split::kOodInitPose) {
-    engine::RandomStream rng(seed_, engine::RandomStreamId::kInitPose, static_cast<uint64_t>(episode));
-    const kinematics::Action warmup = InitPoseWarmupAction(robot, rng);
+    engine::RandomStream rng(seed_, engine::RandomStreamId::kInitPose, static_cast<uint64_t>(start.episode));
+    warmup_actions_[env] = InitPoseWarmupAction(robot, rng);
     const int ticks = kInitPoseWarmupPolicySteps * model_.physics.controls_per_policy();
-    for (int tick = 0; tick < ticks && state_.end[env] == engine::EpisodeEnd::kRunning; ++tick) StepEnv(env, warmup);
+    for (int tick = 0; tick < ticks && state_.running(env); ++tick) ControlTick({env, env + 1}, warmup_actions_);
   }
+}
+
+void VecEnv::Stop(int env) {
+  TAVIS_INVARIANT(state_.running(env), "only a running episode is stopped");
+  state_.end[env] = engine::EpisodeEnd::kStopped;
 }
 
 void VecEnv::Step(const std::vector<kinematics::Action>& actions) {
+  TAVIS_INVARIANT(static_cast<int>(actions.size()) == num_envs(), "one action per env slot");
   tbb::parallel_for(tbb::blocked_range<int>(0, num_envs(), 1), [&](const tbb::blocked_range<int>& range) {
-    for (int env = range.begin(); env < range.end(); ++env) {
-      if (state_.episode[env] >= 0 && state_.end[env] == engine::EpisodeEnd::kRunning) StepEnv(env, actions[env]);
-    }
+    ControlTick({range.begin(), range.end()}, actions);
   });
 }
 
-void VecEnv::StepEnv(int env, const kinematics::Action& action) {
+void VecEnv::ControlTick(EnvRange envs, const std::vector<kinematics::Action>& actions) {
+  Timed(Stage::kApplyActions, [&] { ApplyActions(envs, actions); });
+  Timed(Stage::kStepPhysics, [&] { StepPhysics(envs); });
+  Timed(Stage::kServoNeck, [&] { ServoNeck(envs); });
+  Timed(Stage::kUpdateTask, [&] { UpdateTask(envs); });
+  Timed(Stage::kEndEpisodes, [&] { EndEpisodes(envs); });
+}
+
+void VecEnv::ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& actions) {
   const kinematics::RobotModel& robot = model_.robot;
-  double* q = state_.q_row(env);
-  double* q_target = state_.q_target_row(env);
-
-  // Stage: apply the action. A non-finite entry ends the episode; the hot loop never throws.
-  const int bad = FirstNonFinite(action);
-  if (bad >= 0) {
-    state_.invalid_action[env] = {bad, action[bad]};
-    state_.end[env] = engine::EpisodeEnd::kInvalidAction;
-    return;
-  }
   RigidTransform X_BL[kMaxRobotLinks];  // the step allocates nothing
-  kinematics::ComputeLinkPoses(robot, q, X_BL);
-  for (Side side : kinematics::kSides) {
-    const int i = kinematics::Index(side);
-    const int p = kinematics::action::kArmPosition[i];
-    const int r = kinematics::action::kArmQuaternion[i];
-    const kinematics::PoseTarget target{robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])),
-                                        Quat(action[r], action[r + 1], action[r + 2], action[r + 3])};
-    const auto arm_targets = kinematics::IkStep(robot, side, q, X_BL, target);
-    for (int k = 0; k < kinematics::kArmDof; ++k) q_target[robot.arm(side).joints[k]] = arm_targets[k];
-    state_.gripper_command_row(env)[i] = std::clamp(action[kinematics::action::kGripper[i]], -1.0, 1.0);
+  for (int env = envs.begin; env < envs.end; ++env) {
+    if (!state_.running(env)) continue;
+    const kinematics::Action& action = actions[env];
+    // A non-finite entry ends the episode; the hot loop never throws.
+    const int bad = FirstNonFinite(action);
+    if (bad >= 0) {
+      state_.invalid_action[env] = {bad, action[bad]};
+      state_.end[env] = engine::EpisodeEnd::kInvalidAction;
+      continue;
+    }
+    const double* q = state_.q_row(env);
+    double* q_target = state_.q_target_row(env);
+    kinematics::ComputeLinkPoses(robot, q, X_BL);
+    for (Side side : kinematics::kSides) {
+      const int i = kinematics::Index(side);
+      const int p = kinematics::action::kArmPosition[i];
+      const int r = kinematics::action::kArmQuaternion[i];
+      const kinematics::PoseTarget target{robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])),
+                                          Quat(action[r], action[r + 1], action[r + 2], action[r + 3])};
+      const auto arm_targets = kinematics::IkStep(robot, side, q, X_BL, target);
+      for (int k = 0; k < kinematics::kArmDof; ++k) q_target[robot.arm(side).joints[k]] = arm_targets[k];
+      state_.gripper_command_row(env)[i] = std::clamp(action[kinematics::action::kGripper[i]], -1.0, 1.0);
+    }
+    for (int k = 0; k < kinematics::kNeckDof; ++k) {
+      const kinematics::Joint& joint = robot.joints[robot.neck_joints[k]];
+      q_target[robot.neck_joints[k]] = std::clamp(action[kNeckActionEntries[k]], joint.lower, joint.upper);
+    }
   }
-  const int neck_entries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
-                                                  kinematics::action::kNeckYaw};
-  for (int k = 0; k < kinematics::kNeckDof; ++k) {
-    const kinematics::Joint& joint = robot.joints[robot.neck_joints[k]];
-    q_target[robot.neck_joints[k]] = std::clamp(action[neck_entries[k]], joint.lower, joint.upper);
+}
+
+void VecEnv::StepPhysics(EnvRange envs) {
+  for (int env = envs.begin; env < envs.end; ++env) {
+    if (!state_.running(env)) continue;
+    engine::PhysicsWorld& world = *worlds_[env];
+    const double* command = state_.gripper_command_row(env);
+    const std::array<double, engine::kGrippersPerEnv> gripper = {command[0], command[1]};
+    physics_sane_[env] = world.Step(state_.q_target_row(env), gripper, model_.physics.substeps_per_control());
+    world.ReadState(state_.q_row(env), state_.gripper_gap_row(env), state_.object_pose_row(env, 0),
+                    state_.object_velocity_row(env, 0));
   }
+}
 
-  // Stage: physics substeps.
-  engine::PhysicsWorld& world = *worlds_[env];
-  const std::array<double, 2> gripper = {state_.gripper_command_row(env)[0], state_.gripper_command_row(env)[1]};
-  const bool sane = world.Step(q_target, gripper, model_.physics.substeps_per_control());
-  world.ReadState(q, state_.gripper_gap_row(env), state_.object_pose_row(env, 0),
-                  state_.object_velocity_row(env, 0));
-
-  // Stage: neck servo. The neck only carries the head, so it is servoed kinematically: first
-  // order toward its target at the actuator gain, bounded by the velocity limit.
+// The neck only carries the head, so it is servoed kinematically: first order toward its
+// target at the actuator gain, bounded by the velocity limit.
+void VecEnv::ServoNeck(EnvRange envs) {
+  const kinematics::RobotModel& robot = model_.robot;
   const double dt = 1.0 / model_.physics.control_hz;
   const double blend = 1.0 - std::exp(-robot.neck_actuator.position_gain * dt);
   const double max_move = robot.neck_actuator.velocity_limit * dt;
-  for (int joint : robot.neck_joints) q[joint] += std::clamp(blend * (q_target[joint] - q[joint]), -max_move, max_move);
+  for (int env = envs.begin; env < envs.end; ++env) {
+    if (!state_.running(env)) continue;
+    double* q = state_.q_row(env);
+    const double* q_target = state_.q_target_row(env);
+    for (int joint : robot.neck_joints) q[joint] += std::clamp(blend * (q_target[joint] - q[joint]), -max_move, max_move);
+  }
+}
 
-  // Stage: the task's clock, its evaluation and the episode's end.
-  state_.control_step[env] += 1;
-  if (scenario_.update != nullptr) scenario_.update(model_, state_, env);
-  images_current_[env] = 0;
-  if (!sane) {
-    state_.end[env] = engine::EpisodeEnd::kPhysicsBlowUp;
-  } else if (scenario_.evaluate(model_, state_, env)) {
-    state_.end[env] = engine::EpisodeEnd::kSuccess;
-  } else if (state_.control_step[env] >= model_.physics.max_control_steps()) {
-    state_.end[env] = engine::EpisodeEnd::kTimeOut;
+void VecEnv::UpdateTask(EnvRange envs) {
+  for (int env = envs.begin; env < envs.end; ++env) {
+    if (!state_.running(env)) continue;
+    state_.control_step[env] += 1;
+    if (scenario_.update != nullptr) scenario_.update(model_, state_, env);
+    state_.images_current[env] = 0;
+  }
+}
+
+void VecEnv::EndEpisodes(EnvRange envs) {
+  for (int env = envs.begin; env < envs.end; ++env) {
+    if (!state_.running(env)) continue;
+    if (!physics_sane_[env]) {
+      state_.end[env] = engine::EpisodeEnd::kPhysicsBlowUp;
+    } else if (scenario_.Succeeded(state_, env)) {
+      state_.end[env] = engine::EpisodeEnd::kSuccess;
+    } else if (state_.control_step[env] >= model_.physics.max_control_steps()) {
+      state_.end[env] = engine::EpisodeEnd::kTimeOut;
+    }
   }
 }
 
@@ -164,35 +245,34 @@ void VecEnv::EnableCameras(const CameraSettings& settings) {
     if (camera < 0) continue;
     for (int env = 0; env < num_envs(); ++env) cameras_->SetCameraEnabled(env, camera, false);
   }
-  std::fill(images_current_.begin(), images_current_.end(), 0);
+  std::fill(state_.images_current.begin(), state_.images_current.end(), 0);
 }
 
 void VecEnv::SetCameraBlocked(int env, int camera, bool blocked) {
   if (!cameras_) throw std::logic_error("VecEnv::SetCameraBlocked: cameras are not enabled (call EnableCameras)");
   cameras_->SetCameraEnabled(env, camera, !blocked);
-  images_current_[env] = 0;
+  state_.images_current[env] = 0;
 }
 
-Observation VecEnv::Observe() {
-  if (!cameras_) return Observation{state_, nullptr};
+const render::ImageBatch* VecEnv::images() const { return cameras_ ? &cameras_->images() : nullptr; }
+
+void VecEnv::RenderPolicyTick() {
+  if (!cameras_) return;
   const int ticks_per_policy_step = model_.physics.controls_per_policy();
   bool stale = false;
   int rendered_envs = 0;
   for (int env = 0; env < num_envs(); ++env) {
-    const bool at_policy_tick = state_.episode[env] >= 0 && state_.end[env] == engine::EpisodeEnd::kRunning &&
-                                state_.control_step[env] % ticks_per_policy_step == 0;
+    const bool at_policy_tick = state_.running(env) && state_.control_step[env] % ticks_per_policy_step == 0;
     render_env_[env] = at_policy_tick ? 1 : 0;
-    stale = stale || (at_policy_tick && images_current_[env] == 0);
+    stale = stale || (at_policy_tick && state_.images_current[env] == 0);
     rendered_envs += at_policy_tick ? 1 : 0;
   }
   // One render call for all envs at their policy tick: the call clears the other envs' images,
   // so envs already current are drawn again rather than left out.
-  if (stale) {
-    cameras_->Render(state_, render_env_.data());
-    for (int env = 0; env < num_envs(); ++env) images_current_[env] = render_env_[env];
-    rendered_images_ += static_cast<int64_t>(rendered_envs) * cameras_->num_cameras();
-  }
-  return Observation{state_, &cameras_->images()};
+  if (!stale) return;
+  Timed(Stage::kRender, [&] { cameras_->Render(state_, render_env_.data()); });
+  for (int env = 0; env < num_envs(); ++env) state_.images_current[env] = render_env_[env];
+  rendered_images_ += static_cast<int64_t>(rendered_envs) * cameras_->num_cameras();
 }
 
 }  // namespace tavis::batch

@@ -1,17 +1,18 @@
-// N envs of one task stepped together. A control tick is a short pipeline of stages, each a
-// function over an env range run by tbb::parallel_for: apply actions (validate, IK, neck and
-// gripper targets), physics substeps, neck servo, task evaluation; with cameras enabled, Observe
-// adds the render stage for the envs at a policy tick. Episodes are keyed by their
+// N envs of one task stepped together. A control tick is a short pipeline of named stages, each
+// a function over a range of envs (ControlTick lists them); the envs are split into ranges run
+// by tbb::parallel_for, and each range goes through all stages in turn while its rows are in
+// cache. At policy ticks RenderPolicyTick adds the render stage. Episodes are keyed by their
 // index: an episode's randomness comes from (seed, episode), so results do not depend on the
 // thread count, on the number of env slots, or on which slot ran which episode.
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "batch/policy.h"
 #include "batch/scene_render.h"
 #include "engine/batch_state.h"
 #include "engine/physics_world.h"
@@ -24,24 +25,51 @@ namespace tavis::batch {
 // Builds the world of a task for a robot: the robot model plus the scenario's layout.
 engine::WorldModel BuildWorldModel(const kinematics::RobotModel& robot, const scenarios::ScenarioDef& scenario);
 
+// Envs [begin, end).
+struct EnvRange {
+  int begin = 0;
+  int end = 0;
+};
+
+// An episode to start in a slot.
+struct EpisodeStart {
+  int env = 0;
+  int64_t episode = 0;
+};
+
+// The stages of a control tick, then rendering, for timing.
+enum class Stage { kApplyActions, kStepPhysics, kServoNeck, kUpdateTask, kEndEpisodes, kRender, kReset };
+constexpr int kNumStages = 7;
+const char* ToString(Stage stage);
+
 class VecEnv {
  public:
   VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario, scenarios::Split split, int num_envs,
          uint64_t seed);
   ~VecEnv();
+  VecEnv(const VecEnv&) = delete;
+  VecEnv& operator=(const VecEnv&) = delete;
 
   int num_envs() const { return state_.num_envs; }
   const engine::WorldModel& model() const { return model_; }
   const engine::BatchState& state() const { return state_; }
   const scenarios::ScenarioDef& scenario() const { return scenario_; }
+  scenarios::Split split() const { return split_; }
 
-  // Starts episode `episode` in slot `env`: default robot pose, the task's random layout.
-  void ResetEnv(int env, int64_t episode);
+  // Starts each listed episode in its slot, in parallel: default robot pose, the task's random
+  // layout, and under ood-init-pose the warm-up (its ticks count toward the episode, as in the
+  // reference's InitPoseWrapper; the policy first sees its end). An episode can end in its
+  // warm-up.
+  void Reset(const std::vector<EpisodeStart>& starts);
+  void ResetEnv(int env, int64_t episode) { Reset({{env, episode}}); }
   // Marks a slot idle: it is skipped by Step until reset again.
   void Release(int env) { state_.episode[env] = -1; }
+  // Ends a running episode without an outcome (EpisodeEnd::kStopped).
+  void Stop(int env);
 
-  // One control tick for every running env (episode >= 0 and end == kRunning), with
-  // actions[env]. Ends episodes on success, time-out, blow-up or an invalid action.
+  // One control tick for every running env, with actions[env] (num_envs entries; idle and
+  // ended envs' entries are ignored). Ends episodes on success, time-out, blow-up or an invalid
+  // action.
   void Step(const std::vector<kinematics::Action>& actions);
 
   // Camera observations: builds the render scene once (images at settings.width x height, in
@@ -53,23 +81,36 @@ class VecEnv {
   // indexes settings.cameras. Requires EnableCameras.
   void SetCameraBlocked(int env, int camera, bool blocked);
 
-  // Stage: render. If a running env at a policy tick (control_step a multiple of
-  // controls_per_policy) has no current images, renders every running env at a policy tick;
-  // returns the state and the images (null without cameras). Only the images of envs at a
-  // policy tick are valid.
-  Observation Observe();
+  // Stage: render. Renders every running env at a policy tick (control_step a multiple of
+  // controls_per_policy) if any of them has images older than its state; without cameras it does
+  // nothing. Afterwards images() holds the current images of exactly those envs.
+  void RenderPolicyTick();
+  // The enabled cameras' images, or null without cameras.
+  const render::ImageBatch* images() const;
   // Env-camera images rendered so far, for throughput counters and tests.
   int64_t rendered_images() const { return rendered_images_; }
 
   // ODE solver messages (degenerate contact sets) in the env's current episode.
   int solver_messages(int env) const { return worlds_[env]->solver_messages(); }
 
-  // For an env ended by kInvalidAction: the first bad action entry and its value.
-  int invalid_action_index(int env) const { return state_.invalid_action[env].entry; }
-  double invalid_action_value(int env) const { return state_.invalid_action[env].value; }
+  // Per-stage wall time, summed over the env ranges (so it can exceed the elapsed time on several
+  // threads). Off by default; the counters start from zero when it is switched on.
+  void EnableStageTiming(bool enabled);
+  std::array<double, kNumStages> stage_seconds() const;
 
  private:
-  void StepEnv(int env, const kinematics::Action& action);
+  // One control tick of the envs in `envs`, each with actions[env]: the stages in order.
+  void ControlTick(EnvRange envs, const std::vector<kinematics::Action>& actions);
+  // Stages. Each acts on the running envs of its range.
+  void ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& actions);  // validate, IK, targets
+  void StepPhysics(EnvRange envs);   // ODE substeps toward the targets; reads the state back
+  void ServoNeck(EnvRange envs);     // the neck follows its target kinematically
+  void UpdateTask(EnvRange envs);    // the episode's clock and the task's own update
+  void EndEpisodes(EnvRange envs);   // blow-up, success, time-out
+  void ResetOne(const EpisodeStart& start);
+
+  template <typename Body>
+  void Timed(Stage stage, Body&& body);
 
   engine::WorldModel model_;
   const scenarios::ScenarioDef& scenario_;
@@ -78,9 +119,13 @@ class VecEnv {
   engine::BatchState state_;
   std::vector<std::unique_ptr<engine::PhysicsWorld>> worlds_;
   std::unique_ptr<SceneRender> cameras_;
-  std::vector<uint8_t> images_current_;  // (num_envs) rendered since the env's last change
-  std::vector<uint8_t> render_env_;      // (num_envs) this tick's render flags
+  // Per-tick scratch, sized once.
+  std::vector<uint8_t> physics_sane_;                 // (num_envs) this tick's physics stayed finite
+  std::vector<uint8_t> render_env_;                   // (num_envs) this tick's render flags
+  std::vector<kinematics::Action> warmup_actions_;    // (num_envs) ood-init-pose warm-up actions
   int64_t rendered_images_ = 0;
+  bool stage_timing_ = false;
+  std::array<std::atomic<int64_t>, kNumStages> stage_nanoseconds_{};
 };
 
 }  // namespace tavis::batch

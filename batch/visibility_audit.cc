@@ -7,6 +7,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "batch/builtin_policies.h"
+#include "batch/episode_driver.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -16,13 +18,6 @@
 
 namespace tavis::batch {
 namespace {
-
-// The cues a task's information sits in besides the target, by model name.
-std::vector<std::string> AuditedCues(const std::string& task) {
-  if (task == "conditional-pick") return {"cue_card"};
-  if (task == "wait-then-act") return {"signal_light"};
-  return {};
-}
 
 // Counts, per env and camera, the pixels of one object in the full scene and in a scene holding
 // that object alone. The full scene is the policy's (SceneRender, black cameras blocked); the
@@ -146,6 +141,92 @@ int CountVisible(const AuditResult& result, int object, int camera, Moment momen
   }));
 }
 
+// Samples each audited object's visibility at the episode's reset and at the expert's first
+// settled fixation of it; an episode is complete once every audited object has been sampled.
+class AuditSink : public EpisodeSink {
+ public:
+  AuditSink(const VecEnv& env, const ExpertPolicy& policy, const AuditConfig& config, AuditResult& result)
+      : expert_(policy.expert()),
+        meter_(env.model(), env.scenario().black_cameras, env.num_envs(), config.image_width, config.image_height),
+        result_(result) {
+    const int slots = env.num_envs();
+    for (const std::string& cue : env.scenario().cue_objects) cue_index_.push_back(env.model().ObjectIndex(cue));
+    num_audited_ = 1 + static_cast<int>(cue_index_.size());
+    measured_.assign(static_cast<std::size_t>(slots), -1);
+    fractions_.assign(static_cast<std::size_t>(slots * meter_.num_cameras()), 0.0);
+    fresh_.assign(static_cast<std::size_t>(slots), 0);
+    pending_.assign(static_cast<std::size_t>(slots), 0);
+    fixating_.assign(static_cast<std::size_t>(num_audited_), std::vector<uint8_t>(static_cast<std::size_t>(slots), 0));
+  }
+
+  void EpisodeStarted(const VecEnv&, int slot) override {
+    fresh_[slot] = 1;
+    pending_[slot] = (1u << num_audited_) - 1u;
+  }
+
+  void TickStarting(const VecEnv& env) override {
+    for (int audited = 0; audited < num_audited_; ++audited) Sample(env.state(), audited, fresh_, false);
+    std::fill(fresh_.begin(), fresh_.end(), 0);
+  }
+
+  // The gaze is read after the expert has acted and the world has moved: the fixation is the
+  // first tick whose state the expert reports its gaze settled on the object in.
+  void Stepped(const VecEnv& env) override {
+    const engine::BatchState& state = env.state();
+    tbb::parallel_for(0, env.num_envs(), [&](int slot) {
+      const scenarios::Expert::Gaze gaze = state.running(slot) ? expert_.gaze(state, slot) : scenarios::Expert::Gaze{};
+      for (int audited = 0; audited < num_audited_; ++audited) {
+        fixating_[audited][slot] =
+            (pending_[slot] >> audited & 1u) && gaze.settled && gaze.object == ObjectOf(state, audited, slot);
+      }
+    });
+    for (int audited = 0; audited < num_audited_; ++audited) {
+      Sample(state, audited, fixating_[audited], true);
+      for (int slot = 0; slot < env.num_envs(); ++slot) {
+        if (fixating_[audited][slot]) pending_[slot] &= ~(1u << audited);
+      }
+    }
+  }
+
+  bool EpisodeComplete(const VecEnv&, int slot) const override { return pending_[slot] == 0; }
+
+ private:
+  int ObjectOf(const engine::BatchState& state, int audited, int slot) const {
+    return audited == 0 ? state.target(slot) : cue_index_[static_cast<std::size_t>(audited - 1)];
+  }
+
+  // Measures audited object `audited` in the flagged slots, at reset or at its fixation.
+  void Sample(const engine::BatchState& state, int audited, const std::vector<uint8_t>& flags, bool at_fixation) {
+    if (std::find(flags.begin(), flags.end(), 1) == flags.end()) return;
+    const int slots = state.num_envs;
+    for (int slot = 0; slot < slots; ++slot) measured_[slot] = flags[slot] ? ObjectOf(state, audited, slot) : -1;
+    meter_.Measure(state, measured_, fractions_);
+    for (int slot = 0; slot < slots; ++slot) {
+      if (!flags[slot]) continue;
+      ObjectAudit& audit = result_.episodes[static_cast<std::size_t>(state.episode[slot])].objects[audited];
+      const auto first = fractions_.begin() + slot * meter_.num_cameras();
+      const CameraFractions seen(first, first + meter_.num_cameras());
+      if (!at_fixation) {
+        audit.at_reset = seen;
+        continue;
+      }
+      audit.at_fixation = seen;
+      audit.fixation_tick = state.control_step[slot];
+    }
+  }
+
+  const scenarios::Expert& expert_;
+  VisibilityMeter meter_;
+  AuditResult& result_;
+  std::vector<int> cue_index_;  // object index of each audited cue
+  int num_audited_ = 1;
+  std::vector<int> measured_;                     // [slot] object measured, -1: none
+  std::vector<double> fractions_;                 // [slot][camera]
+  std::vector<uint8_t> fresh_;                    // [slot] dealt, not yet measured at reset
+  std::vector<uint32_t> pending_;                 // [slot] audited objects still to fixate, as bits
+  std::vector<std::vector<uint8_t>> fixating_;    // [audited][slot] fixated on this tick
+};
+
 }  // namespace
 
 int AuditResult::VisibleAtReset(int object, int camera) const {
@@ -174,95 +255,23 @@ AuditResult RunVisibilityAudit(const AuditConfig& config, const ProgressCallback
 
   const int slots = std::min(config.envs, config.episodes);
   VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
-  std::unique_ptr<scenarios::Expert> expert = scenario.make_expert(env.model(), slots);
-  VisibilityMeter meter(env.model(), scenario.black_cameras, slots, config.image_width, config.image_height);
-  const engine::BatchState& state = env.state();
+  ExpertPolicy expert(scenario, env.model(), slots);
 
   AuditResult result;
   result.config = config;
   result.cameras = SceneCameraNames();
   result.objects = {"target"};
-  std::vector<int> cue_index;
-  for (const std::string& cue : AuditedCues(config.task)) {
-    result.objects.push_back(cue);
-    cue_index.push_back(env.model().ObjectIndex(cue));
-  }
-  const int num_audited = static_cast<int>(result.objects.size());
+  result.objects.insert(result.objects.end(), scenario.cue_objects.begin(), scenario.cue_objects.end());
   result.episodes.resize(static_cast<std::size_t>(config.episodes));
   for (std::size_t i = 0; i < result.episodes.size(); ++i) {
     result.episodes[i].episode = static_cast<int64_t>(i);
-    result.episodes[i].objects.resize(static_cast<std::size_t>(num_audited));
+    result.episodes[i].objects.resize(result.objects.size());
   }
-  auto object_of = [&](int audited, int slot) {
-    return audited == 0 ? state.target(slot) : cue_index[audited - 1];
-  };
-
-  // Measures audited object `audited` in the flagged slots, at reset or at its fixation.
-  std::vector<int> measured(static_cast<std::size_t>(slots));
-  std::vector<double> fractions(static_cast<std::size_t>(slots * meter.num_cameras()));
-  auto sample = [&](int audited, const std::vector<uint8_t>& flags, bool at_fixation) {
-    if (std::find(flags.begin(), flags.end(), 1) == flags.end()) return;
-    for (int slot = 0; slot < slots; ++slot) measured[slot] = flags[slot] ? object_of(audited, slot) : -1;
-    meter.Measure(state, measured, fractions);
-    for (int slot = 0; slot < slots; ++slot) {
-      if (!flags[slot]) continue;
-      ObjectAudit& audit = result.episodes[static_cast<std::size_t>(state.episode[slot])].objects[audited];
-      const auto first = fractions.begin() + slot * meter.num_cameras();
-      const CameraFractions seen(first, first + meter.num_cameras());
-      if (!at_fixation) {
-        audit.at_reset = seen;
-        continue;
-      }
-      audit.at_fixation = seen;
-      audit.fixation_tick = state.control_step[slot];
-    }
-  };
-
-  EpisodeDealer dealer(config.episodes);
-  std::vector<uint8_t> fresh(static_cast<std::size_t>(slots), 0);  // dealt, not yet measured at reset
-  std::vector<uint32_t> pending(static_cast<std::size_t>(slots), 0);  // audited objects still to fixate, as bits
-  auto start_episode = [&](int slot) {
-    if (!dealer.Deal(env, slot)) return;
-    expert->Reset(env.model(), state, slot);
-    fresh[slot] = 1;
-    pending[slot] = (1u << num_audited) - 1u;
-  };
-  for (int slot = 0; slot < slots; ++slot) start_episode(slot);
-
-  std::vector<kinematics::Action> actions(static_cast<std::size_t>(slots));
-  std::vector<std::vector<uint8_t>> fixating(static_cast<std::size_t>(num_audited), std::vector<uint8_t>(slots, 0));
-  int finished = 0;
-  auto running = [&](int slot) { return state.episode[slot] >= 0 && state.end[slot] == engine::EpisodeEnd::kRunning; };
-  while (finished < config.episodes) {
-    for (int audited = 0; audited < num_audited; ++audited) sample(audited, fresh, false);
-    std::fill(fresh.begin(), fresh.end(), 0);
-    tbb::parallel_for(0, slots, [&](int slot) {
-      if (running(slot)) expert->Act(env.model(), state, slot, actions[slot]);
-    });
-    env.Step(actions);
-    // The gaze is read after the expert has acted and the world has moved: the fixation is the
-    // first tick whose state the expert reports its gaze settled on the object in.
-    tbb::parallel_for(0, slots, [&](int slot) {
-      const scenarios::Expert::Gaze gaze = running(slot) ? expert->gaze(state, slot) : scenarios::Expert::Gaze{};
-      for (int audited = 0; audited < num_audited; ++audited) {
-        fixating[audited][slot] = (pending[slot] >> audited & 1u) && gaze.settled && gaze.object == object_of(audited, slot);
-      }
-    });
-    for (int audited = 0; audited < num_audited; ++audited) {
-      sample(audited, fixating[audited], true);
-      for (int slot = 0; slot < slots; ++slot) {
-        if (fixating[audited][slot]) pending[slot] &= ~(1u << audited);
-      }
-    }
-    // Serial, in slot order: an episode is done once every audited object has been sampled or it
-    // has ended; its slot is refilled deterministically.
-    for (int slot = 0; slot < slots; ++slot) {
-      if (state.episode[slot] < 0 || (running(slot) && pending[slot] != 0)) continue;
-      ++finished;
-      if (progress) progress(finished, config.episodes);
-      start_episode(slot);
-    }
-  }
+  AuditSink sink(env, expert, config, result);
+  EpisodeDriver driver(env, expert, config.episodes);
+  driver.AddSink(sink);
+  driver.SetProgress(progress);
+  driver.Run();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

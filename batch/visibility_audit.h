@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "batch/evaluation_cell.h"
+#include "batch/episode_driver.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {

@@ -1,5 +1,6 @@
 #include "configs/robot_config.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 
@@ -217,15 +218,22 @@ RobotModel LoadRobotModel(const std::string& path) {
   return robot;
 }
 
+std::vector<std::string> KnownRobots(const std::string& config_dir) {
+  std::vector<std::string> robots;
+  const std::filesystem::path dir = std::filesystem::path(config_dir) / "robots";
+  if (!std::filesystem::is_directory(dir)) return robots;
+  for (const auto& file : std::filesystem::directory_iterator(dir)) {
+    if (file.path().extension() == ".yaml") robots.push_back(file.path().stem().string());
+  }
+  std::sort(robots.begin(), robots.end());
+  return robots;
+}
+
 std::string RobotConfigPath(const std::string& config_dir, const std::string& robot_name) {
   const std::filesystem::path path = std::filesystem::path(config_dir) / "robots" / (robot_name + ".yaml");
   if (std::filesystem::exists(path)) return path.string();
   std::string known;
-  if (std::filesystem::is_directory(std::filesystem::path(config_dir) / "robots")) {
-    for (const auto& file : std::filesystem::directory_iterator(std::filesystem::path(config_dir) / "robots")) {
-      if (file.path().extension() == ".yaml") known += (known.empty() ? "" : ", ") + file.path().stem().string();
-    }
-  }
+  for (const std::string& name : KnownRobots(config_dir)) known += (known.empty() ? "" : ", ") + name;
   throw ConfigError("unknown robot '" + robot_name + "' (known: " + known + ") in " + config_dir + "/robots");
 }
 

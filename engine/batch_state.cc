@@ -32,6 +32,7 @@ void BatchState::Allocate(int envs, int joints, int objects) {
   episode.assign(n, -1);
   end.assign(n, EpisodeEnd::kRunning);
   invalid_action.assign(n, InvalidAction());
+  images_current.assign(n, 0);
   task_rng.assign(n, RandomStream());
 }
 

@@ -60,6 +60,7 @@ struct BatchState {
   std::vector<int64_t> episode;         // (num_envs) episode index in the slot, -1 when idle
   std::vector<EpisodeEnd> end;          // (num_envs) kRunning until the episode ends
   std::vector<InvalidAction> invalid_action;  // (num_envs) set when end is kInvalidAction
+  std::vector<uint8_t> images_current;  // (num_envs) the env's camera images show its current state
   std::vector<RandomStream> task_rng;   // (num_envs) the episode's task stream
 
   void Allocate(int envs, int joints, int objects);

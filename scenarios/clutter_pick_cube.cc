@@ -8,13 +8,12 @@
 #include "scenarios/arm_planner.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
+#include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
 
 constexpr int kRedCube = 5;  // index in the world's object list, after the five YCB objects
-constexpr double kSuccessHeight = 1.2;
-constexpr double kSuccessMaxSpeed = 1.0;
 
 void Layout(engine::WorldModel& model) {
   for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
@@ -29,7 +28,7 @@ PlacementRanges ClutterPlacementRanges(Split split) {
   const bool wide = split == Split::kOodSpatial;
   ranges.x = wide ? Range{0.30, 0.50} : Range{0.35, 0.45};
   ranges.y = wide ? Range{-0.35, 0.35} : Range{-0.25, 0.25};
-  ranges.z = {1.1, 1.1};
+  ranges.z = {kObjectDropZ, kObjectDropZ};
   ranges.roll = {-1.5708, -1.5708};
   ranges.pitch = {0.0, 0.0};
   ranges.yaw = {-3.14159, 3.14159};
@@ -52,12 +51,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   state.task[env].target = kRedCube;
 }
 
-bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  return state.ObjectPosition(env, kRedCube).z() > kSuccessHeight &&
-         state.ObjectLinearVelocity(env, kRedCube).norm() < kSuccessMaxSpeed;
-}
-
-std::string Prompt(const engine::BatchState&, int) { return "Find the red cube and pick it up."; }
+const char* Prompt(const engine::BatchState&, int) { return "Find the red cube and pick it up."; }
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
@@ -105,21 +99,14 @@ std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int n
 }  // namespace
 
 ScenarioDef ClutterPickCube() {
-  ScenarioDef def;
-  def.name = "clutter-pick-cube";
-  def.suite = "tavis-head";
-  def.layout = &Layout;
-  def.reset = &Reset;
-  def.evaluate = &Evaluate;
-  def.prompt = &Prompt;
-  def.make_expert = &MakeExpert;
-  return def;
+  return {"clutter-pick-cube", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 
 ScenarioDef BlockedClutterPickCube() {
   ScenarioDef def = ClutterPickCube();
   def.name = "blocked-clutter-pick-cube";
-  def.suite = "tavis-hands";
+  def.suite = Suite::kTavisHands;
   def.black_cameras = {"head"};
   def.make_expert = &MakeBlockedExpert;
   return def;

@@ -6,15 +6,14 @@
 #include "scenarios/clutter_pick_cube.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
+#include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
 
-constexpr double kSuccessHeight = 1.2;
-constexpr double kSuccessMaxSpeed = 1.0;
 
 // Reference 4.4, in TAVIS_HEAD_OBJECT_NAMES order.
-constexpr std::array<std::array<const char*, 3>, 5> kPrompts = {{
+constexpr TargetPrompts kPrompts = {{
     {"Pick up the tomato soup can and lift it.", "Grasp the soup can and hold it up.",
      "Lift the red soup can off the table."},
     {"Pick up the potted meat can and lift it.", "Grasp the can of spam and hold it up.",
@@ -46,16 +45,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   state.task[env].prompt_variant = prompt;
 }
 
-bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = state.target(env);
-  return state.ObjectPosition(env, target).z() > kSuccessHeight &&
-         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
-}
-
-std::string Prompt(const engine::BatchState& state, int env) {
-  const engine::TaskVars& vars = state.task[env];
-  return kPrompts[static_cast<std::size_t>(vars.target)][static_cast<std::size_t>(vars.prompt_variant)];
-}
+const char* Prompt(const engine::BatchState& state, int env) { return TargetPrompt(kPrompts, state, env); }
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
@@ -65,15 +55,8 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ClutterPickLift() {
-  ScenarioDef def;
-  def.name = "clutter-pick-lift";
-  def.suite = "tavis-head";
-  def.layout = &Layout;
-  def.reset = &Reset;
-  def.evaluate = &Evaluate;
-  def.prompt = &Prompt;
-  def.make_expert = &MakeExpert;
-  return def;
+  return {"clutter-pick-lift", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 
 }  // namespace tavis::scenarios

@@ -3,20 +3,19 @@
 #include "engine/object_catalog.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
+#include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
 
 constexpr int kCard = 5;  // after the five YCB objects
-constexpr double kSuccessHeight = 1.2;
-constexpr double kSuccessMaxSpeed = 1.0;
-constexpr double kDropZ = 1.1;
+constexpr const char* kCardName = "cue_card";
 constexpr double kCardZ = 1.002;
 
 void Layout(engine::WorldModel& model) {
   for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
   engine::ObjectSpec card;
-  card.name = "cue_card";
+  card.name = kCardName;
   card.shape = {ShapeKind::kBox, Vec3(0.08, 0.05, 0.003)};
   card.motion = engine::ObjectMotion::kKinematic;
   card.collides = false;  // visual only, as in the reference
@@ -51,7 +50,7 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
     const double px = rng.Uniform(x.low, x.high);
     const double py = rng.Uniform(y.low, y.high);
     const double yaw = rng.Uniform(-M_PI, M_PI);
-    PlaceUpright(state, env, object, Vec3(px, py, kDropZ), yaw);
+    PlaceUpright(state, env, object, Vec3(px, py, kObjectDropZ), yaw);
   }
   const double cx = rng.Uniform(zones.card_x.low, zones.card_x.high);
   const double cy = rng.Uniform(zones.card_y.low, zones.card_y.high);
@@ -64,13 +63,7 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
   state.task[env].card_is_red = card_is_red;
 }
 
-bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = state.target(env);
-  return state.ObjectPosition(env, target).z() > kSuccessHeight &&
-         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
-}
-
-std::string Prompt(const engine::BatchState&, int) {
+const char* Prompt(const engine::BatchState&, int) {
   return "Look at the card. If it is red, pick the object on the left. If it is green, pick the object on the right.";
 }
 
@@ -83,15 +76,8 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ConditionalPick() {
-  ScenarioDef def;
-  def.name = "conditional-pick";
-  def.suite = "tavis-head";
-  def.layout = &Layout;
-  def.reset = &Reset;
-  def.evaluate = &Evaluate;
-  def.prompt = &Prompt;
-  def.make_expert = &MakeExpert;
-  return def;
+  return {"conditional-pick", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+          &Prompt, &MakeExpert, /*cue_objects=*/{kCardName}, /*black_cameras=*/{}};
 }
 
 }  // namespace tavis::scenarios

@@ -8,12 +8,12 @@
 #include "kinematics/shape.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
+#include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
 
 constexpr double kSuccessMaxX = 0.52 - 0.055 - 0.03;  // 0.435, the code's threshold
-constexpr double kSuccessMaxSpeed = 1.0;
 
 // Cabinet constants (reference 4.5).
 constexpr double kCentreX = 0.52;
@@ -27,7 +27,7 @@ constexpr double kUnitMidZ = 1.245;
 constexpr double kUnitSpan = 0.57;
 constexpr std::array<double, 2> kSlotY = {0.15, -0.15};
 
-constexpr std::array<std::array<const char*, 3>, 5> kPrompts = {{
+constexpr TargetPrompts kPrompts = {{
     {"Find the tomato soup can on the shelf and bring it to me.", "Retrieve the soup can from the shelves.",
      "Look through the shelves, find the red soup can, and take it."},
     {"Find the potted meat can on the shelf and bring it to me.", "Retrieve the spam can from the shelves.",
@@ -97,16 +97,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   state.task[env].prompt_variant = prompt;
 }
 
-bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = state.target(env);
-  return state.ObjectPosition(env, target).x() < kSuccessMaxX &&
-         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
-}
-
-std::string Prompt(const engine::BatchState& state, int env) {
-  const engine::TaskVars& vars = state.task[env];
-  return kPrompts[static_cast<std::size_t>(vars.target)][static_cast<std::size_t>(vars.prompt_variant)];
-}
+const char* Prompt(const engine::BatchState& state, int env) { return TargetPrompt(kPrompts, state, env); }
 
 // Scans the three rows bottom to top, then reaches level into the target's slot from the front
 // and pulls it straight out past the success line.
@@ -124,15 +115,8 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef MultiShelfScan() {
-  ScenarioDef def;
-  def.name = "multi-shelf-scan";
-  def.suite = "tavis-head";
-  def.layout = &Layout;
-  def.reset = &Reset;
-  def.evaluate = &Evaluate;
-  def.prompt = &Prompt;
-  def.make_expert = &MakeExpert;
-  return def;
+  return {"multi-shelf-scan", Suite::kTavisHead, PullOutPast(kSuccessMaxX), &Layout, &Reset, /*update=*/nullptr,
+          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 
 }  // namespace tavis::scenarios

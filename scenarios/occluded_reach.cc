@@ -3,13 +3,11 @@
 #include "engine/object_catalog.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
+#include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
 
-constexpr double kSuccessHeight = 1.25;
-constexpr double kSuccessMaxSpeed = 1.0;
-constexpr double kDropZ = 1.1;
 
 engine::StaticPart ScreenPart(const std::string& name, const Vec3& size, const Vec3& centre,
                               const std::string& appearance) {
@@ -41,21 +39,15 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   const double py = rng.Uniform(y.low, y.high);
   const double yaw = rng.Uniform(-M_PI, M_PI);
   for (int object = 0; object < model.num_objects(); ++object) state.object_enabled_at(env, object) = 0;
-  PlaceUpright(state, env, target, Vec3(px, py, kDropZ), yaw);
+  PlaceUpright(state, env, target, Vec3(px, py, kObjectDropZ), yaw);
   state.task[env].target = target;
 }
 
-bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = state.target(env);
-  return state.ObjectPosition(env, target).z() > kSuccessHeight &&
-         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
-}
-
-std::string Prompt(const engine::BatchState&, int) { return "Reach around the screen and pick up the object behind it."; }
+const char* Prompt(const engine::BatchState&, int) { return "Reach around the screen and pick up the object behind it."; }
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
-  settings.lift_to_z = kSuccessHeight + 0.07;
+  settings.lift_to_z = kHandsLiftSuccessZ + kExpertLiftPastSuccess;
   settings.grasp_height = 0.012;
   // Coming down from above where the arm clears the screen, else reaching in along the hand from
   // beside the screen and withdrawing the same way before lifting.
@@ -66,15 +58,8 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef OccludedReach() {
-  ScenarioDef def;
-  def.name = "occluded-reach";
-  def.suite = "tavis-hands";
-  def.layout = &Layout;
-  def.reset = &Reset;
-  def.evaluate = &Evaluate;
-  def.prompt = &Prompt;
-  def.make_expert = &MakeExpert;
-  return def;
+  return {"occluded-reach", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 
 }  // namespace tavis::scenarios

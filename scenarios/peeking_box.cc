@@ -6,13 +6,12 @@
 #include "engine/object_catalog.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
+#include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
 
 constexpr int kNumYcb = 5;
-constexpr double kSuccessHeight = 1.25;
-constexpr double kSuccessMaxSpeed = 1.0;
 constexpr double kObjectZ = 1.05;
 
 // Box walls in box-local coordinates (reference 4.6): the lid and the front and back panels span
@@ -81,13 +80,7 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
   state.task[env].open_side = open_pos_y ? 1 : -1;
 }
 
-bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = state.target(env);
-  return state.ObjectPosition(env, target).z() > kSuccessHeight &&
-         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
-}
-
-std::string Prompt(const engine::BatchState&, int) { return "Retrieve the object from inside the box."; }
+const char* Prompt(const engine::BatchState&, int) { return "Retrieve the object from inside the box."; }
 
 double BoxYaw(const engine::BatchState& state, int env) {
   const Mat3 R = state.ObjectOrientation(env, kWallBack).toRotationMatrix();
@@ -145,22 +138,15 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
       }
     }
   }
-  settings.lift_to_z = kSuccessHeight + 0.07;
+  settings.lift_to_z = kHandsLiftSuccessZ + kExpertLiftPastSuccess;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace
 
 ScenarioDef PeekingBox() {
-  ScenarioDef def;
-  def.name = "peeking-box";
-  def.suite = "tavis-hands";
-  def.layout = &Layout;
-  def.reset = &Reset;
-  def.evaluate = &Evaluate;
-  def.prompt = &Prompt;
-  def.make_expert = &MakeExpert;
-  return def;
+  return {"peeking-box", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 
 }  // namespace tavis::scenarios

@@ -1,6 +1,8 @@
-// A task: scene layout, split-dependent reset, success rule, prompt and a privileged scripted
-// expert. Hooks act on one env; the VecEnv runs them over env ranges in parallel, so they must
-// only touch that env's rows of the BatchState.
+// A task, declared: its name and suite, the objects its information sits in, its success rule,
+// the cameras it blacks out, and the hooks that lay out, reset and advance its scene, phrase its
+// prompt and make its scripted expert. Everything outside scenarios/ learns a task's facts from
+// here, never from its name. Hooks act on one env; the VecEnv runs them over env ranges in
+// parallel, so they must only touch that env's rows of the BatchState.
 #pragma once
 
 #include <memory>
@@ -11,6 +13,7 @@
 #include "engine/world_model.h"
 #include "kinematics/action.h"
 #include "scenarios/split.h"
+#include "scenarios/suite.h"
 
 namespace tavis::scenarios {
 
@@ -33,23 +36,43 @@ class Expert {
   virtual Gaze gaze(const engine::BatchState& state, int env) const = 0;
 };
 
+// The reference's success terms (reference 1.5): the episode's target lifted above a world
+// height, or pulled out of a shelf toward the robot past a world x, and nearly at rest.
+struct SuccessRule {
+  enum class Kind { kLiftAbove, kPullOutPast };
+  Kind kind = Kind::kLiftAbove;
+  double threshold_m = 0.0;    // world z (kLiftAbove: above it) or x (kPullOutPast: below it)
+  double max_speed_mps = 1.0;  // the target's linear speed must be below this
+  bool after_go = false;       // only once the task has said go (wait-then-act's green light)
+};
+
+SuccessRule LiftAbove(double height_m);
+SuccessRule PullOutPast(double x_m);
+
 struct ScenarioDef {
-  std::string name;   // e.g. "clutter-pick-cube"
-  std::string suite;  // "tavis-head" or "tavis-hands"
+  std::string name;  // e.g. "clutter-pick-cube"
+  Suite suite = Suite::kTavisHead;
+  SuccessRule success;
   // Adds the task's objects and static parts to the world (once per batch).
   void (*layout)(engine::WorldModel& model) = nullptr;
   // Draws a new episode for `env` from its task stream (state.task_rng[env]): object poses,
-  // enabled flags and colours, task variables.
+  // enabled flags and colours, the task variables (state.task[env], the target always).
   void (*reset)(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) = nullptr;
-  // Optional: advances the task's own clock once per control tick, after physics and before
-  // evaluate (wait-then-act's light turning green).
+  // Optional: advances the task's own clock once per control tick, after physics and before the
+  // success check (wait-then-act's light turning green).
   void (*update)(const engine::WorldModel& model, engine::BatchState& state, int env) = nullptr;
-  // True on the first control tick the success rule holds.
-  bool (*evaluate)(const engine::WorldModel& model, const engine::BatchState& state, int env) = nullptr;
-  std::string (*prompt)(const engine::BatchState& state, int env) = nullptr;
+  // The instruction the policy receives for the env's episode (fixed at reset).
+  const char* (*prompt)(const engine::BatchState& state, int env) = nullptr;
+  // Null for a task without a scripted expert.
   std::unique_ptr<Expert> (*make_expert)(const engine::WorldModel& model, int num_envs) = nullptr;
+  // Objects besides the target whose sight decides the episode, by model name (the cue card, the
+  // signal light): the visibility audit measures them with the target.
+  std::vector<std::string> cue_objects;
   // Cameras whose image the policy receives all black (the camera still moves).
   std::vector<std::string> black_cameras;
+
+  // True on a control tick the success rule holds for the env's episode.
+  bool Succeeded(const engine::BatchState& state, int env) const;
 };
 
 }  // namespace tavis::scenarios

@@ -6,6 +6,7 @@
 namespace tavis::scenarios {
 
 enum class Split { kId, kOodSpatial, kOodInitPose };
+constexpr Split kAllSplits[] = {Split::kId, Split::kOodSpatial, Split::kOodInitPose};
 
 // Accepts "id", "ood-spatial", "ood-init-pose" (and the reference's underscore spellings);
 // throws std::invalid_argument naming the value and the accepted ones.

@@ -3,14 +3,13 @@
 #include "engine/object_catalog.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/pick_expert.h"
+#include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
 
 constexpr int kLight = 5;  // after the five YCB objects
-constexpr double kSuccessHeight = 1.2;
-constexpr double kSuccessMaxSpeed = 1.0;
-constexpr double kDropZ = 1.1;
+constexpr const char* kLightName = "signal_light";
 constexpr double kLightZ = 1.03;
 
 void SetLightColour(engine::BatchState& state, int env, bool green) {
@@ -23,7 +22,7 @@ void SetLightColour(engine::BatchState& state, int env, bool green) {
 void Layout(engine::WorldModel& model) {
   for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
   engine::ObjectSpec light;
-  light.name = "signal_light";
+  light.name = kLightName;
   light.shape = {ShapeKind::kSphere, Vec3::Constant(0.03)};
   light.motion = engine::ObjectMotion::kKinematic;
   light.collides = false;  // visual only, as in the reference
@@ -50,7 +49,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   const double lx = rng.Uniform(light_x.low, light_x.high);
   const double ly = rng.Uniform(light_y.low, light_y.high);
   for (int object = 0; object < num_ycb; ++object) state.object_enabled_at(env, object) = 0;
-  PlaceUpright(state, env, target, Vec3(px, py, kDropZ), yaw);
+  PlaceUpright(state, env, target, Vec3(px, py, kObjectDropZ), yaw);
   PlaceUpright(state, env, kLight, Vec3(lx, ly, kLightZ), 0.0);
   SetLightColour(state, env, false);
   engine::TaskVars& vars = state.task[env];
@@ -71,13 +70,7 @@ void Update(const engine::WorldModel& model, engine::BatchState& state, int env)
   }
 }
 
-bool Evaluate(const engine::WorldModel&, const engine::BatchState& state, int env) {
-  const int target = state.target(env);
-  return state.task[env].go && state.ObjectPosition(env, target).z() > kSuccessHeight &&
-         state.ObjectLinearVelocity(env, target).norm() < kSuccessMaxSpeed;
-}
-
-std::string Prompt(const engine::BatchState&, int) { return "Watch the red light. When it turns green, pick up the object."; }
+const char* Prompt(const engine::BatchState&, int) { return "Watch the red light. When it turns green, pick up the object."; }
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
   PickExpertSettings settings;
@@ -89,16 +82,10 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef WaitThenAct() {
-  ScenarioDef def;
-  def.name = "wait-then-act";
-  def.suite = "tavis-head";
-  def.layout = &Layout;
-  def.reset = &Reset;
-  def.update = &Update;
-  def.evaluate = &Evaluate;
-  def.prompt = &Prompt;
-  def.make_expert = &MakeExpert;
-  return def;
+  SuccessRule success = LiftAbove(kHeadLiftSuccessZ);
+  success.after_go = true;  // lifted before the light turns green does not count
+  return {"wait-then-act", Suite::kTavisHead, success, &Layout, &Reset, &Update, &Prompt, &MakeExpert,
+          /*cue_objects=*/{kLightName}, /*black_cameras=*/{}};
 }
 
 }  // namespace tavis::scenarios

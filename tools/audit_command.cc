@@ -15,6 +15,7 @@
 #include <tbb/info.h>
 
 #include "batch/visibility_audit.h"
+#include "configs/robot_config.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
@@ -23,7 +24,6 @@ namespace tavis::tools {
 namespace {
 
 constexpr const char* kVisibleDefinition = ">=1% of the object's pixels";
-const std::vector<std::string> kRobots = {"gr1t2", "reachy2"};
 
 struct AuditOptions {
   batch::AuditConfig audit;
@@ -135,7 +135,7 @@ void RunAudit(AuditOptions options, bool task_or_robot_given) {
   if (options.all) {
     cells.clear();
     for (const auto& scenario : scenarios::AllScenarios()) {
-      for (const std::string& robot : kRobots) {
+      for (const std::string& robot : configs::KnownRobots(config.config_dir)) {
         cells.push_back(config);
         cells.back().task = scenario.name;
         cells.back().robot = robot;
@@ -162,7 +162,7 @@ void RegisterAuditCommand(CLI::App& app) {
   CLI::App* audit = app.add_subcommand(
       "audit",
       "Visibility audit: per camera (head, fixed, left_wrist, right_wrist), in how many episodes the\n"
-      "task's target (and the cue of conditional-pick, the card, and wait-then-act, the light) is\n"
+      "task's target (and its cue objects: conditional-pick's card, wait-then-act's light) is\n"
       "visible at reset and at the scripted expert's fixation (the first control tick its gaze is\n"
       "settled on the object; for peeking-box, once both wrists have peeked). Visible: at least 1%\n"
       "of the object's pixels show in the camera's object-id image, where the object's pixels are\n"
@@ -170,11 +170,11 @@ void RegisterAuditCommand(CLI::App& app) {
       "blacks out (blocked-clutter-pick-cube's head) sees nothing. The fixation column counts among\n"
       "the episodes that reached the fixation. Prints a table; --out DIR also writes DIR/audit.json\n"
       "with the counts and every episode's visible fractions.");
-  audit->add_option("--task", options->audit.task, "Task (" + KnownTasks() + ")")->capture_default_str();
+  audit->add_option("--task", options->audit.task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
   audit->add_option("--robot", options->audit.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
   audit->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
-  audit->add_flag("--all", options->all, "Audit every task on both robots at --split, in one table");
+  audit->add_flag("--all", options->all, "Audit every task on every robot of --config-dir at --split, in one table");
   audit->add_option("--episodes", options->audit.episodes, "Episodes per task and robot")->capture_default_str();
   audit->add_option("--seed", options->audit.seed, "Seed: episode i draws its randomness from (seed, i)")
       ->check(CLI::NonNegativeNumber)

@@ -35,11 +35,12 @@ struct EvalOptions {
   bool quiet = false;
 };
 
-void PrintProgress(int finished, int total) {
+void PrintProgress(int64_t finished, int64_t total) {
   const int width = 30;
-  const int filled = width * finished / total;
-  std::fprintf(stderr, "\r  [%s%s] %d/%d episodes", std::string(filled, '#').c_str(),
-               std::string(width - filled, '.').c_str(), finished, total);
+  const int filled = static_cast<int>(width * finished / total);
+  std::fprintf(stderr, "\r  [%s%s] %lld/%lld episodes", std::string(filled, '#').c_str(),
+               std::string(width - filled, '.').c_str(), static_cast<long long>(finished),
+               static_cast<long long>(total));
   if (finished == total) std::fprintf(stderr, "\n");
 }
 
@@ -61,11 +62,8 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
 // scripted expert is reported and makes the exit status 1; the others still run.
 void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int threads) {
   std::vector<std::string> tasks;
-  for (const auto& scenario : scenarios::AllScenarios()) {
-    if (scenario.suite == options.suite) tasks.push_back(scenario.name);
-  }
-  if (tasks.empty()) {
-    throw std::invalid_argument("unknown suite '" + options.suite + "' (known: tavis-head, tavis-hands)");
+  for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(options.suite))) {
+    tasks.push_back(scenario->name);
   }
   const std::string base = options.out.empty() ? "results/" + options.suite : options.out;
   double rate_sum = 0.0;
@@ -121,9 +119,9 @@ void RegisterEvalCommand(CLI::App& app) {
       "eval", "Run one evaluation cell: N episodes of a task with a policy, batched over parallel envs.\n"
               "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
               "rate with its 95% Wilson interval, wall time, throughput).");
-  eval->add_option("--task", options->cell.task, "Task (" + KnownTasks() + ")")->capture_default_str();
+  eval->add_option("--task", options->cell.task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
   eval->add_option("--suite", options->suite,
-                   "Run every task of a suite instead of one task: tavis-head or tavis-hands; cells go to\n"
+                   "Run every task of a suite instead of one task: " + scenarios::KnownSuites() + "; cells go to\n"
                    "OUT/<task>_<robot>_<split>_<policy>_s<seed> (OUT defaults to results/<suite>), then the\n"
                    "suite mean is printed as a task average and pooled over episodes");
   eval->add_option("--robot", options->cell.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")

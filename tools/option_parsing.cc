@@ -3,15 +3,8 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "scenarios/registry.h"
 
 namespace tavis::tools {
-
-std::string KnownTasks() {
-  std::string names;
-  for (const auto& scenario : scenarios::AllScenarios()) names += (names.empty() ? "" : ", ") + scenario.name;
-  return names;
-}
 
 std::pair<int, int> ParseImageSize(const std::string& text) {
   int width = 0;

@@ -6,9 +6,6 @@
 
 namespace tavis::tools {
 
-// Every registered task, comma-separated, for --help texts and error messages.
-std::string KnownTasks();
-
 // "224x224" -> (224, 224); throws std::invalid_argument naming the value.
 std::pair<int, int> ParseImageSize(const std::string& text);
 

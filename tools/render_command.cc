@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "batch/builtin_policies.h"
+#include "batch/episode_driver.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -48,6 +49,58 @@ std::vector<std::string> WriteViews(const batch::SceneRender& scene, const std::
   return paths;
 }
 
+// Renders the four cameras of the one episode at its start and where it stops (after `steps`
+// control ticks counted from the reset, ood-init-pose's warm-up belonging to the reset, or at its
+// end if earlier), writing the views as it goes.
+class ViewWriter : public batch::EpisodeSink {
+ public:
+  ViewWriter(const batch::VecEnv& env, const batch::CameraSettings& settings, int steps, std::filesystem::path dir)
+      : scene_(env.model(), 1, settings), steps_(steps), dir_(std::move(dir)) {
+    // As the policy receives them: a task's black cameras (blocked-clutter-pick-cube's head).
+    for (const std::string& name : env.scenario().black_cameras) {
+      scene_.SetCameraEnabled(0, scene_.CameraIndex(name), false);
+    }
+  }
+
+  void EpisodeStarted(const batch::VecEnv& env, int) override {
+    Render(env);
+    for (const std::string& path : WriteViews(scene_, dir_, "reset")) written_.push_back(path);
+  }
+  void Stepped(const batch::VecEnv&) override { ++ticks_; }
+  bool EpisodeComplete(const batch::VecEnv&, int) const override { return ticks_ >= steps_; }
+  void EpisodeEnded(const batch::VecEnv& env, int) override {
+    end_ = env.state().end[0];
+    Render(env);
+    for (const std::string& path : WriteViews(scene_, dir_, "tick" + std::to_string(ticks_))) written_.push_back(path);
+    std::vector<render::LabelledImage> views;
+    const render::ImageBatch& images = scene_.images();
+    for (int c = 0; c < scene_.num_cameras(); ++c) {
+      views.push_back({scene_.settings().cameras[static_cast<std::size_t>(c)] + ", " + tick_label(), images.height(c),
+                       images.width(c), images.rgb(0, c)});
+    }
+    const std::string sheet = (dir_ / "contact_sheet.png").string();
+    render::WritePng(sheet, render::MakeContactSheet(views));
+    written_.push_back(sheet);
+  }
+
+  std::string tick_label() const { return "tick " + std::to_string(ticks_); }
+  engine::EpisodeEnd end() const { return end_; }
+  const std::vector<std::string>& written() const { return written_; }
+
+ private:
+  void Render(const batch::VecEnv& env) {
+    const uint8_t render_env = 1;
+    scene_.Render(env.state(), &render_env);
+  }
+
+  batch::SceneRender scene_;
+  int steps_ = 0;
+  std::filesystem::path dir_;
+  int ticks_ = 0;
+  engine::EpisodeEnd end_ = engine::EpisodeEnd::kRunning;
+  std::vector<std::string> written_;
+};
+
 void RunRender(const RenderCommandOptions& options) {
   // Every input is checked before anything is simulated or written.
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(options.task);
@@ -64,51 +117,25 @@ void RunRender(const RenderCommandOptions& options) {
   settings.cameras = batch::SceneCameraNames();
   settings.width = options.width;
   settings.height = options.height;
-  batch::SceneRender scene(env.model(), 1, settings);
-  // As the policy receives them: a task's black cameras (blocked-clutter-pick-cube's head).
-  for (const std::string& name : scenario.black_cameras) scene.SetCameraEnabled(0, scene.CameraIndex(name), false);
   // Tasks still without a scripted expert are shown with the robot holding its reset pose.
   const bool has_expert = scenario.make_expert != nullptr;
-  std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy(has_expert ? "expert" : "hold", scenario, env.model(), 1);
+  std::unique_ptr<batch::Policy> policy = batch::MakeBuiltinPolicy(has_expert ? "expert" : "hold", scenario, env.model(), 1);
 
   const std::filesystem::path dir(options.out);
   std::filesystem::create_directories(dir);
-  const uint8_t render_env = 1;
-  env.ResetEnv(0, options.episode);
-  expert->Reset(env.model(), env.state(), 0);
-  scene.Render(env.state(), &render_env);
-  std::vector<std::string> written = WriteViews(scene, dir, "reset");
-
-  // Ticks are counted from the reset (ood-init-pose's warm-up belongs to the reset).
-  std::vector<kinematics::Action> actions(1);
-  const engine::BatchState& state = env.state();
-  int ticks = 0;
-  for (; ticks < options.steps && state.end[0] == engine::EpisodeEnd::kRunning; ++ticks) {
-    expert->Act(env.model(), batch::Observation{state}, 0, actions[0]);
-    env.Step(actions);
-  }
-  scene.Render(state, &render_env);
-  const std::string tick_label = "tick " + std::to_string(ticks);
-  for (const std::string& path : WriteViews(scene, dir, "tick" + std::to_string(ticks))) written.push_back(path);
-
-  std::vector<render::LabelledImage> views;
-  const render::ImageBatch& images = scene.images();
-  for (int c = 0; c < scene.num_cameras(); ++c) {
-    views.push_back({settings.cameras[static_cast<std::size_t>(c)] + ", " + tick_label, images.height(c), images.width(c),
-                     images.rgb(0, c)});
-  }
-  const std::string sheet = (dir / "contact_sheet.png").string();
-  render::WritePng(sheet, render::MakeContactSheet(views));
-  written.push_back(sheet);
+  ViewWriter views(env, settings, options.steps, dir);
+  batch::EpisodeDriver driver(env, *policy, 1, options.episode);
+  driver.AddSink(views);
+  driver.Run();
 
   std::cout << options.task << " " << options.robot << " " << scenarios::ToString(split) << " seed " << options.seed
-            << " episode " << options.episode << ": " << tick_label;
-  if (state.end[0] != engine::EpisodeEnd::kRunning) {
-    std::cout << " (episode ended: " << engine::ToString(state.end[0]) << ")";
+            << " episode " << options.episode << ": " << views.tick_label();
+  if (views.end() != engine::EpisodeEnd::kStopped) {
+    std::cout << " (episode ended: " << engine::ToString(views.end()) << ")";
   }
   if (!has_expert) std::cout << " (no scripted expert for this task: the robot held its reset pose)";
   std::cout << "\n";
-  for (const std::string& path : written) std::cout << "  " << path << "\n";
+  for (const std::string& path : views.written()) std::cout << "  " << path << "\n";
 }
 
 }  // namespace
@@ -124,7 +151,7 @@ void RegisterRenderCommand(CLI::App& app) {
       "views at tick T, labelled). A task without a scripted expert is shown with the robot holding\n"
       "its reset pose. A camera the task blacks out (blocked-clutter-pick-cube's head) is\n"
       "written black, as policies receive it.");
-  render->add_option("--task", options->task, "Task (" + KnownTasks() + ")")->capture_default_str();
+  render->add_option("--task", options->task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
   render->add_option("--robot", options->robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
   render->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();

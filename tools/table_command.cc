@@ -6,6 +6,7 @@
 #include <string>
 
 #include "batch/results_table.h"
+#include "scenarios/suite.h"
 #include "tools/commands.h"
 
 namespace tavis::tools {
@@ -43,9 +44,8 @@ void RegisterTableCommand(CLI::App& app) {
       "table", "Success-rate table (paper layout) from the summary.json files under a folder");
   command->add_option("--in", options->in_dir, "Folder searched recursively for summary.json")
       ->required();
-  command->add_option("--suite", options->suite, "Suite whose tasks form the rows")
-      ->required()
-      ->check(CLI::IsMember({"tavis-head", "tavis-hands"}));
+  command->add_option("--suite", options->suite, "Suite whose tasks form the rows: " + scenarios::KnownSuites())
+      ->required();
   command->add_option("--out", options->out_prefix, "Output prefix: writes PREFIX.md, PREFIX.csv")
       ->required();
   command->add_flag("--no-ci", options->no_intervals, "Omit the 95% Wilson intervals");

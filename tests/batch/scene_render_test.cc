@@ -75,11 +75,17 @@ std::vector<uint8_t> Rgb(const render::ImageBatch& images, int env, int camera) 
   return std::vector<uint8_t>(rgb, rgb + 3 * images.width(camera) * images.height(camera));
 }
 
+// The render stage of a policy tick, then its images.
+const render::ImageBatch* RenderNow(VecEnv& env) {
+  env.RenderPolicyTick();
+  return env.images();
+}
+
 // Runs every env with the scenario's expert for `ticks` control ticks.
 void RunExpert(VecEnv& env, scenarios::Expert& expert, int ticks) {
   std::vector<kinematics::Action> actions(static_cast<std::size_t>(env.num_envs()));
   for (int t = 0; t < ticks; ++t) {
-    env.Observe();
+    env.RenderPolicyTick();
     for (int slot = 0; slot < env.num_envs(); ++slot) expert.Act(env.model(), env.state(), slot, actions[slot]);
     env.Step(actions);
   }
@@ -177,7 +183,7 @@ TEST(SceneRender, TaskColoursAndHiddenObjectsFollowTheState) {
 TEST(VecEnvCameras, NothingIsRenderedWithoutCamerasAndOnlyPolicyTicksWithThem) {
   VecEnv plain(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 1);
   for (int slot = 0; slot < 2; ++slot) plain.ResetEnv(slot, slot);
-  EXPECT_EQ(plain.Observe().images, nullptr);
+  EXPECT_EQ(RenderNow(plain), nullptr);
   EXPECT_EQ(plain.rendered_images(), 0);
 
   VecEnv env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 1);
@@ -198,13 +204,13 @@ TEST(VecEnvCameras, NothingIsRenderedWithoutCamerasAndOnlyPolicyTicksWithThem) {
   expert->Reset(env.model(), env.state(), 1);
   int64_t expected = 0;
   for (int tick = 0; tick < 9; ++tick) {
-    const Observation observation = env.Observe();
-    ASSERT_NE(observation.images, nullptr);
+    const render::ImageBatch* observed = RenderNow(env);
+    ASSERT_NE(observed, nullptr);
     for (int slot = 0; slot < 2; ++slot) {
       if (env.state().control_step[slot] % per_policy == 0) expected += 2;
     }
     EXPECT_EQ(env.rendered_images(), expected) << "tick " << tick;
-    env.Observe();  // a second look at the same tick renders nothing new
+    env.RenderPolicyTick();  // a second look at the same tick renders nothing new
     EXPECT_EQ(env.rendered_images(), expected) << "tick " << tick;
     for (int slot = 0; slot < 2; ++slot) expert->Act(env.model(), env.state(), slot, actions[slot]);
     env.Step(actions);
@@ -284,7 +290,7 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
       env.ResetEnv(slot, episodes[static_cast<std::size_t>(slot)]);
       expert->Reset(env.model(), env.state(), slot);
     }
-    const render::ImageBatch& images = *env.Observe().images;
+    const render::ImageBatch& images = *RenderNow(env);
     for (int slot = 0; slot < n; ++slot) {
       EXPECT_EQ(FindObject(images, slot, 0, cube).count, 0) << "episode " << episodes[static_cast<std::size_t>(slot)]
                                                             << ": the cube must start out of the head's view";
@@ -294,13 +300,13 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
     std::vector<bool> checked(static_cast<std::size_t>(n), false);
     std::vector<kinematics::Action> actions(static_cast<std::size_t>(n));
     for (int tick = 0; tick < 240 && std::count(checked.begin(), checked.end(), true) < n; ++tick) {
-      const Observation observation = env.Observe();
+      const render::ImageBatch* observed = RenderNow(env);
       for (int slot = 0; slot < n; ++slot) {
         const bool fixated = gaze.Settled(env, slot);
         if (checked[static_cast<std::size_t>(slot)] || !fixated || env.state().control_step[slot] % 3 != 0) continue;
         SCOPED_TRACE("episode " + std::to_string(episodes[static_cast<std::size_t>(slot)]) + ", tick " +
                      std::to_string(tick));
-        const Blob blob = FindObject(*observation.images, slot, 0, cube);
+        const Blob blob = FindObject(*observed, slot, 0, cube);
         EXPECT_GT(blob.count, 40);
         const render::PixelProjection centre = ProjectIntoHead(env, slot, cube, kWidth, kHeight);
         EXPECT_NEAR(blob.u, centre.u, 4.0);
@@ -321,7 +327,7 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
     // Forced to look away (neck yawed 1.4 rad to the side away from the cube, level), the head
     // loses the cube again while the hand keeps reaching.
     for (int tick = 0; tick < 45; ++tick) {
-      env.Observe();
+      env.RenderPolicyTick();
       for (int slot = 0; slot < n; ++slot) {
         expert->Act(env.model(), env.state(), slot, actions[slot]);
         actions[slot][kinematics::action::kNeckPitch] = 0.0;
@@ -333,7 +339,7 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
       for (int slot = 0; slot < n; ++slot) expert->Act(env.model(), env.state(), slot, actions[slot]);
       env.Step(actions);
     }
-    const render::ImageBatch& away = *env.Observe().images;
+    const render::ImageBatch& away = *RenderNow(env);
     for (int slot = 0; slot < n; ++slot) {
       ASSERT_EQ(env.state().end[slot], engine::EpisodeEnd::kRunning);
       EXPECT_EQ(FindObject(away, slot, 0, cube).count, 0)
@@ -354,7 +360,7 @@ TEST(VecEnvCameras, BlockedHeadImageIsAllZero) {
   for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
   RunExpert(env, *expert, 60);  // the head has turned to the table by now
 
-  const render::ImageBatch& images = *env.Observe().images;
+  const render::ImageBatch& images = *RenderNow(env);
   EXPECT_TRUE(AllZero(images, 0, 0));
   EXPECT_FALSE(AllZero(images, 1, 0));
   for (int camera : {1, 2}) {
@@ -363,7 +369,7 @@ TEST(VecEnvCameras, BlockedHeadImageIsAllZero) {
   }
   // Unblocking takes effect at once, with the same view as the unblocked slot.
   env.SetCameraBlocked(0, 0, false);
-  const render::ImageBatch& unblocked = *env.Observe().images;
+  const render::ImageBatch& unblocked = *RenderNow(env);
   EXPECT_EQ(Rgb(unblocked, 0, 0), Rgb(unblocked, 1, 0));
 }
 
@@ -379,8 +385,8 @@ TEST(VecEnvCameras, BlockedClutterPickCubeHasABlackHeadInEveryEnv) {
     env->ResetEnv(0, 14);  // Reachy2 sees this episode's cube at reset
     env->ResetEnv(1, 1);
   }
-  const render::ImageBatch& dark = *blocked.Observe().images;
-  const render::ImageBatch& lit = *open.Observe().images;
+  const render::ImageBatch& dark = *RenderNow(blocked);
+  const render::ImageBatch& lit = *RenderNow(open);
   for (int slot = 0; slot < 2; ++slot) {
     SCOPED_TRACE(slot);
     EXPECT_TRUE(AllZero(dark, slot, 1));
@@ -406,9 +412,9 @@ std::vector<std::vector<uint8_t>> RecordImages(int threads, int slots) {
       env.ResetEnv(0, episode);
       expert->Reset(env.model(), env.state(), 0);
       for (int tick = 0; tick < ticks; ++tick) {
-        const Observation observation = env.Observe();
+        const render::ImageBatch* observed = RenderNow(env);
         if (env.state().control_step[0] % 3 == 0) {
-          for (int c = 0; c < 4; ++c) frames.push_back(Rgb(*observation.images, 0, c));
+          for (int c = 0; c < 4; ++c) frames.push_back(Rgb(*observed, 0, c));
         }
         expert->Act(env.model(), env.state(), 0, actions[0]);
         env.Step(actions);
@@ -426,10 +432,10 @@ std::vector<std::vector<uint8_t>> RecordImages(int threads, int slots) {
       }
       if (tick == start_tick[static_cast<std::size_t>(slot)] + ticks) env.Release(slot);
     }
-    const Observation observation = env.Observe();
+    const render::ImageBatch* observed = RenderNow(env);
     for (int slot = 0; slot < 3; ++slot) {
       if (env.state().episode[slot] < 0 || env.state().control_step[slot] % 3 != 0) continue;
-      for (int c = 0; c < 4; ++c) per_episode[static_cast<std::size_t>(slot)].push_back(Rgb(*observation.images, slot, c));
+      for (int c = 0; c < 4; ++c) per_episode[static_cast<std::size_t>(slot)].push_back(Rgb(*observed, slot, c));
     }
     for (int slot = 0; slot < 3; ++slot) {
       if (env.state().episode[slot] >= 0) expert->Act(env.model(), env.state(), slot, actions[static_cast<std::size_t>(slot)]);

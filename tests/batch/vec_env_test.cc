@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -29,11 +30,12 @@ engine::WorldModel Model(const std::string& robot_name, double episode_length_s)
 // The "hold" policy's action for every env after its reset: arms at the reset pose, grippers open.
 std::vector<kinematics::Action> HoldActions(const VecEnv& env) {
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs());
+  const std::vector<const char*> prompts(static_cast<std::size_t>(env.num_envs()), nullptr);
+  const Observation observation{env.model(), env.state(), nullptr, prompts};
+  const std::vector<uint8_t> every_env(static_cast<std::size_t>(env.num_envs()), 1);
   std::vector<kinematics::Action> actions(env.num_envs());
-  for (int slot = 0; slot < env.num_envs(); ++slot) {
-    hold->Reset(env.model(), env.state(), slot);
-    hold->Act(env.model(), Observation{env.state()}, slot, actions[slot]);
-  }
+  hold->Reset(observation, every_env);
+  hold->Act(observation, every_env, actions);
   return actions;
 }
 
@@ -48,8 +50,8 @@ TEST(VecEnv, NonFiniteActionEndsOnlyThatEpisodeAndReportsTheEntry) {
   ASSERT_NO_THROW(env.Step(actions));
   const engine::BatchState& state = env.state();
   EXPECT_EQ(state.end[0], engine::EpisodeEnd::kInvalidAction);
-  EXPECT_EQ(env.invalid_action_index(0), kinematics::action::kNeckPitch);
-  EXPECT_TRUE(std::isnan(env.invalid_action_value(0)));
+  EXPECT_EQ(state.invalid_action[0].entry, kinematics::action::kNeckPitch);
+  EXPECT_TRUE(std::isnan(state.invalid_action[0].value));
   EXPECT_EQ(state.control_step[0], 0) << "an invalid action must not be simulated";
 
   EXPECT_EQ(state.end[1], engine::EpisodeEnd::kRunning);
@@ -57,8 +59,8 @@ TEST(VecEnv, NonFiniteActionEndsOnlyThatEpisodeAndReportsTheEntry) {
 
   // The first bad entry is reported, not the last one.
   EXPECT_EQ(state.end[2], engine::EpisodeEnd::kInvalidAction);
-  EXPECT_EQ(env.invalid_action_index(2), kinematics::action::kArmPosition[0] + 1);
-  EXPECT_EQ(env.invalid_action_value(2), std::numeric_limits<double>::infinity());
+  EXPECT_EQ(state.invalid_action[2].entry, kinematics::action::kArmPosition[0] + 1);
+  EXPECT_EQ(state.invalid_action[2].value, std::numeric_limits<double>::infinity());
 
   // Ended episodes are not stepped again, even with a good action.
   actions = HoldActions(env);
@@ -70,7 +72,7 @@ TEST(VecEnv, NonFiniteActionEndsOnlyThatEpisodeAndReportsTheEntry) {
   // A reset clears the invalid-action report.
   env.ResetEnv(0, 3);
   EXPECT_EQ(state.end[0], engine::EpisodeEnd::kRunning);
-  EXPECT_EQ(env.invalid_action_index(0), -1);
+  EXPECT_EQ(state.invalid_action[0].entry, -1);
 }
 
 TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
@@ -114,6 +116,34 @@ TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
     EXPECT_EQ(state.control_step[0], max_ticks);
     EXPECT_EQ(state.q, q_end);
   }
+}
+
+// Stage timing sees where the tick's time goes and changes nothing of what is simulated.
+TEST(VecEnv, StageTimingReportsEachStageAndLeavesTheResultsAlone) {
+  std::vector<double> q_by_timing[2];
+  for (const bool timed : {false, true}) {
+    VecEnv env(Model("gr1t2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kOodInitPose, 2, 7);
+    env.EnableStageTiming(timed);
+    for (int slot = 0; slot < 2; ++slot) env.ResetEnv(slot, slot);
+    const std::vector<kinematics::Action> actions = HoldActions(env);
+    for (int tick = 0; tick < 6; ++tick) env.Step(actions);
+    q_by_timing[timed ? 1 : 0] = env.state().q;
+    const std::array<double, kNumStages> seconds = env.stage_seconds();
+    for (const Stage stage : {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask,
+                              Stage::kEndEpisodes, Stage::kReset}) {
+      if (timed) {
+        EXPECT_GT(seconds[static_cast<int>(stage)], 0.0) << ToString(stage);
+      } else {
+        EXPECT_EQ(seconds[static_cast<int>(stage)], 0.0) << ToString(stage);
+      }
+    }
+    EXPECT_EQ(seconds[static_cast<int>(Stage::kRender)], 0.0) << "nothing renders without cameras";
+    if (timed) {
+      EXPECT_GT(seconds[static_cast<int>(Stage::kStepPhysics)], seconds[static_cast<int>(Stage::kServoNeck)])
+          << "ODE's substeps cost more than the kinematic neck";
+    }
+  }
+  EXPECT_EQ(q_by_timing[0], q_by_timing[1]);
 }
 
 }  // namespace

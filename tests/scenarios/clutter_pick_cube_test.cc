@@ -41,14 +41,15 @@ TEST(ClutterPickCube, SuccessNeedsHeightAndLowSpeed) {
   const ScenarioDef& scenario = FindScenario("clutter-pick-cube");
   engine::BatchState state;
   state.Allocate(1, model.robot.num_joints(), model.num_objects());
+  state.task[0].target = 5;  // the red cube, as every reset sets it
   double* pose = state.object_pose_row(0, 5);
   pose[2] = 1.19;
-  EXPECT_FALSE(scenario.evaluate(model, state, 0));
+  EXPECT_FALSE(scenario.Succeeded(state, 0));
   pose[2] = 1.21;
-  EXPECT_TRUE(scenario.evaluate(model, state, 0));
+  EXPECT_TRUE(scenario.Succeeded(state, 0));
   state.object_velocity[5 * engine::kObjectVelocitySize + 2] = 1.5;
-  EXPECT_FALSE(scenario.evaluate(model, state, 0));
-  EXPECT_EQ(scenario.prompt(state, 0), "Find the red cube and pick it up.");
+  EXPECT_FALSE(scenario.Succeeded(state, 0));
+  EXPECT_STREQ(scenario.prompt(state, 0), "Find the red cube and pick it up.");
 }
 
 TEST(Registry, UnknownTaskNamesItAndTheKnownOnes) {

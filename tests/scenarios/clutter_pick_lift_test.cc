@@ -53,19 +53,20 @@ TEST(ClutterPickLift, SuccessFollowsTheTargetOnly) {
   state.task[0].target = 3;
   state.object_pose_row(0, 0)[2] = 1.3;  // a non-target object up high does not count
   state.object_pose_row(0, 3)[2] = 1.0;
-  EXPECT_FALSE(FindScenario("clutter-pick-lift").evaluate(model, state, 0));
+  EXPECT_FALSE(FindScenario("clutter-pick-lift").Succeeded(state, 0));
   state.object_pose_row(0, 3)[2] = 1.21;
-  EXPECT_TRUE(FindScenario("clutter-pick-lift").evaluate(model, state, 0));
+  EXPECT_TRUE(FindScenario("clutter-pick-lift").Succeeded(state, 0));
 }
 
 TEST(BlockedClutterPickCube, IsClutterPickCubeWithABlackHeadImage) {
   const ScenarioDef& blocked = FindScenario("blocked-clutter-pick-cube");
   const ScenarioDef& plain = FindScenario("clutter-pick-cube");
-  EXPECT_EQ(blocked.suite, "tavis-hands");
+  EXPECT_EQ(blocked.suite, Suite::kTavisHands);
   EXPECT_EQ(blocked.black_cameras, std::vector<std::string>{"head"});
   EXPECT_TRUE(plain.black_cameras.empty());
   EXPECT_EQ(blocked.reset, plain.reset);
-  EXPECT_EQ(blocked.evaluate, plain.evaluate);
+  EXPECT_EQ(blocked.success.kind, plain.success.kind);
+  EXPECT_EQ(blocked.success.threshold_m, plain.success.threshold_m);
 }
 
 }  // namespace

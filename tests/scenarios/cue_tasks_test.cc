@@ -65,7 +65,7 @@ TEST(WaitThenAct, LightTurnsGreenAfterItsDelayAndOnlyThenCountsSuccess) {
       task.scenario.update(task.model, task.state, 0);
       const bool green = task.state.task[0].go;
       EXPECT_EQ(green, tick == green_tick) << "tick " << tick;
-      EXPECT_EQ(task.scenario.evaluate(task.model, task.state, 0), green);
+      EXPECT_EQ(task.scenario.Succeeded(task.state, 0), green);
     }
     EXPECT_EQ(task.state.object_rgb_row(0, kCue)[1], 1.0f);
   }

@@ -56,9 +56,9 @@ TEST(MultiShelfScan, SuccessIsPullingTheTargetPastTheShelfFront) {
   state.Allocate(1, 17, model.num_objects());
   state.task[0].target = 1;
   state.object_pose_row(0, 1)[0] = 0.44;
-  EXPECT_FALSE(scenario.evaluate(model, state, 0));
+  EXPECT_FALSE(scenario.Succeeded(state, 0));
   state.object_pose_row(0, 1)[0] = 0.43;
-  EXPECT_TRUE(scenario.evaluate(model, state, 0));
+  EXPECT_TRUE(scenario.Succeeded(state, 0));
 }
 
 }  // namespace

@@ -46,9 +46,9 @@ TEST(OccludedReach, SuccessNeedsTheHigherLift) {
   state.Allocate(1, 17, model.num_objects());
   state.task[0].target = 2;
   state.object_pose_row(0, 2)[2] = 1.22;  // enough for the clutter tasks, not for this one
-  EXPECT_FALSE(scenario.evaluate(model, state, 0));
+  EXPECT_FALSE(scenario.Succeeded(state, 0));
   state.object_pose_row(0, 2)[2] = 1.26;
-  EXPECT_TRUE(scenario.evaluate(model, state, 0));
+  EXPECT_TRUE(scenario.Succeeded(state, 0));
 }
 
 }  // namespace

@@ -1,0 +1,84 @@
+// The one episode driver: observe -> act -> step -> collect finished episodes -> refill slots.
+// Everything that runs episodes uses it (evaluation cells, the visibility audit, `tavis render`;
+// dataset recording and remote policies plug in as sinks and policies). What is recorded is a
+// sink: it is told when an episode starts, what the policy chose on every control tick, when the
+// world has moved, and when the episode ends; it may end an episode early once it has what it
+// needs.
+//
+// Episode i is always dealt with the randomness of (seed, i), whichever slot runs it; finished
+// episodes are collected and slots refilled in slot order, so what sinks see does not depend on
+// the thread count or on the number of slots.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "batch/policy.h"
+#include "batch/vec_env.h"
+
+namespace tavis::batch {
+
+class EpisodeSink {
+ public:
+  virtual ~EpisodeSink() = default;
+  // A control tick is about to begin: the policy will observe the state as it is now.
+  virtual void TickStarting(const VecEnv& /*env*/) {}
+  // The slot has started episode state.episode[slot] (reset, warm-up included, and the policy reset).
+  virtual void EpisodeStarted(const VecEnv& /*env*/, int /*slot*/) {}
+  // The actions the running slots step with on this tick (chosen now or held), before the step.
+  virtual void ActionsChosen(const VecEnv& /*env*/, const ActionBatch& /*actions*/) {}
+  // The control tick is done.
+  virtual void Stepped(const VecEnv& /*env*/) {}
+  // True once the sink has all it needs of the running episode in `slot`: the driver then stops
+  // it (EpisodeEnd::kStopped) before the next tick. Asked before every tick.
+  virtual bool EpisodeComplete(const VecEnv& /*env*/, int /*slot*/) const { return false; }
+  // The episode in `slot` has ended (state.end[slot] says how), before the slot is refilled.
+  virtual void EpisodeEnded(const VecEnv& /*env*/, int /*slot*/) {}
+};
+
+// Called after each finished episode with (finished, total).
+using ProgressCallback = std::function<void(int64_t, int64_t)>;
+
+class EpisodeDriver {
+ public:
+  // Runs episodes first_episode .. first_episode + episodes - 1 of the env's task on its slots
+  // with `policy`. Sinks and the policy must outlive Run.
+  EpisodeDriver(VecEnv& env, Policy& policy, int64_t episodes, int64_t first_episode = 0);
+
+  void AddSink(EpisodeSink& sink) { sinks_.push_back(&sink); }
+  void SetProgress(ProgressCallback progress) { progress_ = std::move(progress); }
+  // Until every episode has ended or been stopped. Throws std::runtime_error naming the episode,
+  // the action entry and its value if the policy produced a non-finite action. At policy ticks
+  // the env renders the cameras it has enabled (VecEnv::EnableCameras); the caller enables the
+  // policy's. Throws std::invalid_argument if a policy with cameras does not act on policy ticks.
+  void Run();
+
+  // Env control ticks simulated (for throughput).
+  int64_t control_ticks() const { return control_ticks_; }
+
+ private:
+  Observation MakeObservation() const;
+  // Reports the slots whose episodes have ended (stopping those a sink is done with), deals the
+  // next episodes to them and to idle slots in slot order, resets those slots in parallel, then
+  // tells the policy and the sinks.
+  void CollectAndRefill();
+
+  VecEnv& env_;
+  Policy& policy_;
+  int64_t total_ = 0;         // episodes to run
+  int64_t end_episode_ = 0;   // one past the last episode index
+  int64_t next_episode_ = 0;  // the next episode index to deal
+  int64_t finished_ = 0;
+  int64_t control_ticks_ = 0;
+  std::vector<EpisodeSink*> sinks_;
+  ProgressCallback progress_;
+  // Per-slot buffers, sized once.
+  std::vector<const char*> prompts_;
+  std::vector<uint8_t> acting_;
+  std::vector<uint8_t> started_;
+  std::vector<EpisodeStart> starts_;
+  ActionBatch actions_;
+};
+
+}  // namespace tavis::batch

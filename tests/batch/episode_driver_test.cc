@@ -1,0 +1,221 @@
+#include "batch/episode_driver.h"
+
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "batch/builtin_policies.h"
+#include "configs/robot_config.h"
+#include "scenarios/registry.h"
+
+namespace tavis::batch {
+namespace {
+
+engine::WorldModel Model(const std::string& task, double episode_length_s) {
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  engine::WorldModel model = BuildWorldModel(robot, scenarios::FindScenario(task));
+  model.physics.episode_length_s = episode_length_s;
+  return model;
+}
+
+// What a sink saw: each episode's start slot and tick count, in the order of the callbacks.
+struct Event {
+  char kind;  // 'S' started, 'E' ended
+  int slot;
+  int64_t episode;
+  engine::EpisodeEnd end;
+  int control_step;
+};
+
+class EventLog : public EpisodeSink {
+ public:
+  explicit EventLog(int stop_after_ticks = -1) : stop_after_ticks_(stop_after_ticks) {}
+  void EpisodeStarted(const VecEnv& env, int slot) override { Add('S', env, slot); }
+  void EpisodeEnded(const VecEnv& env, int slot) override {
+    Add('E', env, slot);
+    final_q.emplace_back(env.state().q_row(slot), env.state().q_row(slot) + env.state().num_joints);
+  }
+  void ActionsChosen(const VecEnv& env, const ActionBatch&) override {
+    for (int slot = 0; slot < env.num_envs(); ++slot) action_ticks += env.state().running(slot) ? 1 : 0;
+  }
+  bool EpisodeComplete(const VecEnv& env, int slot) const override {
+    return stop_after_ticks_ >= 0 && env.state().control_step[slot] >= stop_after_ticks_;
+  }
+
+  std::vector<Event> events;
+  std::vector<std::vector<double>> final_q;  // per ended episode, in end order
+  int64_t action_ticks = 0;
+
+ private:
+  void Add(char kind, const VecEnv& env, int slot) {
+    const engine::BatchState& state = env.state();
+    events.push_back({kind, slot, state.episode[slot], state.end[slot], state.control_step[slot]});
+  }
+  int stop_after_ticks_;
+};
+
+TEST(EpisodeDriver, RunsEveryEpisodeOnceDealingThemInIndexOrder) {
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
+  EventLog log;
+  EpisodeDriver driver(env, *hold, 7);
+  driver.AddSink(log);
+  std::vector<int64_t> progress;
+  driver.SetProgress([&](int64_t finished, int64_t total) {
+    EXPECT_EQ(total, 7);
+    progress.push_back(finished);
+  });
+  driver.Run();
+
+  std::vector<int64_t> started, ended;
+  for (const Event& event : log.events) (event.kind == 'S' ? started : ended).push_back(event.episode);
+  EXPECT_EQ(started, (std::vector<int64_t>{0, 1, 2, 3, 4, 5, 6}));
+  ASSERT_EQ(ended.size(), 7u);
+  EXPECT_EQ(progress, (std::vector<int64_t>{1, 2, 3, 4, 5, 6, 7}));
+  for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(log.events[static_cast<std::size_t>(slot)].slot, slot);
+  // 0.25 s at 60 Hz: every hold episode times out after 15 ticks, and each tick's actions were seen.
+  for (const Event& event : log.events) {
+    if (event.kind != 'E') continue;
+    EXPECT_EQ(event.end, engine::EpisodeEnd::kTimeOut);
+    EXPECT_EQ(event.control_step, 15);
+  }
+  EXPECT_EQ(driver.control_ticks(), 7 * 15);
+  EXPECT_EQ(log.action_ticks, 7 * 15);
+  for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(env.state().episode[slot], -1) << "slots are released at the end";
+}
+
+TEST(EpisodeDriver, StopsAnEpisodeOnceASinkHasWhatItNeeds) {
+  VecEnv env(Model("clutter-pick-cube", 2.0), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
+  EventLog log(/*stop_after_ticks=*/5);
+  EpisodeDriver driver(env, *hold, 3, /*first_episode=*/4);
+  driver.AddSink(log);
+  driver.Run();
+  int ended = 0;
+  for (const Event& event : log.events) {
+    if (event.kind == 'S') {
+      EXPECT_GE(event.episode, 4);
+    }
+    if (event.kind != 'E') continue;
+    ++ended;
+    EXPECT_EQ(event.end, engine::EpisodeEnd::kStopped);
+    EXPECT_EQ(event.control_step, 5);
+  }
+  EXPECT_EQ(ended, 3);
+}
+
+// A batched policy that checks what it is handed: the prompts of the running envs, and that it
+// is asked to act exactly on its ticks. Its actions are the reset pose's, from the hold policy.
+class CheckingPolicy : public Policy {
+ public:
+  explicit CheckingPolicy(const VecEnv& env)
+      : scenario_(env.scenario()), hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
+  std::string name() const override { return "checking"; }
+  int control_ticks_per_action() const override { return 3; }
+  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
+    hold_->Reset(observation, started);
+  }
+  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
+    for (int env = 0; env < observation.state.num_envs; ++env) {
+      if (!observation.state.running(env)) {
+        EXPECT_FALSE(acting[env]);
+        continue;
+      }
+      EXPECT_EQ(acting[env] != 0, observation.state.control_step[env] % 3 == 0);
+      ASSERT_NE(observation.prompts[env], nullptr);
+      EXPECT_STREQ(observation.prompts[env], scenario_.prompt(observation.state, env)) << "the env's own prompt";
+      prompts.emplace_back(observation.prompts[env]);
+      acts += acting[env];
+    }
+    hold_->Act(observation, acting, actions);
+  }
+  std::vector<std::string> prompts;
+  int acts = 0;
+
+ private:
+  const scenarios::ScenarioDef& scenario_;
+  std::unique_ptr<Policy> hold_;
+};
+
+TEST(EpisodeDriver, ABatchedPolicySeesEachEnvsPromptAndActsOnItsTicks) {
+  const scenarios::ScenarioDef& scenario = scenarios::FindScenario("clutter-pick-lift");
+  VecEnv env(Model("clutter-pick-lift", 0.25), scenario, scenarios::Split::kId, 2, 5);
+  CheckingPolicy policy(env);
+  EpisodeDriver driver(env, policy, 4);
+  driver.Run();
+  EXPECT_EQ(policy.acts, 4 * 5) << "15 ticks held 3 at a time";
+  EXPECT_EQ(policy.prompts.size(), 4u * 15u) << "every running env's prompt on every tick";
+}
+
+// The hold policy, except that episode 2 commands a NaN neck yaw on its fourth tick.
+class NanPolicy : public Policy {
+ public:
+  explicit NanPolicy(const VecEnv& env) : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
+  std::string name() const override { return "nan"; }
+  int control_ticks_per_action() const override { return 1; }
+  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
+    hold_->Reset(observation, started);
+  }
+  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
+    hold_->Act(observation, acting, actions);
+    for (int env = 0; env < observation.state.num_envs; ++env) {
+      if (acting[env] && observation.state.episode[env] == 2 && observation.state.control_step[env] == 4) {
+        actions[env][kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+  }
+
+ private:
+  std::unique_ptr<Policy> hold_;
+};
+
+TEST(EpisodeDriver, ANonFiniteActionStopsTheRunNamingEpisodeAndEntry) {
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  NanPolicy policy(env);
+  EpisodeDriver driver(env, policy, 4);
+  try {
+    driver.Run();
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("policy 'nan'"), std::string::npos) << message;
+    EXPECT_NE(message.find("episode 2"), std::string::npos) << message;
+    EXPECT_NE(message.find("entry " + std::to_string(kinematics::action::kNeckYaw)), std::string::npos) << message;
+  }
+}
+
+// ood-init-pose resets (30 warm-up ticks each) run in parallel: the episodes' end states do not
+// depend on the number of slots or threads.
+std::vector<std::vector<double>> WarmUpEndStates(int slots, std::size_t threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  VecEnv env(Model("clutter-pick-cube", 0.75), scenarios::FindScenario("clutter-pick-cube"),
+             scenarios::Split::kOodInitPose, slots, 9);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), slots);
+  EventLog log;
+  EpisodeDriver driver(env, *hold, 5);
+  driver.AddSink(log);
+  driver.Run();
+  std::vector<std::vector<double>> by_episode(5);
+  std::size_t next = 0;
+  for (const Event& event : log.events) {
+    if (event.kind == 'E') by_episode[static_cast<std::size_t>(event.episode)] = log.final_q[next++];
+  }
+  return by_episode;
+}
+
+TEST(EpisodeDriver, ParallelResetsWithWarmUpGiveTheSameEpisodesForAnySlotsAndThreads) {
+  const auto serial = WarmUpEndStates(1, 1);
+  for (const auto& q : serial) ASSERT_FALSE(q.empty());
+  EXPECT_EQ(WarmUpEndStates(4, 2), serial);
+  EXPECT_EQ(WarmUpEndStates(5, 1), serial);
+}
+
+}  // namespace
+}  // namespace tavis::batch
