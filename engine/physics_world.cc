@@ -9,6 +9,7 @@
 #include "engine/batch_state.h"
 #include "engine/ode_runtime.h"
 #include "kinematics/forward_kinematics.h"
+#include "kinematics/gripper_geometry.h"
 
 namespace tavis::engine {
 namespace {
@@ -92,6 +93,7 @@ struct Finger {
 
 struct PhysicsWorld::Impl {
   const WorldModel& model;
+  const kinematics::GripperGeometry gripper;
   int solver_messages = 0;
   dWorldID world = nullptr;
   dSpaceID space = nullptr;
@@ -119,7 +121,7 @@ struct PhysicsWorld::Impl {
     return all_bodies.back();
   }
 
-  explicit Impl(const WorldModel& m) : model(m), materials(m.materials) {}
+  explicit Impl(const WorldModel& m) : model(m), gripper(m.robot.gripper), materials(m.materials) {}
 
   // ODE capsules take (radius, length) along their local z axis, as Shape does. Cylinders
   // collide as boxes: Debian's ODE has no libccd, its cylinder-box test asserts on parallel
@@ -223,7 +225,7 @@ struct PhysicsWorld::Impl {
 
   void BuildGripper(Side side, const RigidTransform& X_WB) {
     const RobotModel& robot = model.robot;
-    const kinematics::GripperSpec& g = robot.gripper;
+    const kinematics::GripperSpec& g = gripper.spec();
     const int ik_link = robot.arm(side).ik_link;
     const int owner = link_body_link[ik_link];
     const int s = kinematics::Index(side);
@@ -234,14 +236,11 @@ struct PhysicsWorld::Impl {
     dGeomID housing = CreateGeom(space, {ShapeKind::kBox, g.housing_size});
     Tag(housing, Material::kRobot, kRobotBit, kObjectBit | kStaticBit);
     dGeomSetBody(housing, palm_body[s]);
-    SetGeomOffset(housing, X_BodyIk[s] * MakeTransform(g.housing_center, Mat3::Identity()));
+    SetGeomOffset(housing, X_BodyIk[s] * gripper.X_IkHousing());
 
-    const double pad_thickness = std::abs(g.pad_size.dot(g.closing_axis));
-    const double travel = 0.5 * (g.open_gap - g.closed_gap);
     for (int f = 0; f < 2; ++f) {
-      const double sign = f == 0 ? 1.0 : -1.0;
-      const Vec3 centre_ik = g.pad_center + sign * (0.5 * g.open_gap + 0.5 * pad_thickness) * g.closing_axis;
-      const RigidTransform X_WF = X_WIk * MakeTransform(centre_ik, Mat3::Identity());
+      const double sign = kinematics::kJawSigns[f];
+      const RigidTransform X_WF = X_WIk * gripper.X_IkPad(sign, g.open_gap);
       Finger& finger = fingers[s][f];
       finger.body = NewBody();
       // Sphere-like inertia, as for the links: a pad's true inertia is tiny next to the arm's,
@@ -262,7 +261,7 @@ struct PhysicsWorld::Impl {
       const Vec3 inward = -sign * (X_WIk.linear() * g.closing_axis);
       dJointSetSliderAxis(finger.slider, inward.x(), inward.y(), inward.z());
       dJointSetSliderParam(finger.slider, dParamLoStop, -kSliderStopClearance);
-      dJointSetSliderParam(finger.slider, dParamHiStop, travel + kSliderStopClearance);
+      dJointSetSliderParam(finger.slider, dParamHiStop, gripper.finger_travel() + kSliderStopClearance);
       dJointSetSliderParam(finger.slider, dParamFMax, g.max_force);
     }
   }
@@ -449,8 +448,7 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
   EnsureOdeReadyOnThisThread();
   const RobotModel& robot = s.model.robot;
   const double dt = 1.0 / s.model.physics.substep_hz;
-  const kinematics::GripperSpec& g = robot.gripper;
-  const double travel = 0.5 * (g.open_gap - g.closed_gap);
+  const double max_finger_speed = s.gripper.spec().max_speed;
   const uint64_t messages_before = OdeMessagesOnThisThread();
   bool sane = true;
   for (int step = 0; step < substeps && sane; ++step) {
@@ -466,10 +464,11 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
       dJointSetHingeParam(motor.joint, dParamVel, velocity);
     }
     for (int side = 0; side < 2; ++side) {
-      const double closing = 0.5 * (std::clamp(gripper_command[side], -1.0, 1.0) + 1.0) * travel;
+      const double closing = s.gripper.ClosingTarget(gripper_command[side]);
       for (Finger& finger : s.fingers[side]) {
         const double error = closing - dJointGetSliderPosition(finger.slider);
-        dJointSetSliderParam(finger.slider, dParamVel, std::clamp(40.0 * error, -g.max_speed, g.max_speed));
+        dJointSetSliderParam(finger.slider, dParamVel,
+                             std::clamp(40.0 * error, -max_finger_speed, max_finger_speed));
       }
     }
     s.CollideAllPairs();
@@ -486,10 +485,9 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
 void PhysicsWorld::ReadState(double* q, double* gripper_gap, double* object_pose, double* object_velocity) const {
   const Impl& s = *impl_;
   for (const ArmJointMotor& motor : s.motors) q[motor.joint_index] = dJointGetHingeAngle(motor.joint);
-  const kinematics::GripperSpec& g = s.model.robot.gripper;
   for (int side = 0; side < 2; ++side) {
-    gripper_gap[side] = g.open_gap - dJointGetSliderPosition(s.fingers[side][0].slider) -
-                        dJointGetSliderPosition(s.fingers[side][1].slider);
+    gripper_gap[side] = s.gripper.GapFromClosing(dJointGetSliderPosition(s.fingers[side][0].slider),
+                                                 dJointGetSliderPosition(s.fingers[side][1].slider));
   }
   for (size_t i = 0; i < s.object_body.size(); ++i) {
     if (s.object_body[i] == nullptr) {  // kinematic: the task's pose stands, and it is at rest
