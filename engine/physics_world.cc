@@ -18,6 +18,19 @@ using kinematics::RobotModel;
 using kinematics::Side;
 
 constexpr double kPadContactRadius = 0.01;  // m, effective radius of a finger pad's contact
+// Robot bodies (links and fingers) get the inertia of a sphere of this radius: a pad's true
+// inertia is tiny next to the arm's, and that ratio stalls the solver (the fingers chatter).
+constexpr double kRobotInertiaRadius = 0.05;  // m
+constexpr double kMinLinkMass = 0.05;         // kg, floor for links the config gives (almost) no mass
+// Finger servo: the slider's velocity target per metre of closing-position error, bounded by
+// the gripper's speed limit.
+constexpr double kFingerServoGain = 40.0;  // 1/s
+// Contacts may sink this deep before they push back, which keeps resting contacts from
+// jittering; penetration is corrected no faster than kContactMaxCorrectingSpeed.
+constexpr double kContactSurfaceLayer = 0.0005;     // m
+constexpr double kContactMaxCorrectingSpeed = 1.0;  // m/s
+constexpr int kGeomsPerGripper = 3;                 // housing and two pads
+constexpr int kOdeAxisZ = 3;  // ODE's code for a body's local z axis, Shape's long axis
 // Joint stops sit this far outside the limits the servo targets respect. A joint driven by its
 // motor while resting on a stop gets ODE's stop/motor fallback, a full-force impulse for one
 // step (scaled by the fudge factor), which kicked wrists by 0.1-0.2 rad and fingers by 2 cm
@@ -71,8 +84,8 @@ void SetMass(dBodyID body, const Shape& shape, double mass) {
   dMass m;
   switch (shape.kind) {
     case ShapeKind::kBox: dMassSetBoxTotal(&m, mass, shape.size.x(), shape.size.y(), shape.size.z()); break;
-    case ShapeKind::kCylinder: dMassSetCylinderTotal(&m, mass, 3, shape.Radius(), shape.Length()); break;
-    case ShapeKind::kCapsule: dMassSetCapsuleTotal(&m, mass, 3, shape.Radius(), shape.Length()); break;
+    case ShapeKind::kCylinder: dMassSetCylinderTotal(&m, mass, kOdeAxisZ, shape.Radius(), shape.Length()); break;
+    case ShapeKind::kCapsule: dMassSetCapsuleTotal(&m, mass, kOdeAxisZ, shape.Radius(), shape.Length()); break;
     case ShapeKind::kSphere: dMassSetSphereTotal(&m, mass, shape.Radius()); break;
   }
   dBodySetMass(body, &m);
@@ -187,7 +200,7 @@ struct PhysicsWorld::Impl {
       if (link_body_link[i] != i) continue;
       dBodyID body = NewBody();
       dMass m;
-      dMassSetSphereTotal(&m, std::max(robot.links[i].mass, 0.05), 0.05);
+      dMassSetSphereTotal(&m, std::max(robot.links[i].mass, kMinLinkMass), kRobotInertiaRadius);
       dBodySetMass(body, &m);
       dBodySetGravityMode(body, 0);  // robot bodies are gravity-free in the reference
       SetBodyPose(body, X_WB * X_BL[i]);
@@ -243,10 +256,8 @@ struct PhysicsWorld::Impl {
       const RigidTransform X_WF = X_WIk * gripper.X_IkPad(sign, g.open_gap);
       Finger& finger = fingers[s][f];
       finger.body = NewBody();
-      // Sphere-like inertia, as for the links: a pad's true inertia is tiny next to the arm's,
-      // and that ratio stalls the iterative solver (the fingers chatter).
       dMass finger_mass;
-      dMassSetSphereTotal(&finger_mass, g.finger_mass, 0.05);
+      dMassSetSphereTotal(&finger_mass, g.finger_mass, kRobotInertiaRadius);
       dBodySetMass(finger.body, &finger_mass);
       dBodySetGravityMode(finger.body, 0);
       SetBodyPose(finger.body, X_WF);
@@ -381,14 +392,15 @@ PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Imp
   Impl& s = *impl_;
   s.world = dWorldCreate();
   dWorldSetGravity(s.world, 0, 0, model.physics.gravity);
-  dWorldSetContactSurfaceLayer(s.world, 0.0005);
-  dWorldSetContactMaxCorrectingVel(s.world, 1.0);
+  dWorldSetContactSurfaceLayer(s.world, kContactSurfaceLayer);
+  dWorldSetContactMaxCorrectingVel(s.world, kContactMaxCorrectingSpeed);
   s.threading = dThreadingAllocateSelfThreadedImplementation();
   dWorldSetStepThreadingImplementation(s.world, dThreadingImplementationGetFunctions(s.threading), s.threading);
   s.space = dSimpleSpaceCreate(nullptr);  // owns the geoms; pairs come from CollideAllPairs
   s.contacts = dJointGroupCreate(0);
   // Every geom gets one info record; reserving keeps their addresses stable for dGeomSetData.
-  s.geom_infos.reserve(model.robot.shapes.size() + 6 + model.objects.size() + model.static_parts.size() + 1);
+  s.geom_infos.reserve(model.robot.shapes.size() + 2 * kGeomsPerGripper + model.objects.size() +
+                       model.static_parts.size() + 1);
   s.ClassifyLinks();
   s.BuildRobot();
   s.BuildObjects();
@@ -468,7 +480,7 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
       for (Finger& finger : s.fingers[side]) {
         const double error = closing - dJointGetSliderPosition(finger.slider);
         dJointSetSliderParam(finger.slider, dParamVel,
-                             std::clamp(40.0 * error, -max_finger_speed, max_finger_speed));
+                             std::clamp(kFingerServoGain * error, -max_finger_speed, max_finger_speed));
       }
     }
     s.CollideAllPairs();
