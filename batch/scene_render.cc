@@ -1,13 +1,13 @@
 #include "batch/scene_render.h"
 
 #include <algorithm>
-#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
 #include "kinematics/forward_kinematics.h"
+#include "kinematics/gripper_geometry.h"
 #include "render/batch_renderer.h"
 #include "render/camera.h"
 #include "render/palette.h"
@@ -108,26 +108,24 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
     add(render::ToShapeGeometry(shape.shape), "robot_link", render::kBackgroundObjectId,
         {Source::kRobotShape, shape.link, 0.0, shape.X_LS});
   }
-  // Grippers as the physics builds them (engine/physics_world.cc): a housing fixed to the IK link
-  // and two pads on either side of the pad centre along the closing axis. The physics has no
+  // Grippers as the physics builds them (kinematics/gripper_geometry.h): a housing fixed to the IK
+  // link and two pads on either side of the pad centre along the closing axis. The physics has no
   // finger links between the housing and the pads, so drawn alone the pads float a few cm off
   // the housing; each jaw also gets a visual-only finger from the housing's bottom face down to
-  // its pad's centre (both robots' grippers approach along -z of the IK link).
-  const kinematics::GripperSpec& g = robot.gripper;
-  const double housing_bottom = g.housing_center.z() - 0.5 * g.housing_size.z();
-  const double finger_length = housing_bottom - g.pad_center.z();
-  const Vec3 finger_centre(g.pad_center.x(), g.pad_center.y(), g.pad_center.z() + 0.5 * finger_length);
+  // its pad's centre.
+  const kinematics::GripperGeometry gripper(robot.gripper);
+  const kinematics::GripperSpec& g = gripper.spec();
   for (kinematics::Side side : kinematics::kSides) {
     const int ik_link = robot.arm(side).ik_link;
     add(render::MakeBox(g.housing_size), "gripper", render::kBackgroundObjectId,
-        {Source::kRobotShape, ik_link, 0.0, MakeTransform(g.housing_center, Mat3::Identity())});
-    for (const double sign : {1.0, -1.0}) {
+        {Source::kRobotShape, ik_link, 0.0, gripper.X_IkHousing()});
+    for (const double sign : kinematics::kJawSigns) {
       add(render::MakeBox(g.pad_size), "gripper", render::kBackgroundObjectId,
           {Source::kFingerJaw, kinematics::Index(side), sign, MakeTransform(g.pad_center, Mat3::Identity())});
-      if (finger_length > 0.0) {
-        add(render::MakeBox(Vec3(g.pad_size.x(), g.pad_size.y(), finger_length)), "gripper",
-            render::kBackgroundObjectId,
-            {Source::kFingerJaw, kinematics::Index(side), sign, MakeTransform(finger_centre, Mat3::Identity())});
+      if (gripper.visual_finger_length() > 0.0) {
+        add(render::MakeBox(gripper.visual_finger_size()), "gripper", render::kBackgroundObjectId,
+            {Source::kFingerJaw, kinematics::Index(side), sign,
+             MakeTransform(gripper.visual_finger_centre(), Mat3::Identity())});
       }
     }
   }
@@ -144,7 +142,7 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
 }
 
 SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const CameraSettings& settings)
-    : robot_(model.robot), num_envs_(num_envs), settings_(settings) {
+    : robot_(model.robot), gripper_(model.robot.gripper), num_envs_(num_envs), settings_(settings) {
   ValidateCameraSettings(settings_);
   if (settings_.cameras.empty()) throw std::invalid_argument("SceneRender: no camera to render");
   if (num_envs_ < 1) throw std::invalid_argument("SceneRender: num_envs = " + std::to_string(num_envs_) + " must be positive");
@@ -201,8 +199,6 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
   kinematics::ComputeLinkPoses(robot_, state.q_row(env), X_BL);
   // The base sits at root_world with no rotation (kinematics/robot_model.h).
   const RigidTransform X_WB = MakeTransform(robot_.root_world, Mat3::Identity());
-  const kinematics::GripperSpec& g = robot_.gripper;
-  const double pad_thickness = std::abs(g.pad_size.dot(g.closing_axis));
 
   for (std::size_t i = 0; i < instances; ++i) {
     const InstanceSource& source = sources_[i];
@@ -221,8 +217,7 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
         // are drawn shifted against the object they hold.
         const int side = source.index;
         const double gap = state.gripper_gap_row(env)[side];
-        const Vec3 centre =
-            source.X_local.translation() + source.sign * 0.5 * (gap + pad_thickness) * g.closing_axis;
+        const Vec3 centre = source.X_local.translation() + gripper_.JawOffset(source.sign, gap);
         const int ik_link = robot_.arms[static_cast<std::size_t>(side)].ik_link;
         X_WI = X_WB * X_BL[ik_link] * MakeTransform(centre, Mat3::Identity());
         break;

@@ -13,6 +13,7 @@
 
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
+#include "kinematics/gripper_geometry.h"
 #include "render/image_batch.h"
 #include "render/scene_layout.h"
 
@@ -88,6 +89,7 @@ class SceneRender {
   void FillEnv(const engine::BatchState& state, int env);
 
   kinematics::RobotModel robot_;
+  kinematics::GripperGeometry gripper_;
   int num_envs_ = 0;
   CameraSettings settings_;
   std::vector<InstanceSource> sources_;  // [instance]

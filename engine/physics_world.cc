@@ -9,6 +9,7 @@
 #include "engine/batch_state.h"
 #include "engine/ode_runtime.h"
 #include "kinematics/forward_kinematics.h"
+#include "kinematics/gripper_geometry.h"
 
 namespace tavis::engine {
 namespace {
@@ -17,6 +18,19 @@ using kinematics::RobotModel;
 using kinematics::Side;
 
 constexpr double kPadContactRadius = 0.01;  // m, effective radius of a finger pad's contact
+// Robot bodies (links and fingers) get the inertia of a sphere of this radius: a pad's true
+// inertia is tiny next to the arm's, and that ratio stalls the solver (the fingers chatter).
+constexpr double kRobotInertiaRadius = 0.05;  // m
+constexpr double kMinLinkMass = 0.05;         // kg, floor for links the config gives (almost) no mass
+// Finger servo: the slider's velocity target per metre of closing-position error, bounded by
+// the gripper's speed limit.
+constexpr double kFingerServoGain = 40.0;  // 1/s
+// Contacts may sink this deep before they push back, which keeps resting contacts from
+// jittering; penetration is corrected no faster than kContactMaxCorrectingSpeed.
+constexpr double kContactSurfaceLayer = 0.0005;     // m
+constexpr double kContactMaxCorrectingSpeed = 1.0;  // m/s
+constexpr int kGeomsPerGripper = 3;                 // housing and two pads
+constexpr int kOdeAxisZ = 3;  // ODE's code for a body's local z axis, Shape's long axis
 // Joint stops sit this far outside the limits the servo targets respect. A joint driven by its
 // motor while resting on a stop gets ODE's stop/motor fallback, a full-force impulse for one
 // step (scaled by the fudge factor), which kicked wrists by 0.1-0.2 rad and fingers by 2 cm
@@ -70,8 +84,8 @@ void SetMass(dBodyID body, const Shape& shape, double mass) {
   dMass m;
   switch (shape.kind) {
     case ShapeKind::kBox: dMassSetBoxTotal(&m, mass, shape.size.x(), shape.size.y(), shape.size.z()); break;
-    case ShapeKind::kCylinder: dMassSetCylinderTotal(&m, mass, 3, shape.Radius(), shape.Length()); break;
-    case ShapeKind::kCapsule: dMassSetCapsuleTotal(&m, mass, 3, shape.Radius(), shape.Length()); break;
+    case ShapeKind::kCylinder: dMassSetCylinderTotal(&m, mass, kOdeAxisZ, shape.Radius(), shape.Length()); break;
+    case ShapeKind::kCapsule: dMassSetCapsuleTotal(&m, mass, kOdeAxisZ, shape.Radius(), shape.Length()); break;
     case ShapeKind::kSphere: dMassSetSphereTotal(&m, mass, shape.Radius()); break;
   }
   dBodySetMass(body, &m);
@@ -92,6 +106,7 @@ struct Finger {
 
 struct PhysicsWorld::Impl {
   const WorldModel& model;
+  const kinematics::GripperGeometry gripper;
   int solver_messages = 0;
   dWorldID world = nullptr;
   dSpaceID space = nullptr;
@@ -119,7 +134,7 @@ struct PhysicsWorld::Impl {
     return all_bodies.back();
   }
 
-  explicit Impl(const WorldModel& m) : model(m), materials(m.materials) {}
+  explicit Impl(const WorldModel& m) : model(m), gripper(m.robot.gripper), materials(m.materials) {}
 
   // ODE capsules take (radius, length) along their local z axis, as Shape does. Cylinders
   // collide as boxes: Debian's ODE has no libccd, its cylinder-box test asserts on parallel
@@ -185,7 +200,7 @@ struct PhysicsWorld::Impl {
       if (link_body_link[i] != i) continue;
       dBodyID body = NewBody();
       dMass m;
-      dMassSetSphereTotal(&m, std::max(robot.links[i].mass, 0.05), 0.05);
+      dMassSetSphereTotal(&m, std::max(robot.links[i].mass, kMinLinkMass), kRobotInertiaRadius);
       dBodySetMass(body, &m);
       dBodySetGravityMode(body, 0);  // robot bodies are gravity-free in the reference
       SetBodyPose(body, X_WB * X_BL[i]);
@@ -223,7 +238,7 @@ struct PhysicsWorld::Impl {
 
   void BuildGripper(Side side, const RigidTransform& X_WB) {
     const RobotModel& robot = model.robot;
-    const kinematics::GripperSpec& g = robot.gripper;
+    const kinematics::GripperSpec& g = gripper.spec();
     const int ik_link = robot.arm(side).ik_link;
     const int owner = link_body_link[ik_link];
     const int s = kinematics::Index(side);
@@ -234,20 +249,15 @@ struct PhysicsWorld::Impl {
     dGeomID housing = CreateGeom(space, {ShapeKind::kBox, g.housing_size});
     Tag(housing, Material::kRobot, kRobotBit, kObjectBit | kStaticBit);
     dGeomSetBody(housing, palm_body[s]);
-    SetGeomOffset(housing, X_BodyIk[s] * MakeTransform(g.housing_center, Mat3::Identity()));
+    SetGeomOffset(housing, X_BodyIk[s] * gripper.X_IkHousing());
 
-    const double pad_thickness = std::abs(g.pad_size.dot(g.closing_axis));
-    const double travel = 0.5 * (g.open_gap - g.closed_gap);
     for (int f = 0; f < 2; ++f) {
-      const double sign = f == 0 ? 1.0 : -1.0;
-      const Vec3 centre_ik = g.pad_center + sign * (0.5 * g.open_gap + 0.5 * pad_thickness) * g.closing_axis;
-      const RigidTransform X_WF = X_WIk * MakeTransform(centre_ik, Mat3::Identity());
+      const double sign = kinematics::kJawSigns[f];
+      const RigidTransform X_WF = X_WIk * gripper.X_IkPad(sign, g.open_gap);
       Finger& finger = fingers[s][f];
       finger.body = NewBody();
-      // Sphere-like inertia, as for the links: a pad's true inertia is tiny next to the arm's,
-      // and that ratio stalls the iterative solver (the fingers chatter).
       dMass finger_mass;
-      dMassSetSphereTotal(&finger_mass, g.finger_mass, 0.05);
+      dMassSetSphereTotal(&finger_mass, g.finger_mass, kRobotInertiaRadius);
       dBodySetMass(finger.body, &finger_mass);
       dBodySetGravityMode(finger.body, 0);
       SetBodyPose(finger.body, X_WF);
@@ -262,7 +272,7 @@ struct PhysicsWorld::Impl {
       const Vec3 inward = -sign * (X_WIk.linear() * g.closing_axis);
       dJointSetSliderAxis(finger.slider, inward.x(), inward.y(), inward.z());
       dJointSetSliderParam(finger.slider, dParamLoStop, -kSliderStopClearance);
-      dJointSetSliderParam(finger.slider, dParamHiStop, travel + kSliderStopClearance);
+      dJointSetSliderParam(finger.slider, dParamHiStop, gripper.finger_travel() + kSliderStopClearance);
       dJointSetSliderParam(finger.slider, dParamFMax, g.max_force);
     }
   }
@@ -382,14 +392,15 @@ PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Imp
   Impl& s = *impl_;
   s.world = dWorldCreate();
   dWorldSetGravity(s.world, 0, 0, model.physics.gravity);
-  dWorldSetContactSurfaceLayer(s.world, 0.0005);
-  dWorldSetContactMaxCorrectingVel(s.world, 1.0);
+  dWorldSetContactSurfaceLayer(s.world, kContactSurfaceLayer);
+  dWorldSetContactMaxCorrectingVel(s.world, kContactMaxCorrectingSpeed);
   s.threading = dThreadingAllocateSelfThreadedImplementation();
   dWorldSetStepThreadingImplementation(s.world, dThreadingImplementationGetFunctions(s.threading), s.threading);
   s.space = dSimpleSpaceCreate(nullptr);  // owns the geoms; pairs come from CollideAllPairs
   s.contacts = dJointGroupCreate(0);
   // Every geom gets one info record; reserving keeps their addresses stable for dGeomSetData.
-  s.geom_infos.reserve(model.robot.shapes.size() + 6 + model.objects.size() + model.static_parts.size() + 1);
+  s.geom_infos.reserve(model.robot.shapes.size() + 2 * kGeomsPerGripper + model.objects.size() +
+                       model.static_parts.size() + 1);
   s.ClassifyLinks();
   s.BuildRobot();
   s.BuildObjects();
@@ -449,8 +460,7 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
   EnsureOdeReadyOnThisThread();
   const RobotModel& robot = s.model.robot;
   const double dt = 1.0 / s.model.physics.substep_hz;
-  const kinematics::GripperSpec& g = robot.gripper;
-  const double travel = 0.5 * (g.open_gap - g.closed_gap);
+  const double max_finger_speed = s.gripper.spec().max_speed;
   const uint64_t messages_before = OdeMessagesOnThisThread();
   bool sane = true;
   for (int step = 0; step < substeps && sane; ++step) {
@@ -466,10 +476,11 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
       dJointSetHingeParam(motor.joint, dParamVel, velocity);
     }
     for (int side = 0; side < 2; ++side) {
-      const double closing = 0.5 * (std::clamp(gripper_command[side], -1.0, 1.0) + 1.0) * travel;
+      const double closing = s.gripper.ClosingTarget(gripper_command[side]);
       for (Finger& finger : s.fingers[side]) {
         const double error = closing - dJointGetSliderPosition(finger.slider);
-        dJointSetSliderParam(finger.slider, dParamVel, std::clamp(40.0 * error, -g.max_speed, g.max_speed));
+        dJointSetSliderParam(finger.slider, dParamVel,
+                             std::clamp(kFingerServoGain * error, -max_finger_speed, max_finger_speed));
       }
     }
     s.CollideAllPairs();
@@ -486,10 +497,9 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
 void PhysicsWorld::ReadState(double* q, double* gripper_gap, double* object_pose, double* object_velocity) const {
   const Impl& s = *impl_;
   for (const ArmJointMotor& motor : s.motors) q[motor.joint_index] = dJointGetHingeAngle(motor.joint);
-  const kinematics::GripperSpec& g = s.model.robot.gripper;
   for (int side = 0; side < 2; ++side) {
-    gripper_gap[side] = g.open_gap - dJointGetSliderPosition(s.fingers[side][0].slider) -
-                        dJointGetSliderPosition(s.fingers[side][1].slider);
+    gripper_gap[side] = s.gripper.GapFromClosing(dJointGetSliderPosition(s.fingers[side][0].slider),
+                                                 dJointGetSliderPosition(s.fingers[side][1].slider));
   }
   for (size_t i = 0; i < s.object_body.size(); ++i) {
     if (s.object_body[i] == nullptr) {  // kinematic: the task's pose stands, and it is at rest

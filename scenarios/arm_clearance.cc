@@ -8,6 +8,13 @@
 namespace tavis::scenarios {
 namespace {
 
+// Two box edges whose directions' cross product is shorter than this (the sine of the angle
+// between them) count as parallel: their separating axis is then one of the face axes.
+constexpr double kParallelEdgesSine = 1e-9;
+// Joint-space paths are checked at samples this far apart in the largest joint's motion: at a
+// 0.6 m reach the hand moves about 3 cm between samples, less than its boxes are wide.
+constexpr double kPathSampleStep = 0.05;  // rad
+
 // True if link `link` moves with one of the arm's joints (it or an ancestor is an arm joint's child).
 bool MovesWithArm(const kinematics::RobotModel& robot, kinematics::Side side, int link) {
   const auto& arm_joints = robot.arm(side).joints;
@@ -29,7 +36,7 @@ bool BoxesOverlap(const OrientedBox& a, const OrientedBox& b, double margin) {
   // Separated along `axis` if the projected centre distance exceeds the projected half extents.
   auto separated = [&](const Vec3& axis) {
     const double length = axis.norm();
-    if (length < 1e-9) return false;  // parallel edges: covered by the face axes
+    if (length < kParallelEdgesSine) return false;
     const Vec3 u = axis / length;
     const double ra = (A.transpose() * u).cwiseAbs().dot(ha);
     const double rb = (B.transpose() * u).cwiseAbs().dot(hb);
@@ -97,10 +104,9 @@ bool ArmObstacles::BoxIsClear(const OrientedBox& box_world) const {
 bool ArmObstacles::JointPathIsClear(const kinematics::RobotModel& robot, kinematics::Side side,
                                     const std::vector<double>& q_from, const std::vector<double>& q_to) const {
   if (obstacles_.empty() && link_only_.empty()) return true;
-  constexpr double kSampleStep = 0.05;  // rad
   double largest = 0.0;
   for (const int joint : robot.arm(side).joints) largest = std::max(largest, std::abs(q_to[joint] - q_from[joint]));
-  const int samples = std::max(2, static_cast<int>(std::ceil(largest / kSampleStep)));
+  const int samples = std::max(2, static_cast<int>(std::ceil(largest / kPathSampleStep)));
   std::vector<double> q = q_from;
   std::vector<RigidTransform> X_BL(robot.links.size());
   for (int i = 1; i <= samples; ++i) {

@@ -1,7 +1,8 @@
 #include "scenarios/grasp_clearance.h"
 
 #include <array>
-#include <cmath>
+
+#include "kinematics/gripper_geometry.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -20,11 +21,10 @@ OrientedBox ObjectBox(const engine::WorldModel& model, const engine::BatchState&
 
 std::array<OrientedBox, 3> OpenHandBoxes(const kinematics::GripperSpec& gripper, const RigidTransform& X_ik,
                                          double open_gap) {
-  const kinematics::GripperSpec& g = gripper;
-  const Vec3 pad_offset = (0.5 * open_gap + 0.5 * g.pad_size.dot(g.closing_axis)) * g.closing_axis;
-  return {OrientedBox{X_ik * MakeTransform(g.pad_center + pad_offset, Mat3::Identity()), 0.5 * g.pad_size},
-          OrientedBox{X_ik * MakeTransform(g.pad_center - pad_offset, Mat3::Identity()), 0.5 * g.pad_size},
-          OrientedBox{X_ik * MakeTransform(g.housing_center, Mat3::Identity()), 0.5 * g.housing_size}};
+  const kinematics::GripperGeometry geometry(gripper);
+  return {OrientedBox{X_ik * geometry.X_IkPad(kinematics::kJawSigns[0], open_gap), 0.5 * gripper.pad_size},
+          OrientedBox{X_ik * geometry.X_IkPad(kinematics::kJawSigns[1], open_gap), 0.5 * gripper.pad_size},
+          OrientedBox{X_ik * geometry.X_IkHousing(), 0.5 * gripper.housing_size}};
 }
 
 double HalfExtentAlong(const engine::WorldModel& model, const engine::BatchState& state, int env, int object,

@@ -118,6 +118,27 @@ TEST(PhysicsWorld, DisabledObjectsDoNotMove) {
   EXPECT_NEAR(StepFor(world, q, -1.0, 0.5, model).pose[2], 1.5, 1e-12);
 }
 
+// The fingers are built where kinematics::GripperGeometry puts the open pads, and their slider
+// stroke spans the open to the closed gap.
+TEST(PhysicsWorld, FreeFingersMeasureTheOpenAndClosedGaps) {
+  for (const char* robot : {"gr1t2", "reachy2"}) {
+    WorldModel model = CubeOnTableWorld();
+    model.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, robot));
+    const kinematics::GripperSpec& gripper = model.robot.gripper;
+    PhysicsWorld world(model);
+    const std::vector<double> q = model.robot.DefaultPositions();
+    world.ResetRobot(q.data());
+    Observed o;
+    o.q = q;
+    world.ReadState(o.q.data(), o.gap, o.pose, o.velocity);
+    EXPECT_NEAR(o.gap[0], gripper.open_gap, 1e-9) << robot << ": gap at rest";
+    EXPECT_NEAR(o.gap[1], gripper.open_gap, 1e-9) << robot << ": gap at rest";
+    o = StepFor(world, q, 1.0, 1.0, model);  // the left gripper closes on nothing, the right stays open
+    EXPECT_NEAR(o.gap[0], gripper.closed_gap, 1e-4) << robot << ": closed gap";
+    EXPECT_NEAR(o.gap[1], gripper.open_gap, 1e-4) << robot << ": open gap";
+  }
+}
+
 // A kinematic shelf board with a dynamic cube dropped on it; the board may be visual only.
 WorldModel CubeOverKinematicBoard(bool board_collides) {
   WorldModel model = CubeOnTableWorld();
