@@ -92,7 +92,6 @@ class GraspPlanner {
 
   // Hand target (base frame) that puts the pads' centre at a world point.
   kinematics::PoseTarget TargetFor(const Mat3& R, const Vec3& pad_world) const;
-  ArmJoints ArmOf(const std::vector<double>& q) const;
   // Pads' centre height at the grasp: at the object's centre, but with the open hand (turned by
   // R) clear of the surface the object stands on, for low objects such as the tuna can; a level
   // hand's housing reaches lower than its pads.
@@ -244,19 +243,13 @@ ArmPlan GraspPlanner::SolveArmPlan(const Mat3& R, bool along_hand, double latera
   }
   plan.reachable = true;
   plan.trackable = path.trackable;
-  plan.pre = ArmOf(*q_pre);
-  plan.grasp = ArmOf(*q_grasp);
+  plan.pre = ArmOf(robot_, side_, q_pre->data());
+  plan.grasp = ArmOf(robot_, side_, q_grasp->data());
   return plan;
 }
 
 kinematics::PoseTarget GraspPlanner::TargetFor(const Mat3& R, const Vec3& pad_world) const {
   return kinematics::PoseTarget{pad_world - robot_.root_world - R * robot_.gripper.pad_center, Quat(R)};
-}
-
-ArmJoints GraspPlanner::ArmOf(const std::vector<double>& q) const {
-  ArmJoints joints{};
-  for (int k = 0; k < kinematics::kArmDof; ++k) joints[k] = q[robot_.arm(side_).joints[k]];
-  return joints;
 }
 
 double GraspPlanner::GraspZ(const Mat3& R) const {
@@ -334,7 +327,7 @@ bool GraspPlanner::ExtendPath(const Mat3& R, const Vec3& pads, const ArmObstacle
   path.trackable = path.trackable && CanTrackStraightPath(robot_, side_, path.q, goal,
                                                           LineTicks((pads - path.pads).norm(), settings_.slow_hand_speed),
                                                           avoid);
-  joints = ArmOf(*q);
+  joints = ArmOf(robot_, side_, q->data());
   path = {*q, pads, path.trackable};
   return true;
 }

@@ -29,13 +29,6 @@ void WriteArm(kinematics::Action& action, Side side, const RigidTransform& X_Can
   action[r + 3] = q.z();
 }
 
-// One arm's joints in a full joint vector.
-ArmJoints ArmOf(const kinematics::RobotModel& robot, Side side, const double* q) {
-  ArmJoints joints{};
-  for (int k = 0; k < kinematics::kArmDof; ++k) joints[k] = q[robot.arm(side).joints[k]];
-  return joints;
-}
-
 }  // namespace
 
 PickExpert::PickExpert(const engine::WorldModel&, int num_envs, PickExpertSettings settings)
