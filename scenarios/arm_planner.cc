@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "scenarios/arm_clearance.h"
+#include "scenarios/robot_buffers.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -97,7 +98,8 @@ bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side 
 }
 
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q) {
-  std::vector<RigidTransform> X_BL(robot.links.size());
+  CheckFitsRobotBuffers(robot);
+  LinkPoses X_BL;
   kinematics::ComputeLinkPoses(robot, q, X_BL.data());
   RigidTransform X = X_BL[robot.arm(side).ik_link];
   X.translation() = robot.BaseToCanonical(X.translation());

@@ -31,7 +31,7 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
 bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_start,
                           const kinematics::PoseTarget& goal, int ticks, const ArmObstacles* obstacles = nullptr);
 
-// IK link pose (canonical frame) for joint vector q.
+// IK link pose (canonical frame) for joint vector q. Allocates nothing: experts call it every tick.
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q);
 
 }  // namespace tavis::scenarios

@@ -2,17 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include "kinematics/forward_kinematics.h"
+#include "scenarios/robot_buffers.h"
 
 namespace tavis::scenarios {
 namespace {
 
 // Direction to the target in the head camera frame (x forward, y left, z up).
-Vec3 TargetInCamera(const kinematics::RobotModel& robot, const std::vector<double>& q, const Vec3& target_world) {
-  std::vector<RigidTransform> X_BL(robot.links.size());
-  kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+Vec3 TargetInCamera(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world) {
+  LinkPoses X_BL;
+  kinematics::ComputeLinkPoses(robot, q, X_BL.data());
   const RigidTransform X_BC = kinematics::CameraPose(robot, robot.CameraIndex("head"), X_BL.data());
   return X_BC.inverse() * (target_world - robot.root_world);
 }
@@ -26,7 +26,9 @@ Eigen::Vector2d AngularOffsets(const Vec3& t) {
 
 std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q_in,
                                          const Vec3& target_world, NeckLimits limits) {
-  std::vector<double> q(q_in, q_in + robot.num_joints());
+  CheckFitsRobotBuffers(robot);
+  JointPositions q{};
+  std::copy(q_in, q_in + robot.num_joints(), q.begin());
   const int roll = robot.neck_joints[0];
   const int pitch = robot.neck_joints[1];
   const int yaw = robot.neck_joints[2];
@@ -38,15 +40,15 @@ std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, co
   // Gauss-Newton on (yaw, pitch) with a finite-difference Jacobian: the head chain is short and
   // the camera's mount offset makes a closed form awkward.
   for (int iteration = 0; iteration < 12; ++iteration) {
-    const Eigen::Vector2d offsets = AngularOffsets(TargetInCamera(robot, q, target_world));
+    const Eigen::Vector2d offsets = AngularOffsets(TargetInCamera(robot, q.data(), target_world));
     if (offsets.norm() < 1e-5) break;
     Eigen::Matrix2d J;
     const double h = 1e-5;
     const int joints[2] = {yaw, pitch};
     for (int c = 0; c < 2; ++c) {
-      std::vector<double> q_h = q;
+      JointPositions q_h = q;
       q_h[joints[c]] += h;
-      J.col(c) = (AngularOffsets(TargetInCamera(robot, q_h, target_world)) - offsets) / h;
+      J.col(c) = (AngularOffsets(TargetInCamera(robot, q_h.data(), target_world)) - offsets) / h;
     }
     const Eigen::Vector2d step = J.colPivHouseholderQr().solve(-offsets);
     q[yaw] += step[0];
@@ -57,8 +59,8 @@ std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, co
   return {0.0, q[pitch], q[yaw]};
 }
 
-double GazeError(const kinematics::RobotModel& robot, const double* q_in, const Vec3& target_world) {
-  const std::vector<double> q(q_in, q_in + robot.num_joints());
+double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world) {
+  CheckFitsRobotBuffers(robot);
   const Vec3 t = TargetInCamera(robot, q, target_world);
   return std::acos(std::clamp(t.normalized().x(), -1.0, 1.0));
 }

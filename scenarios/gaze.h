@@ -13,6 +13,7 @@ enum class NeckLimits { kRespect, kIgnore };
 // Neck (roll, pitch, yaw) with roll 0 that centres `target_world` in the head camera, within
 // the neck's joint limits, or with kIgnore as a teleoperator's head turns to it (the robot
 // clamps the command at its limits). `q` supplies the other joints (they do not affect the head).
+// Allocates nothing: the expert re-aims during its steady motions.
 std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q,
                                          const Vec3& target_world, NeckLimits limits = NeckLimits::kRespect);
 
