@@ -11,13 +11,13 @@
 
 #include "batch/init_pose_warmup.h"
 #include "kinematics/inverse_kinematics.h"
+#include "kinematics/robot_buffers.h"
 
 namespace tavis::batch {
 namespace {
 
 using kinematics::Side;
 
-constexpr int kMaxRobotLinks = 64;
 constexpr int kNeckActionEntries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
                                                           kinematics::action::kNeckYaw};
 
@@ -54,9 +54,11 @@ engine::WorldModel BuildWorldModel(const kinematics::RobotModel& robot, const sc
 VecEnv::VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario, scenarios::Split split, int num_envs,
                uint64_t seed)
     : model_(std::move(model)), scenario_(scenario), split_(split), seed_(seed) {
-  if (model_.robot.num_links() > kMaxRobotLinks) {
+  if (model_.robot.num_links() > kMaxRobotLinks || model_.robot.num_joints() > kMaxRobotJoints) {
     throw std::invalid_argument("robot '" + model_.robot.name + "' has " + std::to_string(model_.robot.num_links()) +
-                                " links; the step supports at most " + std::to_string(kMaxRobotLinks));
+                                " links and " + std::to_string(model_.robot.num_joints()) +
+                                " joints; the simulator supports at most " + std::to_string(kMaxRobotLinks) + " and " +
+                                std::to_string(kMaxRobotJoints));
   }
   if (num_envs < 1) throw std::invalid_argument("the number of envs must be at least 1, got " + std::to_string(num_envs));
   state_.Allocate(num_envs, model_.robot.num_joints(), model_.num_objects());
@@ -156,7 +158,7 @@ void VecEnv::ControlTick(EnvRange envs, const std::vector<kinematics::Action>& a
 
 void VecEnv::ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& actions) {
   const kinematics::RobotModel& robot = model_.robot;
-  RigidTransform X_BL[kMaxRobotLinks];  // the step allocates nothing
+  LinkPoses X_BL;  // the step allocates nothing
   for (int env = envs.begin; env < envs.end; ++env) {
     if (!state_.running(env)) continue;
     const kinematics::Action& action = actions[env];
@@ -169,14 +171,14 @@ void VecEnv::ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& 
     }
     const double* q = state_.q_row(env);
     double* q_target = state_.q_target_row(env);
-    kinematics::ComputeLinkPoses(robot, q, X_BL);
+    kinematics::ComputeLinkPoses(robot, q, X_BL.data());
     for (Side side : kinematics::kSides) {
       const int i = kinematics::Index(side);
       const int p = kinematics::action::kArmPosition[i];
       const int r = kinematics::action::kArmQuaternion[i];
       const kinematics::PoseTarget target{robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])),
                                           Quat(action[r], action[r + 1], action[r + 2], action[r + 3])};
-      const auto arm_targets = kinematics::IkStep(robot, side, q, X_BL, target);
+      const auto arm_targets = kinematics::IkStep(robot, side, q, X_BL.data(), target);
       for (int k = 0; k < kinematics::kArmDof; ++k) q_target[robot.arm(side).joints[k]] = arm_targets[k];
       state_.gripper_command_row(env)[i] = std::clamp(action[kinematics::action::kGripper[i]], -1.0, 1.0);
     }

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "kinematics/forward_kinematics.h"
-#include "scenarios/robot_buffers.h"
+#include "kinematics/robot_buffers.h"
 
 namespace tavis::scenarios {
 namespace {

@@ -11,7 +11,7 @@
 #include "engine/world_model.h"
 #include "kinematics/robot_model.h"
 #include "scenarios/pick_expert_settings.h"
-#include "scenarios/robot_buffers.h"
+#include "kinematics/robot_buffers.h"
 
 namespace tavis::scenarios {
 

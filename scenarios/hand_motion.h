@@ -9,7 +9,7 @@
 
 #include "engine/world_model.h"
 #include "kinematics/robot_model.h"
-#include "scenarios/robot_buffers.h"
+#include "kinematics/robot_buffers.h"
 
 namespace tavis::scenarios {
 

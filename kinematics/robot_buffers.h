@@ -1,5 +1,6 @@
-// Fixed-size buffers for one robot configuration, for the experts' per-tick paths: these run at
-// every control tick of every env and allocate nothing.
+// Fixed-size buffers for one robot configuration, for per-tick paths (the step, the experts):
+// these run at every control tick of every env and allocate nothing. The VecEnv rejects a robot
+// that does not fit them when it is built.
 #pragma once
 
 #include <array>
@@ -8,7 +9,7 @@
 #include "kinematics/pose.h"
 #include "kinematics/robot_model.h"
 
-namespace tavis::scenarios {
+namespace tavis {
 
 constexpr int kMaxRobotLinks = 64;
 constexpr int kMaxRobotJoints = 64;
@@ -29,4 +30,4 @@ inline void CheckFitsRobotBuffers(const kinematics::RobotModel& robot) {
   TAVIS_INVARIANT(robot.num_joints() <= kMaxRobotJoints, "robot joints fit a JointPositions buffer");
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis
