@@ -78,7 +78,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
       {"task", config.task},
       {"robot", config.robot},
       {"split", scenarios::ToString(config.split)},
-      {"camera", "head"},
+      {"camera", ToString(config.camera)},
       {"policy", config.policy},
       {"seed", config.seed},
       {"n_episodes", n},
@@ -96,8 +96,10 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
         {"width", config.image_width},
         {"height", config.image_height},
         {"images", result.rendered_images}}},
-      {"galt", GaltJson(result, &EpisodeRecord::galt, result.galt_fps)},
   };
+  // null under the fixed protocol, where no GALT is computed (as in the reference).
+  summary["galt"] = config.camera == CameraProtocol::kHead ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
+                                                          : nlohmann::json();
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
   }
@@ -108,9 +110,10 @@ std::string CellSummaryLine(const CellResult& result) {
   const int n = static_cast<int>(result.episodes.size());
   const ProportionInterval ci = WilsonInterval(result.successes, n);
   char line[512];
-  std::snprintf(line, sizeof(line), "%s %s %s policy=%s: success %d/%d = %.1f%% [%.1f, %.1f] (95%% Wilson), %.1f s",
+  std::snprintf(line, sizeof(line),
+                "%s %s %s policy=%s camera=%s: success %d/%d = %.1f%% [%.1f, %.1f] (95%% Wilson), %.1f s",
                 result.config.task.c_str(), result.config.robot.c_str(), scenarios::ToString(result.config.split),
-                result.config.policy.c_str(), result.successes, n, n > 0 ? 100.0 * result.successes / n : 0.0,
+                result.config.policy.c_str(), ToString(result.config.camera), result.successes, n, n > 0 ? 100.0 * result.successes / n : 0.0,
                 100.0 * ci.low, 100.0 * ci.high, result.wall_s);
   return line;
 }

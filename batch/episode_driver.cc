@@ -41,6 +41,7 @@ void EpisodeDriver::Run() {
       running += state.running(slot) ? 1 : 0;
     }
     policy_.Act(MakeObservation(), acting_, actions_);
+    for (ActionBatch::value_type& action : actions_) ApplyToAction(protocol_, action);
     for (EpisodeSink* sink : sinks_) sink->ActionsChosen(env_, actions_);
     env_.Step(actions_);
     control_ticks_ += running;

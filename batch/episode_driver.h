@@ -14,6 +14,7 @@
 #include <functional>
 #include <vector>
 
+#include "batch/camera_protocol.h"
 #include "batch/policy.h"
 #include "batch/vec_env.h"
 
@@ -48,6 +49,9 @@ class EpisodeDriver {
 
   void AddSink(EpisodeSink& sink) { sinks_.push_back(&sink); }
   void SetProgress(ProgressCallback progress) { progress_ = std::move(progress); }
+  // The camera protocol's action rule, applied to every action before sinks see it and the world
+  // steps with it (head by default: actions pass unchanged).
+  void SetCameraProtocol(CameraProtocol protocol) { protocol_ = protocol; }
   // Until every episode has ended or been stopped. Throws std::runtime_error naming the episode,
   // the action entry and its value if the policy produced a non-finite action. At policy ticks
   // the env renders the cameras it has enabled (VecEnv::EnableCameras); the caller enables the
@@ -73,6 +77,7 @@ class EpisodeDriver {
   int64_t control_ticks_ = 0;
   std::vector<EpisodeSink*> sinks_;
   ProgressCallback progress_;
+  CameraProtocol protocol_ = CameraProtocol::kHead;
   // Per-slot buffers, sized once.
   std::vector<const char*> prompts_;
   std::vector<uint8_t> acting_;

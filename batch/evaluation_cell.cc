@@ -23,9 +23,10 @@ void ValidateConfig(const EvaluationCellConfig& config) {
   ValidateCameraSettings(cameras);
 }
 
-// The policy's cameras first (its images keep their order), then the extra cameras to render.
+// The policy's cameras under the camera protocol first (its images keep their order), then the
+// extra cameras to render.
 std::vector<std::string> CamerasToRender(const Policy& policy, const EvaluationCellConfig& config) {
-  std::vector<std::string> cameras = policy.cameras();
+  std::vector<std::string> cameras = ProtocolCameras(policy.cameras(), config.camera);
   for (const std::string& name : config.render_cameras) {
     if (std::find(cameras.begin(), cameras.end(), name) == cameras.end()) cameras.push_back(name);
   }
@@ -77,6 +78,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   EpisodeDriver driver(env, *policy, config.episodes);
   driver.AddSink(recorder);
   driver.SetProgress(progress);
+  driver.SetCameraProtocol(config.camera);
   driver.Run();
 
   CellResult result;
@@ -85,7 +87,8 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   result.episodes = std::move(recorder.records());
   result.successes = recorder.successes();
   result.control_ticks = driver.control_ticks();
-  AddGalt(result, policy->control_ticks_per_action(), env.model().physics);
+  // GALT measures how the head leads the hand: the fixed protocol has no head to lead.
+  if (config.camera == CameraProtocol::kHead) AddGalt(result, policy->control_ticks_per_action(), env.model().physics);
   result.rendered_images = env.rendered_images();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

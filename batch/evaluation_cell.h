@@ -1,4 +1,4 @@
-// An evaluation cell: (task, robot, split, seed, policy) x N episodes run over M parallel env
+// An evaluation cell: (task, robot, split, camera protocol, seed, policy) x N episodes run over M parallel env
 // slots. Episode i always gets the randomness of (seed, i), so a cell's records are identical
 // for any thread count and any number of slots.
 #pragma once
@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/camera_protocol.h"
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
 #include "scenarios/split.h"
@@ -17,6 +18,7 @@ struct EvaluationCellConfig {
   std::string task = "clutter-pick-cube";
   std::string robot = "gr1t2";
   scenarios::Split split = scenarios::Split::kId;
+  CameraProtocol camera = CameraProtocol::kHead;
   std::string policy = "expert";
   std::string actions_file;  // for the replay policy
   int episodes = 96;

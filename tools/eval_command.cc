@@ -26,6 +26,7 @@ namespace {
 struct EvalOptions {
   batch::EvaluationCellConfig cell;
   std::string split = "id";
+  std::string camera = "head";
   std::string out;
   std::string render_cameras;
   std::string image_size = "640x480";
@@ -45,7 +46,8 @@ void PrintProgress(int64_t finished, int64_t total) {
 }
 
 std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split) {
-  return cell.task + "_" + cell.robot + "_" + split + "_" + cell.policy + "_s" + std::to_string(cell.seed);
+  return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + "_s" +
+         std::to_string(cell.seed);
 }
 
 batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
@@ -57,7 +59,7 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   return result;
 }
 
-// Every task of the suite, one cell each in OUT/<task>_<robot>_<split>_<policy>_s<seed>, then the
+// Every task of the suite, one cell each in OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed>, then the
 // suite mean as the paper reports it (task average) and pooled over episodes. A task without a
 // scripted expert is reported and makes the exit status 1; the others still run.
 void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int threads) {
@@ -83,8 +85,9 @@ void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int 
     }
   }
   if (cells > 0) {
-    std::printf("%s %s %s policy=%s: suite mean over %d tasks %.1f%% (task average), %.1f%% pooled (%d/%d)\n",
-                options.suite.c_str(), cell.robot.c_str(), options.split.c_str(), cell.policy.c_str(), cells,
+    std::printf("%s %s %s policy=%s camera=%s: suite mean over %d tasks %.1f%% (task average), %.1f%% pooled (%d/%d)\n",
+                options.suite.c_str(), cell.robot.c_str(), options.split.c_str(), cell.policy.c_str(),
+                batch::ToString(cell.camera), cells,
                 100.0 * rate_sum / cells, 100.0 * successes / episodes, successes, episodes);
   }
   if (!failed.empty()) {
@@ -97,6 +100,7 @@ void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int 
 void RunEval(const EvalOptions& options) {
   batch::EvaluationCellConfig cell = options.cell;
   cell.split = scenarios::ParseSplit(options.split);
+  cell.camera = batch::ParseCameraProtocol(options.camera);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
   std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
@@ -122,11 +126,16 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--task", options->cell.task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
   eval->add_option("--suite", options->suite,
                    "Run every task of a suite instead of one task: " + scenarios::KnownSuites() + "; cells go to\n"
-                   "OUT/<task>_<robot>_<split>_<policy>_s<seed> (OUT defaults to results/<suite>), then the\n"
+                   "OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed> (OUT defaults to results/<suite>), then the\n"
                    "suite mean is printed as a task average and pooled over episodes");
   eval->add_option("--robot", options->cell.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
   eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
+  eval->add_option("--camera", options->camera,
+                   "Camera protocol: head (the policy sees and moves the head camera; GALT computed) or fixed\n"
+                   "(the fixed camera instead, neck actions zeroed so the head stays still, no GALT); episode i has the\n"
+                   "same scene under both, so a head and a fixed cell pair")
+      ->capture_default_str();
   eval->add_option("--policy", options->cell.policy, std::string("Policy (") + batch::BuiltinPolicyNames() + ")")
       ->capture_default_str();
   eval->add_option("--actions", options->cell.actions_file,
@@ -146,7 +155,7 @@ void RegisterEvalCommand(CLI::App& app) {
                    "images are discarded: for measuring throughput with rendering");
   eval->add_option("--image-size", options->image_size, "Resolution of rendered cameras, WIDTHxHEIGHT")
       ->capture_default_str();
-  eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<policy>_s<seed>)");
+  eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   eval->add_option("--config-dir", options->cell.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
   eval->add_flag("--quiet", options->quiet, "No progress bar");
   eval->callback([options, eval] {

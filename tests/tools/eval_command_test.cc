@@ -83,6 +83,7 @@ TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {
       {"--episodes 0", "got 0"},              {"--episodes -3", "got -3"},
       {"--episodes 1 --envs 0", "got 0"},     {"--episodes 1 --seed banana", "banana"},
       {"--episodes 1 --suite nope", "nope"},  {"--episodes 1 --suite tavis-head --task wait-then-act", "--suite"},
+      {"--episodes 1 --camera side", "side"},
   };
   for (const auto& [args, needle] : cases) {
     SCOPED_TRACE(args);
@@ -98,9 +99,32 @@ TEST_F(EvalCommand, SuiteRunsACellPerTaskAndPrintsTheSuiteMean) {
   const RunResult run = Run("eval --suite tavis-hands --episodes 1 --envs 1 --quiet --out " + Quote(dir.string()));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (const char* task : {"peeking-box", "occluded-reach", "blocked-clutter-pick-cube"}) {
-    EXPECT_TRUE(fs::exists(dir / (std::string(task) + "_gr1t2_id_expert_s0") / "summary.json")) << task;
+    EXPECT_TRUE(fs::exists(dir / (std::string(task) + "_gr1t2_id_head_expert_s0") / "summary.json")) << task;
   }
-  EXPECT_NE(run.out.find("tavis-hands gr1t2 id policy=expert: suite mean over 3 tasks"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("tavis-hands gr1t2 id policy=expert camera=head: suite mean over 3 tasks"), std::string::npos) << run.out;
+}
+
+// The paired comparison: a head and a fixed cell of the same seed land in one table, the fixed
+// one without GALT, and the policy's head images become fixed-camera images.
+TEST_F(EvalCommand, HeadAndFixedCellsPairInOneTable) {
+  for (const char* camera : {"head", "fixed"}) {
+    const fs::path dir = root_ / "paired" / camera;
+    const RunResult run = Run("eval --episodes 2 --envs 2 --seed 4 --quiet --camera " + std::string(camera) +
+                              " --render-cameras head,left_wrist --image-size 32x24 --out " + Quote(dir.string()));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_NE(run.out.find(std::string("camera=") + camera), std::string::npos) << run.out;
+    const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "summary.json"));
+    EXPECT_EQ(summary.at("camera"), camera);
+    EXPECT_EQ(summary.at("galt").is_null(), std::string(camera) == "fixed") << summary.dump();
+    for (const std::string& line : Lines(ReadText(dir / "episodes.jsonl"))) {
+      EXPECT_EQ(nlohmann::json::parse(line).contains("galt_s"), std::string(camera) == "head") << line;
+    }
+  }
+  const RunResult table = Run("table --in " + Quote((root_ / "paired").string()) + " --suite tavis-head --out " +
+                              Quote((root_ / "paired_table").string()));
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  const std::string markdown = ReadText(root_ / "paired_table.md");
+  EXPECT_NE(markdown.find("| gr1t2 id head | gr1t2 id fixed |"), std::string::npos) << markdown;
 }
 
 TEST_F(EvalCommand, RenderCamerasAreRenderedAndReported) {

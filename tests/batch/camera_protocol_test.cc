@@ -1,0 +1,113 @@
+#include "batch/camera_protocol.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "batch/builtin_policies.h"
+#include "batch/episode_driver.h"
+#include "configs/robot_config.h"
+#include "scenarios/registry.h"
+
+namespace tavis::batch {
+namespace {
+
+TEST(CameraProtocol, ParsesTheReferenceSpellingsAndNamesABadValue) {
+  EXPECT_EQ(ParseCameraProtocol("head"), CameraProtocol::kHead);
+  EXPECT_EQ(ParseCameraProtocol("fixedcam"), CameraProtocol::kFixed);
+  EXPECT_STREQ(ToString(ParseCameraProtocol("headcam")), "head");
+  try {
+    ParseCameraProtocol("side");
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("'side'"), std::string::npos) << error.what();
+  }
+}
+
+TEST(CameraProtocol, FixedGivesTheFixedCameraForTheHeadAndZeroesTheNeckActions) {
+  const std::vector<std::string> policy = {"head", "left_wrist", "right_wrist"};
+  EXPECT_EQ(ProtocolCameras(policy, CameraProtocol::kHead), policy);
+  EXPECT_EQ(ProtocolCameras(policy, CameraProtocol::kFixed),
+            (std::vector<std::string>{"fixed", "left_wrist", "right_wrist"}));
+  kinematics::Action action;
+  action.fill(0.5);
+  ApplyToAction(CameraProtocol::kHead, action);
+  EXPECT_EQ(action[kinematics::action::kNeckYaw], 0.5);
+  ApplyToAction(CameraProtocol::kFixed, action);
+  for (int i = 0; i < kinematics::action::kSize; ++i) {
+    const bool neck = i >= kinematics::action::kNeckRoll && i <= kinematics::action::kNeckYaw;
+    EXPECT_EQ(action[i], neck ? 0.0 : 0.5) << "entry " << i;
+  }
+}
+
+// The hold policy with the head turned and pitched: a policy that moves its head.
+class LookAroundPolicy : public Policy {
+ public:
+  explicit LookAroundPolicy(const VecEnv& env)
+      : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
+  std::string name() const override { return "look-around"; }
+  int control_ticks_per_action() const override { return 3; }
+  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
+    hold_->Reset(observation, started);
+  }
+  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
+    hold_->Act(observation, acting, actions);
+    for (int env = 0; env < observation.state.num_envs; ++env) {
+      actions[env][kinematics::action::kNeckPitch] = 0.4;
+      actions[env][kinematics::action::kNeckYaw] = -0.6;
+    }
+  }
+
+ private:
+  std::unique_ptr<Policy> hold_;
+};
+
+// Per episode: the object poses at its start and the largest neck angle reached.
+class NeckAndLayout : public EpisodeSink {
+ public:
+  void EpisodeStarted(const VecEnv& env, int slot) override {
+    const engine::BatchState& state = env.state();
+    layouts.emplace_back(state.object_pose_row(slot, 0), state.object_pose_row(slot, 0) +
+                                                             engine::kObjectPoseSize * state.num_objects);
+  }
+  void Stepped(const VecEnv& env) override {
+    for (int slot = 0; slot < env.num_envs(); ++slot) {
+      for (int joint : env.model().robot.neck_joints) {
+        largest_neck = std::max(largest_neck, std::abs(env.state().q_row(slot)[joint]));
+      }
+    }
+  }
+  std::vector<std::vector<double>> layouts;  // in start order
+  double largest_neck = 0.0;
+};
+
+NeckAndLayout RunProtocol(CameraProtocol protocol) {
+  const scenarios::ScenarioDef& scenario = scenarios::FindScenario("conditional-pick");
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  engine::WorldModel model = BuildWorldModel(robot, scenario);
+  model.physics.episode_length_s = 1.0;
+  VecEnv env(std::move(model), scenario, scenarios::Split::kId, 2, 11);
+  LookAroundPolicy policy(env);
+  NeckAndLayout sink;
+  EpisodeDriver driver(env, policy, 3);
+  driver.AddSink(sink);
+  driver.SetCameraProtocol(protocol);
+  driver.Run();
+  return sink;
+}
+
+TEST(CameraProtocol, UnderFixedTheNeckStaysStillWhateverThePolicySendsAndEpisodesPair) {
+  const NeckAndLayout head = RunProtocol(CameraProtocol::kHead);
+  const NeckAndLayout fixed = RunProtocol(CameraProtocol::kFixed);
+  EXPECT_GT(head.largest_neck, 0.3) << "under head the neck follows the policy";
+  EXPECT_EQ(fixed.largest_neck, 0.0) << "under fixed the neck does not move";
+  ASSERT_EQ(head.layouts.size(), 3u);
+  EXPECT_EQ(head.layouts, fixed.layouts) << "episode i has the same scene under both protocols";
+}
+
+}  // namespace
+}  // namespace tavis::batch
