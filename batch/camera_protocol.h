@@ -1,9 +1,8 @@
 // The benchmark's paired comparison (reference 9.2, 10.2): under `head` the policy sees the head
 // camera and moves it (GALT is computed); under `fixed` it sees the fixed scene camera instead,
-// its neck actions (dims 14-16) are zeroed before stepping, and no GALT is computed. (The
-// reference also zeroes the neck entries of observation.state; that belongs to the state vector
-// of the observation contract, which does not exist yet.) Episode i has the same scene under
-// both, so cells pair.
+// its neck actions (dims 14-16) are zeroed before stepping, the neck entries of its
+// observation.state are zeroed (ProprioceptionBatch), and no GALT is computed. Episode i has the
+// same scene under both, so cells pair.
 #pragma once
 
 #include <string>

@@ -7,18 +7,26 @@
 namespace tavis::batch {
 
 EpisodeDriver::EpisodeDriver(VecEnv& env, Policy& policy, int64_t episodes, int64_t first_episode)
-    : env_(env), policy_(policy), total_(episodes), end_episode_(first_episode + episodes), next_episode_(first_episode) {
+    : env_(env),
+      policy_(policy),
+      total_(episodes),
+      end_episode_(first_episode + episodes),
+      next_episode_(first_episode),
+      proprioception_(env.model().robot, env.num_envs()) {
   if (episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(episodes));
   if (first_episode < 0) throw std::invalid_argument("the first episode index must be >= 0, got " + std::to_string(first_episode));
   const std::size_t slots = static_cast<std::size_t>(env.num_envs());
   prompts_.assign(slots, nullptr);
   acting_.assign(slots, 0);
+  observed_.assign(slots, 0);
   started_.assign(slots, 0);
   starts_.reserve(slots);
   actions_.assign(slots, kinematics::Action{});
 }
 
-Observation EpisodeDriver::MakeObservation() const { return Observation{env_.model(), env_.state(), env_.images(), prompts_}; }
+Observation EpisodeDriver::MakeObservation() const {
+  return Observation{env_.model(), env_.state(), env_.images(), prompts_, &proprioception_};
+}
 
 void EpisodeDriver::Run() {
   const int hold_ticks = policy_.control_ticks_per_action();
@@ -38,8 +46,10 @@ void EpisodeDriver::Run() {
     int running = 0;
     for (int slot = 0; slot < slots; ++slot) {
       acting_[slot] = state.running(slot) && state.control_step[slot] % hold_ticks == 0;
+      observed_[slot] = acting_[slot] && state.control_step[slot] % ticks_per_policy_step == 0;
       running += state.running(slot) ? 1 : 0;
     }
+    proprioception_.Update(state, observed_);
     policy_.Act(MakeObservation(), acting_, actions_);
     for (ActionBatch::value_type& action : actions_) ApplyToAction(protocol_, action);
     for (EpisodeSink* sink : sinks_) sink->ActionsChosen(env_, actions_);

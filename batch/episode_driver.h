@@ -51,7 +51,10 @@ class EpisodeDriver {
   void SetProgress(ProgressCallback progress) { progress_ = std::move(progress); }
   // The camera protocol's action rule, applied to every action before sinks see it and the world
   // steps with it (head by default: actions pass unchanged).
-  void SetCameraProtocol(CameraProtocol protocol) { protocol_ = protocol; }
+  void SetCameraProtocol(CameraProtocol protocol) {
+    protocol_ = protocol;
+    proprioception_.SetCameraProtocol(protocol);
+  }
   // Until every episode has ended or been stopped. Throws std::runtime_error naming the episode,
   // the action entry and its value if the policy produced a non-finite action. At policy ticks
   // the env renders the cameras it has enabled (VecEnv::EnableCameras); the caller enables the
@@ -78,9 +81,11 @@ class EpisodeDriver {
   std::vector<EpisodeSink*> sinks_;
   ProgressCallback progress_;
   CameraProtocol protocol_ = CameraProtocol::kHead;
+  ProprioceptionBatch proprioception_;
   // Per-slot buffers, sized once.
   std::vector<const char*> prompts_;
   std::vector<uint8_t> acting_;
+  std::vector<uint8_t> observed_;  // acting at a policy tick: proprioception is computed
   std::vector<uint8_t> started_;
   std::vector<EpisodeStart> starts_;
   ActionBatch actions_;

@@ -11,11 +11,13 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/action.h"
+#include "batch/proprioception.h"
 #include "render/image_batch.h"
 
 namespace tavis::batch {
 
-// What a policy sees of the batch at a control tick: the observation contract. Images are
+// What a policy sees of the batch at a control tick: the observation contract (docs/observation.md:
+// cameras, observation.state, end-effector poses, prompt, step index). Images are
 // rendered only on policy ticks (control_step a multiple of PhysicsSettings::controls_per_policy(),
 // 20 Hz) and only for the envs at one, so an env's images are current exactly when its
 // control_step is a multiple of that.
@@ -27,6 +29,9 @@ struct Observation {
   const render::ImageBatch* images = nullptr;
   // (num_envs) each env's instruction for its episode (the task's prompt), null for idle slots.
   const std::vector<const char*>& prompts;
+  // observation.state and the end-effector poses; current, like the images, for the envs at a
+  // policy tick that act now. Null when not computed (policies driven outside the episode driver).
+  const ProprioceptionBatch* proprioception = nullptr;
 };
 
 using ActionBatch = std::vector<kinematics::Action>;  // (num_envs)

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <set>
 
 #include "configs/yaml_reader.h"
 
@@ -149,6 +151,46 @@ kinematics::GripperSpec ReadGripper(const YamlValue& entry) {
   return g;
 }
 
+// observation_state: entries {joint: NAME}, {unsimulated: NAME, value: RAD} or {gripper_gap: SIDE};
+// every simulated joint appears exactly once.
+std::vector<kinematics::StateEntry> ReadObservationState(const YamlValue& list,
+                                                         const std::map<std::string, int>& joint_index) {
+  std::vector<kinematics::StateEntry> entries;
+  std::set<int> joints_seen;
+  for (const YamlValue& item : list.Elements()) {
+    kinematics::StateEntry entry;
+    const std::optional<YamlValue> joint = item.Optional("joint");
+    const std::optional<YamlValue> unsimulated = item.Optional("unsimulated");
+    const std::optional<YamlValue> gripper = item.Optional("gripper_gap");
+    if (int(joint.has_value()) + int(unsimulated.has_value()) + int(gripper.has_value()) != 1) {
+      item.Fail("an entry is one of {joint: NAME}, {unsimulated: NAME, value: RAD}, {gripper_gap: left|right}");
+    }
+    if (joint) {
+      entry.kind = kinematics::StateEntry::Kind::kJoint;
+      entry.name = joint->AsString();
+      entry.joint = LookUp(joint_index, entry.name, *joint, "joint");
+      if (!joints_seen.insert(entry.joint).second) joint->Fail("joint '" + entry.name + "' appears twice");
+    } else if (unsimulated) {
+      entry.kind = kinematics::StateEntry::Kind::kUnsimulated;
+      entry.name = unsimulated->AsString();
+      entry.value = item.Double("value");
+    } else {
+      entry.kind = kinematics::StateEntry::Kind::kGripperGap;
+      const std::string side = gripper->AsString();
+      if (side != "left" && side != "right") gripper->Fail("gripper_gap is left or right, got '" + side + "'");
+      entry.side = side == "left" ? kinematics::Side::kLeft : kinematics::Side::kRight;
+      entry.name = side + "_gripper_gap";
+    }
+    item.ExpectNoOtherKeys();
+    entries.push_back(entry);
+  }
+  if (static_cast<int>(joints_seen.size()) != static_cast<int>(joint_index.size())) {
+    list.Fail("every simulated joint must appear once; " + std::to_string(joint_index.size() - joints_seen.size()) +
+              " are missing");
+  }
+  return entries;
+}
+
 }  // namespace
 
 RobotModel LoadRobotModel(const std::string& path) {
@@ -201,6 +243,7 @@ RobotModel LoadRobotModel(const std::string& path) {
   ik.ExpectNoOtherKeys();
 
   robot.gripper = ReadGripper(root.Required("gripper"));
+  robot.observation_state = ReadObservationState(root.Required("observation_state"), joint_index);
 
   for (const YamlValue& entry : root.Required("cameras").Elements()) {
     kinematics::CameraMount camera;

@@ -78,6 +78,19 @@ struct ArmSpec {
   RigidTransform rest_pose_canonical = RigidTransform::Identity();  // teleop rest target
 };
 
+// One entry of the policy's observation.state, in the order of the reference's robot_joint_pos
+// (PhysX articulation order) as far as it is known: a simulated joint's position, a joint the
+// reference has but this model does not simulate (locked legs and waist: a constant), or a
+// gripper's measured jaw gap.
+struct StateEntry {
+  enum class Kind { kJoint, kUnsimulated, kGripperGap };
+  Kind kind = Kind::kJoint;
+  std::string name;    // the reference's joint name (kJoint: ours), for documentation and errors
+  int joint = -1;      // kJoint: index in RobotModel::joints
+  Side side = Side::kLeft;  // kGripperGap
+  double value = 0.0;  // kUnsimulated: its constant position
+};
+
 struct RobotModel {
   std::string name;
   Vec3 root_world = Vec3::Zero();        // base link origin in the world (identity rotation)
@@ -93,6 +106,7 @@ struct RobotModel {
   double ik_damping = 0.01;
   double nullspace_gain = 1.0;
   GripperSpec gripper;
+  std::vector<StateEntry> observation_state;
 
   int num_joints() const { return static_cast<int>(joints.size()); }
   int num_links() const { return static_cast<int>(links.size()); }

@@ -133,7 +133,7 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
   eval->add_option("--camera", options->camera,
                    "Camera protocol: head (the policy sees and moves the head camera; GALT computed) or fixed\n"
-                   "(the fixed camera instead, neck actions zeroed so the head stays still, no GALT); episode i has the\n"
+                   "(the fixed camera instead, neck actions and neck state zeroed, no GALT); episode i has the\n"
                    "same scene under both, so a head and a fixed cell pair")
       ->capture_default_str();
   eval->add_option("--policy", options->cell.policy, std::string("Policy (") + batch::BuiltinPolicyNames() + ")")

@@ -66,6 +66,34 @@ TEST(RobotConfig, UnknownJointInArmIsNamed) {
   EXPECT_NE(LoadError(text).find("unknown joint 'left_wrist_pich_joint'"), std::string::npos) << LoadError(text);
 }
 
+TEST(RobotConfig, ObservationStateFollowsTheReferenceLayout) {
+  const kinematics::RobotModel gr1t2 = LoadRobotModel(RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  ASSERT_EQ(gr1t2.observation_state.size(), 34u) << "32 reference joints and one entry per gripper";
+  // The reference's neck_state_indices for GR1T2 are 11, 16, 21.
+  for (int k = 0; k < kinematics::kNeckDof; ++k) {
+    const kinematics::StateEntry& entry = gr1t2.observation_state[static_cast<std::size_t>(11 + 5 * k)];
+    EXPECT_EQ(entry.kind, kinematics::StateEntry::Kind::kJoint);
+    EXPECT_EQ(entry.joint, gr1t2.neck_joints[k]) << "neck entry " << k;
+  }
+  EXPECT_EQ(gr1t2.observation_state[0].kind, kinematics::StateEntry::Kind::kUnsimulated);
+  EXPECT_EQ(gr1t2.observation_state[0].name, "left_hip_roll_joint");
+  EXPECT_EQ(gr1t2.observation_state[33].kind, kinematics::StateEntry::Kind::kGripperGap);
+  EXPECT_EQ(gr1t2.observation_state[33].side, kinematics::Side::kRight);
+}
+
+TEST(RobotConfig, ObservationStateErrorsAreNamed) {
+  const std::string twice =
+      std::regex_replace(kGr1t2, std::regex("\\{joint: head_yaw_joint\\}"), "{joint: head_pitch_joint}");
+  EXPECT_NE(LoadError(twice).find("joint 'head_pitch_joint' appears twice"), std::string::npos) << LoadError(twice);
+  const std::string missing = std::regex_replace(kGr1t2, std::regex("  - \\{joint: head_yaw_joint\\}  # 21\n"), "");
+  EXPECT_NE(LoadError(missing).find("1 are missing"), std::string::npos) << LoadError(missing);
+  const std::string side = std::regex_replace(kGr1t2, std::regex("gripper_gap: left"), "gripper_gap: middle");
+  EXPECT_NE(LoadError(side).find("gripper_gap is left or right, got 'middle'"), std::string::npos) << LoadError(side);
+  const std::string both =
+      std::regex_replace(kGr1t2, std::regex("\\{gripper_gap: left\\}"), "{gripper_gap: left, joint: head_roll_joint}");
+  EXPECT_NE(LoadError(both).find("an entry is one of"), std::string::npos) << LoadError(both);
+}
+
 TEST(RobotConfig, UnknownRobotListsTheKnownOnes) {
   try {
     RobotConfigPath(TAVIS_CONFIG_DIR, "atlas");
