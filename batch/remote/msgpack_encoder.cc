@@ -108,6 +108,21 @@ void AppendFloat(std::uint8_t marker, Float number, std::vector<std::uint8_t>& o
   AppendTagged(marker, bits, sizeof bits, out);
 }
 
+// The str, bin and ndarray payload bytes in `value`: nearly all of a request's size.
+std::size_t BulkBytes(const Value& value) {
+  if (const auto* array = value.get_if<NdArray>()) return array->data.size();
+  if (const auto* binary = value.get_if<Binary>()) return binary->bytes.size();
+  if (const auto* text = value.get_if<std::string>()) return text->size();
+  std::size_t total = 0;
+  if (const auto* items = value.get_if<Value::Array>()) {
+    for (const Value& item : *items) total += BulkBytes(item);
+  }
+  if (const auto* entries = value.get_if<Value::Map>()) {
+    for (const MapEntry& entry : *entries) total += BulkBytes(entry.key) + BulkBytes(entry.value);
+  }
+  return total;
+}
+
 }  // namespace
 
 void AppendMsgpack(const Value& value, std::vector<std::uint8_t>& out) {
@@ -144,6 +159,7 @@ void AppendMsgpack(const Value& value, std::vector<std::uint8_t>& out) {
 
 std::vector<std::uint8_t> EncodeMsgpack(const Value& value) {
   std::vector<std::uint8_t> out;
+  out.reserve(BulkBytes(value) + 4096);  // one allocation for megabytes of images, not a dozen
   AppendMsgpack(value, out);
   return out;
 }

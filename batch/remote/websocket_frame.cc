@@ -1,5 +1,6 @@
 #include "batch/remote/websocket_frame.h"
 
+#include <cstring>
 #include <string>
 
 #include "batch/remote/remote_error.h"
@@ -37,7 +38,17 @@ void AppendClientFrame(Opcode opcode, const std::uint8_t* payload, std::size_t s
   out.insert(out.end(), mask.begin(), mask.end());
   const std::size_t start = out.size();
   out.resize(start + size);
-  for (std::size_t i = 0; i < size; ++i) out[start + i] = payload[i] ^ mask[i % 4];
+  // Eight bytes at a time: requests carry megabytes of images, and byte-wise XOR costs ms.
+  std::uint64_t wide_mask = 0;
+  for (std::size_t i = 0; i < sizeof wide_mask; ++i) reinterpret_cast<std::uint8_t*>(&wide_mask)[i] = mask[i % 4];
+  std::size_t i = 0;
+  for (; i + sizeof wide_mask <= size; i += sizeof wide_mask) {
+    std::uint64_t word;
+    std::memcpy(&word, payload + i, sizeof word);
+    word ^= wide_mask;
+    std::memcpy(out.data() + start + i, &word, sizeof word);
+  }
+  for (; i < size; ++i) out[start + i] = payload[i] ^ mask[i % 4];
 }
 
 std::size_t ParseServerFrame(const std::uint8_t* data, std::size_t size, std::uint64_t max_payload,

@@ -55,6 +55,13 @@ PythonProcess::~PythonProcess() {
   waitpid(pid_, nullptr, 0);
 }
 
+bool PythonProcess::Running() {
+  if (pid_ <= 0) return false;
+  if (waitpid(pid_, nullptr, WNOHANG) != pid_) return true;
+  pid_ = -1;
+  return false;
+}
+
 std::string PythonProcess::ReadAllOutput(std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   std::string output;

@@ -22,6 +22,9 @@ class PythonProcess {
   PythonProcess(const PythonProcess&) = delete;
   PythonProcess& operator=(const PythonProcess&) = delete;
 
+  // Whether the script is still running (false once it exited, e.g. on an ImportError).
+  bool Running();
+
   // All of stdout until the script exits; throws naming the script when it takes longer than
   // `timeout` or exits with a non-zero status.
   std::string ReadAllOutput(std::chrono::milliseconds timeout);

@@ -60,6 +60,18 @@ TEST(WebSocketFrame, ClientFramesUseTheShortestLengthForm) {
   EXPECT_EQ(ClientFrame(Opcode::kBinary, Bytes(125, 0), {0, 0, 0, 0})[1], 0x80 | 125);
 }
 
+TEST(WebSocketFrame, MasksEveryPayloadByteWithTheKeyCycle) {
+  Bytes payload(301);
+  for (std::size_t i = 0; i < payload.size(); ++i) payload[i] = static_cast<std::uint8_t>(i * 7);
+  const std::array<std::uint8_t, 4> mask = {0x12, 0x34, 0x56, 0x78};
+  const Bytes frame = ClientFrame(Opcode::kBinary, payload, mask);
+  ASSERT_EQ(frame.size(), 4U + 4U + payload.size());
+  EXPECT_EQ(Bytes(frame.begin() + 4, frame.begin() + 8), Bytes(mask.begin(), mask.end()));
+  for (std::size_t i = 0; i < payload.size(); ++i) {
+    ASSERT_EQ(frame[8 + i], payload[i] ^ mask[i % 4]) << "byte " << i;
+  }
+}
+
 TEST(WebSocketReader, ReadsRfcServerExamplesSplitAnywhere) {
   Bytes stream = {0x81, 0x05, 'H', 'e', 'l', 'l', 'o'};           // unmasked text
   const Bytes fragmented = {0x01, 0x03, 'H', 'e', 'l', 0x80, 0x02, 'l', 'o'};  // text in two fragments
