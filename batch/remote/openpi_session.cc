@@ -69,6 +69,9 @@ InferResult OpenpiSession::Infer(const Value& observation) {
       return {std::move(reply), MillisecondsBetween(start, end), reconnected};
     } catch (const ConnectionLost&) {
       if (reconnected) throw;
+    } catch (const RemoteTimeout&) {
+      client_.reset();  // its late reply would answer the next request: start that one afresh
+      throw;
     }
     Connect();
     reconnected = true;

@@ -42,7 +42,8 @@ class OpenpiSession {
   // Sends `observation` (a map) and waits for the reply map. A connection that closed without a
   // server error (e.g. the server's keepalive timeout while we were busy) is re-opened once and
   // the request sent again. Throws PolicyServerError with the server's traceback (text frame,
-  // then close 1011), RemoteTimeout, ConnectFailed when re-opening fails, MsgpackError or
+  // then close 1011), RemoteTimeout (after which the next request uses a new connection, so a
+  // late reply is never taken for its answer), ConnectFailed when re-opening fails, MsgpackError or
   // WebSocketProtocolError for bad bytes, std::invalid_argument when the reply is not a map.
   InferResult Infer(const Value& observation);
 

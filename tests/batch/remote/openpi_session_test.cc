@@ -12,6 +12,7 @@
 #include <chrono>
 #include <iostream>
 #include <numeric>
+#include <optional>
 #include <thread>
 
 #include "batch/remote/health_probe.h"
@@ -235,6 +236,37 @@ TEST(OpenpiSession, ReconnectsWhenTheKeepaliveDroppedAStalledClient) {
   EXPECT_TRUE(result.reconnected);
   EXPECT_EQ(result.reply.Find("connection")->as<std::int64_t>("connection"), 2);
   EXPECT_EQ(ReadActionChunk(result.reply).values, observation.ExpectedActions());
+}
+
+TEST(OpenpiSession, ReplyTimeoutIsBoundedAndTheLateReplyIsNotTakenForTheNext) {
+  PolicyServer server;
+  OpenpiSessionOptions options;
+  options.url = server.address();
+  options.reply_timeout = milliseconds(300);
+  OpenpiSession session(options);
+  const TestObservation slow = LiberoLikeObservation(1, 8, 8, 4);
+  const auto start = Clock::now();
+  EXPECT_THROW(session.Infer(slow.ToValue({{"test/delay_s", 1.0}})), RemoteTimeout);
+  EXPECT_LT(Clock::now() - start, milliseconds(900));
+  const TestObservation next = LiberoLikeObservation(1, 8, 8, 5);
+  const InferResult result = session.Infer(next.ToValue());
+  EXPECT_TRUE(result.reconnected);
+  EXPECT_EQ(ReadActionChunk(result.reply).values, next.ExpectedActions());
+}
+
+TEST(OpenpiSession, ServerDyingMidSessionIsAClearError) {
+  std::optional<PolicyServer> server(std::in_place);
+  OpenpiSession session = Connect(*server);
+  const TestObservation observation = LiberoLikeObservation(1, 8, 8, 6);
+  session.Infer(observation.ToValue());
+  const std::string address = server->address().substr(5);  // without "ws://"
+  server.reset();
+  try {
+    session.Infer(observation.ToValue());
+    FAIL() << "no error";
+  } catch (const ConnectFailed& error) {
+    EXPECT_STREQ(error.what(), ("cannot connect to policy server " + address + ": Connection refused").c_str());
+  }
 }
 
 TEST(HealthProbe, WaitsForAServerThatIsStillStarting) {

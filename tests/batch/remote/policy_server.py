@@ -9,7 +9,7 @@ The policy is a deterministic function the tests recompute in C++ (exact in floa
   actions[t, d] = state[d % len(state)] * (t + 1) + offset + d,  t < horizon, d < action_dim
 Test-only observation keys: "test/actions_dtype" ("<f4" or "<f8", default "<f8"), "test/raise"
 (the policy raises), "test/close_after_reply" (the server closes the connection with 1000 after
-replying)."""
+replying), "test/delay_s" (the reply is sent that many seconds late)."""
 
 import argparse
 import asyncio
@@ -67,6 +67,7 @@ def serve(args):
                 start = time.monotonic()
                 obs = unpackb(await websocket.recv())
                 infer_start = time.monotonic()
+                await asyncio.sleep(float(obs.get("test/delay_s", 0.0)))
                 reply = policy.infer(obs)
                 infer_ms = (time.monotonic() - infer_start) * 1000
                 reply["connection"] = connection
