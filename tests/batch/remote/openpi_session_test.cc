@@ -212,11 +212,11 @@ TEST(OpenpiSession, ReconnectsAfterTheServerClosesAndReadsTheMetadataAgain) {
 }
 
 TEST(OpenpiSession, AnsweredPingsKeepTheConnectionThroughAPause) {
-  PolicyServer server({"--ping-interval", "0.2", "--ping-timeout", "1.0"});
+  PolicyServer server({"--ping-interval", "0.2", "--ping-timeout", "1.5"});
   OpenpiSession session = Connect(server);
   const TestObservation observation = LiberoLikeObservation(1, 8, 8, 1);
   session.Infer(observation.ToValue());
-  for (int pause = 0; pause < 5; ++pause) {  // 2.5 s busy: unanswered pings would time out at ~1.2 s
+  for (int pause = 0; pause < 8; ++pause) {  // 4 s busy: unanswered pings would time out at ~1.7 s
     std::this_thread::sleep_for(milliseconds(500));
     session.ServiceKeepalive();
   }
