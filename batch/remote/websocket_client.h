@@ -54,8 +54,9 @@ class WebSocketClient {
                                               const std::vector<std::string>& extra_headers);
   WebSocketClient(UpgradedConnection connection, std::uint64_t max_message_bytes);
 
-  // Reads socket bytes into the reader until one event is complete; returns false when the
-  // deadline passed with none (only if `wait` is false is that not an error).
+  // Reads socket bytes into the reader until one event is complete and returns true. With
+  // `wait` false it returns false as soon as no complete event is buffered and the socket has
+  // nothing to read; with `wait` true it throws RemoteTimeout at the deadline instead.
   bool ReadEvent(Deadline deadline, bool wait, WebSocketEvent& event);
   // Answers a ping, records a close (and throws ConnectionLost); returns a data message.
   std::optional<WebSocketMessage> Handle(WebSocketEvent& event);
