@@ -1,0 +1,117 @@
+"""A stand-in openpi policy server for the C++ client's tests, run with /usr/bin/python3 on
+Debian's python3-websockets 10.4 (legacy API), python3-msgpack and python3-numpy. It follows
+openpi's websocket_policy_server as policy-interfaces.md section A1 describes it: /healthz
+answers 200 "OK\\n"; each connection first gets the metadata; then every observation is answered
+with a reply map, or, when the policy raises, with the traceback as a text frame and close 1011.
+
+The policy is a deterministic function the tests recompute in C++ (exact in float64):
+  offset = (sum of all uint8 array bytes % 1024) / 8 + utf8_len(prompt) * 0.25
+  actions[t, d] = state[d % len(state)] * (t + 1) + offset + d,  t < horizon, d < action_dim
+Test-only observation keys: "test/actions_dtype" ("<f4" or "<f8", default "<f8"), "test/raise"
+(the policy raises), "test/close_after_reply" (the server closes the connection with 1000 after
+replying), "test/delay_s" (the reply is sent that many seconds late)."""
+
+import argparse
+import asyncio
+import http
+import time
+import traceback
+
+import numpy as np
+import websockets
+
+from openpi_msgpack_numpy import Packer, unpackb
+
+
+def uint8_byte_sum(value):
+    if isinstance(value, np.ndarray) and value.dtype == np.uint8:
+        return int(value.sum(dtype=np.uint64))
+    if isinstance(value, dict):
+        return sum(uint8_byte_sum(item) for item in value.values())
+    return 0
+
+
+class TestPolicy:
+    def __init__(self, horizon, action_dim):
+        self.horizon = horizon
+        self.action_dim = action_dim
+        self.metadata = {"reset_pose": [0, -1.5, 1.5, 0, 0, 0], "action_horizon": horizon,
+                         "action_dim": action_dim, "server": "tavis test policy"}
+
+    def infer(self, obs):
+        if "test/raise" in obs:
+            raise RuntimeError(f"test policy asked to fail: {obs['test/raise']}")
+        state = [float(x) for x in np.asarray(obs["observation/state"]).reshape(-1)]
+        image_sum = uint8_byte_sum(obs)
+        offset = (image_sum % 1024) / 8 + len(obs.get("prompt", "").encode("utf-8")) * 0.25
+        actions = np.array([[state[d % len(state)] * (t + 1) + offset + d for d in range(self.action_dim)]
+                            for t in range(self.horizon)], dtype=np.float64)
+        dtype = obs.get("test/actions_dtype", "<f8")
+        return {"actions": actions.astype(np.dtype(dtype)), "image_sum": image_sum}
+
+
+def serve(args):
+    policy = TestPolicy(args.horizon, args.action_dim)
+    packer = Packer()
+    connections = 0
+
+    async def handler(websocket, path=None):
+        nonlocal connections
+        connections += 1
+        connection = connections
+        await websocket.send(packer.pack(policy.metadata))
+        prev_total_ms = None
+        request = 0
+        while True:
+            try:
+                start = time.monotonic()
+                obs = unpackb(await websocket.recv())
+                infer_start = time.monotonic()
+                await asyncio.sleep(float(obs.get("test/delay_s", 0.0)))
+                reply = policy.infer(obs)
+                infer_ms = (time.monotonic() - infer_start) * 1000
+                reply["connection"] = connection
+                reply["request"] = request
+                reply["policy_timing"] = {"infer_ms": infer_ms}
+                reply["server_timing"] = {"infer_ms": infer_ms}
+                if prev_total_ms is not None:
+                    reply["server_timing"]["prev_total_ms"] = prev_total_ms
+                await websocket.send(packer.pack(reply))
+                prev_total_ms = (time.monotonic() - start) * 1000
+                request += 1
+                if obs.get("test/close_after_reply"):
+                    await websocket.close(code=1000, reason="test asked to close")
+                    return
+            except websockets.ConnectionClosed:
+                return
+            except Exception:
+                await websocket.send(traceback.format_exc())
+                await websocket.close(code=1011, reason="Internal server error. Traceback included in previous frame.")
+                return
+
+    def health_check(path, request_headers):
+        if path == "/healthz":
+            return http.HTTPStatus.OK, [], b"OK\n"
+        return None
+
+    async def run():
+        async with websockets.serve(handler, "127.0.0.1", args.port, compression=None, max_size=None,
+                                    process_request=health_check, ping_interval=args.ping_interval,
+                                    ping_timeout=args.ping_timeout):
+            print(f"policy server listening on 127.0.0.1:{args.port}", flush=True)
+            await asyncio.sleep(args.lifetime)
+
+    time.sleep(args.startup_delay)
+    asyncio.run(run())
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--port", type=int, required=True)
+    parser.add_argument("--horizon", type=int, default=10)
+    parser.add_argument("--action-dim", type=int, default=7)
+    parser.add_argument("--ping-interval", type=float, default=20.0)
+    parser.add_argument("--ping-timeout", type=float, default=20.0)
+    parser.add_argument("--startup-delay", type=float, default=0.0, help="seconds before listening, like a model load")
+    parser.add_argument("--lifetime", type=float, default=120.0, help="seconds to serve before exiting")
+    serve(parser.parse_args())
