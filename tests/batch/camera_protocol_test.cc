@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "altered_hold_policy.h"
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
 #include "configs/robot_config.h"
@@ -44,28 +45,6 @@ TEST(CameraProtocol, FixedGivesTheFixedCameraForTheHeadAndZeroesTheNeckActions) 
   }
 }
 
-// The hold policy with the head turned and pitched: a policy that moves its head.
-class LookAroundPolicy : public Policy {
- public:
-  explicit LookAroundPolicy(const VecEnv& env)
-      : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
-  std::string name() const override { return "look-around"; }
-  int control_ticks_per_action() const override { return 3; }
-  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
-    hold_->Reset(observation, started);
-  }
-  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
-    hold_->Act(observation, acting, actions);
-    for (int env = 0; env < observation.state.num_envs; ++env) {
-      actions[env][kinematics::action::kNeckPitch] = 0.4;
-      actions[env][kinematics::action::kNeckYaw] = -0.6;
-    }
-  }
-
- private:
-  std::unique_ptr<Policy> hold_;
-};
-
 // Per episode: the object poses at its start and the largest neck angle reached.
 class NeckAndLayout : public EpisodeSink {
  public:
@@ -91,7 +70,11 @@ NeckAndLayout RunProtocol(CameraProtocol protocol) {
   engine::WorldModel model = BuildWorldModel(robot, scenario);
   model.physics.episode_length_s = 1.0;
   VecEnv env(std::move(model), scenario, scenarios::Split::kId, 2, 11);
-  LookAroundPolicy policy(env);
+  // The hold policy with the head pitched and turned: a policy that moves its head.
+  AlteredHoldPolicy policy(env, "look-around", 3, [](const Observation&, int, kinematics::Action& action) {
+    action[kinematics::action::kNeckPitch] = 0.4;
+    action[kinematics::action::kNeckYaw] = -0.6;
+  });
   NeckAndLayout sink;
   EpisodeDriver driver(env, policy, 3);
   driver.AddSink(sink);

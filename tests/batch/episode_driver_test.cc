@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "altered_hold_policy.h"
 #include "batch/builtin_policies.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
@@ -154,31 +155,14 @@ TEST(EpisodeDriver, ABatchedPolicySeesEachEnvsPromptAndActsOnItsTicks) {
   EXPECT_EQ(policy.prompts.size(), 4u * 15u) << "every running env's prompt on every tick";
 }
 
-// The hold policy, except that episode 2 commands a NaN neck yaw on its fourth tick.
-class NanPolicy : public Policy {
- public:
-  explicit NanPolicy(const VecEnv& env) : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
-  std::string name() const override { return "nan"; }
-  int control_ticks_per_action() const override { return 1; }
-  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
-    hold_->Reset(observation, started);
-  }
-  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
-    hold_->Act(observation, acting, actions);
-    for (int env = 0; env < observation.state.num_envs; ++env) {
-      if (acting[env] && observation.state.episode[env] == 2 && observation.state.control_step[env] == 4) {
-        actions[env][kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
-      }
-    }
-  }
-
- private:
-  std::unique_ptr<Policy> hold_;
-};
-
 TEST(EpisodeDriver, ANonFiniteActionStopsTheRunNamingEpisodeAndEntry) {
   VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
-  NanPolicy policy(env);
+  // The hold policy, except that episode 2 commands a NaN neck yaw on its fourth tick.
+  AlteredHoldPolicy policy(env, "nan", 1, [](const Observation& observation, int slot, kinematics::Action& action) {
+    if (observation.state.episode[slot] == 2 && observation.state.control_step[slot] == 4) {
+      action[kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
+    }
+  });
   EpisodeDriver driver(env, policy, 4);
   try {
     driver.Run();
