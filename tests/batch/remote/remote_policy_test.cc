@@ -222,6 +222,16 @@ TEST(RemotePolicy, NonFiniteActionStopsTheCellNamingEpisodeAndEntry) {
   ExpectContains(message, "policy 'openpi' produced a non-finite action in episode 0: entry 5 = nan");
 }
 
+TEST(RemotePolicy, ServerDyingMidCellStopsItNamingTheServer) {
+  // The server exits half a second after it listens; four 20 s episodes take several seconds.
+  testing::PolicyServerProcess server = ServeActions(10, {"--lifetime", "0.5"});
+  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  config.episodes = 4;
+  config.server_ready_timeout_s = 1.0;
+  const std::string message = FailureOf(config);
+  ExpectContains(message, server.address());
+}
+
 TEST(RemotePolicy, UnreachableServerFailsWithinTheReadyTimeoutNamingIt) {
   batch::EvaluationCellConfig config = ServedCell({"ws://127.0.0.1:" + std::to_string(testing::FreeLoopbackPort())});
   config.server_ready_timeout_s = 1.0;
