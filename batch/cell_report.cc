@@ -43,7 +43,9 @@ nlohmann::json MillisecondsJson(std::vector<double> values_ms) {
   if (values_ms.empty()) return nullptr;
   std::sort(values_ms.begin(), values_ms.end());
   const std::size_t n = values_ms.size();
-  const auto rank = [&](double fraction) { return values_ms[static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(n))) - 1]; };
+  const auto rank = [&](double fraction) {
+    return values_ms[static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(n))) - 1];
+  };
   return {{"count", n},
           {"mean_ms", std::accumulate(values_ms.begin(), values_ms.end(), 0.0) / static_cast<double>(n)},
           {"median_ms", rank(0.5)},
@@ -58,7 +60,8 @@ void WriteReplayCsvs(const CellResult& result, const std::filesystem::path& out_
   std::filesystem::create_directories(dir);
   for (const EpisodeRecord& record : result.episodes) {
     std::vector<kinematics::Action> rows;
-    for (std::size_t tick = 0; tick < record.actions.size(); tick += static_cast<std::size_t>(result.replay_csv_stride)) {
+    const std::size_t stride = static_cast<std::size_t>(result.replay_csv_stride);
+    for (std::size_t tick = 0; tick < record.actions.size(); tick += stride) {
       rows.push_back(record.actions[tick]);
     }
     const std::filesystem::path path = dir / ("episode_" + std::to_string(record.episode) + ".csv");

@@ -46,8 +46,8 @@ Value BuildTavisObservation(const batch::Observation& observation, const std::ve
   }
   const batch::ProprioceptionBatch& proprioception = *observation.proprioception;
   const float* state = proprioception.state(env);
-  entries.push_back({"observation.state",
-                     MakeFloat32Array({proprioception.state_size()}, std::vector<float>(state, state + proprioception.state_size()))});
+  std::vector<float> state_values(state, state + proprioception.state_size());
+  entries.push_back({"observation.state", MakeFloat32Array({proprioception.state_size()}, state_values)});
   const char* prompt = observation.prompts[static_cast<std::size_t>(env)];
   entries.push_back({"prompt", prompt != nullptr ? prompt : ""});
   return entries;
