@@ -105,4 +105,19 @@ ActionTrajectory ReadActionCsv(const std::filesystem::path& path, int columns) {
   return ParseActionCsv(in, path.string(), columns);
 }
 
+void WriteActionCsv(const std::filesystem::path& path, const std::vector<kinematics::Action>& rows) {
+  std::string text;
+  char number[32];
+  for (const kinematics::Action& action : rows) {
+    for (std::size_t column = 0; column < action.size(); ++column) {
+      const auto result = std::to_chars(number, number + sizeof(number), action[column]);
+      if (column > 0) text += ',';
+      text.append(number, result.ptr);
+    }
+    text += '\n';
+  }
+  std::ofstream out(path);
+  if (!out || !(out << text) || !out.flush()) throw std::runtime_error(path.string() + ": cannot write");
+}
+
 }  // namespace tavis::batch

@@ -1,4 +1,5 @@
-// Reading commanded-action trajectories from CSV files (the input of `tavis galt`).
+// Commanded-action trajectories as CSV files: the input of `tavis galt` and `--policy replay`,
+// and what a served policy's episodes are saved as.
 //
 // Format: one row per step, `columns` comma-separated decimal numbers (19 for the canonical
 // action, reference spec section 5). An optional header row is allowed as the first line: it is
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "kinematics/action.h"
 #include "kinematics/galt.h"
 
 namespace tavis::batch {
@@ -32,5 +34,10 @@ ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source,
 // Reads and parses a file; a file that cannot be opened throws "FILE: cannot open ...".
 ActionTrajectory ReadActionCsv(const std::filesystem::path& path,
                                int columns = kinematics::action::kSize);
+
+// Writes one row per action, each value in the shortest form that reads back to the same double,
+// so ReadActionCsv returns the actions bit-exactly. Throws std::runtime_error "FILE: cannot
+// write" when the file cannot be written.
+void WriteActionCsv(const std::filesystem::path& path, const std::vector<kinematics::Action>& rows);
 
 }  // namespace tavis::batch

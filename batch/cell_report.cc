@@ -1,12 +1,16 @@
 #include "batch/cell_report.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
+#include "batch/action_csv.h"
 #include "batch/galt_summary.h"
 #include "batch/statistics.h"
 
@@ -34,6 +38,38 @@ nlohmann::json GaltJson(const CellResult& result, std::optional<kinematics::Galt
           {"reasons", reasons}};
 }
 
+// count, mean, median, 95th percentile (nearest rank) and maximum of `values_ms`; null when empty.
+nlohmann::json MillisecondsJson(std::vector<double> values_ms) {
+  if (values_ms.empty()) return nullptr;
+  std::sort(values_ms.begin(), values_ms.end());
+  const std::size_t n = values_ms.size();
+  const auto rank = [&](double fraction) {
+    return values_ms[static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(n))) - 1];
+  };
+  return {{"count", n},
+          {"mean_ms", std::accumulate(values_ms.begin(), values_ms.end(), 0.0) / static_cast<double>(n)},
+          {"median_ms", rank(0.5)},
+          {"p95_ms", rank(0.95)},
+          {"max_ms", values_ms.back()}};
+}
+
+// The commanded actions of each episode, one row every `stride` control ticks (the rows the
+// policy chose), as DIR/actions/episode_<i>.csv for `--policy replay --actions`.
+void WriteReplayCsvs(const CellResult& result, const std::filesystem::path& out_dir) {
+  const std::filesystem::path dir = out_dir / "actions";
+  std::filesystem::create_directories(dir);
+  for (const EpisodeRecord& record : result.episodes) {
+    std::vector<kinematics::Action> rows;
+    const std::size_t stride = static_cast<std::size_t>(result.replay_csv_stride);
+    for (std::size_t tick = 0; tick < record.actions.size(); tick += stride) {
+      rows.push_back(record.actions[tick]);
+    }
+    const std::filesystem::path path = dir / ("episode_" + std::to_string(record.episode) + ".csv");
+    WriteActionCsv(path.string() + ".partial", rows);
+    std::filesystem::rename(path.string() + ".partial", path);
+  }
+}
+
 void WriteAtomically(const std::filesystem::path& path, const std::string& text) {
   const std::filesystem::path temporary = path.string() + ".partial";
   {
@@ -49,6 +85,7 @@ void WriteAtomically(const std::filesystem::path& path, const std::string& text)
 
 void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir) {
   std::filesystem::create_directories(out_dir);
+  if (result.replay_csv_stride > 0) WriteReplayCsvs(result, out_dir);
   const EvaluationCellConfig& config = result.config;
   std::string episodes_text;
   for (const EpisodeRecord& record : result.episodes) {
@@ -102,6 +139,14 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
                                                           : nlohmann::json();
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
+  }
+  if (result.requests) {
+    summary["servers"] = config.servers;
+    summary["replan_steps"] = config.replan_steps;
+    summary["requests"] = {{"count", result.requests->round_trip_ms.size()},
+                           {"reconnects", result.requests->reconnects},
+                           {"round_trip", MillisecondsJson(result.requests->round_trip_ms)},
+                           {"server_infer", MillisecondsJson(result.requests->server_infer_ms)}};
   }
   WriteAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
 }

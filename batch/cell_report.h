@@ -1,6 +1,8 @@
-// Writes an evaluation cell's results: DIR/episodes.jsonl (one object per episode) and
-// DIR/summary.json. Files are written to a temporary name and renamed, so an interrupted run
-// never leaves a half-written result in place of a good one.
+// Writes an evaluation cell's results: DIR/episodes.jsonl (one object per episode),
+// DIR/summary.json, and for a served policy DIR/actions/episode_<i>.csv (the actions each episode
+// stepped with, one row per policy step, for --policy replay) and its request timings. Files are
+// written to a temporary name and renamed, so an interrupted run never leaves a half-written
+// result in place of a good one.
 #pragma once
 
 #include <string>

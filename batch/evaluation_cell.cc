@@ -12,10 +12,25 @@
 namespace tavis::batch {
 namespace {
 
+constexpr const char* kServedPolicy = "openpi";
+
+void ValidatePolicy(const EvaluationCellConfig& config) {
+  if (config.policy == kServedPolicy) {
+    if (config.servers.empty()) throw std::invalid_argument("policy 'openpi' needs a policy server (--server ws://HOST:PORT)");
+    return;
+  }
+  try {
+    CheckBuiltinPolicyName(config.policy);
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument("unknown policy '" + config.policy + "' (known: " + CellPolicyNames() + ")");
+  }
+  if (!config.servers.empty()) throw std::invalid_argument("--server is for --policy openpi, not '" + config.policy + "'");
+}
+
 void ValidateConfig(const EvaluationCellConfig& config) {
   if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
-  CheckBuiltinPolicyName(config.policy);
+  ValidatePolicy(config);
   CameraSettings cameras;
   cameras.cameras = config.render_cameras;
   cameras.width = config.image_width;
@@ -62,6 +77,8 @@ void AddGalt(CellResult& result, int hold_ticks, const engine::PhysicsSettings& 
 
 }  // namespace
 
+std::string CellPolicyNames() { return std::string(BuiltinPolicyNames()) + ", " + kServedPolicy; }
+
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress) {
   ValidateConfig(config);
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
@@ -70,7 +87,19 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
 
   const int slots = std::min(config.envs, config.episodes);
   VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
-  std::unique_ptr<Policy> policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
+  std::unique_ptr<Policy> policy;
+  remote::RemotePolicy* served = nullptr;
+  if (config.policy == kServedPolicy) {
+    remote::RemotePolicyOptions options;
+    options.servers = config.servers;
+    options.replan_steps = config.replan_steps;
+    options.ready_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.server_ready_timeout_s * 1000.0));
+    auto remote_policy = std::make_unique<remote::RemotePolicy>(options, slots);
+    served = remote_policy.get();
+    policy = std::move(remote_policy);
+  } else {
+    policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
+  }
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);
   if (!cameras.empty()) env.EnableCameras({cameras, config.image_width, config.image_height, false, false});
 
@@ -90,6 +119,10 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   // GALT measures how the head leads the hand: the fixed protocol has no head to lead.
   if (config.camera == CameraProtocol::kHead) AddGalt(result, policy->control_ticks_per_action(), env.model().physics);
   result.rendered_images = env.rendered_images();
+  if (served != nullptr) {
+    result.requests = served->timings();
+    result.replay_csv_stride = served->control_ticks_per_action();
+  }
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -4,12 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "batch/camera_protocol.h"
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
+#include "batch/remote/remote_policy.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {
@@ -21,6 +23,11 @@ struct EvaluationCellConfig {
   CameraProtocol camera = CameraProtocol::kHead;
   std::string policy = "expert";
   std::string actions_file;  // for the replay policy
+  // For the served policy "openpi": its policy servers (env slot i asks servers[i % size]) and
+  // the chunk rows an env steps with before asking again (0: the whole chunk).
+  std::vector<std::string> servers;
+  int replan_steps = 0;
+  double server_ready_timeout_s = 60.0;  // per server, for its /healthz to answer before the cell starts
   int episodes = 96;
   int envs = 32;  // parallel env slots
   uint64_t seed = 0;
@@ -42,10 +49,18 @@ struct CellResult {
   double galt_policy_rate_fps = 0.0;  // 0 when the policy acts at the policy rate
   std::vector<std::string> rendered_cameras;  // the policy's cameras, then the extra render_cameras
   int64_t rendered_images = 0;                // env-camera images rendered
+  // A served policy's requests; its episodes' actions are saved for --policy replay, one row
+  // every replay_csv_stride control ticks (0: not saved).
+  std::optional<remote::RequestTimings> requests;
+  int replay_csv_stride = 0;
 };
 
+// Policy names a cell accepts, for --help texts and errors: the built-in ones and "openpi".
+std::string CellPolicyNames();
+
 // Throws std::invalid_argument / configs::ConfigError for bad settings, and std::runtime_error
-// naming the episode, action entry and value if the policy produced a non-finite action.
+// naming the episode, action entry and value if the policy produced a non-finite action, or
+// naming the server when a served policy's server is unreachable or fails.
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr);
 
 }  // namespace tavis::batch

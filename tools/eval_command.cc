@@ -12,7 +12,6 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "batch/builtin_policies.h"
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
 #include "batch/scene_render.h"
@@ -32,6 +31,7 @@ struct EvalOptions {
   std::string image_size = "640x480";
   std::string suite;
   bool task_given = false;
+  bool image_size_given = false;
   int threads = 0;
   bool quiet = false;
 };
@@ -102,7 +102,8 @@ void RunEval(const EvalOptions& options) {
   cell.split = scenarios::ParseSplit(options.split);
   cell.camera = batch::ParseCameraProtocol(options.camera);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
-  std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
+  const bool served_default_size = cell.policy == "openpi" && !options.image_size_given;
+  std::tie(cell.image_width, cell.image_height) = ParseImageSize(served_default_size ? "224x224" : options.image_size);
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   if (!options.suite.empty()) {
@@ -136,7 +137,22 @@ void RegisterEvalCommand(CLI::App& app) {
                    "(the fixed camera instead, neck actions and neck state zeroed, no GALT); episode i has the\n"
                    "same scene under both, so a head and a fixed cell pair")
       ->capture_default_str();
-  eval->add_option("--policy", options->cell.policy, std::string("Policy (") + batch::BuiltinPolicyNames() + ")")
+  eval->add_option("--policy", options->cell.policy,
+                   "Policy (" + batch::CellPolicyNames() + "); openpi: a policy served over openpi's websocket\n"
+                   "protocol (--server), acting at 20 Hz on the head and wrist cameras (224x224 unless --image-size)")
+      ->capture_default_str();
+  eval->add_option("--server", options->cell.servers,
+                   "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
+                   "several servers (slot i asks server i mod K). Each episode's actions are saved in\n"
+                   "DIR/actions/episode_<i>.csv for --policy replay");
+  eval->add_option("--replan-steps", options->cell.replan_steps,
+                   "For --policy openpi: rows of each action chunk an env steps with before asking again\n"
+                   "(0: the whole chunk, as openpi's ActionChunkBroker; its LIBERO example uses 5)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  eval->add_option("--server-timeout", options->cell.server_ready_timeout_s,
+                   "For --policy openpi: seconds to wait for each server's /healthz before giving up")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   eval->add_option("--actions", options->cell.actions_file,
                    "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step");
@@ -160,6 +176,7 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_flag("--quiet", options->quiet, "No progress bar");
   eval->callback([options, eval] {
     options->task_given = eval->count("--task") > 0;
+    options->image_size_given = eval->count("--image-size") > 0;
     RunEval(*options);
   });
 }

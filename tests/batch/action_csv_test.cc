@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace tavis::batch {
 namespace {
@@ -80,6 +83,37 @@ TEST(ActionCsv, MissingFileIsAnError) {
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/episode.csv: no such file");
+  }
+}
+
+TEST(ActionCsv, WrittenActionsReadBackBitExactly) {
+  std::vector<kinematics::Action> rows(3);
+  for (std::size_t row = 0; row < rows.size(); ++row) {
+    for (std::size_t column = 0; column < rows[row].size(); ++column) {
+      rows[row][column] = std::nextafter(0.1 * static_cast<double>(column + 1), 1.0) / static_cast<double>(row + 3);
+    }
+  }
+  rows[1][4] = -1.0 / 3.0;
+  rows[2][0] = 1.2345678901234567e-300;
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "tavis_action_csv_test_roundtrip.csv";
+  WriteActionCsv(path, rows);
+  const ActionTrajectory read = ReadActionCsv(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(read.num_steps, 3);
+  ASSERT_EQ(read.num_columns, 19);
+  for (std::size_t row = 0; row < rows.size(); ++row) {
+    for (std::size_t column = 0; column < rows[row].size(); ++column) {
+      EXPECT_EQ(read.values[row * 19 + column], rows[row][column]) << "row " << row << " column " << column;
+    }
+  }
+}
+
+TEST(ActionCsv, UnwritableFileIsNamed) {
+  try {
+    WriteActionCsv("/nonexistent/episode.csv", {kinematics::Action{}});
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/episode.csv: cannot write");
   }
 }
 

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/batch/remote/policy_server_process.h"
 #include "tool_runner.h"
 
 namespace tavis::tools {
@@ -168,9 +169,41 @@ TEST_F(EvalCommand, HelpExitsZeroAndListsOptions) {
   const RunResult run = Run("eval --help");
   EXPECT_EQ(run.exit_code, 0) << run.err;
   for (const char* option : {"--task", "--robot", "--split", "--policy", "--episodes", "--seed", "--out",
-                             "--render-cameras", "--image-size"}) {
+                             "--render-cameras", "--image-size", "--server", "--replan-steps", "--server-timeout"}) {
     EXPECT_NE(run.out.find(option), std::string::npos) << option << " missing in:\n" << run.out;
   }
+}
+
+// A served policy through the real program: its episodes' actions are saved and replay them
+// without the server; a server that fails leaves no results.
+TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeavesNoResults) {
+  remote::testing::PolicyServerProcess server(
+      {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001"});
+  const fs::path dir = root_ / "served";
+  const std::string cell = "eval --episodes 2 --envs 2 --seed 6 --quiet --image-size 32x24 ";
+  const RunResult run = Run(cell + "--policy openpi --server " + server.address() + " --out " + Quote(dir.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "summary.json"));
+  EXPECT_EQ(summary.at("policy"), "openpi");
+  EXPECT_EQ(summary.at("servers"), nlohmann::json::array({server.address()}));
+  EXPECT_GT(summary.at("requests").at("count").get<int>(), 0) << summary.dump();
+  const std::vector<std::string> served = Lines(ReadText(dir / "episodes.jsonl"));
+  ASSERT_EQ(served.size(), 2u);
+
+  const fs::path replay_dir = root_ / "replayed";
+  const RunResult replay = Run("eval --episodes 1 --envs 1 --seed 6 --quiet --policy replay --actions " +
+                               Quote((dir / "actions" / "episode_0.csv").string()) + " --out " + Quote(replay_dir.string()));
+  ASSERT_EQ(replay.exit_code, 0) << replay.err;
+  EXPECT_EQ(Lines(ReadText(replay_dir / "episodes.jsonl")), std::vector<std::string>{served[0]});
+  EXPECT_TRUE(fs::exists(dir / "actions" / "episode_1.csv"));
+
+  remote::testing::PolicyServerProcess failing(
+      {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001", "--fail-at-request", "3"});
+  const fs::path failed_dir = root_ / "failed";
+  const RunResult failed = Run(cell + "--policy openpi --server " + failing.address() + " --out " + Quote(failed_dir.string()));
+  EXPECT_NE(failed.exit_code, 0);
+  EXPECT_NE(failed.err.find("RuntimeError: test policy asked to fail at request 3"), std::string::npos) << failed.err;
+  EXPECT_FALSE(fs::exists(failed_dir / "summary.json"));
 }
 
 using GaltCommand = EvalCommand;

@@ -20,6 +20,7 @@
 #include "batch/remote/openpi_reply.h"
 #include "batch/remote/remote_error.h"
 #include "tests/batch/remote/golden_values.h"
+#include "tests/batch/remote/policy_server_process.h"
 #include "tests/batch/remote/python_process.h"
 
 namespace tavis::remote {
@@ -31,40 +32,17 @@ using testing::StrMap;
 constexpr int kHorizon = 10;
 constexpr int kActionDim = 7;
 
-// policy_server.py on a free loopback port, ready (its /healthz answers) once constructed.
-class PolicyServer {
+// policy_server.py answering kHorizon x kActionDim chunks.
+class PolicyServer : public testing::PolicyServerProcess {
  public:
   explicit PolicyServer(std::vector<std::string> extra_args = {}, bool wait_ready = true)
-      : port_(testing::FreeLoopbackPort()), process_(testing::TestScript("policy_server.py"), Args(port_, extra_args)) {
-    if (wait_ready) WaitUntilReady();
-  }
-  // /healthz answers; fails at once, naming the likely cause, if the script exits instead.
-  void WaitUntilReady() {
-    const Deadline deadline = Clock::now() + milliseconds(20'000);
-    while (true) {
-      try {
-        WaitForHealthz(url(), milliseconds(250));
-        return;
-      } catch (const RemoteTimeout&) {
-        if (!process_.Running()) {
-          throw std::runtime_error("policy_server.py exited before serving (its stderr above says why; are "
-                                   "python3-websockets, python3-msgpack and python3-numpy installed?)");
-        }
-        if (Clock::now() > deadline) throw;
-      }
-    }
-  }
-  WebSocketUrl url() const { return {"127.0.0.1", port_, "/"}; }
-  std::string address() const { return "ws://127.0.0.1:" + std::to_string(port_); }
+      : PolicyServerProcess(WithShape(std::move(extra_args)), wait_ready) {}
 
  private:
-  static std::vector<std::string> Args(int port, std::vector<std::string> extra) {
-    extra.insert(extra.begin(), {"--port", std::to_string(port), "--horizon", std::to_string(kHorizon),
-                                 "--action-dim", std::to_string(kActionDim)});
+  static std::vector<std::string> WithShape(std::vector<std::string> extra) {
+    extra.insert(extra.begin(), {"--horizon", std::to_string(kHorizon), "--action-dim", std::to_string(kActionDim)});
     return extra;
   }
-  int port_;
-  testing::PythonProcess process_;
 };
 
 struct TestObservation {

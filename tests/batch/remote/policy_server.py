@@ -6,8 +6,12 @@ with a reply map, or, when the policy raises, with the traceback as a text frame
 
 The policy is a deterministic function the tests recompute in C++ (exact in float64):
   offset = (sum of all uint8 array bytes % 1024) / 8 + utf8_len(prompt) * 0.25
-  actions[t, d] = state[d % len(state)] * (t + 1) + offset + d,  t < horizon, d < action_dim
-Test-only observation keys: "test/actions_dtype" ("<f4" or "<f8", default "<f8"), "test/raise"
+  actions[t, d] = (state[d % len(state)] * (t + 1) + offset + d) * action_scale,
+                  t < horizon, d < action_dim
+where state is "observation/state" (openpi's LIBERO name) or "observation.state" (the tavis layout).
+Server-wide faults for the tests of a whole cell: --fail-at-request N (the policy raises on
+the server's N-th request, counting from 0 over all connections) and --nan-entry D (actions[0, D]
+is NaN). Test-only observation keys: "test/actions_dtype" ("<f4" or "<f8", default "<f8"), "test/raise"
 (the policy raises), "test/close_after_reply" (the server closes the connection with 1000 after
 replying), "test/delay_s" (the reply is sent that many seconds late)."""
 
@@ -32,26 +36,37 @@ def uint8_byte_sum(value):
 
 
 class TestPolicy:
-    def __init__(self, horizon, action_dim):
+    def __init__(self, horizon, action_dim, action_scale, fail_at_request, nan_entry):
+        self.requests = 0
+        self.fail_at_request = fail_at_request
+        self.nan_entry = nan_entry
         self.horizon = horizon
         self.action_dim = action_dim
+        self.action_scale = action_scale
         self.metadata = {"reset_pose": [0, -1.5, 1.5, 0, 0, 0], "action_horizon": horizon,
                          "action_dim": action_dim, "server": "tavis test policy"}
 
     def infer(self, obs):
+        request = self.requests
+        self.requests += 1
         if "test/raise" in obs:
             raise RuntimeError(f"test policy asked to fail: {obs['test/raise']}")
-        state = [float(x) for x in np.asarray(obs["observation/state"]).reshape(-1)]
+        if request == self.fail_at_request:
+            raise RuntimeError(f"test policy asked to fail at request {request}")
+        state_key = "observation/state" if "observation/state" in obs else "observation.state"
+        state = [float(x) for x in np.asarray(obs[state_key]).reshape(-1)]
         image_sum = uint8_byte_sum(obs)
         offset = (image_sum % 1024) / 8 + len(obs.get("prompt", "").encode("utf-8")) * 0.25
         actions = np.array([[state[d % len(state)] * (t + 1) + offset + d for d in range(self.action_dim)]
-                            for t in range(self.horizon)], dtype=np.float64)
+                            for t in range(self.horizon)], dtype=np.float64) * self.action_scale
+        if self.nan_entry >= 0:
+            actions[0, self.nan_entry] = np.nan
         dtype = obs.get("test/actions_dtype", "<f8")
         return {"actions": actions.astype(np.dtype(dtype)), "image_sum": image_sum}
 
 
 def serve(args):
-    policy = TestPolicy(args.horizon, args.action_dim)
+    policy = TestPolicy(args.horizon, args.action_dim, args.action_scale, args.fail_at_request, args.nan_entry)
     packer = Packer()
     connections = 0
 
@@ -110,6 +125,10 @@ if __name__ == "__main__":
     parser.add_argument("--port", type=int, required=True)
     parser.add_argument("--horizon", type=int, default=10)
     parser.add_argument("--action-dim", type=int, default=7)
+    parser.add_argument("--action-scale", type=float, default=1.0,
+                        help="scales every action, e.g. 1e-3 for arm targets near the robot")
+    parser.add_argument("--fail-at-request", type=int, default=-1)
+    parser.add_argument("--nan-entry", type=int, default=-1)
     parser.add_argument("--ping-interval", type=float, default=20.0)
     parser.add_argument("--ping-timeout", type=float, default=20.0)
     parser.add_argument("--startup-delay", type=float, default=0.0, help="seconds before listening, like a model load")

@@ -1,0 +1,270 @@
+// The served policy end to end: the episode driver and evaluation cells driven by
+// policy_server.py over loopback. Every wait is bounded.
+#include "batch/remote/remote_policy.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/cell_report.h"
+#include "batch/evaluation_cell.h"
+#include "batch/episode_driver.h"
+#include "configs/robot_config.h"
+#include "scenarios/registry.h"
+#include "tests/batch/remote/policy_server_process.h"
+#include "tests/batch/remote/python_process.h"
+
+namespace tavis::remote {
+namespace {
+
+constexpr double kActionScale = 1e-3;  // arm targets within reach, quaternions of any norm
+
+// policy_server.py answering horizon x 19 chunks, scaled to plausible actions.
+testing::PolicyServerProcess ServeActions(int horizon, std::vector<std::string> extra = {}) {
+  extra.insert(extra.begin(), {"--horizon", std::to_string(horizon), "--action-dim", "19", "--action-scale", "0.001"});
+  return testing::PolicyServerProcess(extra);
+}
+
+// policy_server.py's function of a request, in its float64 operation order.
+std::vector<double> ExpectedChunk(const Value& request, int horizon) {
+  std::uint64_t image_sum = 0;
+  for (const MapEntry& entry : request.as<Value::Map>("request")) {
+    if (const NdArray* array = entry.value.get_if<NdArray>(); array != nullptr && array->dtype == "|u1") {
+      for (std::uint8_t byte : array->data) image_sum += byte;
+    }
+  }
+  const std::vector<double> state = FloatArrayToDoubles(request.Find("observation.state")->as<NdArray>("state"));
+  const std::string& prompt = request.Find("prompt")->as<std::string>("prompt");
+  const double offset = static_cast<double>(image_sum % 1024) / 8 + static_cast<double>(prompt.size()) * 0.25;
+  std::vector<double> chunk;
+  for (int t = 0; t < horizon; ++t) {
+    for (std::size_t d = 0; d < kinematics::action::kSize; ++d) {
+      chunk.push_back((state[d % state.size()] * (t + 1) + offset + static_cast<double>(d)) * kActionScale);
+    }
+  }
+  return chunk;
+}
+
+// Records what the wrapped served policy was asked with and what it chose, per (episode, policy step).
+class RecordingPolicy : public batch::Policy {
+ public:
+  explicit RecordingPolicy(RemotePolicy& inner) : inner_(inner) {}
+  std::string name() const override { return inner_.name(); }
+  int control_ticks_per_action() const override { return inner_.control_ticks_per_action(); }
+  std::vector<std::string> cameras() const override { return inner_.cameras(); }
+  void Reset(const batch::Observation& observation, const std::vector<uint8_t>& started) override {
+    inner_.Reset(observation, started);
+  }
+  void Act(const batch::Observation& observation, const std::vector<uint8_t>& acting, batch::ActionBatch& actions) override {
+    inner_.Act(observation, acting, actions);
+    for (int env = 0; env < static_cast<int>(acting.size()); ++env) {
+      if (!acting[static_cast<std::size_t>(env)]) continue;
+      const Key key{observation.state.episode[env], observation.state.control_step[env] / control_ticks_per_action()};
+      requests[key] = BuildTavisObservation(observation, cameras(), env);
+      chosen[key] = actions[static_cast<std::size_t>(env)];
+    }
+  }
+
+  using Key = std::pair<int64_t, int>;
+  std::map<Key, Value> requests;
+  std::map<Key, kinematics::Action> chosen;
+
+ private:
+  RemotePolicy& inner_;
+};
+
+TEST(RemotePolicy, StepsWithTheServersFunctionOfEachEnvsObservationReplanningEveryKSteps) {
+  constexpr int kHorizon = 4;
+  constexpr int kReplan = 3;
+  testing::PolicyServerProcess first = ServeActions(kHorizon);
+  testing::PolicyServerProcess second = ServeActions(kHorizon);
+  const scenarios::ScenarioDef& scenario = scenarios::FindScenario("clutter-pick-cube");
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
+  model.physics.episode_length_s = 1.0;  // 20 policy steps
+  batch::VecEnv env(std::move(model), scenario, scenarios::Split::kId, 3, 5);
+  RemotePolicyOptions options;
+  options.servers = {first.address(), second.address()};
+  options.replan_steps = kReplan;
+  RemotePolicy served(options, env.num_envs());
+  RecordingPolicy policy(served);
+  env.EnableCameras({policy.cameras(), 32, 24, false, false});
+  batch::EpisodeDriver driver(env, policy, 4);
+  driver.Run();
+
+  ASSERT_FALSE(policy.chosen.empty());
+  int queries = 0;
+  for (const auto& [key, action] : policy.chosen) {
+    const auto [episode, step] = key;
+    const int row = step % kReplan;
+    const auto request = policy.requests.find({episode, step - row});
+    ASSERT_NE(request, policy.requests.end()) << "episode " << episode << " step " << step;
+    const std::vector<double> chunk = ExpectedChunk(request->second, kHorizon);
+    for (std::size_t d = 0; d < action.size(); ++d) {
+      ASSERT_EQ(action[d], chunk[static_cast<std::size_t>(row) * kinematics::action::kSize + d])
+          << "episode " << episode << " step " << step << " entry " << d;
+    }
+    queries += row == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(static_cast<int>(served.timings().round_trip_ms.size()), queries) << "one request per re-plan, none else";
+  EXPECT_EQ(served.timings().server_infer_ms.size(), served.timings().round_trip_ms.size());
+}
+
+batch::EvaluationCellConfig ServedCell(const std::vector<std::string>& servers) {
+  batch::EvaluationCellConfig config;
+  config.task = "clutter-pick-cube";
+  config.policy = "openpi";
+  config.servers = servers;
+  config.episodes = 2;
+  config.envs = 2;
+  config.seed = 7;
+  config.config_dir = TAVIS_CONFIG_DIR;
+  config.image_width = 32;
+  config.image_height = 24;
+  return config;
+}
+
+batch::CellResult RunWithThreads(const batch::EvaluationCellConfig& config, std::size_t threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  return batch::RunEvaluationCell(config);
+}
+
+void ExpectSameEpisode(const batch::EpisodeRecord& a, const batch::EpisodeRecord& b, const std::string& what) {
+  EXPECT_EQ(a.episode, b.episode) << what;
+  EXPECT_EQ(a.success, b.success) << what;
+  EXPECT_EQ(a.end, b.end) << what;
+  EXPECT_EQ(a.length_control_ticks, b.length_control_ticks) << what;
+  EXPECT_EQ(a.solver_messages, b.solver_messages) << what;
+  ASSERT_EQ(a.actions.size(), b.actions.size()) << what;
+  for (std::size_t t = 0; t < a.actions.size(); ++t) ASSERT_EQ(a.actions[t], b.actions[t]) << what << ", control tick " << t;
+}
+
+std::filesystem::path FreshDirectory(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("tavis_remote_policy_test_" + name);
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+TEST(RemotePolicy, CellIsTheSameWithOneAndTwoThreadsAndItsSavedActionsReplayIt) {
+  testing::PolicyServerProcess server = ServeActions(10);
+  const batch::EvaluationCellConfig config = ServedCell({server.address()});
+  const batch::CellResult one = RunWithThreads(config, 1);
+  const batch::CellResult two = RunWithThreads(config, 2);
+  ASSERT_EQ(one.episodes.size(), 2U);
+  ASSERT_EQ(two.episodes.size(), 2U);
+  for (std::size_t i = 0; i < one.episodes.size(); ++i) {
+    ExpectSameEpisode(one.episodes[i], two.episodes[i], "1 vs 2 threads, episode " + std::to_string(i));
+  }
+
+  const std::filesystem::path dir = FreshDirectory("replay");
+  batch::WriteCellReport(two, {2}, dir.string());
+  nlohmann::json summary;
+  std::ifstream(dir / "summary.json") >> summary;
+  EXPECT_EQ(summary["policy"], "openpi");
+  EXPECT_GT(summary["requests"]["count"].get<int>(), 0);
+  EXPECT_EQ(summary["requests"]["round_trip"]["count"], summary["requests"]["count"]);
+  EXPECT_TRUE(summary["requests"]["server_infer"].is_object());
+
+  batch::EvaluationCellConfig replay = config;
+  replay.policy = "replay";
+  replay.servers.clear();
+  replay.episodes = 1;
+  replay.actions_file = (dir / "actions" / "episode_0.csv").string();
+  const batch::CellResult replayed = RunWithThreads(replay, 2);
+  ASSERT_EQ(replayed.episodes.size(), 1U);
+  ExpectSameEpisode(replayed.episodes[0], two.episodes[0], "replay of episode 0's saved actions");
+  EXPECT_TRUE(std::filesystem::exists(dir / "actions" / "episode_1.csv"));
+  std::filesystem::remove_all(dir);
+}
+
+std::string FailureOf(const batch::EvaluationCellConfig& config) {
+  try {
+    batch::RunEvaluationCell(config);
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "the cell did not fail";
+  return "";
+}
+
+void ExpectContains(const std::string& text, const std::string& part) {
+  EXPECT_NE(text.find(part), std::string::npos) << "'" << part << "' not in: " << text;
+}
+
+TEST(RemotePolicy, ServerErrorStopsTheCellWithTheTracebackNamingTheEnvAndEpisode) {
+  testing::PolicyServerProcess server = ServeActions(10, {"--fail-at-request", "1"});
+  const std::string message = FailureOf(ServedCell({server.address()}));
+  ExpectContains(message, "policy 'openpi', env slot 1 (episode 1, server " + server.address() + ")");
+  ExpectContains(message, "Traceback (most recent call last)");
+  ExpectContains(message, "RuntimeError: test policy asked to fail at request 1");
+}
+
+TEST(RemotePolicy, ChunkOfTheWrongWidthStopsTheCellNamingTheShape) {
+  testing::PolicyServerProcess server({"--horizon", "10", "--action-dim", "7"});
+  const std::string message = FailureOf(ServedCell({server.address()}));
+  ExpectContains(message, "env slot 0 (episode 0");
+  ExpectContains(message, "reply actions are 10 x 7, expected H x 19");
+}
+
+TEST(RemotePolicy, NonFiniteActionStopsTheCellNamingEpisodeAndEntry) {
+  testing::PolicyServerProcess server = ServeActions(10, {"--nan-entry", "5"});
+  const std::string message = FailureOf(ServedCell({server.address()}));
+  ExpectContains(message, "policy 'openpi' produced a non-finite action in episode 0: entry 5 = nan");
+}
+
+TEST(RemotePolicy, ServerDyingMidCellStopsItNamingTheServer) {
+  // The server exits half a second after it listens; four 20 s episodes take several seconds.
+  testing::PolicyServerProcess server = ServeActions(10, {"--lifetime", "0.5"});
+  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  config.episodes = 4;
+  config.server_ready_timeout_s = 1.0;
+  const std::string message = FailureOf(config);
+  ExpectContains(message, server.address());
+}
+
+TEST(RemotePolicy, UnreachableServerFailsWithinTheReadyTimeoutNamingIt) {
+  batch::EvaluationCellConfig config = ServedCell({"ws://127.0.0.1:" + std::to_string(testing::FreeLoopbackPort())});
+  config.server_ready_timeout_s = 1.0;
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = FailureOf(config);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+  ExpectContains(message, "policy server " + config.servers[0] + " is not reachable");
+}
+
+TEST(RemotePolicy, ConfigurationMistakesAreNamed) {
+  batch::EvaluationCellConfig config = ServedCell({});
+  EXPECT_THROW(
+      {
+        try {
+          batch::RunEvaluationCell(config);
+        } catch (const std::invalid_argument& error) {
+          ExpectContains(error.what(), "needs a policy server");
+          throw;
+        }
+      },
+      std::invalid_argument);
+  config.policy = "hold";
+  config.servers = {"ws://127.0.0.1:1"};
+  EXPECT_THROW(batch::RunEvaluationCell(config), std::invalid_argument);
+  config.policy = "pi0";
+  config.servers.clear();
+  try {
+    batch::RunEvaluationCell(config);
+    ADD_FAILURE() << "unknown policy accepted";
+  } catch (const std::invalid_argument& error) {
+    ExpectContains(error.what(), "unknown policy 'pi0' (known: expert, hold, replay, openpi)");
+  }
+}
+
+}  // namespace
+}  // namespace tavis::remote
