@@ -11,7 +11,7 @@
 #include "batch/remote/msgpack_decoder.h"
 #include "batch/remote/msgpack_encoder.h"
 #include "tests/batch/remote/golden_values.h"
-#include "tests/batch/remote/python_process.h"
+#include "tests/batch/remote/test_scripts.h"
 
 namespace tavis::remote {
 namespace {
@@ -32,7 +32,8 @@ std::string ToHex(const std::vector<std::uint8_t>& bytes) {
 // NAME -> bytes, as python3-msgpack encodes them.
 const std::map<std::string, std::vector<std::uint8_t>>& PythonEncodings() {
   static const std::map<std::string, std::vector<std::uint8_t>> encodings = [] {
-    testing::PythonProcess script(testing::TestScript("golden_msgpack.py"), {});
+    tavis::testing::ChildProcess script(tavis::testing::kDebianPython, {testing::TestScript("golden_msgpack.py")},
+                                        testing::kPythonHint);
     std::istringstream lines(script.ReadAllOutput(std::chrono::seconds(60)));
     std::map<std::string, std::vector<std::uint8_t>> parsed;
     std::string name, hex;

@@ -21,7 +21,7 @@
 #include "batch/remote/remote_error.h"
 #include "tests/batch/remote/golden_values.h"
 #include "tests/batch/remote/policy_server_process.h"
-#include "tests/batch/remote/python_process.h"
+#include "tests/batch/remote/test_scripts.h"
 
 namespace tavis::remote {
 namespace {

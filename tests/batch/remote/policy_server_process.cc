@@ -18,7 +18,9 @@ std::vector<std::string> WithPort(int port, std::vector<std::string> args) {
 }  // namespace
 
 PolicyServerProcess::PolicyServerProcess(const std::vector<std::string>& args, bool wait_ready)
-    : port_(FreeLoopbackPort()), process_(TestScript("policy_server.py"), WithPort(port_, args)) {
+    : port_(tavis::testing::FreeLoopbackPort()),
+      process_(tavis::testing::kDebianPython, tavis::testing::ScriptArgs(TestScript("policy_server.py"), WithPort(port_, args)),
+               kPythonHint) {
   if (wait_ready) WaitUntilReady();
 }
 

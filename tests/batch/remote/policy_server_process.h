@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "batch/remote/websocket_url.h"
-#include "tests/batch/remote/python_process.h"
+#include "tests/batch/remote/test_scripts.h"
 
 namespace tavis::remote::testing {
 
@@ -23,7 +23,7 @@ class PolicyServerProcess {
 
  private:
   int port_;
-  PythonProcess process_;
+  tavis::testing::ChildProcess process_;
 };
 
 }  // namespace tavis::remote::testing

@@ -22,7 +22,7 @@
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
 #include "tests/batch/remote/policy_server_process.h"
-#include "tests/batch/remote/python_process.h"
+#include "tests/batch/remote/test_scripts.h"
 
 namespace tavis::remote {
 namespace {

@@ -1,4 +1,4 @@
-#include "tests/batch/remote/python_process.h"
+#include "tests/support/child_process.h"
 
 #include <fcntl.h>
 #include <netinet/in.h>
@@ -15,15 +15,16 @@
 #include <stdexcept>
 #include <thread>
 
-namespace tavis::remote::testing {
+namespace tavis::testing {
 
-PythonProcess::PythonProcess(const std::string& script, const std::vector<std::string>& args) : script_(script) {
-  if (access(kDebianPython, X_OK) != 0) {
-    throw std::runtime_error(std::string(kDebianPython) + " is missing: install python3 (see .ci/install-deps)");
+ChildProcess::ChildProcess(const std::string& program, const std::vector<std::string>& args, std::string hint)
+    : description_(args.empty() ? program : program + " " + args.front()), hint_(std::move(hint)) {
+  if (access(program.c_str(), X_OK) != 0) {
+    throw std::runtime_error(program + " is missing (see .ci/install-deps)" + (hint_.empty() ? "" : ": " + hint_));
   }
   int pipe_fds[2];
   if (pipe2(pipe_fds, O_CLOEXEC) != 0) throw std::runtime_error("pipe2 failed: " + std::string(std::strerror(errno)));
-  std::vector<std::string> argv_strings{kDebianPython, script};
+  std::vector<std::string> argv_strings{program};
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (std::string& argument : argv_strings) argv.push_back(argument.data());
@@ -36,14 +37,14 @@ PythonProcess::PythonProcess(const std::string& script, const std::vector<std::s
     prctl(PR_SET_PDEATHSIG, SIGKILL);  // a crashed test must not leave a server behind
     if (getppid() != parent) _exit(127);
     dup2(pipe_fds[1], STDOUT_FILENO);
-    execv(kDebianPython, argv.data());
+    execv(argv[0], argv.data());
     _exit(127);
   }
   close(pipe_fds[1]);
   stdout_fd_ = pipe_fds[0];
 }
 
-PythonProcess::~PythonProcess() {
+ChildProcess::~ChildProcess() {
   if (stdout_fd_ >= 0) close(stdout_fd_);
   if (pid_ <= 0) return;
   kill(pid_, SIGTERM);
@@ -55,20 +56,22 @@ PythonProcess::~PythonProcess() {
   waitpid(pid_, nullptr, 0);
 }
 
-bool PythonProcess::Running() {
+bool ChildProcess::Running() {
   if (pid_ <= 0) return false;
   if (waitpid(pid_, nullptr, WNOHANG) != pid_) return true;
   pid_ = -1;
   return false;
 }
 
-std::string PythonProcess::ReadAllOutput(std::chrono::milliseconds timeout) {
+std::string ChildProcess::ReadAllOutput(std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   std::string output;
   std::array<char, 65536> chunk{};
   while (true) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) throw std::runtime_error(script_ + " did not finish within " + std::to_string(timeout.count()) + " ms");
+    if (left.count() <= 0) {
+      throw std::runtime_error(description_ + " did not finish within " + std::to_string(timeout.count()) + " ms");
+    }
     pollfd entry{stdout_fd_, POLLIN, 0};
     if (poll(&entry, 1, static_cast<int>(left.count())) <= 0) continue;
     const ssize_t count = read(stdout_fd_, chunk.data(), chunk.size());
@@ -83,13 +86,11 @@ std::string PythonProcess::ReadAllOutput(std::chrono::milliseconds timeout) {
   waitpid(pid_, &status, 0);
   pid_ = -1;
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw std::runtime_error(script_ + " failed (exit status " + std::to_string(WEXITSTATUS(status)) +
-                             "); are python3-msgpack, python3-numpy and python3-websockets installed?");
+    throw std::runtime_error(description_ + " failed (exit status " + std::to_string(WEXITSTATUS(status)) + ")" +
+                             (hint_.empty() ? "" : "; " + hint_) + "; its output:\n" + output);
   }
   return output;
 }
-
-std::string TestScript(const std::string& name) { return std::string(TAVIS_TEST_DATA_DIR) + "/" + name; }
 
 int FreeLoopbackPort() {
   const int descriptor = socket(AF_INET, SOCK_STREAM, 0);
@@ -106,4 +107,4 @@ int FreeLoopbackPort() {
   return ntohs(address.sin_port);
 }
 
-}  // namespace tavis::remote::testing
+}  // namespace tavis::testing
