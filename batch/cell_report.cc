@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 
 #include "batch/action_csv.h"
 #include "batch/galt_summary.h"
+#include "batch/remote/value_json.h"
 #include "batch/statistics.h"
 
 namespace tavis::batch {
@@ -51,6 +53,23 @@ nlohmann::json MillisecondsJson(std::vector<double> values_ms) {
           {"median_ms", rank(0.5)},
           {"p95_ms", rank(0.95)},
           {"max_ms", values_ms.back()}};
+}
+
+// What ended an invalid_action episode. A non-finite value is written as its name ("nan",
+// "inf", "-inf"), which JSON has no number for.
+nlohmann::json InvalidActionJson(const engine::InvalidAction& fault) {
+  nlohmann::json value = fault.value;
+  if (!std::isfinite(fault.value)) value = std::isnan(fault.value) ? "nan" : (fault.value > 0 ? "inf" : "-inf");
+  return {{"entry", fault.entry >= 0 ? nlohmann::json(fault.entry) : nlohmann::json()},
+          {"value", fault.entry >= 0 ? value : nlohmann::json()},
+          {"reason", fault.reason}};
+}
+
+// How many episodes ended each way, for the ends that occurred.
+nlohmann::json EndCountsJson(const std::vector<EpisodeRecord>& episodes) {
+  std::map<std::string, int64_t> counts;
+  for (const EpisodeRecord& record : episodes) ++counts[engine::ToString(record.end)];
+  return counts;
 }
 
 // The commanded actions of each episode, one row every `stride` control ticks (the rows the
@@ -103,6 +122,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
       line[prefix + "_s"] = galt->galt_s ? nlohmann::json(*galt->galt_s) : nlohmann::json();
       line[prefix + "_reason"] = kinematics::ToString(galt->reason);
     };
+    if (record.end == engine::EpisodeEnd::kInvalidAction) line["invalid_action"] = InvalidActionJson(record.invalid_action);
     add_galt(record.galt, "galt");
     add_galt(record.galt_policy_rate, "galt_policy_rate");
     episodes_text += line.dump() + "\n";
@@ -123,6 +143,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
       {"success_rate", n > 0 ? static_cast<double>(result.successes) / n : 0.0},
       {"ci_low", ci.low},
       {"ci_high", ci.high},
+      {"ends", EndCountsJson(result.episodes)},
       {"wall_s", result.wall_s},
       {"envs", config.envs},
       {"threads", info.threads},
@@ -130,8 +151,8 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
       {"control_ticks_per_s", result.wall_s > 0 ? static_cast<double>(result.control_ticks) / result.wall_s : 0.0},
       {"render",
        {{"cameras", result.rendered_cameras},
-        {"width", config.image_width},
-        {"height", config.image_height},
+        {"width", result.render_width},
+        {"height", result.render_height},
         {"images", result.rendered_images}}},
   };
   // null under the fixed protocol, where no GALT is computed (as in the reference).
@@ -142,6 +163,11 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
   }
   if (result.requests) {
     summary["servers"] = config.servers;
+    nlohmann::json metadata = nlohmann::json::array();
+    for (const remote::Value& message : result.server_metadata) metadata.push_back(remote::ToJson(message));
+    summary["server_metadata"] = metadata;
+    summary["observation_keys"] = result.observation_keys_source;
+    summary["policy_image"] = {{"width", config.image_width}, {"height", config.image_height}};
     summary["replan_steps"] = config.replan_steps;
     summary["requests"] = {{"count", result.requests->round_trip_ms.size()},
                            {"reconnects", result.requests->reconnects},
@@ -160,7 +186,16 @@ std::string CellSummaryLine(const CellResult& result) {
                 result.config.task.c_str(), result.config.robot.c_str(), scenarios::ToString(result.config.split),
                 result.config.policy.c_str(), ToString(result.config.camera), result.successes, n, n > 0 ? 100.0 * result.successes / n : 0.0,
                 100.0 * ci.low, 100.0 * ci.high, result.wall_s);
-  return line;
+  const auto invalid = [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kInvalidAction; };
+  const auto first = std::find_if(result.episodes.begin(), result.episodes.end(), invalid);
+  if (first == result.episodes.end()) return line;
+  std::string text = line;
+  text += "; " + std::to_string(std::count_if(result.episodes.begin(), result.episodes.end(), invalid)) +
+          " ended invalid_action (first: episode " + std::to_string(first->episode);
+  if (first->invalid_action.entry >= 0) {
+    text += ", entry " + std::to_string(first->invalid_action.entry) + " = " + InvalidActionJson(first->invalid_action)["value"].dump();
+  }
+  return text + ": " + first->invalid_action.reason + ")";
 }
 
 }  // namespace tavis::batch

@@ -17,7 +17,8 @@ struct RunInfo {
 
 void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir);
 
-// One line for the terminal: task, robot, split, policy, success rate with its interval, time.
+// One line for the terminal: task, robot, split, policy, success rate with its interval, time,
+// and how many episodes ended invalid_action, naming the first.
 std::string CellSummaryLine(const CellResult& result);
 
 }  // namespace tavis::batch

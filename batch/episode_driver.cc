@@ -1,6 +1,5 @@
 #include "batch/episode_driver.h"
 
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -51,6 +50,9 @@ void EpisodeDriver::Run() {
     }
     proprioception_.Update(state, observed_);
     policy_.Act(MakeObservation(), acting_, actions_);
+    faults_.clear();
+    policy_.TakeFaults(faults_);
+    for (PolicyFault& fault : faults_) env_.EndInvalid(fault.env, {-1, 0.0, std::move(fault.reason)});
     for (ActionBatch::value_type& action : actions_) ApplyToAction(protocol_, action);
     for (EpisodeSink* sink : sinks_) sink->ActionsChosen(env_, actions_);
     env_.Step(actions_);
@@ -75,12 +77,6 @@ void EpisodeDriver::CollectAndRefill() {
       for (const EpisodeSink* sink : sinks_) complete = complete || sink->EpisodeComplete(env_, slot);
       if (!complete) continue;
       env_.Stop(slot);
-    }
-    if (state.end[slot] == engine::EpisodeEnd::kInvalidAction) {
-      std::ostringstream message;
-      message << "policy '" << policy_.name() << "' produced a non-finite action in episode " << state.episode[slot]
-              << ": entry " << state.invalid_action[slot].entry << " = " << state.invalid_action[slot].value;
-      throw std::runtime_error(message.str());
     }
     for (EpisodeSink* sink : sinks_) sink->EpisodeEnded(env_, slot);
     ++finished_;

@@ -55,10 +55,12 @@ class EpisodeDriver {
     protocol_ = protocol;
     proprioception_.SetCameraProtocol(protocol);
   }
-  // Until every episode has ended or been stopped. Throws std::runtime_error naming the episode,
-  // the action entry and its value if the policy produced a non-finite action. At policy ticks
-  // the env renders the cameras it has enabled (VecEnv::EnableCameras); the caller enables the
-  // policy's. Throws std::invalid_argument if a policy with cameras does not act on policy ticks.
+  // Until every episode has ended or been stopped. An unusable action (VecEnv::Step's check) or
+  // a policy fault (Policy::TakeFaults) ends only its episode, as invalid_action, and sinks see it
+  // like any other end. At policy ticks the env renders the cameras it has enabled
+  // (VecEnv::EnableCameras); the caller enables the policy's. Throws std::invalid_argument if a
+  // policy with cameras does not act on policy ticks; whatever the policy throws (a served
+  // policy's server failing) stops the run.
   void Run();
 
   // Env control ticks simulated (for throughput).
@@ -89,6 +91,7 @@ class EpisodeDriver {
   std::vector<uint8_t> started_;
   std::vector<EpisodeStart> starts_;
   ActionBatch actions_;
+  std::vector<PolicyFault> faults_;
 };
 
 }  // namespace tavis::batch

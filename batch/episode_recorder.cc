@@ -26,6 +26,7 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& env, int slot) {
   record.length_control_ticks = state.control_step[slot];
   record.length_steps = (state.control_step[slot] + ticks_per_policy_step - 1) / ticks_per_policy_step;
   record.solver_messages = env.solver_messages(slot);
+  record.invalid_action = state.invalid_action[slot];
   record.actions = action_logs_[slot];
   successes_ += record.success ? 1 : 0;
 }

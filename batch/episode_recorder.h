@@ -20,6 +20,7 @@ struct EpisodeRecord {
   int length_steps = 0;          // policy-rate (20 Hz) steps, as the reference counts them
   int length_control_ticks = 0;  // 60 Hz control ticks
   int solver_messages = 0;       // ODE solver messages (degenerate contacts), for diagnosis
+  engine::InvalidAction invalid_action;  // what ended it, when end is kInvalidAction
   std::vector<kinematics::Action> actions;  // commanded action of every control tick
   // GALT of the commanded actions at the policy's action rate, for successful episodes only
   // (the reference computes it for those).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <tuple>
 
 #include "batch/builtin_policies.h"
 #include "batch/vec_env.h"
@@ -31,11 +32,27 @@ void ValidateConfig(const EvaluationCellConfig& config) {
   if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
   ValidatePolicy(config);
+  if ((config.image_width == 0) != (config.image_height == 0)) {
+    throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) + "x" +
+                                std::to_string(config.image_height));
+  }
   CameraSettings cameras;
   cameras.cameras = config.render_cameras;
-  cameras.width = config.image_width;
-  cameras.height = config.image_height;
+  if (config.image_width != 0) {
+    cameras.width = config.image_width;
+    cameras.height = config.image_height;
+  }
   ValidateCameraSettings(cameras);
+}
+
+// The served policy's request layout, with an explicit image size taking the place of its own.
+remote::ObservationKeys ServedKeys(const EvaluationCellConfig& config) {
+  remote::ObservationKeys keys = remote::LoadObservationKeys(config.observation_keys, config.config_dir);
+  if (config.image_width != 0) {
+    keys.image_width = config.image_width;
+    keys.image_height = config.image_height;
+  }
+  return keys;
 }
 
 // The policy's cameras under the camera protocol first (its images keep their order), then the
@@ -87,21 +104,36 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
 
   const int slots = std::min(config.envs, config.episodes);
   VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
+  CellResult result;
+  result.config = config;
   std::unique_ptr<Policy> policy;
   remote::RemotePolicy* served = nullptr;
   if (config.policy == kServedPolicy) {
     remote::RemotePolicyOptions options;
     options.servers = config.servers;
     options.replan_steps = config.replan_steps;
+    options.keys = ServedKeys(config);
+    options.protocol = config.camera;
     options.ready_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.server_ready_timeout_s * 1000.0));
+    result.config.image_width = options.keys.image_width;
+    result.config.image_height = options.keys.image_height;
+    std::tie(result.render_width, result.render_height) = remote::RenderSize(options.keys);
+    result.observation_keys_source = options.keys.source;
     auto remote_policy = std::make_unique<remote::RemotePolicy>(options, slots);
     served = remote_policy.get();
     policy = std::move(remote_policy);
   } else {
+    if (config.image_width == 0) {
+      const CameraSettings reference;
+      result.config.image_width = reference.width;
+      result.config.image_height = reference.height;
+    }
+    result.render_width = result.config.image_width;
+    result.render_height = result.config.image_height;
     policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
   }
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);
-  if (!cameras.empty()) env.EnableCameras({cameras, config.image_width, config.image_height, false, false});
+  if (!cameras.empty()) env.EnableCameras({cameras, result.render_width, result.render_height, false, false});
 
   EpisodeRecorder recorder(config.episodes, slots, env.model().physics.max_control_steps());
   EpisodeDriver driver(env, *policy, config.episodes);
@@ -110,8 +142,6 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   driver.SetCameraProtocol(config.camera);
   driver.Run();
 
-  CellResult result;
-  result.config = config;
   result.rendered_cameras = cameras;
   result.episodes = std::move(recorder.records());
   result.successes = recorder.successes();
@@ -121,6 +151,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   result.rendered_images = env.rendered_images();
   if (served != nullptr) {
     result.requests = served->timings();
+    result.server_metadata = served->server_metadata();
     result.replay_csv_stride = served->control_ticks_per_action();
   }
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -27,6 +27,8 @@ struct EvaluationCellConfig {
   // the chunk rows an env steps with before asking again (0: the whole chunk).
   std::vector<std::string> servers;
   int replan_steps = 0;
+  // The request layout: a preset (remote::KeyPresetNames()) or a YAML file (observation_keys.h).
+  std::string observation_keys = "tavis";
   double server_ready_timeout_s = 60.0;  // per server, for its /healthz to answer before the cell starts
   int episodes = 96;
   int envs = 32;  // parallel env slots
@@ -35,12 +37,16 @@ struct EvaluationCellConfig {
   // Cameras rendered on every policy tick even if the policy does not consume them (throughput
   // runs); the policy's own cameras() are always rendered. Names from SceneCameraNames().
   std::vector<std::string> render_cameras;
-  int image_width = 640;  // resolution of every rendered camera (the reference's 640 x 480)
-  int image_height = 480;
+  // The size of the policy's images; 0 x 0: the policy's own (a served policy's observation
+  // keys, 224 x 224 for the presets; the reference's 640 x 480 otherwise).
+  int image_width = 0;
+  int image_height = 0;
 };
 
 struct CellResult {
-  EvaluationCellConfig config;
+  EvaluationCellConfig config;  // as run: the image size resolved
+  int render_width = 0;         // the cameras' rendered size (letterboxed into the image size)
+  int render_height = 0;
   std::vector<EpisodeRecord> episodes;  // ordered by episode index
   int successes = 0;
   double wall_s = 0.0;
@@ -52,6 +58,8 @@ struct CellResult {
   // A served policy's requests; its episodes' actions are saved for --policy replay, one row
   // every replay_csv_stride control ticks (0: not saved).
   std::optional<remote::RequestTimings> requests;
+  std::vector<remote::Value> server_metadata;  // each server's metadata message
+  std::string observation_keys_source;         // the request layout's preset or file
   int replay_csv_stride = 0;
 };
 
@@ -59,8 +67,8 @@ struct CellResult {
 std::string CellPolicyNames();
 
 // Throws std::invalid_argument / configs::ConfigError for bad settings, and std::runtime_error
-// naming the episode, action entry and value if the policy produced a non-finite action, or
-// naming the server when a served policy's server is unreachable or fails.
+// naming the server when a served policy's server is unreachable or fails. An unusable action
+// ends only its episode (invalid_action, recorded with the entry and the reason).
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr);
 
 }  // namespace tavis::batch

@@ -36,6 +36,13 @@ struct Observation {
 
 using ActionBatch = std::vector<kinematics::Action>;  // (num_envs)
 
+// An env a policy could not act for at this tick (a served reply with the wrong shape or dtype).
+// The driver ends that env's episode as invalid_action with the reason; the other envs go on.
+struct PolicyFault {
+  int env = 0;
+  std::string reason;
+};
+
 class Policy {
  public:
   virtual ~Policy() = default;
@@ -50,7 +57,12 @@ class Policy {
   // New episodes started in the envs with started[env] != 0 (their state is the reset's).
   virtual void Reset(const Observation& observation, const std::vector<uint8_t>& started) = 0;
   // Writes actions[env] for every env with acting[env] != 0; leaves the other entries alone.
+  // An env it cannot act for is reported by TakeFaults instead.
   virtual void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) = 0;
+  // Appends the faults of the last Act to `faults` and forgets them. Policies whose every action
+  // is well-formed have none; a non-finite or absurd action needs no fault (the step's own check
+  // ends its episode).
+  virtual void TakeFaults(std::vector<PolicyFault>& /*faults*/) {}
 };
 
 // A policy that decides each env on its own (the built-in ones): the batch calls run the envs

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "batch/init_pose_warmup.h"
+#include "kinematics/action_check.h"
 #include "kinematics/inverse_kinematics.h"
 #include "kinematics/robot_buffers.h"
 
@@ -20,14 +21,6 @@ using kinematics::Side;
 
 constexpr int kNeckActionEntries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
                                                           kinematics::action::kNeckYaw};
-
-// The first non-finite entry of an action, or -1.
-int FirstNonFinite(const kinematics::Action& action) {
-  for (int i = 0; i < kinematics::action::kSize; ++i) {
-    if (!std::isfinite(action[i])) return i;
-  }
-  return -1;
-}
 
 }  // namespace
 
@@ -136,6 +129,12 @@ void VecEnv::ResetOne(const EpisodeStart& start) {
   }
 }
 
+void VecEnv::EndInvalid(int env, engine::InvalidAction fault) {
+  TAVIS_INVARIANT(state_.running(env), "only a running episode ends invalid_action");
+  state_.invalid_action[env] = std::move(fault);
+  state_.end[env] = engine::EpisodeEnd::kInvalidAction;
+}
+
 void VecEnv::Stop(int env) {
   TAVIS_INVARIANT(state_.running(env), "only a running episode is stopped");
   state_.end[env] = engine::EpisodeEnd::kStopped;
@@ -162,11 +161,10 @@ void VecEnv::ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& 
   for (int env = envs.begin; env < envs.end; ++env) {
     if (!state_.running(env)) continue;
     const kinematics::Action& action = actions[env];
-    // A non-finite entry ends the episode; the hot loop never throws.
-    const int bad = FirstNonFinite(action);
-    if (bad >= 0) {
-      state_.invalid_action[env] = {bad, action[bad]};
-      state_.end[env] = engine::EpisodeEnd::kInvalidAction;
+    // An unusable action ends the episode; the hot loop never throws.
+    const kinematics::ActionDefect defect = kinematics::FindActionDefect(action);
+    if (defect.found()) {
+      EndInvalid(env, {defect.entry, action[defect.entry], defect.reason});
       continue;
     }
     const double* q = state_.q_row(env);
@@ -179,9 +177,14 @@ void VecEnv::ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& 
       const kinematics::PoseTarget target{robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])),
                                           Quat(action[r], action[r + 1], action[r + 2], action[r + 3])};
       const auto arm_targets = kinematics::IkStep(robot, side, q, X_BL.data(), target);
+      if (!std::all_of(arm_targets.begin(), arm_targets.end(), [](double value) { return std::isfinite(value); })) {
+        EndInvalid(env, {p, action[p], "IK gave a non-finite joint target for this arm's target"});
+        break;
+      }
       for (int k = 0; k < kinematics::kArmDof; ++k) q_target[robot.arm(side).joints[k]] = arm_targets[k];
       state_.gripper_command_row(env)[i] = std::clamp(action[kinematics::action::kGripper[i]], -1.0, 1.0);
     }
+    if (!state_.running(env)) continue;
     for (int k = 0; k < kinematics::kNeckDof; ++k) {
       const kinematics::Joint& joint = robot.joints[robot.neck_joints[k]];
       q_target[robot.neck_joints[k]] = std::clamp(action[kNeckActionEntries[k]], joint.lower, joint.upper);

@@ -66,10 +66,13 @@ class VecEnv {
   void Release(int env) { state_.episode[env] = -1; }
   // Ends a running episode without an outcome (EpisodeEnd::kStopped).
   void Stop(int env);
+  // Ends a running episode as invalid_action for `fault` (the step's own action check, or a
+  // policy that could not produce an action for it, such as a malformed served reply).
+  void EndInvalid(int env, engine::InvalidAction fault);
 
   // One control tick for every running env, with actions[env] (num_envs entries; idle and
   // ended envs' entries are ignored). Ends episodes on success, time-out, blow-up or an invalid
-  // action.
+  // action (kinematics::FindActionDefect, or an IK result that is not finite).
   void Step(const std::vector<kinematics::Action>& actions);
 
   // Camera observations: builds the render scene once (images at settings.width x height, in

@@ -81,6 +81,8 @@ void YamlValue::ExpectNoOtherKeys() const {
   }
 }
 
+bool YamlValue::IsSequence() const { return node_->IsSequence(); }
+
 std::vector<YamlValue> YamlValue::Elements() const {
   if (!node_->IsSequence()) Fail("expected a sequence");
   std::vector<YamlValue> elements;

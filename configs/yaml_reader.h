@@ -41,6 +41,7 @@ class YamlValue {
   void ExpectNoOtherKeys() const;
 
   std::vector<YamlValue> Elements() const;  // sequence
+  bool IsSequence() const;
   double AsDouble() const;
   int AsInt() const;
   bool AsBool() const;

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/random.h"
@@ -34,10 +35,11 @@ struct TaskVars {
   int open_side = 0;         // peeking-box: +1 the robot's left (+y) wall is missing, -1 the right
 };
 
-// An invalid action (a non-finite entry) that ended an episode.
+// Why an episode ended invalid_action: the policy's action, or the reply it came in, was unusable.
 struct InvalidAction {
-  int entry = -1;  // index in the 19-D action, -1 when the episode's actions were all finite
+  int entry = -1;  // index in the 19-D action; -1 when no entry is to blame (a malformed reply)
   double value = 0.0;
+  std::string reason;  // "not finite", "IK target coordinate beyond 10 m", a served policy's fault...
 };
 
 struct BatchState {

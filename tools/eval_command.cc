@@ -14,6 +14,7 @@
 
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
+#include "batch/remote/observation_keys.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
@@ -28,7 +29,7 @@ struct EvalOptions {
   std::string camera = "head";
   std::string out;
   std::string render_cameras;
-  std::string image_size = "640x480";
+  std::string image_size;
   std::string suite;
   bool task_given = false;
   bool image_size_given = false;
@@ -102,8 +103,7 @@ void RunEval(const EvalOptions& options) {
   cell.split = scenarios::ParseSplit(options.split);
   cell.camera = batch::ParseCameraProtocol(options.camera);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
-  const bool served_default_size = cell.policy == "openpi" && !options.image_size_given;
-  std::tie(cell.image_width, cell.image_height) = ParseImageSize(served_default_size ? "224x224" : options.image_size);
+  if (options.image_size_given) std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   if (!options.suite.empty()) {
@@ -139,7 +139,7 @@ void RegisterEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_option("--policy", options->cell.policy,
                    "Policy (" + batch::CellPolicyNames() + "); openpi: a policy served over openpi's websocket\n"
-                   "protocol (--server), acting at 20 Hz on the head and wrist cameras (224x224 unless --image-size)")
+                   "protocol (--server), acting at 20 Hz on the cameras its --keys name")
       ->capture_default_str();
   eval->add_option("--server", options->cell.servers,
                    "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
@@ -149,6 +149,11 @@ void RegisterEvalCommand(CLI::App& app) {
                    "For --policy openpi: rows of each action chunk an env steps with before asking again\n"
                    "(0: the whole chunk, as openpi's ActionChunkBroker; its LIBERO example uses 5)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  eval->add_option("--keys", options->cell.observation_keys,
+                   "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() + ") or a\n"
+                   "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
+                   "hwc/chw images, image size, letterbox)")
       ->capture_default_str();
   eval->add_option("--server-timeout", options->cell.server_ready_timeout_s,
                    "For --policy openpi: seconds to wait for each server's /healthz before giving up")
@@ -169,8 +174,9 @@ void RegisterEvalCommand(CLI::App& app) {
                    "Comma-separated cameras to render on every policy tick (20 Hz) even if the policy uses no\n"
                    "images, e.g. head,left_wrist,right_wrist (known: head, fixed, left_wrist, right_wrist); the\n"
                    "images are discarded: for measuring throughput with rendering");
-  eval->add_option("--image-size", options->image_size, "Resolution of rendered cameras, WIDTHxHEIGHT")
-      ->capture_default_str();
+  eval->add_option("--image-size", options->image_size,
+                   "Size of the policy's images, WIDTHxHEIGHT (default: the observation keys' size for --policy\n"
+                   "openpi, 224x224 in the presets; otherwise the reference's 640x480)");
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   eval->add_option("--config-dir", options->cell.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
   eval->add_flag("--quiet", options->quiet, "No progress bar");

@@ -26,8 +26,8 @@ struct OpenpiSessionOptions {
 
 struct InferResult {
   Value reply;             // the decoded reply map ("actions", "server_timing", ...)
-  double round_trip_ms;    // from the request's first byte sent to the reply's last byte read
-  bool reconnected;        // this request needed a new connection (the previous one had closed)
+  double round_trip_ms = 0.0;  // from the request's first byte sent to the reply's last byte read
+  bool reconnected = false;    // this request needed a new connection (the previous one had closed)
 };
 
 class OpenpiSession {

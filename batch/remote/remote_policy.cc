@@ -30,29 +30,6 @@ std::unique_ptr<OpenpiSession> OpenWhenReady(const std::string& server, const Re
 
 }  // namespace
 
-Value BuildTavisObservation(const batch::Observation& observation, const std::vector<std::string>& cameras, int env) {
-  if (observation.images == nullptr || observation.proprioception == nullptr) {
-    throw std::logic_error("a served policy needs the images and proprioception of the episode driver");
-  }
-  const render::ImageBatch& images = *observation.images;
-  Value::Map entries;
-  for (int camera = 0; camera < static_cast<int>(cameras.size()); ++camera) {
-    const std::int64_t height = images.height(camera);
-    const std::int64_t width = images.width(camera);
-    const uint8_t* rgb = images.rgb(env, camera);
-    std::vector<std::uint8_t> pixels(rgb, rgb + height * width * 3);
-    entries.push_back({"observation.images." + cameras[static_cast<std::size_t>(camera)],
-                       MakeUint8Array({height, width, 3}, std::move(pixels))});
-  }
-  const batch::ProprioceptionBatch& proprioception = *observation.proprioception;
-  const float* state = proprioception.state(env);
-  std::vector<float> state_values(state, state + proprioception.state_size());
-  entries.push_back({"observation.state", MakeFloat32Array({proprioception.state_size()}, state_values)});
-  const char* prompt = observation.prompts[static_cast<std::size_t>(env)];
-  entries.push_back({"prompt", prompt != nullptr ? prompt : ""});
-  return entries;
-}
-
 RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
     : options_(std::move(options)), queues_(static_cast<std::size_t>(num_envs)) {
   if (options_.servers.empty()) throw std::invalid_argument("a served policy needs at least one server URL");
@@ -74,32 +51,52 @@ void RemotePolicy::Act(const batch::Observation& observation, const std::vector<
   for (int env = 0; env < static_cast<int>(queues_.size()); ++env) {
     if (!acting[static_cast<std::size_t>(env)]) continue;
     std::deque<kinematics::Action>& queue = queues_[static_cast<std::size_t>(env)];
-    if (queue.empty()) Query(observation, env);
+    if (queue.empty() && !Query(observation, env)) continue;
     actions[static_cast<std::size_t>(env)] = queue.front();
     queue.pop_front();
   }
 }
 
-void RemotePolicy::Query(const batch::Observation& observation, int env) {
+void RemotePolicy::TakeFaults(std::vector<batch::PolicyFault>& faults) {
+  for (batch::PolicyFault& fault : faults_) faults.push_back(std::move(fault));
+  faults_.clear();
+}
+
+bool RemotePolicy::Query(const batch::Observation& observation, int env) {
+  InferResult result;
   try {
-    const InferResult result = SessionOf(env).Infer(BuildTavisObservation(observation, cameras(), env));
-    const ActionChunk chunk = ReadActionChunk(result.reply);
+    const std::vector<std::string> sent = batch::ProtocolCameras(cameras(), options_.protocol);
+    result = SessionOf(env).Infer(BuildRequest(observation, options_.keys, sent, env));
+  } catch (const std::exception& error) {
+    throw std::runtime_error("policy 'openpi', " + EnvContext(observation, env, ServerOf(env)) + ": " + error.what());
+  }
+  timings_.round_trip_ms.push_back(result.round_trip_ms);
+  if (const auto server_ms = ReadReplyTimings(result.reply).server_infer_ms) timings_.server_infer_ms.push_back(*server_ms);
+  ActionChunk chunk;
+  try {
+    chunk = ReadActionChunk(result.reply);
     if (chunk.dim != kinematics::action::kSize || chunk.horizon < 1) {
       throw std::invalid_argument("reply actions are " + std::to_string(chunk.horizon) + " x " + std::to_string(chunk.dim) +
                                   ", expected H x " + std::to_string(kinematics::action::kSize) + " with H >= 1");
     }
-    timings_.round_trip_ms.push_back(result.round_trip_ms);
-    if (const auto server_ms = ReadReplyTimings(result.reply).server_infer_ms) timings_.server_infer_ms.push_back(*server_ms);
-    const int rows = options_.replan_steps > 0 ? std::min(options_.replan_steps, chunk.horizon) : chunk.horizon;
-    std::deque<kinematics::Action>& queue = queues_[static_cast<std::size_t>(env)];
-    for (int row = 0; row < rows; ++row) {
-      kinematics::Action action;
-      for (int column = 0; column < chunk.dim; ++column) action[static_cast<std::size_t>(column)] = chunk.at(row, column);
-      queue.push_back(action);
-    }
-  } catch (const std::exception& error) {
-    throw std::runtime_error("policy 'openpi', " + EnvContext(observation, env, ServerOf(env)) + ": " + error.what());
+  } catch (const std::invalid_argument& error) {
+    faults_.push_back({env, "server " + ServerOf(env) + ": " + error.what()});
+    return false;
   }
+  const int rows = options_.replan_steps > 0 ? std::min(options_.replan_steps, chunk.horizon) : chunk.horizon;
+  std::deque<kinematics::Action>& queue = queues_[static_cast<std::size_t>(env)];
+  for (int row = 0; row < rows; ++row) {
+    kinematics::Action action;
+    for (int column = 0; column < chunk.dim; ++column) action[static_cast<std::size_t>(column)] = chunk.at(row, column);
+    queue.push_back(action);
+  }
+  return true;
+}
+
+std::vector<Value> RemotePolicy::server_metadata() const {
+  std::vector<Value> metadata;
+  for (const std::unique_ptr<OpenpiSession>& session : sessions_) metadata.push_back(session->metadata());
+  return metadata;
 }
 
 RequestTimings RemotePolicy::timings() const {

@@ -13,6 +13,7 @@
 
 #include "altered_hold_policy.h"
 #include "batch/builtin_policies.h"
+#include "batch/episode_recorder.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
 
@@ -155,7 +156,7 @@ TEST(EpisodeDriver, ABatchedPolicySeesEachEnvsPromptAndActsOnItsTicks) {
   EXPECT_EQ(policy.prompts.size(), 4u * 15u) << "every running env's prompt on every tick";
 }
 
-TEST(EpisodeDriver, ANonFiniteActionStopsTheRunNamingEpisodeAndEntry) {
+TEST(EpisodeDriver, ANonFiniteActionEndsOnlyItsEpisodeNamingTheEntry) {
   VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
   // The hold policy, except that episode 2 commands a NaN neck yaw on its fourth tick.
   AlteredHoldPolicy policy(env, "nan", 1, [](const Observation& observation, int slot, kinematics::Action& action) {
@@ -163,16 +164,60 @@ TEST(EpisodeDriver, ANonFiniteActionStopsTheRunNamingEpisodeAndEntry) {
       action[kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
     }
   });
+  EpisodeRecorder recorder(4, env.num_envs(), env.model().physics.max_control_steps());
   EpisodeDriver driver(env, policy, 4);
-  try {
-    driver.Run();
-    FAIL() << "expected an error";
-  } catch (const std::runtime_error& error) {
-    const std::string message = error.what();
-    EXPECT_NE(message.find("policy 'nan'"), std::string::npos) << message;
-    EXPECT_NE(message.find("episode 2"), std::string::npos) << message;
-    EXPECT_NE(message.find("entry " + std::to_string(kinematics::action::kNeckYaw)), std::string::npos) << message;
+  driver.AddSink(recorder);
+  driver.Run();
+  for (const EpisodeRecord& record : recorder.records()) {
+    if (record.episode != 2) {
+      EXPECT_EQ(record.end, engine::EpisodeEnd::kTimeOut) << "episode " << record.episode;
+      continue;
+    }
+    EXPECT_EQ(record.end, engine::EpisodeEnd::kInvalidAction);
+    EXPECT_EQ(record.length_control_ticks, 4) << "ended on the tick of the NaN";
+    EXPECT_EQ(record.invalid_action.entry, kinematics::action::kNeckYaw);
+    EXPECT_TRUE(std::isnan(record.invalid_action.value));
+    EXPECT_EQ(record.invalid_action.reason, "not finite");
   }
+}
+
+// The hold policy, except that it cannot act for episode 1: it reports a fault instead.
+class FaultyHoldPolicy : public Policy {
+ public:
+  explicit FaultyHoldPolicy(const VecEnv& env) : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
+  std::string name() const override { return "faulty"; }
+  int control_ticks_per_action() const override { return hold_->control_ticks_per_action(); }
+  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override { hold_->Reset(observation, started); }
+  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
+    hold_->Act(observation, acting, actions);
+    for (int env = 0; env < observation.state.num_envs; ++env) {
+      if (acting[env] && observation.state.episode[env] == 1) pending_.push_back({env, "reply had no actions"});
+    }
+  }
+  void TakeFaults(std::vector<PolicyFault>& faults) override {
+    faults.insert(faults.end(), pending_.begin(), pending_.end());
+    pending_.clear();
+  }
+
+ private:
+  std::unique_ptr<Policy> hold_;
+  std::vector<PolicyFault> pending_;
+};
+
+TEST(EpisodeDriver, APolicyFaultEndsOnlyItsEpisodeWithTheReason) {
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  FaultyHoldPolicy policy(env);
+  EpisodeRecorder recorder(3, env.num_envs(), env.model().physics.max_control_steps());
+  EpisodeDriver driver(env, policy, 3);
+  driver.AddSink(recorder);
+  driver.Run();
+  const std::vector<EpisodeRecord>& records = recorder.records();
+  EXPECT_EQ(records[0].end, engine::EpisodeEnd::kTimeOut);
+  EXPECT_EQ(records[1].end, engine::EpisodeEnd::kInvalidAction);
+  EXPECT_EQ(records[1].length_control_ticks, 0) << "ended before its first step";
+  EXPECT_EQ(records[1].invalid_action.entry, -1);
+  EXPECT_EQ(records[1].invalid_action.reason, "reply had no actions");
+  EXPECT_EQ(records[2].end, engine::EpisodeEnd::kTimeOut);
 }
 
 // ood-init-pose resets (30 warm-up ticks each) run in parallel: the episodes' end states do not

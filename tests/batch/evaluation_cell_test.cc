@@ -160,7 +160,10 @@ TEST(EvaluationCell, BadSettingsThrowNamingTheValue) {
   ExpectErrorNaming<std::invalid_argument>(config, "unknown camera 'chest'");
   config.render_cameras = {"head"};
   config.image_width = 0;
-  ExpectErrorNaming<std::invalid_argument>(config, "image size 0x480");
+  config.image_height = 480;
+  ExpectErrorNaming<std::invalid_argument>(config, "give both image dimensions or neither, got 0x480");
+  config.image_width = -4;
+  ExpectErrorNaming<std::invalid_argument>(config, "image size -4x480");
 
   config = SmallCell();
   config.robot = "robby";

@@ -8,10 +8,12 @@ The policy is a deterministic function the tests recompute in C++ (exact in floa
   offset = (sum of all uint8 array bytes % 1024) / 8 + utf8_len(prompt) * 0.25
   actions[t, d] = (state[d % len(state)] * (t + 1) + offset + d) * action_scale,
                   t < horizon, d < action_dim
-where state is "observation/state" (openpi's LIBERO name) or "observation.state" (the tavis layout).
+where state is "observation/state" (the libero layout), "observation.state" (tavis) or "state"
+(aloha). Every reply also carries "received": each array of the request by its key path joined
+with "|" -> [dtype, shape], and each str -> "str", so the tests see the layout Python decoded.
 Server-wide faults for the tests of a whole cell: --fail-at-request N (the policy raises on
-the server's N-th request, counting from 0 over all connections) and --nan-entry D (actions[0, D]
-is NaN). Test-only observation keys: "test/actions_dtype" ("<f4" or "<f8", default "<f8"), "test/raise"
+the server's N-th request, counting from 0 over all connections), --nan-entry D (actions[0, D]
+is NaN) and --actions-dtype DTYPE (actions sent with that numpy dtype, e.g. "<i8"). Test-only observation keys: "test/actions_dtype" ("<f4" or "<f8", default "<f8"), "test/raise"
 (the policy raises), "test/close_after_reply" (the server closes the connection with 1000 after
 replying), "test/delay_s" (the reply is sent that many seconds late)."""
 
@@ -35,11 +37,25 @@ def uint8_byte_sum(value):
     return 0
 
 
+def structure(value, path=()):
+    if isinstance(value, dict):
+        found = {}
+        for key, item in value.items():
+            found.update(structure(item, path + (str(key),)))
+        return found
+    if isinstance(value, np.ndarray):
+        return {"|".join(path): [value.dtype.str, list(value.shape)]}
+    if isinstance(value, str):
+        return {"|".join(path): "str"}
+    return {}
+
+
 class TestPolicy:
-    def __init__(self, horizon, action_dim, action_scale, fail_at_request, nan_entry):
+    def __init__(self, horizon, action_dim, action_scale, fail_at_request, nan_entry, actions_dtype):
         self.requests = 0
         self.fail_at_request = fail_at_request
         self.nan_entry = nan_entry
+        self.actions_dtype = actions_dtype
         self.horizon = horizon
         self.action_dim = action_dim
         self.action_scale = action_scale
@@ -53,7 +69,7 @@ class TestPolicy:
             raise RuntimeError(f"test policy asked to fail: {obs['test/raise']}")
         if request == self.fail_at_request:
             raise RuntimeError(f"test policy asked to fail at request {request}")
-        state_key = "observation/state" if "observation/state" in obs else "observation.state"
+        state_key = next(key for key in ("observation/state", "observation.state", "state") if key in obs)
         state = [float(x) for x in np.asarray(obs[state_key]).reshape(-1)]
         image_sum = uint8_byte_sum(obs)
         offset = (image_sum % 1024) / 8 + len(obs.get("prompt", "").encode("utf-8")) * 0.25
@@ -61,12 +77,13 @@ class TestPolicy:
                             for t in range(self.horizon)], dtype=np.float64) * self.action_scale
         if self.nan_entry >= 0:
             actions[0, self.nan_entry] = np.nan
-        dtype = obs.get("test/actions_dtype", "<f8")
-        return {"actions": actions.astype(np.dtype(dtype)), "image_sum": image_sum}
+        dtype = self.actions_dtype or obs.get("test/actions_dtype", "<f8")
+        return {"actions": actions.astype(np.dtype(dtype)), "image_sum": image_sum, "received": structure(obs)}
 
 
 def serve(args):
-    policy = TestPolicy(args.horizon, args.action_dim, args.action_scale, args.fail_at_request, args.nan_entry)
+    policy = TestPolicy(args.horizon, args.action_dim, args.action_scale, args.fail_at_request, args.nan_entry,
+                        args.actions_dtype)
     packer = Packer()
     connections = 0
 
@@ -129,6 +146,7 @@ if __name__ == "__main__":
                         help="scales every action, e.g. 1e-3 for arm targets near the robot")
     parser.add_argument("--fail-at-request", type=int, default=-1)
     parser.add_argument("--nan-entry", type=int, default=-1)
+    parser.add_argument("--actions-dtype", default="", help="numpy dtype of every reply's actions, e.g. <i8")
     parser.add_argument("--ping-interval", type=float, default=20.0)
     parser.add_argument("--ping-timeout", type=float, default=20.0)
     parser.add_argument("--startup-delay", type=float, default=0.0, help="seconds before listening, like a model load")

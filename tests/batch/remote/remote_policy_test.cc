@@ -35,14 +35,23 @@ testing::PolicyServerProcess ServeActions(int horizon, std::vector<std::string> 
   return testing::PolicyServerProcess(extra);
 }
 
+// The tavis preset's keys, which the tests' requests are read with.
+ObservationKeys TavisKeys() { return LoadObservationKeys("tavis", TAVIS_CONFIG_DIR); }
+
+std::uint64_t Uint8Sum(const Value& value) {
+  std::uint64_t sum = 0;
+  if (const NdArray* array = value.get_if<NdArray>(); array != nullptr && array->dtype == "|u1") {
+    for (std::uint8_t byte : array->data) sum += byte;
+  }
+  if (const Value::Map* map = value.get_if<Value::Map>()) {
+    for (const MapEntry& entry : *map) sum += Uint8Sum(entry.value);
+  }
+  return sum;
+}
+
 // policy_server.py's function of a request, in its float64 operation order.
 std::vector<double> ExpectedChunk(const Value& request, int horizon) {
-  std::uint64_t image_sum = 0;
-  for (const MapEntry& entry : request.as<Value::Map>("request")) {
-    if (const NdArray* array = entry.value.get_if<NdArray>(); array != nullptr && array->dtype == "|u1") {
-      for (std::uint8_t byte : array->data) image_sum += byte;
-    }
-  }
+  const std::uint64_t image_sum = Uint8Sum(request);
   const std::vector<double> state = FloatArrayToDoubles(request.Find("observation.state")->as<NdArray>("state"));
   const std::string& prompt = request.Find("prompt")->as<std::string>("prompt");
   const double offset = static_cast<double>(image_sum % 1024) / 8 + static_cast<double>(prompt.size()) * 0.25;
@@ -58,7 +67,7 @@ std::vector<double> ExpectedChunk(const Value& request, int horizon) {
 // Records what the wrapped served policy was asked with and what it chose, per (episode, policy step).
 class RecordingPolicy : public batch::Policy {
  public:
-  explicit RecordingPolicy(RemotePolicy& inner) : inner_(inner) {}
+  RecordingPolicy(RemotePolicy& inner, ObservationKeys keys) : inner_(inner), keys_(std::move(keys)) {}
   std::string name() const override { return inner_.name(); }
   int control_ticks_per_action() const override { return inner_.control_ticks_per_action(); }
   std::vector<std::string> cameras() const override { return inner_.cameras(); }
@@ -70,10 +79,11 @@ class RecordingPolicy : public batch::Policy {
     for (int env = 0; env < static_cast<int>(acting.size()); ++env) {
       if (!acting[static_cast<std::size_t>(env)]) continue;
       const Key key{observation.state.episode[env], observation.state.control_step[env] / control_ticks_per_action()};
-      requests[key] = BuildTavisObservation(observation, cameras(), env);
+      requests[key] = BuildRequest(observation, keys_, cameras(), env);
       chosen[key] = actions[static_cast<std::size_t>(env)];
     }
   }
+  void TakeFaults(std::vector<batch::PolicyFault>& faults) override { inner_.TakeFaults(faults); }
 
   using Key = std::pair<int64_t, int>;
   std::map<Key, Value> requests;
@@ -81,6 +91,7 @@ class RecordingPolicy : public batch::Policy {
 
  private:
   RemotePolicy& inner_;
+  ObservationKeys keys_;
 };
 
 TEST(RemotePolicy, StepsWithTheServersFunctionOfEachEnvsObservationReplanningEveryKSteps) {
@@ -96,8 +107,9 @@ TEST(RemotePolicy, StepsWithTheServersFunctionOfEachEnvsObservationReplanningEve
   RemotePolicyOptions options;
   options.servers = {first.address(), second.address()};
   options.replan_steps = kReplan;
+  options.keys = TavisKeys();
   RemotePolicy served(options, env.num_envs());
-  RecordingPolicy policy(served);
+  RecordingPolicy policy(served, options.keys);
   env.EnableCameras({policy.cameras(), 32, 24, false, false});
   batch::EpisodeDriver driver(env, policy, 4);
   driver.Run();
@@ -209,17 +221,67 @@ TEST(RemotePolicy, ServerErrorStopsTheCellWithTheTracebackNamingTheEnvAndEpisode
   ExpectContains(message, "RuntimeError: test policy asked to fail at request 1");
 }
 
-TEST(RemotePolicy, ChunkOfTheWrongWidthStopsTheCellNamingTheShape) {
-  testing::PolicyServerProcess server({"--horizon", "10", "--action-dim", "7"});
-  const std::string message = FailureOf(ServedCell({server.address()}));
-  ExpectContains(message, "env slot 0 (episode 0");
-  ExpectContains(message, "reply actions are 10 x 7, expected H x 19");
+// Every episode of the cell ended invalid_action with a reason containing `reason` (and `entry`).
+void ExpectEveryEpisodeInvalid(const batch::CellResult& result, const std::string& reason, int entry) {
+  ASSERT_EQ(result.episodes.size(), 2U) << "the cell went on to its last episode";
+  for (const batch::EpisodeRecord& record : result.episodes) {
+    EXPECT_EQ(record.end, engine::EpisodeEnd::kInvalidAction) << "episode " << record.episode;
+    EXPECT_EQ(record.invalid_action.entry, entry) << "episode " << record.episode;
+    ExpectContains(record.invalid_action.reason, reason);
+  }
 }
 
-TEST(RemotePolicy, NonFiniteActionStopsTheCellNamingEpisodeAndEntry) {
+TEST(RemotePolicy, ChunkOfTheWrongWidthEndsEachEpisodeInvalidNamingTheShape) {
+  testing::PolicyServerProcess server({"--horizon", "10", "--action-dim", "7"});
+  const batch::CellResult result = batch::RunEvaluationCell(ServedCell({server.address()}));
+  ExpectEveryEpisodeInvalid(result, "server " + server.address() + ": reply actions are 10 x 7, expected H x 19", -1);
+  ExpectContains(batch::CellSummaryLine(result), "2 ended invalid_action (first: episode 0: server");
+}
+
+TEST(RemotePolicy, ChunkOfAnIntegerDtypeEndsEachEpisodeInvalidNamingTheDtype) {
+  testing::PolicyServerProcess server = ServeActions(10, {"--actions-dtype", "<i8"});
+  const batch::CellResult result = batch::RunEvaluationCell(ServedCell({server.address()}));
+  ExpectEveryEpisodeInvalid(result, "<i8", -1);
+}
+
+TEST(RemotePolicy, NonFiniteActionEndsItsEpisodeNamingTheEntryAndTheRecordSaysSo) {
   testing::PolicyServerProcess server = ServeActions(10, {"--nan-entry", "5"});
-  const std::string message = FailureOf(ServedCell({server.address()}));
-  ExpectContains(message, "policy 'openpi' produced a non-finite action in episode 0: entry 5 = nan");
+  const batch::CellResult result = batch::RunEvaluationCell(ServedCell({server.address()}));
+  ExpectEveryEpisodeInvalid(result, "not finite", 5);
+  const std::filesystem::path dir = FreshDirectory("nan");
+  batch::WriteCellReport(result, {1}, dir.string());
+  std::ifstream episodes(dir / "episodes.jsonl");
+  std::string line;
+  ASSERT_TRUE(std::getline(episodes, line));
+  const nlohmann::json record = nlohmann::json::parse(line);
+  EXPECT_EQ(record["end"], "invalid_action");
+  EXPECT_EQ(record["invalid_action"], nlohmann::json({{"entry", 5}, {"value", "nan"}, {"reason", "not finite"}}));
+  nlohmann::json summary;
+  std::ifstream(dir / "summary.json") >> summary;
+  EXPECT_EQ(summary["ends"], nlohmann::json({{"invalid_action", 2}}));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RemotePolicy, LayoutsAndTheServersMetadataAreRecordedInTheSummary) {
+  testing::PolicyServerProcess server = ServeActions(10);
+  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  config.observation_keys = "aloha";
+  config.image_width = 40;
+  config.image_height = 40;
+  const batch::CellResult result = batch::RunEvaluationCell(config);
+  EXPECT_EQ(result.render_width, 40);
+  EXPECT_EQ(result.render_height, 30) << "letterboxed: the 4:3 cameras fitted into 40 x 40";
+  const std::filesystem::path dir = FreshDirectory("layout");
+  batch::WriteCellReport(result, {1}, dir.string());
+  nlohmann::json summary;
+  std::ifstream(dir / "summary.json") >> summary;
+  EXPECT_EQ(summary["observation_keys"], "aloha");
+  EXPECT_EQ(summary["policy_image"], nlohmann::json({{"width", 40}, {"height", 40}}));
+  EXPECT_EQ(summary["render"]["height"], 30);
+  ASSERT_EQ(summary["server_metadata"].size(), 1U);
+  EXPECT_EQ(summary["server_metadata"][0]["server"], "tavis test policy");
+  EXPECT_EQ(summary["server_metadata"][0]["action_dim"], 19);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(RemotePolicy, ServerDyingMidCellStopsItNamingTheServer) {

@@ -1,0 +1,199 @@
+// The served policy's request layouts: the shipped presets, the YAML schema's errors, letterboxing,
+// and the layout as Python's msgpack-numpy decodes it (policy_server.py echoes what it received).
+#include "batch/remote/observation_keys.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/proprioception.h"
+#include "batch/vec_env.h"
+#include "batch/remote/openpi_session.h"
+#include "configs/robot_config.h"
+#include "configs/yaml_reader.h"
+#include "scenarios/registry.h"
+#include "tests/batch/remote/policy_server_process.h"
+
+namespace tavis::remote {
+namespace {
+
+ObservationKeys Preset(const std::string& name) { return LoadObservationKeys(name, TAVIS_CONFIG_DIR); }
+
+TEST(ObservationKeys, PresetsNameTheirCamerasAndTheFixedCameraTakesHeadsPlaceOrItsOwnKey) {
+  const ObservationKeys tavis = Preset("tavis");
+  EXPECT_EQ(tavis.PolicyCameras(), (std::vector<std::string>{"head", "left_wrist", "right_wrist"}));
+  EXPECT_EQ(tavis.KeyOf("fixed"), KeyPath{"observation.images.fixed"});
+  EXPECT_EQ(tavis.state, KeyPath{"observation.state"});
+  EXPECT_FALSE(tavis.letterbox);
+  EXPECT_EQ(RenderSize(tavis), (std::pair<int, int>{224, 224}));
+
+  const ObservationKeys libero = Preset("libero");
+  EXPECT_EQ(libero.PolicyCameras(), (std::vector<std::string>{"head", "right_wrist"}));
+  EXPECT_EQ(libero.KeyOf("fixed"), KeyPath{"observation/image"});
+  EXPECT_EQ(RenderSize(libero), (std::pair<int, int>{224, 168})) << "openpi's resize_with_pad of 640x480 into 224x224";
+  EXPECT_THROW(libero.KeyOf("left_wrist"), std::logic_error);
+
+  const ObservationKeys aloha = Preset("aloha");
+  EXPECT_EQ(aloha.KeyOf("left_wrist"), (KeyPath{"images", "cam_left_wrist"}));
+  EXPECT_EQ(aloha.image_layout, ImageLayout::kChw);
+}
+
+class KeyFile : public ::testing::Test {
+ protected:
+  // Loads `text` as a key file and returns the error it raises, or "" when it loads.
+  std::string ErrorOf(const std::string& text) {
+    const std::filesystem::path path = std::filesystem::temp_directory_path() / "tavis_observation_keys_test.yaml";
+    std::ofstream(path) << text;
+    try {
+      LoadObservationKeys(path.string(), TAVIS_CONFIG_DIR);
+    } catch (const configs::ConfigError& error) {
+      return error.what();
+    }
+    return "";
+  }
+
+  static std::string Valid(const std::string& cameras, const std::string& rest = "") {
+    return "cameras:\n" + cameras + "state: s\nprompt: p\nimage_layout: hwc\nimage_width: 64\nimage_height: 48\nletterbox: false\n" + rest;
+  }
+};
+
+TEST_F(KeyFile, ALayoutOfTheUsersOwnLoads) {
+  EXPECT_EQ(ErrorOf(Valid("  head: [obs, front]\n  left_wrist: wrist\n")), "");
+}
+
+TEST_F(KeyFile, EachMistakeIsNamedWithItsKey) {
+  EXPECT_NE(ErrorOf(Valid("  head: a\n  chest: b\n")).find("chest"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  head: a\n", "extra: 1\n")).find("extra"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  fixed: a\n")).find("give head a key too"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  {}\n")).find("no camera for the policy"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  head: a\n  left_wrist: a\n")).find("head and left_wrist overlap at key 'a'"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  head: [obs, img]\n  left_wrist: obs\n")).find("overlap"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  head: ''\n")).find("empty key"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  head: []\n")).find("at least one key"), std::string::npos);
+  std::string layout = Valid("  head: a\n");
+  layout.replace(layout.find("hwc"), 3, "whc");
+  EXPECT_NE(ErrorOf(layout).find("image_layout: expected hwc or chw, got 'whc'"), std::string::npos);
+  std::string size = Valid("  head: a\n");
+  size.replace(size.find("64"), 2, "0");
+  EXPECT_NE(ErrorOf(size).find("at least 8"), std::string::npos);
+  EXPECT_THROW(LoadObservationKeys("pi0-droid", TAVIS_CONFIG_DIR), std::invalid_argument);
+}
+
+// One env of clutter-pick-cube at its reset, rendered and observed as the episode driver does.
+class RenderedObservation : public ::testing::Test {
+ protected:
+  RenderedObservation()
+      : robot_(configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"))),
+        env_(batch::BuildWorldModel(robot_, scenarios::FindScenario("clutter-pick-cube")),
+             scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 1, 3),
+        proprioception_(env_.model().robot, 1),
+        prompts_{nullptr} {}
+
+  batch::Observation Observe(const std::vector<std::string>& cameras, int width, int height) {
+    env_.EnableCameras({cameras, width, height, false, false});
+    env_.ResetEnv(0, 0);
+    env_.RenderPolicyTick();
+    proprioception_.Update(env_.state(), {1});
+    prompts_[0] = env_.scenario().prompt(env_.state(), 0);
+    return batch::Observation{env_.model(), env_.state(), env_.images(), prompts_, &proprioception_};
+  }
+
+  kinematics::RobotModel robot_;
+  batch::VecEnv env_;
+  batch::ProprioceptionBatch proprioception_;
+  std::vector<const char*> prompts_;
+};
+
+TEST_F(RenderedObservation, AlohaNestsChannelFirstLetterboxedImages) {
+  const ObservationKeys keys = Preset("aloha");
+  const batch::Observation observation = Observe({"head", "left_wrist", "right_wrist"}, 40, 30);
+  ObservationKeys sized = keys;
+  sized.image_width = 40;
+  sized.image_height = 40;
+  const Value request = BuildRequest(observation, sized, {"head", "left_wrist", "right_wrist"}, 0);
+  const Value* images = request.Find("images");
+  ASSERT_NE(images, nullptr);
+  const NdArray& high = images->Find("cam_high")->as<NdArray>("cam_high");
+  EXPECT_EQ(high.shape, (std::vector<std::int64_t>{3, 40, 40}));
+  const uint8_t* rendered = observation.images->rgb(0, 0);
+  long long band_sum = 0, differences = 0;
+  for (int c = 0; c < 3; ++c) {
+    for (int y = 0; y < 40; ++y) {
+      for (int x = 0; x < 40; ++x) {
+        const uint8_t sent = high.data[static_cast<std::size_t>((c * 40 + y) * 40 + x)];
+        if (y < 5 || y >= 35) {
+          band_sum += sent;
+        } else {
+          differences += sent != rendered[((y - 5) * 40 + x) * 3 + c];
+        }
+      }
+    }
+  }
+  EXPECT_EQ(band_sum, 0) << "5 black rows above and below the 40 x 30 image";
+  EXPECT_EQ(differences, 0) << "the rendered pixels, channel first";
+  EXPECT_NE(request.Find("state"), nullptr);
+  EXPECT_EQ(request.Find("prompt")->as<std::string>("prompt"), std::string(prompts_[0]));
+}
+
+TEST_F(RenderedObservation, PythonDecodesEachPresetsLayout) {
+  testing::PolicyServerProcess server({"--horizon", "1", "--action-dim", "19"});
+  OpenpiSessionOptions options;
+  options.url = server.address();
+  OpenpiSession session(options);
+  const batch::Observation observation = Observe({"fixed", "right_wrist", "left_wrist"}, 32, 24);
+  struct Case {
+    std::string preset;
+    std::vector<std::string> cameras;  // the first images of the observation, under the fixed protocol
+    std::map<std::string, nlohmann::json> expected;
+  };
+  const std::vector<Case> cases = {
+      {"tavis",
+       {"fixed", "right_wrist", "left_wrist"},
+       {{"observation.images.fixed", {"|u1", {24, 32, 3}}},
+        {"observation.images.left_wrist", {"|u1", {24, 32, 3}}},
+        {"observation.images.right_wrist", {"|u1", {24, 32, 3}}},
+        {"observation.state", {"<f4", {34}}},
+        {"prompt", "str"}}},
+      {"libero",
+       {"fixed", "right_wrist"},
+       {{"observation/image", {"|u1", {24, 32, 3}}},
+        {"observation/wrist_image", {"|u1", {24, 32, 3}}},
+        {"observation/state", {"<f4", {34}}},
+        {"prompt", "str"}}},
+      {"aloha",
+       {"fixed", "right_wrist", "left_wrist"},
+       {{"images|cam_high", {"|u1", {3, 24, 32}}},
+        {"images|cam_left_wrist", {"|u1", {3, 24, 32}}},
+        {"images|cam_right_wrist", {"|u1", {3, 24, 32}}},
+        {"state", {"<f4", {34}}},
+        {"prompt", "str"}}},
+  };
+  for (const Case& test : cases) {
+    ObservationKeys keys = Preset(test.preset);
+    keys.letterbox = false;
+    const Value request = BuildRequest(observation, keys, test.cameras, 0);
+    const InferResult result = session.Infer(request);
+    std::map<std::string, nlohmann::json> received;
+    for (const MapEntry& entry : result.reply.Find("received")->as<Value::Map>("received")) {
+      const std::string& key = entry.key.as<std::string>("key");
+      if (const std::string* text = entry.value.get_if<std::string>()) {
+        received[key] = *text;
+      } else {
+        const Value::Array& pair = entry.value.as<Value::Array>("pair");
+        nlohmann::json shape = nlohmann::json::array();
+        for (const Value& dimension : pair[1].as<Value::Array>("shape")) shape.push_back(dimension.as<std::int64_t>("dim"));
+        received[key] = {pair[0].as<std::string>("dtype"), shape};
+      }
+    }
+    EXPECT_EQ(received, test.expected) << test.preset;
+  }
+}
+
+}  // namespace
+}  // namespace tavis::remote
