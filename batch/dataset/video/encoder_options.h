@@ -1,6 +1,7 @@
 // Internal to tavis_video: which FFmpeg encoder a VideoSettings selects and the private options
-// it gets. The encoder's own threading is pinned to one thread, so the same frames always give
-// the same bytes; callers parallelise across streams instead.
+// it gets. SVT-AV1 gets one logical processor (libx264's threads are pinned by the writer's
+// thread_count 1), so the same frames always give the same bytes; callers parallelise across
+// streams instead.
 #pragma once
 
 #include <string>

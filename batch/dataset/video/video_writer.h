@@ -5,8 +5,10 @@
 // - constant frame rate: frame k (counted over the whole file) has pts exactly k / fps, the first
 //   frame pts 0, and every packet, the last included, lasts one frame, so the probed stream
 //   duration is exactly frames / fps;
-// - a keyframe every `gop` frames, no B-frames, and a keyframe at every BeginEpisode(), so
-//   episodes laid back to back each start on a keyframe;
+// - a keyframe at least every `gop` frames and no B-frames; each episode (BeginEpisode()) is
+//   encoded by a fresh encoder, as LeRobot encodes each episode into its own file, so episodes
+//   laid back to back each start on a keyframe whatever their length (SVT-AV1 1.4 ignores
+//   forced keyframes, so forcing one would not do);
 // - moov before mdat (movflags=+faststart);
 // - deterministic: the same settings and frames give byte-identical files (the encoder runs on
 //   one thread; run several writers in parallel for throughput);
