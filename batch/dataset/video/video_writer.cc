@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 
@@ -21,8 +22,19 @@ namespace {
 
 using internal::CheckFfmpeg;
 
+// Encoders are opened and freed one at a time across the process: SVT-AV1 1.4's
+// svt_av1_enc_init_handle sets up process-wide state without a lock, and writers opened
+// concurrently on several threads crashed in it. Encoding itself runs in parallel.
+std::mutex& EncoderLifecycleMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 struct CodecContextFree {
-  void operator()(AVCodecContext* context) const { avcodec_free_context(&context); }
+  void operator()(AVCodecContext* context) const {
+    const std::lock_guard<std::mutex> lock(EncoderLifecycleMutex());
+    avcodec_free_context(&context);
+  }
 };
 struct FrameFree {
   void operator()(AVFrame* frame) const { av_frame_free(&frame); }
@@ -95,7 +107,12 @@ struct Mp4VideoWriter::Impl {
       CheckFfmpeg(av_opt_set(context->priv_data, name.c_str(), value.c_str(), 0), path,
                   "setting " + choice.encoder_name + " option " + name + "=" + value);
     }
-    CheckFfmpeg(avcodec_open2(context.get(), codec, nullptr), path,
+    int opened = 0;
+    {
+      const std::lock_guard<std::mutex> lock(EncoderLifecycleMutex());
+      opened = avcodec_open2(context.get(), codec, nullptr);
+    }
+    CheckFfmpeg(opened, path,
                 "opening encoder " + choice.encoder_name + " for " + std::to_string(settings.width) + "x" +
                     std::to_string(settings.height));
     return context;

@@ -11,7 +11,8 @@
 //   forced keyframes, so forcing one would not do);
 // - moov before mdat (movflags=+faststart);
 // - deterministic: the same settings and frames give byte-identical files (the encoder runs on
-//   one thread; run several writers in parallel for throughput);
+//   one thread; run several writers in parallel for throughput: distinct writers may be used
+//   from distinct threads, one writer from one thread at a time);
 // - the file is written as `path + ".partial"` and renamed to `path` by Close(); a writer
 //   destroyed without Close() (an interrupted run) removes the partial file, so `path` never
 //   holds a truncated mp4.
