@@ -9,6 +9,8 @@ find_package(Threads REQUIRED)
 
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
+# FFmpeg 5.1 (libavcodec59 with libx264 and libsvtav1): the mp4 camera streams of datasets.
+pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavcodec libavformat libavutil libswscale)
 
 # OpenCV: only core/imgproc/imgcodecs are installed (libopencv-dev would pull in the whole
 # GUI stack), and those packages ship no CMake config, so the imported target is built here.

@@ -1,0 +1,186 @@
+// Mp4VideoWriter's own contract: settings checked up front, errors that name the file, the
+// partial-file protocol, byte-identical output, and what ProbeVideo reads back.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <csignal>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "batch/dataset/video/video_probe.h"
+#include "batch/dataset/video/video_writer.h"
+#include "tests/batch/dataset/synthetic_frames.h"
+
+namespace tavis::dataset {
+namespace {
+
+using testing::ReadBytes;
+using testing::ScratchDir;
+using testing::SyntheticFrame;
+using testing::WriteEpisodes;
+
+namespace fs = std::filesystem;
+
+VideoSettings Small(VideoCodec codec) {
+  VideoSettings settings;
+  settings.codec = codec;
+  settings.width = 64;
+  settings.height = codec == VideoCodec::kAv1 ? 64 : 48;
+  settings.fps = 30;
+  return settings;
+}
+
+// The message of the exception `write` throws, or "" when it throws none.
+template <typename Exception, typename Action>
+std::string MessageOf(Action write) {
+  try {
+    write();
+  } catch (const Exception& error) {
+    return error.what();
+  }
+  return "";
+}
+
+class VideoWriterCodecTest : public ::testing::TestWithParam<VideoCodec> {};
+
+TEST_P(VideoWriterCodecTest, SameFramesGiveByteIdenticalFiles) {
+  const std::string dir = ScratchDir();
+  const VideoSettings settings = Small(GetParam());
+  WriteEpisodes(dir + "/first.mp4", settings, {7, 12, 5});
+  // Two writers at once, as the dataset writer runs one per camera stream.
+  std::thread parallel([&] { WriteEpisodes(dir + "/parallel.mp4", settings, {7, 12, 5}); });
+  WriteEpisodes(dir + "/second.mp4", settings, {7, 12, 5});
+  parallel.join();
+  const auto first = ReadBytes(dir + "/first.mp4");
+  ASSERT_GT(first.size(), 1000U);
+  EXPECT_TRUE(first == ReadBytes(dir + "/second.mp4"));
+  EXPECT_TRUE(first == ReadBytes(dir + "/parallel.mp4"));
+}
+
+TEST_P(VideoWriterCodecTest, ProbeReadsBackCodecSizeRateFramesAndDuration) {
+  const std::string dir = ScratchDir();
+  VideoSettings settings = Small(GetParam());
+  settings.fps = 60;
+  WriteEpisodes(dir + "/video.mp4", settings, {7, 12, 5});
+  const VideoProbe probe = ProbeVideo(dir + "/video.mp4");
+  EXPECT_EQ(probe.codec, VideoCodecName(settings.codec));
+  EXPECT_EQ(probe.pix_fmt, "yuv420p");
+  EXPECT_EQ(probe.width, settings.width);
+  EXPECT_EQ(probe.height, settings.height);
+  EXPECT_EQ(probe.fps_num, 60);
+  EXPECT_EQ(probe.fps_den, 1);
+  EXPECT_EQ(probe.frame_count, 24);
+  EXPECT_NEAR(probe.duration_s, 24.0 / 60.0, 1e-9);
+}
+
+TEST_P(VideoWriterCodecTest, BytesWrittenGrowsAndIsTheFileSizeAfterClose) {
+  const std::string dir = ScratchDir();
+  const VideoSettings settings = Small(GetParam());
+  Mp4VideoWriter writer(dir + "/video.mp4", settings);
+  const std::int64_t header = writer.bytes_written();
+  for (int index = 0; index < 30; ++index) {
+    const auto frame = SyntheticFrame(settings.width, settings.height, 0, index);
+    writer.WriteFrame(frame.data(), frame.size());
+  }
+  EXPECT_EQ(writer.frames_written(), 30);
+  EXPECT_GT(writer.bytes_written(), header);
+  writer.Close();
+  EXPECT_EQ(writer.bytes_written(), static_cast<std::int64_t>(fs::file_size(dir + "/video.mp4")));
+}
+
+std::string CodecName(const ::testing::TestParamInfo<VideoCodec>& test) { return VideoCodecName(test.param); }
+
+INSTANTIATE_TEST_SUITE_P(Codecs, VideoWriterCodecTest, ::testing::Values(VideoCodec::kH264, VideoCodec::kAv1), CodecName);
+
+TEST(VideoWriter, CloseRenamesThePartialFile) {
+  const std::string dir = ScratchDir();
+  Mp4VideoWriter writer(dir + "/video.mp4", Small(VideoCodec::kH264));
+  EXPECT_TRUE(fs::exists(dir + "/video.mp4.partial"));
+  EXPECT_FALSE(fs::exists(dir + "/video.mp4"));
+  const auto frame = SyntheticFrame(64, 48, 0, 0);
+  writer.WriteFrame(frame.data(), frame.size());
+  writer.Close();
+  writer.Close();
+  EXPECT_TRUE(fs::exists(dir + "/video.mp4"));
+  EXPECT_FALSE(fs::exists(dir + "/video.mp4.partial"));
+}
+
+TEST(VideoWriter, WriterDestroyedWithoutCloseLeavesNoFile) {
+  const std::string dir = ScratchDir();
+  {
+    Mp4VideoWriter writer(dir + "/video.mp4", Small(VideoCodec::kH264));
+    for (int index = 0; index < 5; ++index) {
+      const auto frame = SyntheticFrame(64, 48, 0, index);
+      writer.WriteFrame(frame.data(), frame.size());
+    }
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+TEST(VideoWriter, OddDimensionsAreRejectedBeforeAnyFileIsCreated) {
+  const std::string dir = ScratchDir();
+  VideoSettings settings = Small(VideoCodec::kH264);
+  settings.width = 63;
+  const std::string message = MessageOf<std::invalid_argument>([&] { Mp4VideoWriter(dir + "/odd.mp4", settings); });
+  EXPECT_NE(message.find(dir + "/odd.mp4"), std::string::npos) << message;
+  EXPECT_NE(message.find("width 63 is odd"), std::string::npos) << message;
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+TEST(VideoWriter, Av1FramesBelowTheSvtMinimumAreRejected) {
+  VideoSettings settings = Small(VideoCodec::kAv1);
+  settings.height = 48;
+  const std::string message = MessageOf<std::invalid_argument>([&] { Mp4VideoWriter(ScratchDir() + "/a.mp4", settings); });
+  EXPECT_NE(message.find("64x48 are too small"), std::string::npos) << message;
+}
+
+TEST(VideoWriter, UnknownCodecNameIsNamed) {
+  const std::string message = MessageOf<std::invalid_argument>([] { ParseVideoCodec("hevc"); });
+  EXPECT_NE(message.find("\"hevc\""), std::string::npos) << message;
+  EXPECT_EQ(ParseVideoCodec("libsvtav1"), VideoCodec::kAv1);
+}
+
+TEST(VideoWriter, UnwritablePathNamesTheFileAndTheReason) {
+  const std::string path = ScratchDir() + "/missing_folder/video.mp4";
+  const std::string message = MessageOf<std::runtime_error>([&] { Mp4VideoWriter(path, Small(VideoCodec::kH264)); });
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+}
+
+TEST(VideoWriter, WrongFrameSizeNamesBothSizes) {
+  Mp4VideoWriter writer(ScratchDir() + "/video.mp4", Small(VideoCodec::kH264));
+  const auto frame = SyntheticFrame(64, 46, 0, 0);
+  const std::string message = MessageOf<std::runtime_error>([&] { writer.WriteFrame(frame.data(), frame.size()); });
+  EXPECT_NE(message.find("frame of 8832 bytes, expected 64x48x3 = 9216"), std::string::npos) << message;
+}
+
+// A full disk, simulated with a file size limit: writes past it fail (EFBIG) as they would
+// with ENOSPC, through the same error path.
+TEST(VideoWriter, WriteFailureNamesTheFile) {
+  const std::string path = ScratchDir() + "/video.mp4";
+  rlimit original{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &original), 0);
+  const auto previous_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit limited = original;
+  limited.rlim_cur = 64 * 1024;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
+  const std::string message = MessageOf<std::runtime_error>([&] {
+    Mp4VideoWriter writer(path, Small(VideoCodec::kH264));
+    for (int index = 0; index < 2000; ++index) {
+      const auto frame = SyntheticFrame(64, 48, index, index);
+      writer.WriteFrame(frame.data(), frame.size());
+    }
+    writer.Close();
+  });
+  setrlimit(RLIMIT_FSIZE, &original);
+  std::signal(SIGXFSZ, previous_handler);
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("File too large"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path + ".partial"));
+}
+
+}  // namespace
+}  // namespace tavis::dataset
