@@ -26,6 +26,7 @@
 #include <memory>
 #include <string>
 
+#include "batch/dataset/video/episode_encoder.h"
 #include "batch/dataset/video/video_settings.h"
 
 namespace tavis::dataset {
@@ -37,17 +38,23 @@ class Mp4VideoWriter {
   Mp4VideoWriter(Mp4VideoWriter&&) noexcept;
   Mp4VideoWriter& operator=(Mp4VideoWriter&&) noexcept;
 
+  // Appends an episode encoded elsewhere (EpisodeEncoder with this writer's settings): its
+  // packets follow the file's frames, with pts continuing from frames_written(). Throws
+  // std::invalid_argument when its stream header differs from the file's (other settings).
+  void AppendEpisode(const EncodedEpisode& episode);
+
   // The next frame starts an episode: it is encoded as a keyframe.
   void BeginEpisode();
 
-  // Encodes one frame; `rgb_size` must be width * height * 3.
+  // Encodes one frame (into the current episode, appended at the next BeginEpisode or Close);
+  // `rgb_size` must be width * height * 3.
   void WriteFrame(const std::uint8_t* rgb, std::size_t rgb_size);
 
   // Flushes the encoder, writes the index and renames the partial file to path(). Idempotent.
   void Close();
 
   std::int64_t frames_written() const;
-  // Bytes of the file so far (the encoded frames muxed so far); Close() adds the index, about
+  // Bytes of the file so far (with the current episode's encoded frames); Close() adds the index, about
   // a dozen bytes per frame. For rolling over to a new file at a size limit.
   std::int64_t bytes_written() const;
   const std::string& path() const;

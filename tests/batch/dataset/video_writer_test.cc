@@ -182,5 +182,36 @@ TEST(VideoWriter, WriteFailureNamesTheFile) {
   EXPECT_FALSE(fs::exists(path + ".partial"));
 }
 
+TEST(VideoWriter, AppendsEpisodesEncodedApartAndRefusesOneOfAnotherSize) {
+  const std::string dir = testing::ScratchDir();
+  Mp4VideoWriter writer(dir + "/video.mp4", Small(VideoCodec::kH264));
+  for (int episode = 0; episode < 2; ++episode) {
+    EpisodeEncoder encoder(Small(VideoCodec::kH264), "camera");
+    for (int index = 0; index < 5 + episode; ++index) {
+      const auto frame = testing::SyntheticFrame(64, 48, episode, index);
+      encoder.WriteFrame(frame.data(), frame.size());
+    }
+    const EncodedEpisode encoded = encoder.Finish();
+    EXPECT_EQ(encoded.frames, 5 + episode);
+    EXPECT_TRUE(encoded.packets.front().key) << "each episode starts on a keyframe";
+    writer.AppendEpisode(encoded);
+  }
+  VideoSettings larger = Small(VideoCodec::kH264);
+  larger.width = 96;
+  EpisodeEncoder other(larger, "camera");
+  const auto frame = testing::SyntheticFrame(96, 48, 0, 0);
+  other.WriteFrame(frame.data(), frame.size());
+  try {
+    writer.AppendEpisode(other.Finish());
+    ADD_FAILURE() << "an episode of another size was appended";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("96x48 frames in a 64x48 file"), std::string::npos) << error.what();
+  }
+  writer.Close();
+  const VideoProbe probe = ProbeVideo(dir + "/video.mp4");
+  EXPECT_EQ(probe.frame_count, 11);
+  EXPECT_NEAR(probe.duration_s, 11.0 / Small(VideoCodec::kH264).fps, 1e-9);
+}
+
 }  // namespace
 }  // namespace tavis::dataset
