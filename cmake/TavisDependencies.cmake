@@ -28,3 +28,6 @@ endif()
 if(TAVIS_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
+
+# Snappy (libsnappy-dev) compresses Parquet pages; it ships a pkg-config file but no CMake config.
+pkg_check_modules(SNAPPY REQUIRED IMPORTED_TARGET snappy)
