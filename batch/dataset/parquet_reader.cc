@@ -13,8 +13,7 @@
 #include "batch/dataset/parquet_footer.h"
 #include "batch/dataset/rle_levels.h"
 #include "batch/dataset/thrift_compact.h"
-
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "PLAIN values are read as little-endian bytes");
+#include "batch/dataset/value_decoding.h"
 
 namespace tavis::dataset {
 namespace {
@@ -33,50 +32,6 @@ template <> struct PhysicalTypeFor<std::int64_t> { static constexpr PhysicalType
 template <> struct PhysicalTypeFor<float> { static constexpr PhysicalType kType = PhysicalType::kFloat; };
 template <> struct PhysicalTypeFor<double> { static constexpr PhysicalType kType = PhysicalType::kDouble; };
 template <> struct PhysicalTypeFor<std::string> { static constexpr PhysicalType kType = PhysicalType::kByteArray; };
-
-std::uint32_t LoadU32(const std::uint8_t* bytes) {
-  return static_cast<std::uint32_t>(bytes[0]) | static_cast<std::uint32_t>(bytes[1]) << 8 |
-         static_cast<std::uint32_t>(bytes[2]) << 16 | static_cast<std::uint32_t>(bytes[3]) << 24;
-}
-
-// PLAIN decoding of `count` values from [data, data + size); returns the bytes consumed.
-template <typename T>
-std::size_t DecodePlain(const std::uint8_t* data, std::size_t size, std::size_t count, const std::string& context,
-                        std::vector<T>& out) {
-  if (count > size / sizeof(T)) {
-    throw std::runtime_error(context + ": " + std::to_string(count) + " PLAIN values need more than the " +
-                             std::to_string(size) + " bytes left");
-  }
-  const std::size_t start = out.size();
-  out.resize(start + count);
-  std::memcpy(out.data() + start, data, count * sizeof(T));
-  return count * sizeof(T);
-}
-
-std::size_t DecodePlain(const std::uint8_t* data, std::size_t size, std::size_t count, const std::string& context,
-                        std::vector<bool>& out) {
-  const std::size_t bytes = (count + 7) / 8;
-  if (bytes > size) throw std::runtime_error(context + ": " + std::to_string(count) + " PLAIN booleans past the end");
-  for (std::size_t i = 0; i < count; ++i) out.push_back(((data[i / 8] >> (i % 8)) & 1) != 0);
-  return bytes;
-}
-
-std::size_t DecodePlain(const std::uint8_t* data, std::size_t size, std::size_t count, const std::string& context,
-                        std::vector<std::string>& out) {
-  if (count > size / 4) throw std::runtime_error(context + ": " + std::to_string(count) + " PLAIN strings past the end");
-  std::size_t position = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    if (size - position < 4) throw std::runtime_error(context + ": string length past the end");
-    const std::uint32_t length = LoadU32(data + position);
-    position += 4;
-    if (length > size - position) {
-      throw std::runtime_error(context + ": string of " + std::to_string(length) + " bytes past the end");
-    }
-    out.emplace_back(reinterpret_cast<const char*>(data + position), length);
-    position += length;
-  }
-  return position;
-}
 
 // Levels of one page: `count` entries, all `implied` when the column has no such levels.
 void DecodeLevels(const std::uint8_t* data, std::size_t size, int max_level, std::size_t count,
@@ -136,8 +91,8 @@ class ChunkDecoder {
       Fail("dictionary page encoded " + EncodingName(page.encoding));
     }
     dictionary_.clear();
-    DecodePlain(buffer_.data(), buffer_.size(), static_cast<std::size_t>(page.num_values), context_ + ": dictionary page",
-                dictionary_);
+    DecodeValues(Encoding::kPlain, buffer_.data(), buffer_.size(), static_cast<std::size_t>(page.num_values),
+                 context_ + ": dictionary page", dictionary_);
   }
 
   void ReadDataPage(const PageHeader& page, const std::uint8_t* body) {
@@ -156,7 +111,7 @@ class ChunkDecoder {
         if (max_level == 0) return DecodeLevels(nullptr, 0, 0, count, context_, levels);
         if (encoding != Encoding::kRle) Fail(std::string(kind) + " levels encoded " + EncodingName(encoding) + ", unsupported");
         if (buffer_.size() - position < 4) Fail(std::string(kind) + " level length past the end of the page");
-        const std::uint32_t length = LoadU32(buffer_.data() + position);
+        const std::uint32_t length = LoadUint32Le(buffer_.data() + position);
         position += 4;
         if (length > buffer_.size() - position) Fail(std::string(kind) + " levels past the end of the page");
         DecodeLevels(buffer_.data() + position, length, max_level, count, context_ + ": " + kind + " levels", levels);
@@ -189,12 +144,9 @@ class ChunkDecoder {
 
   void ReadValues(Encoding encoding, const std::uint8_t* data, std::size_t size, std::size_t present) {
     page_values_.clear();
-    if (encoding == Encoding::kPlain) {
-      DecodePlain(data, size, present, context_ + ": values", page_values_);
-      return;
-    }
     if (encoding != Encoding::kPlainDictionary && encoding != Encoding::kRleDictionary) {
-      Fail("unsupported encoding " + EncodingName(encoding));
+      DecodeValues(encoding, data, size, present, context_ + ": values", page_values_);
+      return;
     }
     if (present == 0) return;
     if (dictionary_.empty()) Fail("dictionary-encoded page without a dictionary page");
@@ -269,7 +221,7 @@ ParquetReader::ParquetReader(std::string path) : path_(std::move(path)) {
     if (std::memcmp(tail.data() + 4, kMagic, kMagicSize) != 0) {
       throw std::runtime_error(path_ + ": bad magic at the end (truncated or not a Parquet file)");
     }
-    const std::uint32_t footer_length = LoadU32(tail.data());
+    const std::uint32_t footer_length = LoadUint32Le(tail.data());
     if (footer_length > file_size_ - 2 * kMagicSize - 4) {
       throw std::runtime_error(path_ + ": footer length " + std::to_string(footer_length) + " beyond the file of " +
                                std::to_string(file_size_) + " bytes");

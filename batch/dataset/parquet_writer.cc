@@ -211,7 +211,13 @@ ParquetWriter::ParquetWriter(std::string path, std::vector<ColumnSpec> columns, 
 
   fd_ = ::open(partial_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error(SystemError("cannot create Parquet file", partial_path_));
-  WriteBytes(kMagic, sizeof kMagic);
+  try {
+    WriteBytes(kMagic, sizeof kMagic);
+  } catch (...) {
+    ::close(fd_);
+    ::unlink(partial_path_.c_str());
+    throw;
+  }
 }
 
 ParquetWriter::~ParquetWriter() {

@@ -35,6 +35,11 @@ void AppendLevelBlock(const std::vector<std::uint8_t>& levels, int bit_width, st
   for (int byte = 0; byte < 4; ++byte) out[length_at + byte] = static_cast<std::uint8_t>(length >> (8 * byte));
 }
 
+std::uint32_t LoadUint32Le(const std::uint8_t* bytes) {
+  return static_cast<std::uint32_t>(bytes[0]) | static_cast<std::uint32_t>(bytes[1]) << 8 |
+         static_cast<std::uint32_t>(bytes[2]) << 16 | static_cast<std::uint32_t>(bytes[3]) << 24;
+}
+
 void DecodeHybrid(const std::uint8_t* data, std::size_t size, int bit_width, std::size_t count, std::uint32_t max_value,
                   const std::string& context, std::vector<std::uint32_t>& out) {
   if (bit_width < 0 || bit_width > 32) throw std::runtime_error(context + ": bit width " + std::to_string(bit_width));

@@ -18,6 +18,9 @@ void AppendRleRuns(const std::vector<std::uint8_t>& levels, int bit_width, std::
 // Appends the level block of a data page v1: a uint32 little-endian byte length, then the runs.
 void AppendLevelBlock(const std::vector<std::uint8_t>& levels, int bit_width, std::vector<std::uint8_t>& out);
 
+// The uint32 little-endian at `bytes` (the length before a level block, a string, a footer).
+std::uint32_t LoadUint32Le(const std::uint8_t* bytes);
+
 // Decodes exactly `count` values of `bit_width` bits (at most 32) from [data, data + size) into
 // `out`. Throws std::runtime_error starting with `context` when the runs end early or a value
 // exceeds `max_value`.

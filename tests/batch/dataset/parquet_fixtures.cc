@@ -259,15 +259,31 @@ WrittenTable WriteEpisodesTable(const std::string& path, Codec codec) {
 
 namespace {
 
+// Calls `visit` with a value of the C++ type that holds `type`.
+template <typename Visit>
+void WithValueType(ValueType type, const Visit& visit) {
+  switch (type) {
+    case ValueType::kBool: return visit(bool{});
+    case ValueType::kInt32: return visit(std::int32_t{});
+    case ValueType::kInt64: return visit(std::int64_t{});
+    case ValueType::kFloat: return visit(float{});
+    case ValueType::kDouble: return visit(double{});
+    case ValueType::kString: return visit(std::string{});
+  }
+}
+
 template <typename T>
 void ReadColumnAsJson(const ParquetReader& reader, const ColumnSpec& spec, json& rows) {
   const ListColumn<T> column = reader.ReadListColumn<T>(spec.name);
   if (column.row_lengths.size() != rows.size()) {
-    throw std::runtime_error(spec.name + ": " + std::to_string(column.row_lengths.size()) + " rows read");
+    throw std::logic_error(spec.name + ": " + std::to_string(column.row_lengths.size()) + " rows read");
   }
-  if (!spec.is_list) {
-    for (std::size_t row = 0; row < rows.size(); ++row) {
-      if (column.row_lengths[row] != 1) throw std::runtime_error(spec.name + ": null in row " + std::to_string(row));
+  for (std::size_t row = 0; row < rows.size(); ++row) {
+    if (!spec.shape.empty() || !spec.is_list) {
+      if (column.row_lengths[row] != spec.items_per_row()) {
+        throw std::logic_error(spec.name + ": " + std::to_string(column.row_lengths[row]) + " items in row " +
+                               std::to_string(row) + " for " + std::to_string(spec.items_per_row()) + " written");
+      }
     }
   }
   const std::vector<json> values = RowsAsJson(spec, rows.size(), column.values, column.row_lengths);
@@ -281,16 +297,16 @@ json ReadWithOurReader(const std::string& path, const std::vector<ColumnSpec>& c
   json rows = json::array();
   for (std::int64_t row = 0; row < reader.num_rows(); ++row) rows.push_back(json::object());
   for (const ColumnSpec& spec : columns) {
-    switch (spec.type) {
-      case ValueType::kBool: ReadColumnAsJson<bool>(reader, spec, rows); break;
-      case ValueType::kInt32: ReadColumnAsJson<std::int32_t>(reader, spec, rows); break;
-      case ValueType::kInt64: ReadColumnAsJson<std::int64_t>(reader, spec, rows); break;
-      case ValueType::kFloat: ReadColumnAsJson<float>(reader, spec, rows); break;
-      case ValueType::kDouble: ReadColumnAsJson<double>(reader, spec, rows); break;
-      case ValueType::kString: ReadColumnAsJson<std::string>(reader, spec, rows); break;
-    }
+    WithValueType(spec.type, [&](auto type) { ReadColumnAsJson<decltype(type)>(reader, spec, rows); });
   }
   return rows;
+}
+
+void ReadEveryColumn(const std::string& path, const std::vector<ColumnSpec>& columns) {
+  const ParquetReader reader(path);
+  for (const ColumnSpec& spec : columns) {
+    WithValueType(spec.type, [&](auto type) { reader.ReadListColumn<decltype(type)>(spec.name); });
+  }
 }
 
 ScratchDir::ScratchDir() {

@@ -34,8 +34,12 @@ WrittenTable WriteTasksTable(const std::string& path, Codec codec);
 // list<int32>/list<bool> columns so that every value type is covered; two row groups.
 WrittenTable WriteEpisodesTable(const std::string& path, Codec codec);
 
-// Every column of `table`, read back by our ParquetReader, as rows in the JSON above.
+// Every column of `table`, read back by our ParquetReader, as rows in the JSON above. Throws
+// std::logic_error when a fixed-shape column comes back with rows of another length.
 nlohmann::json ReadWithOurReader(const std::string& path, const std::vector<ColumnSpec>& columns);
+
+// Reads every column with our ParquetReader and drops the values.
+void ReadEveryColumn(const std::string& path, const std::vector<ColumnSpec>& columns);
 
 // A fresh directory under the system's temporary directory, removed with its content.
 class ScratchDir {
