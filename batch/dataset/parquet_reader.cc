@@ -24,15 +24,6 @@ constexpr std::size_t kMagicSize = 4;
 // further, and the bound keeps a hostile page from allocating without limit.
 constexpr std::size_t kLevelSlack = std::size_t{1} << 20;
 
-template <typename T>
-struct PhysicalTypeFor;
-template <> struct PhysicalTypeFor<bool> { static constexpr PhysicalType kType = PhysicalType::kBoolean; };
-template <> struct PhysicalTypeFor<std::int32_t> { static constexpr PhysicalType kType = PhysicalType::kInt32; };
-template <> struct PhysicalTypeFor<std::int64_t> { static constexpr PhysicalType kType = PhysicalType::kInt64; };
-template <> struct PhysicalTypeFor<float> { static constexpr PhysicalType kType = PhysicalType::kFloat; };
-template <> struct PhysicalTypeFor<double> { static constexpr PhysicalType kType = PhysicalType::kDouble; };
-template <> struct PhysicalTypeFor<std::string> { static constexpr PhysicalType kType = PhysicalType::kByteArray; };
-
 // Levels of one page: `count` entries, all `implied` when the column has no such levels.
 void DecodeLevels(const std::uint8_t* data, std::size_t size, int max_level, std::size_t count,
                   const std::string& context, std::vector<std::uint32_t>& levels) {
@@ -300,9 +291,9 @@ template <typename T>
 ListColumn<T> ParquetReader::ReadListColumn(const std::string& name) const {
   const std::size_t leaf_index = LeafIndex(name);
   const LeafColumn& leaf = leaves_[leaf_index];
-  if (leaf.type != PhysicalTypeFor<T>::kType) {
+  if (leaf.type != PhysicalTypeOf(ValueTypeOf<T>::kType)) {
     throw std::runtime_error(path_ + ": column \"" + name + "\" holds " + PhysicalTypeName(leaf.type) + ", read as " +
-                             PhysicalTypeName(PhysicalTypeFor<T>::kType));
+                             PhysicalTypeName(PhysicalTypeOf(ValueTypeOf<T>::kType)));
   }
   ListColumn<T> column;
   for (std::size_t group = 0; group < metadata_->row_groups.size(); ++group) {

@@ -23,6 +23,16 @@ enum class ValueType { kBool, kInt32, kInt64, kFloat, kDouble, kString };
 std::string ValueTypeName(ValueType type);
 PhysicalType PhysicalTypeOf(ValueType type);
 
+// The C++ type that holds each ValueType: ValueTypeOf<float>::kType is ValueType::kFloat.
+template <typename T>
+struct ValueTypeOf;
+template <> struct ValueTypeOf<bool> { static constexpr ValueType kType = ValueType::kBool; };
+template <> struct ValueTypeOf<std::int32_t> { static constexpr ValueType kType = ValueType::kInt32; };
+template <> struct ValueTypeOf<std::int64_t> { static constexpr ValueType kType = ValueType::kInt64; };
+template <> struct ValueTypeOf<float> { static constexpr ValueType kType = ValueType::kFloat; };
+template <> struct ValueTypeOf<double> { static constexpr ValueType kType = ValueType::kDouble; };
+template <> struct ValueTypeOf<std::string> { static constexpr ValueType kType = ValueType::kString; };
+
 struct ColumnSpec {
   std::string name;  // any non-empty name, '/' and '.' included (e.g. "stats/action/mean")
   ValueType type = ValueType::kInt64;

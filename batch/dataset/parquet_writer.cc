@@ -20,15 +20,6 @@ namespace {
 
 constexpr std::uint8_t kMagic[] = {'P', 'A', 'R', '1'};
 
-template <typename T>
-struct ValueTypeFor;
-template <> struct ValueTypeFor<bool> { static constexpr ValueType kType = ValueType::kBool; };
-template <> struct ValueTypeFor<std::int32_t> { static constexpr ValueType kType = ValueType::kInt32; };
-template <> struct ValueTypeFor<std::int64_t> { static constexpr ValueType kType = ValueType::kInt64; };
-template <> struct ValueTypeFor<float> { static constexpr ValueType kType = ValueType::kFloat; };
-template <> struct ValueTypeFor<double> { static constexpr ValueType kType = ValueType::kDouble; };
-template <> struct ValueTypeFor<std::string> { static constexpr ValueType kType = ValueType::kString; };
-
 std::invalid_argument ColumnError(const std::string& column, const std::string& what) {
   return std::invalid_argument("Parquet column \"" + column + "\": " + what);
 }
@@ -124,7 +115,7 @@ void RowGroupBuilder::AddList(const std::string& column, const std::vector<T>& v
 template <typename T>
 void RowGroupBuilder::Encode(const std::string& column, const std::vector<T>& values, bool as_list,
                              const std::vector<std::size_t>& row_lengths) {
-  const ColumnSpec& spec = Claim(column, ValueTypeFor<T>::kType, as_list);
+  const ColumnSpec& spec = Claim(column, ValueTypeOf<T>::kType, as_list);
   const auto max_definition = static_cast<std::uint8_t>(spec.max_definition_level());
   repetition_levels_.clear();
   definition_levels_.clear();

@@ -55,12 +55,7 @@ void DecodeHybrid(const std::uint8_t* data, std::size_t size, int bit_width, std
   };
   while (out.size() < count) {
     std::uint64_t header = 0;
-    for (int shift = 0;; shift += 7) {
-      if (position >= size || shift > 35) fail("run header past the end of the encoded data");
-      const std::uint8_t byte = data[position++];
-      header |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
-      if ((byte & 0x80) == 0) break;
-    }
+    if (!ReadUleb128(data, size, position, header)) fail("run header past the end of the encoded data");
     const std::size_t wanted = count - out.size();
     if ((header & 1) == 0) {
       const std::uint64_t run = header >> 1;
@@ -73,8 +68,11 @@ void DecodeHybrid(const std::uint8_t* data, std::size_t size, int bit_width, std
       out.insert(out.end(), static_cast<std::size_t>(std::min<std::uint64_t>(run, wanted)), value);
     } else {
       // Groups of 8 values, bit-packed least significant bit first; a last group may be padding.
-      const std::uint64_t values = (header >> 1) * 8;
-      const std::uint64_t bytes = (header >> 1) * static_cast<std::uint64_t>(bit_width);
+      const std::uint64_t groups = header >> 1;
+      // Every run yields at least one value, so the loop ends; the cap keeps the products exact.
+      if (groups == 0 || groups > (std::uint64_t{1} << 56)) fail("bit-packed run of " + std::to_string(groups) + " groups");
+      const std::uint64_t values = groups * 8;
+      const std::uint64_t bytes = groups * static_cast<std::uint64_t>(bit_width);
       if (bytes > size - position) fail("bit-packed run past the end");
       const std::uint8_t* packed = data + position;
       const std::size_t take = static_cast<std::size_t>(std::min<std::uint64_t>(values, wanted));

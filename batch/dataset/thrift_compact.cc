@@ -29,6 +29,20 @@ std::uint64_t ZigZag(std::int64_t value) {
   return (static_cast<std::uint64_t>(value) << 1) ^ static_cast<std::uint64_t>(value >> 63);
 }
 
+std::int64_t UnZigZag(std::uint64_t value) {
+  return static_cast<std::int64_t>(value >> 1) ^ -static_cast<std::int64_t>(value & 1);
+}
+
+bool ReadUleb128(const std::uint8_t* data, std::size_t size, std::size_t& position, std::uint64_t& value) {
+  value = 0;
+  for (int shift = 0; shift < 64 && position < size; shift += 7) {
+    const std::uint8_t byte = data[position++];
+    value |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
+    if ((byte & 0x80) == 0) return true;
+  }
+  return false;
+}
+
 void ThriftCompactWriter::FieldHeader(std::int16_t id, ThriftType type) {
   std::int16_t& last = last_field_ids_.back();
   const int delta = id - last;
@@ -109,12 +123,8 @@ std::uint8_t ThriftCompactReader::ReadByte() {
 
 std::uint64_t ThriftCompactReader::ReadUleb128() {
   std::uint64_t value = 0;
-  for (int shift = 0; shift < 64; shift += 7) {
-    const std::uint8_t byte = ReadByte();
-    value |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
-    if ((byte & 0x80) == 0) return value;
-  }
-  Fail("varint longer than 10 bytes");
+  if (!tavis::dataset::ReadUleb128(data_, size_, position_, value)) Fail("varint past the end or longer than 10 bytes");
+  return value;
 }
 
 void ThriftCompactReader::Expect(ThriftType actual, ThriftType expected) const {
@@ -135,8 +145,7 @@ void ThriftCompactReader::ReadStruct(const std::function<void(std::int16_t, Thri
     const int delta = header >> 4;
     std::int64_t id = last_id + delta;
     if (delta == 0) {
-      const std::uint64_t zigzag = ReadUleb128();
-      id = static_cast<std::int64_t>(zigzag >> 1) ^ -static_cast<std::int64_t>(zigzag & 1);
+      id = UnZigZag(ReadUleb128());
     }
     if (id < std::numeric_limits<std::int16_t>::min() || id > std::numeric_limits<std::int16_t>::max()) {
       Fail("thrift field id " + std::to_string(id) + " out of range");
@@ -154,8 +163,7 @@ void ThriftCompactReader::ReadStruct(ThriftType type, const std::function<void(s
 
 std::int64_t ThriftCompactReader::ReadInt(ThriftType type) {
   if (!IsInteger(type)) Expect(type, ThriftType::kI64);
-  const std::uint64_t zigzag = ReadUleb128();
-  return static_cast<std::int64_t>(zigzag >> 1) ^ -static_cast<std::int64_t>(zigzag & 1);
+  return UnZigZag(ReadUleb128());
 }
 
 std::int32_t ThriftCompactReader::ReadI32(ThriftType type) {

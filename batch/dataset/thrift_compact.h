@@ -31,6 +31,11 @@ enum class ThriftType : std::uint8_t {
 
 void AppendUleb128(std::uint64_t value, std::vector<std::uint8_t>& out);
 std::uint64_t ZigZag(std::int64_t value);
+std::int64_t UnZigZag(std::uint64_t value);
+
+// Reads a ULEB128 varint at `position` of [data, data + size), advancing `position`. Returns
+// false, leaving `value` undefined, when it runs past the end or beyond 10 bytes.
+bool ReadUleb128(const std::uint8_t* data, std::size_t size, std::size_t& position, std::uint64_t& value);
 
 // Appends fields to `out`. Field ids of one struct must increase; nested structs are opened with
 // BeginStruct* and closed with EndStruct, which writes the stop byte.

@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "batch/dataset/rle_levels.h"
+#include "batch/dataset/thrift_compact.h"
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "PLAIN values are read as little-endian bytes");
 
@@ -24,18 +25,10 @@ struct Cursor {
 
   std::uint64_t Uleb128() {
     std::uint64_t value = 0;
-    for (int shift = 0; shift < 64; shift += 7) {
-      if (position >= size) Fail(context, "varint past the end of the values");
-      const std::uint8_t byte = data[position++];
-      value |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
-      if ((byte & 0x80) == 0) return value;
-    }
-    Fail(context, "varint longer than 10 bytes");
+    if (!ReadUleb128(data, size, position, value)) Fail(context, "varint past the end of the values");
+    return value;
   }
-  std::int64_t ZigZag() {
-    const std::uint64_t zigzag = Uleb128();
-    return static_cast<std::int64_t>(zigzag >> 1) ^ -static_cast<std::int64_t>(zigzag & 1);
-  }
+  std::int64_t ZigZag() { return UnZigZag(Uleb128()); }
 };
 
 template <typename T>
@@ -74,7 +67,9 @@ std::size_t DecodeDeltaBinaryPacked(const std::uint8_t* data, std::size_t size, 
   const std::uint64_t miniblocks = cursor.Uleb128();
   const std::uint64_t total = cursor.Uleb128();
   std::uint64_t value = static_cast<std::uint64_t>(cursor.ZigZag());
-  if (block_size == 0 || block_size % 128 != 0 || miniblocks == 0 || block_size % miniblocks != 0 ||
+  // Writers use blocks of 128 values or a few times that; the cap keeps the sizes below exact.
+  constexpr std::uint64_t kMaxBlockSize = std::uint64_t{1} << 20;
+  if (block_size == 0 || block_size > kMaxBlockSize || block_size % 128 != 0 || miniblocks == 0 || block_size % miniblocks != 0 ||
       (block_size / miniblocks) % 32 != 0) {
     Fail(context, "DELTA_BINARY_PACKED block of " + std::to_string(block_size) + " values in " +
                       std::to_string(miniblocks) + " miniblocks");
