@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "batch/dataset/page_compression.h"
 #include "batch/dataset/rle_levels.h"
@@ -16,6 +17,13 @@
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "PLAIN values are copied as little-endian bytes");
 
 namespace tavis::dataset {
+
+struct WriterSchema {
+  std::vector<ColumnSpec> columns;
+  std::unordered_map<std::string, std::size_t> index_of_name;
+  Codec codec = Codec::kSnappy;
+};
+
 namespace {
 
 constexpr std::uint8_t kMagic[] = {'P', 'A', 'R', '1'};

@@ -22,7 +22,6 @@
 #include <cstdint>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -38,28 +37,22 @@ struct ParquetWriterOptions {
   std::string created_by = "tavis-cpp parquet writer version 1.0";
 };
 
-// The schema a writer and its row groups share.
-struct WriterSchema {
-  std::vector<ColumnSpec> columns;
-  std::unordered_map<std::string, std::size_t> index_of_name;
-  Codec codec = Codec::kSnappy;
-};
+struct WriterSchema;  // the columns and codec a writer and its row groups share
 
 // The encoded column chunks of one row group, filled by column name, in any order, each column
 // once. Value types: bool, std::int32_t, std::int64_t, float, double, std::string; they must match
 // the column's ValueType. Every Add* throws std::invalid_argument naming the column for an
 // unknown or already filled column, a type mismatch, or a count that does not match the rows.
+// Made by ParquetWriter::NewRowGroup; it keeps the writer's schema alive on its own.
 class RowGroupBuilder {
  public:
-  RowGroupBuilder(std::shared_ptr<const WriterSchema> schema, std::size_t num_rows);
-
   // A scalar column: one value per row.
   template <typename T>
   void Add(const std::string& column, const std::vector<T>& values);
 
   // A list column: the items of all rows, row after row. `row_lengths` (one per row) is required
-  // for a column declared without a shape; otherwise leave it empty and each row takes the
-  // product of the shape's axes, in row-major order.
+  // for a column declared without a shape (a length of 0 writes an empty list, not a null);
+  // otherwise leave it empty and each row takes the product of the shape's axes, row-major.
   template <typename T>
   void AddList(const std::string& column, const std::vector<T>& values, const std::vector<std::size_t>& row_lengths = {});
 
@@ -70,6 +63,8 @@ class RowGroupBuilder {
 
  private:
   friend class ParquetWriter;
+
+  RowGroupBuilder(std::shared_ptr<const WriterSchema> schema, std::size_t num_rows);
 
   struct EncodedChunk {
     bool filled = false;
