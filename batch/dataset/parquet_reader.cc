@@ -346,12 +346,7 @@ std::vector<T> ParquetReader::ReadColumn(const std::string& name) const {
 #define TAVIS_PARQUET_INSTANTIATE(T)                                                 \
   template std::vector<T> ParquetReader::ReadColumn<T>(const std::string&) const; \
   template ListColumn<T> ParquetReader::ReadListColumn<T>(const std::string&) const;
-TAVIS_PARQUET_INSTANTIATE(bool)
-TAVIS_PARQUET_INSTANTIATE(std::int32_t)
-TAVIS_PARQUET_INSTANTIATE(std::int64_t)
-TAVIS_PARQUET_INSTANTIATE(float)
-TAVIS_PARQUET_INSTANTIATE(double)
-TAVIS_PARQUET_INSTANTIATE(std::string)
+TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)
 #undef TAVIS_PARQUET_INSTANTIATE
 
 }  // namespace tavis::dataset

@@ -33,6 +33,9 @@ template <> struct ValueTypeOf<float> { static constexpr ValueType kType = Value
 template <> struct ValueTypeOf<double> { static constexpr ValueType kType = ValueType::kDouble; };
 template <> struct ValueTypeOf<std::string> { static constexpr ValueType kType = ValueType::kString; };
 
+// Applies the macro X to each of those C++ types (for explicit template instantiations).
+#define TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(X) X(bool) X(std::int32_t) X(std::int64_t) X(float) X(double) X(std::string)
+
 struct ColumnSpec {
   std::string name;  // any non-empty name, '/' and '.' included (e.g. "stats/action/mean")
   ValueType type = ValueType::kInt64;

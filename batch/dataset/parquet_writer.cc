@@ -188,12 +188,7 @@ void RowGroupBuilder::Encode(const std::string& column, const std::vector<T>& va
   template void RowGroupBuilder::Add<T>(const std::string&, const std::vector<T>&);           \
   template void RowGroupBuilder::AddList<T>(const std::string&, const std::vector<T>&, \
                                             const std::vector<std::size_t>&);
-TAVIS_PARQUET_INSTANTIATE(bool)
-TAVIS_PARQUET_INSTANTIATE(std::int32_t)
-TAVIS_PARQUET_INSTANTIATE(std::int64_t)
-TAVIS_PARQUET_INSTANTIATE(float)
-TAVIS_PARQUET_INSTANTIATE(double)
-TAVIS_PARQUET_INSTANTIATE(std::string)
+TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)
 #undef TAVIS_PARQUET_INSTANTIATE
 
 ParquetWriter::ParquetWriter(std::string path, std::vector<ColumnSpec> columns, ParquetWriterOptions options)

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "batch/dataset/parquet_schema.h"
 #include "batch/dataset/rle_levels.h"
 #include "batch/dataset/thrift_compact.h"
 
@@ -171,16 +172,10 @@ void DecodeValues(Encoding encoding, const std::uint8_t* data, std::size_t size,
   }
 }
 
-template void DecodeValues<bool>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&, std::vector<bool>&);
-template void DecodeValues<std::int32_t>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&,
-                                         std::vector<std::int32_t>&);
-template void DecodeValues<std::int64_t>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&,
-                                         std::vector<std::int64_t>&);
-template void DecodeValues<float>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&,
-                                  std::vector<float>&);
-template void DecodeValues<double>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&,
-                                   std::vector<double>&);
-template void DecodeValues<std::string>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&,
-                                        std::vector<std::string>&);
+#define TAVIS_PARQUET_INSTANTIATE(T)                                                                        \
+  template void DecodeValues<T>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&, \
+                                std::vector<T>&);
+TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)
+#undef TAVIS_PARQUET_INSTANTIATE
 
 }  // namespace tavis::dataset
