@@ -29,5 +29,7 @@ if(TAVIS_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
 
-# Snappy (libsnappy-dev) compresses Parquet pages; it ships a pkg-config file but no CMake config.
+# Parquet page codecs: Snappy (libsnappy-dev) to write and read, Zstandard (libzstd-dev) to read
+# files others compressed with it. Both ship pkg-config files but no CMake config.
 pkg_check_modules(SNAPPY REQUIRED IMPORTED_TARGET snappy)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)

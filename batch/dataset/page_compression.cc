@@ -1,6 +1,7 @@
 #include "batch/dataset/page_compression.h"
 
 #include <snappy.h>
+#include <zstd.h>
 
 #include <stdexcept>
 
@@ -9,6 +10,10 @@ namespace {
 
 // The largest expansion of a snappy block: a 3-byte copy element yields at most 64 bytes.
 constexpr std::size_t kSnappyMaxRatio = 22;
+// Zstandard has no such small bound (a page of one repeated value shrinks thousands of times),
+// so a page may claim this many times its compressed size, plus a fixed allowance.
+constexpr std::size_t kZstdMaxRatio = 1024;
+constexpr std::size_t kZstdAllowance = std::size_t{64} << 20;
 
 }  // namespace
 
@@ -52,6 +57,19 @@ void Decompress(Codec codec, const std::uint8_t* data, std::size_t size, std::si
       if (!snappy::RawUncompress(compressed, size, reinterpret_cast<char*>(out.data()))) {
         throw std::runtime_error(context + ": corrupt snappy data");
       }
+      return;
+    }
+    case Codec::kZstd: {
+      if (uncompressed_size > size * kZstdMaxRatio + kZstdAllowance) {
+        throw std::runtime_error(context + ": zstd frame of " + std::to_string(size) + " bytes claims " +
+                                 std::to_string(uncompressed_size) + " bytes");
+      }
+      out.resize(uncompressed_size);
+      const std::size_t length = ZSTD_decompress(out.data(), out.size(), data, size);
+      if (ZSTD_isError(length) != 0) {
+        throw std::runtime_error(context + ": corrupt zstd data: " + ZSTD_getErrorName(length));
+      }
+      if (length != uncompressed_size) throw mismatch(length);
       return;
     }
     default:

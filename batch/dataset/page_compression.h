@@ -1,5 +1,5 @@
 // Compression of Parquet page bodies: UNCOMPRESSED and SNAPPY (the raw block format of Debian's
-// libsnappy). Other codecs are rejected with their name.
+// libsnappy) both ways, and ZSTD to read. Other codecs are rejected with their name.
 #pragma once
 
 #include <cstddef>

@@ -300,7 +300,7 @@ ListColumn<T> ParquetReader::ReadListColumn(const std::string& name) const {
     const RowGroupMetadata& row_group = metadata_->row_groups[group];
     const ColumnChunkMetadata& chunk = row_group.columns[leaf_index];
     const std::string context = path_ + ": column \"" + name + "\" in row group " + std::to_string(group);
-    if (chunk.codec != Codec::kUncompressed && chunk.codec != Codec::kSnappy) {
+    if (chunk.codec != Codec::kUncompressed && chunk.codec != Codec::kSnappy && chunk.codec != Codec::kZstd) {
       throw std::runtime_error("unsupported codec " + CodecName(chunk.codec) + " in column \"" + name + "\" of " + path_);
     }
     if (chunk.in_other_file) throw std::runtime_error(context + ": column chunk stored in another file, unsupported");

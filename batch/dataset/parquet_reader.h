@@ -1,8 +1,11 @@
 // Reads columns of a Parquet file: the files our writer makes and those of pyarrow and DuckDB
-// (LeRobot datasets as released). Supported: data pages v1 and v2, PLAIN and dictionary
-// (PLAIN_DICTIONARY / RLE_DICTIONARY) values, RLE/bit-packed hybrid levels, UNCOMPRESSED and
-// SNAPPY pages, physical types BOOLEAN/INT32/INT64/FLOAT/DOUBLE/BYTE_ARRAY, scalar columns and
-// list columns at any nesting depth (read as the flat leaves of each row).
+// (LeRobot datasets as released). Supported:
+// - data pages v1 and v2, with RLE/bit-packed hybrid levels;
+// - values PLAIN, dictionary (PLAIN_DICTIONARY / RLE_DICTIONARY), DELTA_BINARY_PACKED,
+//   DELTA_LENGTH_BYTE_ARRAY, BYTE_STREAM_SPLIT;
+// - codecs UNCOMPRESSED, SNAPPY and ZSTD (others: "unsupported codec GZIP in column X of FILE");
+// - physical types BOOLEAN, INT32, INT64, FLOAT, DOUBLE, BYTE_ARRAY;
+// - scalar columns, and list columns at any nesting depth (read as the flat leaves of each row).
 //
 // A column is named by its top-level field (e.g. "action", "stats/action/mean"). Every problem
 // throws std::runtime_error naming the file and what is wrong (bad magic, footer beyond the file,

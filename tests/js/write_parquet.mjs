@@ -8,7 +8,7 @@
 //   label   VARCHAR  'task ' || (i % 4)   (dictionary encoded)
 //   name    VARCHAR  'row-' || i          (one value per row)
 //   vec     REAL[]   [i, i + 0.5, -i] when i % 5 != 0, else [] (varying length)
-// COMPRESSION is snappy unless given (e.g. zstd, which our reader rejects by name).
+// COMPRESSION is snappy unless given (zstd, uncompressed, or gzip, which our reader rejects by name).
 import { DuckDBInstance } from '@duckdb/node-api';
 
 const [file, rowsText, version, rowGroupText, compression = 'snappy'] = process.argv.slice(2);
