@@ -267,7 +267,8 @@ std::vector<std::uint8_t> ParquetReader::ReadRange(std::int64_t offset, std::int
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
   std::size_t done = 0;
   while (done < bytes.size()) {
-    const ssize_t got = ::pread(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(offset) + static_cast<off_t>(done));
+    const ssize_t got =
+        ::pread(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(offset) + static_cast<off_t>(done));
     if (got < 0 && errno == EINTR) continue;
     if (got < 0) throw std::runtime_error(SystemError("cannot read " + what + " of", path_));
     if (got == 0) throw std::runtime_error(path_ + ": file shrank while reading its " + what);
@@ -280,7 +281,9 @@ std::size_t ParquetReader::LeafIndex(const std::string& name) const {
   std::size_t found = leaves_.size();
   for (std::size_t i = 0; i < leaves_.size(); ++i) {
     if (leaves_[i].path[0] != name) continue;
-    if (found != leaves_.size()) throw std::runtime_error(path_ + ": column \"" + name + "\" is a struct of several columns, unsupported");
+    if (found != leaves_.size()) {
+      throw std::runtime_error(path_ + ": column \"" + name + "\" is a struct of several columns, unsupported");
+    }
     found = i;
   }
   if (found == leaves_.size()) throw std::runtime_error(path_ + ": no column \"" + name + "\"");

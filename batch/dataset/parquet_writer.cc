@@ -159,7 +159,9 @@ void RowGroupBuilder::Encode(const std::string& column, const std::vector<T>& va
   }
 
   body_.clear();
-  if (spec.is_list) AppendLevelBlock(repetition_levels_, LevelBitWidth(static_cast<std::uint32_t>(spec.max_repetition_level())), body_);
+  if (spec.is_list) {
+    AppendLevelBlock(repetition_levels_, LevelBitWidth(static_cast<std::uint32_t>(spec.max_repetition_level())), body_);
+  }
   AppendLevelBlock(definition_levels_, LevelBitWidth(max_definition), body_);
   AppendPlain(values, column, body_);
   compressed_.clear();

@@ -76,7 +76,9 @@ std::size_t DecodeDeltaBinaryPacked(const std::uint8_t* data, std::size_t size, 
                       std::to_string(miniblocks) + " miniblocks");
   }
   // Equal counts also bound the loop below, as `count` is bounded by the caller.
-  if (total != count) Fail(context, "DELTA_BINARY_PACKED holds " + std::to_string(total) + " values, " + std::to_string(count) + " expected");
+  if (total != count) {
+    Fail(context, "DELTA_BINARY_PACKED holds " + std::to_string(total) + " values, " + std::to_string(count) + " expected");
+  }
   const std::uint64_t per_miniblock = block_size / miniblocks;
   if (total == 0) return cursor.position;
   out.push_back(static_cast<Integer>(value));

@@ -97,7 +97,8 @@ TEST(ParquetPageV2, ReadLikeTheIndependentReaders) {
   const ScratchDir dir;
   const std::string path = dir.File("page_v2.parquet");
   const Bytes bytes = FileWithDataPageV2();
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 
   const nlohmann::json expected = nlohmann::json::array({{{"x", "5"}}, {{"x", nullptr}}, {{"x", "7"}}});
   const nlohmann::json independent = ReadWithIndependentReaders(path);
