@@ -30,3 +30,8 @@ endif()
 if(TAVIS_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
+
+# Parquet page codecs: Snappy (libsnappy-dev) to write and read, Zstandard (libzstd-dev) to read
+# files others compressed with it. Both ship pkg-config files but no CMake config.
+pkg_check_modules(SNAPPY REQUIRED IMPORTED_TARGET snappy)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
