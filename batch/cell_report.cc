@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/action_csv.h"
+#include "batch/atomic_file.h"
 #include "batch/galt_summary.h"
 #include "batch/remote/value_json.h"
 #include "batch/statistics.h"
@@ -89,17 +90,6 @@ void WriteReplayCsvs(const CellResult& result, const std::filesystem::path& out_
   }
 }
 
-void WriteAtomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path temporary = path.string() + ".partial";
-  {
-    std::ofstream out(temporary);
-    if (!out) throw std::runtime_error("cannot write " + temporary.string());
-    out << text;
-    if (!out.flush()) throw std::runtime_error("cannot write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, path);
-}
-
 }  // namespace
 
 void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir) {
@@ -127,7 +117,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
     add_galt(record.galt_policy_rate, "galt_policy_rate");
     episodes_text += line.dump() + "\n";
   }
-  WriteAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);
+  WriteFileAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);
 
   const int n = static_cast<int>(result.episodes.size());
   const ProportionInterval ci = WilsonInterval(result.successes, n);
@@ -174,7 +164,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
                            {"round_trip", MillisecondsJson(result.requests->round_trip_ms)},
                            {"server_infer", MillisecondsJson(result.requests->server_infer_ms)}};
   }
-  WriteAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
+  WriteFileAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
 }
 
 std::string CellSummaryLine(const CellResult& result) {

@@ -99,13 +99,14 @@ std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int n
 }  // namespace
 
 ScenarioDef ClutterPickCube() {
-  return {"clutter-pick-cube", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+  return {"clutter-pick-cube", "ClutterPickCubeTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
           &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 
 ScenarioDef BlockedClutterPickCube() {
   ScenarioDef def = ClutterPickCube();
   def.name = "blocked-clutter-pick-cube";
+  def.class_name = "BlockedClutterPickCubeTask";
   def.suite = Suite::kTavisHands;
   def.black_cameras = {"head"};
   def.make_expert = &MakeBlockedExpert;

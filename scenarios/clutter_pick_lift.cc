@@ -55,7 +55,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ClutterPickLift() {
-  return {"clutter-pick-lift", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+  return {"clutter-pick-lift", "ClutterPickLiftTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
           &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 

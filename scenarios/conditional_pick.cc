@@ -76,7 +76,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ConditionalPick() {
-  return {"conditional-pick", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+  return {"conditional-pick", "ConditionalPickTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
           &Prompt, &MakeExpert, /*cue_objects=*/{kCardName}, /*black_cameras=*/{}};
 }
 

@@ -115,7 +115,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef MultiShelfScan() {
-  return {"multi-shelf-scan", Suite::kTavisHead, PullOutPast(kSuccessMaxX), &Layout, &Reset, /*update=*/nullptr,
+  return {"multi-shelf-scan", "MultiShelfScanTask", Suite::kTavisHead, PullOutPast(kSuccessMaxX), &Layout, &Reset, /*update=*/nullptr,
           &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 

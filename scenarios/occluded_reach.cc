@@ -58,7 +58,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef OccludedReach() {
-  return {"occluded-reach", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+  return {"occluded-reach", "OccludedReachTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
           &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 

@@ -145,7 +145,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef PeekingBox() {
-  return {"peeking-box", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
+  return {"peeking-box", "PeekingBoxTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
           &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
 }
 

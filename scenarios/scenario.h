@@ -51,6 +51,8 @@ SuccessRule PullOutPast(double x_m);
 
 struct ScenarioDef {
   std::string name;  // e.g. "clutter-pick-cube"
+  // The reference's task class ("ClutterPickCubeTask"): LeRobot's `task` in its datasets.
+  std::string class_name;
   Suite suite = Suite::kTavisHead;
   SuccessRule success;
   // Adds the task's objects and static parts to the world (once per batch).

@@ -8,6 +8,7 @@ int main(int argc, char** argv) {
   CLI::App app{"tavis: batched CPU simulator and evaluation harness for the TAVIS benchmark"};
   app.require_subcommand(1);
   tavis::tools::RegisterEvalCommand(app);
+  tavis::tools::RegisterDemosCommand(app);
   tavis::tools::RegisterGaltCommand(app);
   tavis::tools::RegisterRenderCommand(app);
   tavis::tools::RegisterTableCommand(app);

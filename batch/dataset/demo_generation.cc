@@ -1,0 +1,138 @@
+#include "batch/dataset/demo_generation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <stdexcept>
+
+#include "batch/builtin_policies.h"
+#include "batch/dataset/demo_recorder.h"
+#include "batch/dataset/lerobot_writer.h"
+#include "batch/episode_driver.h"
+#include "batch/scene_render.h"
+#include "batch/vec_env.h"
+#include "configs/robot_config.h"
+#include "scenarios/registry.h"
+
+namespace tavis::dataset {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+void Validate(const DemoConfig& config) {
+  if (config.tasks.empty()) throw std::invalid_argument("no task to record");
+  for (const std::string& task : config.tasks) {
+    if (scenarios::FindScenario(task).make_expert == nullptr) {
+      throw std::invalid_argument("task '" + task + "' has no scripted expert to record");
+    }
+  }
+  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.max_attempts < 0) throw std::invalid_argument("--max-attempts must be >= 0, got " + std::to_string(config.max_attempts));
+  if (config.max_attempts > 0 && config.max_attempts < config.episodes) {
+    throw std::invalid_argument("--max-attempts " + std::to_string(config.max_attempts) + " is below --episodes " +
+                                std::to_string(config.episodes));
+  }
+  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
+  if (config.fps != 60 && config.fps != 20) throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
+  batch::CameraSettings cameras;
+  cameras.cameras = config.cameras;
+  cameras.width = config.video.width;
+  cameras.height = config.video.height;
+  batch::ValidateCameraSettings(cameras);
+  for (const std::string& camera : config.cameras) CameraVideoKey(camera);
+  VideoSettings video = config.video;
+  video.fps = config.fps;
+  ValidateVideoSettings(video, "--image-size/--codec");
+}
+
+std::vector<std::string> StateNames(const kinematics::RobotModel& robot) {
+  std::vector<std::string> names;
+  for (const kinematics::StateEntry& entry : robot.observation_state) names.push_back(entry.name);
+  return names;
+}
+
+int64_t DirectoryBytes(const std::string& root) {
+  int64_t bytes = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file()) bytes += static_cast<int64_t>(entry.file_size());
+  }
+  return bytes;
+}
+
+}  // namespace
+
+DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
+  Validate(config);
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const Clock::time_point start = Clock::now();
+
+  DatasetLayout layout;
+  layout.version = config.version;
+  layout.fps = config.fps;
+  layout.robot_type = config.robot;
+  layout.cameras = config.cameras;
+  layout.video = config.video;
+  layout.video.fps = config.fps;
+  layout.state_names = StateNames(robot);
+  for (const std::string& task : config.tasks) layout.tasks.push_back(scenarios::FindScenario(task).class_name);
+  const std::unique_ptr<DatasetWriter> writer = MakeDatasetWriter(config.out, layout);
+
+  DemoReport report;
+  const int cap = config.max_attempts > 0 ? config.max_attempts : 2 * config.episodes + 20;
+  for (std::size_t task_index = 0; task_index < config.tasks.size(); ++task_index) {
+    const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.tasks[task_index]);
+    DemoTaskReport task;
+    task.task = scenario.name;
+    const int slots = std::min(config.envs, config.episodes);
+    batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
+    const std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy("expert", scenario, env.model(), slots);
+    DemoRecording recording;
+    recording.cameras = config.cameras;
+    recording.video = layout.video;
+    recording.stride = static_cast<int>(env.model().physics.control_hz + 0.5) / config.fps;
+    recording.task_index = static_cast<int>(task_index);
+    const DemoRecorder::Keep keep = [&](RecordedEpisode&& episode) {
+      if (task.written >= config.episodes) {
+        ++task.surplus;
+        return;
+      }
+      const Clock::time_point write_start = Clock::now();
+      writer->Add(episode);
+      report.write_s += SecondsSince(write_start);
+      ++task.written;
+      if (progress) progress(task.task, task.written, config.episodes);
+    };
+    // Rounds of as many attempts as episodes are still missing, until the task has its N.
+    while (task.written < config.episodes && task.attempts < cap) {
+      const int64_t round = std::min<int64_t>(config.episodes - task.written, cap - task.attempts);
+      DemoRecorder recorder(env, recording, task.attempts, keep);
+      batch::EpisodeDriver driver(env, *expert, round, task.attempts);
+      driver.AddSink(recorder);
+      driver.Run();
+      task.attempts += round;
+      for (const auto& [end, count] : recorder.failures()) task.failures[end] += count;
+      report.render_s += recorder.times().render_s;
+      report.encode_s += recorder.times().encode_s;
+      report.capture_s += recorder.times().capture_s;
+    }
+    report.tasks.push_back(task);
+    if (task.written < config.episodes) {
+      throw std::runtime_error("task " + task.task + ": only " + std::to_string(task.written) + " of " +
+                               std::to_string(config.episodes) + " episodes succeeded in " + std::to_string(task.attempts) +
+                               " attempts (--max-attempts); nothing was finished");
+    }
+  }
+  const Clock::time_point finish_start = Clock::now();
+  writer->Finish();
+  report.write_s += SecondsSince(finish_start);
+  report.episodes = writer->episodes();
+  report.frames = writer->frames();
+  report.bytes = DirectoryBytes(config.out);
+  report.wall_s = SecondsSince(start);
+  report.simulate_s = std::max(0.0, report.wall_s - report.render_s - report.encode_s - report.capture_s - report.write_s);
+  return report;
+}
+
+}  // namespace tavis::dataset

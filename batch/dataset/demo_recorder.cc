@@ -1,0 +1,146 @@
+#include "batch/dataset/demo_recorder.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "kinematics/action.h"
+
+namespace tavis::dataset {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+void Append(std::vector<float>& rows, const float* values, int size) { rows.insert(rows.end(), values, values + size); }
+
+}  // namespace
+
+struct DemoRecorder::Slot {
+  RecordedEpisode episode;
+  std::vector<EpisodeEncoder> encoders;  // per camera, for the running episode
+  kinematics::Action action{};           // this tick's
+};
+
+DemoRecorder::DemoRecorder(const batch::VecEnv& env, DemoRecording recording, int64_t first_episode, Keep keep)
+    : recording_(std::move(recording)),
+      keep_(std::move(keep)),
+      proprioception_(env.model().robot, env.num_envs()),
+      slots_(static_cast<std::size_t>(env.num_envs())),
+      acted_(static_cast<std::size_t>(env.num_envs()), 0),
+      recorded_(static_cast<std::size_t>(env.num_envs()), 0),
+      next_release_(first_episode) {
+  if (recording_.stride < 1) throw std::invalid_argument("the recording stride must be at least 1");
+  if (recording_.cameras.empty()) return;
+  batch::CameraSettings cameras;
+  cameras.cameras = recording_.cameras;
+  cameras.width = recording_.video.width;
+  cameras.height = recording_.video.height;
+  render_ = std::make_unique<batch::SceneRender>(env.model(), env.num_envs(), cameras);
+  // The task's black cameras are black in the dataset, as the reference records them.
+  for (const std::string& name : env.scenario().black_cameras) {
+    const int camera = render_->CameraIndex(name);
+    if (camera < 0) continue;
+    for (int slot = 0; slot < env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
+  }
+}
+
+DemoRecorder::~DemoRecorder() = default;
+
+void DemoRecorder::EpisodeStarted(const batch::VecEnv& env, int slot) {
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  recording.episode = RecordedEpisode();
+  recording.episode.source_episode = env.state().episode[slot];
+  recording.episode.task_index = recording_.task_index;
+  recording.episode.prompt = env.scenario().prompt(env.state(), slot);
+  recording.episode.image_stats.assign(recording_.cameras.size(), ImageStats());
+  recording.encoders.clear();
+  for (const std::string& camera : recording_.cameras) recording.encoders.emplace_back(recording_.video, camera);
+}
+
+void DemoRecorder::ActionsChosen(const batch::VecEnv& env, const batch::ActionBatch& actions) {
+  const engine::BatchState& state = env.state();
+  for (int slot = 0; slot < state.num_envs; ++slot) {
+    acted_[static_cast<std::size_t>(slot)] = state.running(slot);
+    if (state.running(slot)) slots_[static_cast<std::size_t>(slot)].action = actions[static_cast<std::size_t>(slot)];
+  }
+}
+
+void DemoRecorder::Stepped(const batch::VecEnv& env) {
+  const engine::BatchState& state = env.state();
+  bool any = false;
+  for (int slot = 0; slot < state.num_envs; ++slot) {
+    // control_step is now t + 1 for the tick t just stepped; the tick that ended the episode is not recorded.
+    const bool take = acted_[static_cast<std::size_t>(slot)] && state.running(slot) &&
+                      (state.control_step[slot] - 1) % recording_.stride == 0;
+    recorded_[static_cast<std::size_t>(slot)] = take;
+    any = any || take;
+  }
+  if (!any) return;
+
+  Clock::time_point start = Clock::now();
+  proprioception_.Update(state, recorded_);
+  for (int slot = 0; slot < state.num_envs; ++slot) {
+    if (!recorded_[static_cast<std::size_t>(slot)]) continue;
+    Slot& recording = slots_[static_cast<std::size_t>(slot)];
+    RecordedEpisode& episode = recording.episode;
+    for (double value : recording.action) episode.action.push_back(static_cast<float>(value));
+    Append(episode.state, proprioception_.state(slot), proprioception_.state_size());
+    Append(episode.left_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kLeft), 3);
+    Append(episode.left_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kLeft), 4);
+    Append(episode.right_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kRight), 3);
+    Append(episode.right_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kRight), 4);
+    ++episode.frames;
+  }
+  times_.capture_s += SecondsSince(start);
+  if (!render_) return;
+
+  start = Clock::now();
+  render_->Render(state, recorded_.data());
+  times_.render_s += SecondsSince(start);
+
+  // Every (slot, camera) stream is its own encoder: encode them in parallel.
+  start = Clock::now();
+  const int cameras = static_cast<int>(recording_.cameras.size());
+  const render::ImageBatch& images = render_->images();
+  tbb::parallel_for(0, state.num_envs * cameras, [&](int item) {
+    const int slot = item / cameras;
+    const int camera = item % cameras;
+    if (!recorded_[static_cast<std::size_t>(slot)]) return;
+    Slot& recording = slots_[static_cast<std::size_t>(slot)];
+    const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
+    recording.encoders[static_cast<std::size_t>(camera)].WriteFrame(images.rgb(slot, camera), size);
+    recording.episode.image_stats[static_cast<std::size_t>(camera)].AddFrame(images.rgb(slot, camera), images.width(camera),
+                                                                          images.height(camera));
+  });
+  times_.encode_s += SecondsSince(start);
+}
+
+void DemoRecorder::EpisodeEnded(const batch::VecEnv& env, int slot) {
+  const engine::BatchState& state = env.state();
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  const int64_t episode = state.episode[slot];
+  if (state.end[slot] == engine::EpisodeEnd::kSuccess && recording.episode.frames > 0) {
+    const Clock::time_point start = Clock::now();
+    for (EpisodeEncoder& encoder : recording.encoders) recording.episode.videos.push_back(encoder.Finish());
+    times_.encode_s += SecondsSince(start);
+    finished_[episode] = std::move(recording.episode);
+  } else {
+    ++failures_[engine::ToString(state.end[slot])];
+    finished_[episode] = std::nullopt;
+  }
+  recording.encoders.clear();
+  Release();
+}
+
+void DemoRecorder::Release() {
+  for (auto next = finished_.find(next_release_); next != finished_.end(); next = finished_.find(next_release_)) {
+    if (next->second) keep_(std::move(*next->second));
+    finished_.erase(next);
+    ++next_release_;
+  }
+}
+
+}  // namespace tavis::dataset

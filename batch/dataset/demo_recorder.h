@@ -1,0 +1,75 @@
+// The sink that turns scripted-expert episodes into dataset episodes (DESIGN 10): on every
+// recorded control tick it takes the action the env stepped with and the observation after the
+// step (the reference records frame t as o_{t+1} with a_t, and not the step that ends the
+// episode), renders the dataset's cameras with its own renderer, and encodes each camera's frames
+// into the episode's video as they come. An episode that succeeds is handed to `keep` in episode
+// order (whatever order the slots finish in); the others are dropped and counted.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "batch/dataset/recorded_episode.h"
+#include "batch/dataset/video/video_settings.h"
+#include "batch/episode_driver.h"
+#include "batch/proprioception.h"
+#include "batch/scene_render.h"
+
+namespace tavis::dataset {
+
+struct DemoRecording {
+  std::vector<std::string> cameras;  // scene camera names, in the dataset's order
+  VideoSettings video;               // frame size and codec of every camera; fps = control_hz / stride
+  int stride = 1;                    // record every stride-th control tick (1: 60 fps, 3: 20 fps)
+  int task_index = 0;
+};
+
+// Wall time the recorder spent, for the throughput report.
+struct RecordingTimes {
+  double render_s = 0;
+  double encode_s = 0;
+  double capture_s = 0;  // state, end-effector poses, actions
+};
+
+class DemoRecorder : public batch::EpisodeSink {
+ public:
+  using Keep = std::function<void(RecordedEpisode&&)>;
+
+  // Records the episodes from `first_episode` on, run on env's slots.
+  DemoRecorder(const batch::VecEnv& env, DemoRecording recording, int64_t first_episode, Keep keep);
+  ~DemoRecorder() override;
+
+  void EpisodeStarted(const batch::VecEnv& env, int slot) override;
+  void ActionsChosen(const batch::VecEnv& env, const batch::ActionBatch& actions) override;
+  void Stepped(const batch::VecEnv& env) override;
+  void EpisodeEnded(const batch::VecEnv& env, int slot) override;
+
+  // Episodes that ended without success, by how they ended.
+  const std::map<std::string, int64_t>& failures() const { return failures_; }
+  const RecordingTimes& times() const { return times_; }
+
+ private:
+  struct Slot;
+  // Hands the finished episodes to `keep` in episode order, as far as none is missing.
+  void Release();
+
+  DemoRecording recording_;
+  Keep keep_;
+  std::unique_ptr<batch::SceneRender> render_;  // null without cameras
+  batch::ProprioceptionBatch proprioception_;
+  std::vector<Slot> slots_;
+  std::vector<uint8_t> acted_;     // (slots) running when this tick's actions were chosen
+  std::vector<uint8_t> recorded_;  // (slots) a frame is taken after this tick's step
+  int64_t next_release_;
+  std::map<int64_t, std::optional<RecordedEpisode>> finished_;  // waiting for an earlier episode
+  std::map<std::string, int64_t> failures_;
+  RecordingTimes times_;
+};
+
+}  // namespace tavis::dataset

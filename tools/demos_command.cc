@@ -1,0 +1,177 @@
+// `tavis demos`: scripted-expert demonstrations written as a LeRobot dataset.
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "batch/atomic_file.h"
+#include "batch/dataset/demo_generation.h"
+#include "batch/dataset/video/video_log.h"
+#include "batch/scene_render.h"
+#include "scenarios/registry.h"
+#include "tools/commands.h"
+#include "tools/option_parsing.h"
+
+namespace tavis::tools {
+namespace {
+
+struct DemosOptions {
+  dataset::DemoConfig config;
+  std::string task;
+  std::string suite;
+  std::string split = "id";
+  std::string image_size = "640x480";
+  std::string cameras = "head,fixed,left_wrist,right_wrist";
+  std::string codec = "h264";
+  std::string format = "v3.0";
+  int threads = 0;
+  bool overwrite = false;
+  bool quiet = false;
+};
+
+// The dataset's folder must not hold anything yet, unless the user asked to replace it.
+void PrepareOutput(const std::string& out, bool overwrite) {
+  namespace fs = std::filesystem;
+  if (out.empty()) throw std::invalid_argument("--out must name a folder");
+  if (fs::exists(out) && !fs::is_directory(out)) throw std::invalid_argument("--out " + out + " is a file, not a folder");
+  if (fs::exists(out) && !fs::is_empty(out)) {
+    if (!overwrite) {
+      throw std::invalid_argument("--out " + out + " is not empty; give --overwrite to replace what is there");
+    }
+    fs::remove_all(out);
+  }
+  fs::create_directories(out);
+}
+
+nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const DemosOptions& options) {
+  nlohmann::ordered_json tasks = nlohmann::ordered_json::array();
+  for (const dataset::DemoTaskReport& task : report.tasks) {
+    tasks.push_back({{"task", task.task},
+                     {"written", task.written},
+                     {"attempts", task.attempts},
+                     {"failures", task.failures},
+                     {"surplus_successes", task.surplus}});
+  }
+  const dataset::DemoConfig& config = options.config;
+  return {{"robot", config.robot},
+          {"split", options.split},
+          {"seed", config.seed},
+          {"episodes_per_task", config.episodes},
+          {"fps", config.fps},
+          {"image_size", options.image_size},
+          {"cameras", config.cameras},
+          {"codec", options.codec},
+          {"format", options.format},
+          {"envs", config.envs},
+          {"tasks", tasks},
+          {"episodes", report.episodes},
+          {"frames", report.frames},
+          {"bytes", report.bytes},
+          {"bytes_per_episode", report.episodes > 0 ? report.bytes / report.episodes : 0},
+          {"wall_s", report.wall_s},
+          {"seconds",
+           {{"simulate", report.simulate_s},
+            {"render", report.render_s},
+            {"encode", report.encode_s},
+            {"capture", report.capture_s},
+            {"write", report.write_s}}}};
+}
+
+void RunDemos(DemosOptions options) {
+  dataset::DemoConfig& config = options.config;
+  if (!options.task.empty() && !options.suite.empty()) throw std::invalid_argument("give either --task or --suite, not both");
+  if (!options.suite.empty()) {
+    for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(options.suite))) {
+      config.tasks.push_back(scenario->name);
+    }
+  } else {
+    config.tasks = {options.task.empty() ? "clutter-pick-cube" : options.task};
+    scenarios::FindScenario(config.tasks.front());
+  }
+  config.split = scenarios::ParseSplit(options.split);
+  std::tie(config.video.width, config.video.height) = ParseImageSize(options.image_size);
+  config.cameras = options.cameras.empty() ? std::vector<std::string>{} : batch::ParseCameraList(options.cameras);
+  config.video.codec = dataset::ParseVideoCodec(options.codec);
+  config.version = dataset::ParseDatasetVersion(options.format);
+  if (config.out.empty()) {
+    config.out = "datasets/tavis-" + (options.suite.empty() ? config.tasks.front() : options.suite) + "-" + config.robot;
+  }
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  PrepareOutput(config.out, options.overwrite);
+  dataset::ShowOnlyVideoErrors();
+
+  const dataset::DemoProgress progress = [&options](const std::string& task, int64_t written, int64_t wanted) {
+    if (options.quiet) return;
+    std::fprintf(stderr, "\r  %s: %lld/%lld episodes written", task.c_str(), static_cast<long long>(written),
+                 static_cast<long long>(wanted));
+    if (written == wanted) std::fprintf(stderr, "\n");
+  };
+  const dataset::DemoReport report = dataset::GenerateDemos(config, progress);
+  batch::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json", ReportJson(report, options).dump(2) + "\n");
+  for (const dataset::DemoTaskReport& task : report.tasks) {
+    int64_t failed = 0;
+    for (const auto& [end, count] : task.failures) failed += count;
+    std::printf("%s %s %s: %lld episodes written, %lld failed of %lld attempts\n", task.task.c_str(), config.robot.c_str(),
+                options.split.c_str(), static_cast<long long>(task.written), static_cast<long long>(failed),
+                static_cast<long long>(task.attempts));
+  }
+  std::printf("%s dataset: %lld episodes, %lld frames at %d fps, %.1f MB (%.2f MB per episode), %.1f s "
+              "(simulate %.1f, render %.1f, encode %.1f, write %.1f) -> %s\n",
+              options.format.c_str(), static_cast<long long>(report.episodes), static_cast<long long>(report.frames), config.fps,
+              static_cast<double>(report.bytes) / 1e6, static_cast<double>(report.bytes) / 1e6 / static_cast<double>(report.episodes),
+              report.wall_s, report.simulate_s, report.render_s, report.encode_s, report.write_s + report.capture_s,
+              config.out.c_str());
+}
+
+}  // namespace
+
+void RegisterDemosCommand(CLI::App& app) {
+  auto options = std::make_shared<DemosOptions>();
+  options->config.config_dir = TAVIS_DEFAULT_CONFIG_DIR;
+  CLI::App* demos = app.add_subcommand(
+      "demos", "Record scripted-expert demonstrations as a LeRobot dataset (v3.0, or v2.1 for openpi).\n"
+               "Successful episodes only, in episode order; failures are counted in DIR/tavis_demos.json.\n"
+               "Load it with LeRobot: LeRobotDataset(\"tavis/NAME\", root=DIR).");
+  demos->add_option("--task", options->task, "Task (" + scenarios::KnownTasks() + "); default clutter-pick-cube");
+  demos->add_option("--suite", options->suite, "Every task of a suite in one dataset: " + scenarios::KnownSuites());
+  demos->add_option("--robot", options->config.robot, "Robot: gr1t2 or reachy2")->capture_default_str();
+  demos->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
+  demos->add_option("--episodes", options->config.episodes, "Episodes written per task")->capture_default_str();
+  demos->add_option("--max-attempts", options->config.max_attempts,
+                    "Episodes tried per task before giving up (0: 2 x --episodes + 20)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  demos->add_option("--seed", options->config.seed, "Seed: episode i draws its randomness from (seed, i)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  demos->add_option("--fps", options->config.fps, "Frame rate: 60 (the reference's datasets) or 20 (the policy rate)")
+      ->capture_default_str();
+  demos->add_option("--image-size", options->image_size, "Camera image size WIDTHxHEIGHT (even)")->capture_default_str();
+  demos->add_option("--cameras", options->cameras, "Comma-separated cameras (head, fixed, left_wrist, right_wrist)")
+      ->capture_default_str();
+  demos->add_option("--codec", options->codec, "Video codec: h264 (decodes everywhere) or av1 (LeRobot's default, libsvtav1)")
+      ->capture_default_str();
+  demos->add_option("--format", options->format, "Dataset format: v3.0 or v2.1 (one file per episode, for openpi)")
+      ->capture_default_str();
+  demos->add_option("--envs", options->config.envs, "Parallel env slots (the dataset does not depend on it)")
+      ->capture_default_str();
+  demos->add_option("--threads", options->threads, "Worker threads (0 = all cores; the dataset does not depend on it)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  demos->add_option("--out", options->config.out, "Dataset folder (default datasets/tavis-<task|suite>-<robot>); must be empty");
+  demos->add_flag("--overwrite", options->overwrite, "Replace what the --out folder holds");
+  demos->add_option("--config-dir", options->config.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
+  demos->add_flag("--quiet", options->quiet, "No progress line");
+  demos->callback([options] { RunDemos(*options); });
+}
+
+}  // namespace tavis::tools
