@@ -37,14 +37,25 @@ struct DemosOptions {
   bool quiet = false;
 };
 
-// The dataset's folder must not hold anything yet, unless the user asked to replace it.
-void PrepareOutput(const std::string& out, bool overwrite) {
+constexpr const char* kIncompleteMarker = "INCOMPLETE";
+
+// The dataset's folder must not hold anything yet, unless the user asked to replace it or to
+// resume the interrupted recording it holds.
+void PrepareOutput(const std::string& out, bool overwrite, bool resume) {
   namespace fs = std::filesystem;
   if (out.empty()) throw std::invalid_argument("--out must name a folder");
+  if (overwrite && resume) throw std::invalid_argument("give --overwrite or --resume, not both");
   if (fs::exists(out) && !fs::is_directory(out)) throw std::invalid_argument("--out " + out + " is a file, not a folder");
+  if (resume) {
+    if (!fs::exists(fs::path(out) / kIncompleteMarker)) {
+      throw std::invalid_argument("--resume: " + out + " holds no interrupted recording (no " + kIncompleteMarker + " marker)");
+    }
+    return;
+  }
   if (fs::exists(out) && !fs::is_empty(out)) {
     if (!overwrite) {
-      throw std::invalid_argument("--out " + out + " is not empty; give --overwrite to replace what is there");
+      throw std::invalid_argument("--out " + out + " is not empty; give --overwrite to replace what is there, or --resume to "
+                                  "finish an interrupted recording");
     }
     fs::remove_all(out);
   }
@@ -73,6 +84,7 @@ nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const Demos
           {"envs", config.envs},
           {"tasks", tasks},
           {"episodes", report.episodes},
+          {"resumed_episodes", report.resumed},
           {"frames", report.frames},
           {"bytes", report.bytes},
           {"bytes_per_episode", report.episodes > 0 ? report.bytes / report.episodes : 0},
@@ -106,8 +118,13 @@ void RunDemos(DemosOptions options) {
   }
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-  PrepareOutput(config.out, options.overwrite);
+  PrepareOutput(config.out, options.overwrite, config.resume);
   dataset::ShowOnlyVideoErrors();
+  // Until the dataset is finished the folder says so: its files are still FILE.partial and it has
+  // no meta/info.json, so no loader takes it for a dataset.
+  const std::filesystem::path marker = std::filesystem::path(config.out) / kIncompleteMarker;
+  batch::WriteFileAtomically(marker, "tavis demos is writing this dataset, or was interrupted: it is complete once "
+                                     "meta/info.json exists and this file is gone.\n");
 
   const dataset::DemoProgress progress = [&options](const std::string& task, int64_t written, int64_t wanted) {
     if (options.quiet) return;
@@ -117,6 +134,7 @@ void RunDemos(DemosOptions options) {
   };
   const dataset::DemoReport report = dataset::GenerateDemos(config, progress);
   batch::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json", ReportJson(report, options).dump(2) + "\n");
+  std::filesystem::remove(marker);
   for (const dataset::DemoTaskReport& task : report.tasks) {
     int64_t failed = 0;
     for (const auto& [end, count] : task.failures) failed += count;
@@ -169,6 +187,9 @@ void RegisterDemosCommand(CLI::App& app) {
       ->capture_default_str();
   demos->add_option("--out", options->config.out, "Dataset folder (default datasets/tavis-<task|suite>-<robot>); must be empty");
   demos->add_flag("--overwrite", options->overwrite, "Replace what the --out folder holds");
+  demos->add_flag("--resume", options->config.resume,
+                  "Finish an interrupted recording in --out (same settings): the episodes it had kept are\n"
+                  "reused, the rest is recorded again");
   demos->add_option("--config-dir", options->config.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
   demos->add_flag("--quiet", options->quiet, "No progress line");
   demos->callback([options] { RunDemos(*options); });

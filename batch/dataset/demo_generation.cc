@@ -4,9 +4,13 @@
 #include <chrono>
 #include <filesystem>
 #include <stdexcept>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "batch/builtin_policies.h"
 #include "batch/dataset/demo_recorder.h"
+#include "batch/dataset/episode_spool.h"
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/episode_driver.h"
 #include "batch/scene_render.h"
@@ -18,6 +22,9 @@ namespace tavis::dataset {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Where kept episodes wait, durable, until the dataset is finished (episode_spool.h).
+constexpr const char* kSpoolFolder = ".tavis_spool";
 
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -53,6 +60,49 @@ std::vector<std::string> StateNames(const kinematics::RobotModel& robot) {
   return names;
 }
 
+// The settings that decide what the dataset holds (not envs or threads, which do not).
+nlohmann::json Fingerprint(const DemoConfig& config) {
+  return {{"tasks", config.tasks},
+          {"robot", config.robot},
+          {"split", scenarios::ToString(config.split)},
+          {"episodes", config.episodes},
+          {"max_attempts", config.max_attempts},
+          {"seed", config.seed},
+          {"fps", config.fps},
+          {"cameras", config.cameras},
+          {"video", {{"width", config.video.width}, {"height", config.video.height}, {"codec", VideoCodecName(config.video.codec)},
+                     {"crf", config.video.crf}, {"gop", config.video.gop}, {"h264_preset", config.video.h264_preset},
+                     {"av1_preset", config.video.av1_preset}}},
+          {"format", ToString(config.version)}};
+}
+
+// A resumed recording must be the one that was interrupted.
+void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
+  const nlohmann::json progress = spool.LoadProgress();
+  if (progress.is_null()) {
+    throw std::invalid_argument("--resume: " + config.out + " holds no interrupted recording (no " + spool.dir() + "/progress.json)");
+  }
+  const nlohmann::json was = progress.at("settings");
+  const nlohmann::json now = Fingerprint(config);
+  std::string differences;
+  for (const auto& [key, value] : now.items()) {
+    if (!was.contains(key) || was.at(key) != value) {
+      differences += (differences.empty() ? "" : ", ") + key + " " + (was.contains(key) ? was.at(key).dump() : "unset") + " -> " + value.dump();
+    }
+  }
+  if (!differences.empty()) throw std::invalid_argument("--resume with other settings than the interrupted recording: " + differences);
+}
+
+// Files an interrupted run left unfinished (FILE.partial) outside the spool: they are written again.
+void RemovePartialFiles(const std::string& root, const std::string& spool) {
+  std::vector<std::filesystem::path> partial;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    const std::string path = entry.path().string();
+    if (entry.is_regular_file() && entry.path().extension() == ".partial" && path.rfind(spool, 0) != 0) partial.push_back(entry.path());
+  }
+  for (const std::filesystem::path& path : partial) std::filesystem::remove(path);
+}
+
 int64_t DirectoryBytes(const std::string& root) {
   int64_t bytes = 0;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
@@ -77,14 +127,35 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   layout.video.fps = config.fps;
   layout.state_names = StateNames(robot);
   for (const std::string& task : config.tasks) layout.tasks.push_back(scenarios::FindScenario(task).class_name);
+  EpisodeSpool spool(config.out + "/" + kSpoolFolder, layout);
+  if (config.resume) {
+    CheckResumable(config, spool);
+    RemovePartialFiles(config.out, spool.dir());
+  } else if (spool.count() > 0) {
+    throw std::invalid_argument(config.out + " holds an interrupted recording: --resume it or --overwrite it");
+  }
+  spool.SaveProgress({{"settings", Fingerprint(config)}});
   const std::unique_ptr<DatasetWriter> writer = MakeDatasetWriter(config.out, layout);
 
   DemoReport report;
+  // The spooled episodes first: each task's count, and where it goes on (after its last kept one).
+  std::vector<int64_t> written(config.tasks.size(), 0), next_episode(config.tasks.size(), 0);
+  for (int64_t n = 0; n < spool.count(); ++n) {
+    const RecordedEpisode episode = spool.Load(n);
+    const std::size_t task_index = static_cast<std::size_t>(episode.task_index);
+    writer->Add(episode);
+    ++written[task_index];
+    next_episode[task_index] = episode.source_episode + 1;
+    ++report.resumed;
+  }
+
   const int cap = config.max_attempts > 0 ? config.max_attempts : 2 * config.episodes + 20;
   for (std::size_t task_index = 0; task_index < config.tasks.size(); ++task_index) {
     const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.tasks[task_index]);
     DemoTaskReport task;
     task.task = scenario.name;
+    task.written = written[task_index];
+    task.attempts = next_episode[task_index];
     const int slots = std::min(config.envs, config.episodes);
     batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
     const std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy("expert", scenario, env.model(), slots);
@@ -99,6 +170,7 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
         return;
       }
       const Clock::time_point write_start = Clock::now();
+      spool.Save(episode);
       writer->Add(episode);
       report.write_s += SecondsSince(write_start);
       ++task.written;
@@ -126,6 +198,7 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   }
   const Clock::time_point finish_start = Clock::now();
   writer->Finish();
+  spool.Remove();
   report.write_s += SecondsSince(finish_start);
   report.episodes = writer->episodes();
   report.frames = writer->frames();

@@ -32,6 +32,9 @@ struct DemoConfig {
   DatasetVersion version = DatasetVersion::kV30;
   std::string config_dir;  // holds robots/*.yaml
   std::string out;
+  // Continue an interrupted recording into `out` after the last episode it had kept (they are
+  // kept in OUT/.tavis_spool until the dataset is finished). The settings must be the same.
+  bool resume = false;
 };
 
 struct DemoTaskReport {
@@ -44,6 +47,7 @@ struct DemoTaskReport {
 
 struct DemoReport {
   std::vector<DemoTaskReport> tasks;
+  int64_t resumed = 0;  // episodes taken over from an interrupted recording
   int64_t episodes = 0;
   int64_t frames = 0;
   int64_t bytes = 0;  // of the dataset's files
@@ -57,8 +61,8 @@ struct DemoReport {
 using DemoProgress = std::function<void(const std::string&, int64_t, int64_t)>;
 
 // Throws std::invalid_argument / configs::ConfigError for bad settings (before anything is
-// written), std::runtime_error naming the task when its attempt cap is reached first, and
-// std::runtime_error naming the file on an I/O failure.
+// written) or a resume whose settings differ (naming them), std::runtime_error naming the task
+// when its attempt cap is reached first, and std::runtime_error naming the file on an I/O failure.
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress = nullptr);
 
 }  // namespace tavis::dataset

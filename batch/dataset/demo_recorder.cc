@@ -126,10 +126,9 @@ void DemoRecorder::EpisodeEnded(const batch::VecEnv& env, int slot) {
     const Clock::time_point start = Clock::now();
     for (EpisodeEncoder& encoder : recording.encoders) recording.episode.videos.push_back(encoder.Finish());
     times_.encode_s += SecondsSince(start);
-    finished_[episode] = std::move(recording.episode);
+    finished_[episode] = {std::move(recording.episode), ""};
   } else {
-    ++failures_[engine::ToString(state.end[slot])];
-    finished_[episode] = std::nullopt;
+    finished_[episode] = {std::nullopt, engine::ToString(state.end[slot])};
   }
   recording.encoders.clear();
   Release();
@@ -137,7 +136,11 @@ void DemoRecorder::EpisodeEnded(const batch::VecEnv& env, int slot) {
 
 void DemoRecorder::Release() {
   for (auto next = finished_.find(next_release_); next != finished_.end(); next = finished_.find(next_release_)) {
-    if (next->second) keep_(std::move(*next->second));
+    if (next->second.episode) {
+      keep_(std::move(*next->second.episode));
+    } else {
+      ++failures_[next->second.end];
+    }
     finished_.erase(next);
     ++next_release_;
   }

@@ -50,7 +50,7 @@ class DemoRecorder : public batch::EpisodeSink {
   void Stepped(const batch::VecEnv& env) override;
   void EpisodeEnded(const batch::VecEnv& env, int slot) override;
 
-  // Episodes that ended without success, by how they ended.
+  // Episodes handed over so far that ended without success, by how they ended.
   const std::map<std::string, int64_t>& failures() const { return failures_; }
   const RecordingTimes& times() const { return times_; }
 
@@ -58,6 +58,12 @@ class DemoRecorder : public batch::EpisodeSink {
   struct Slot;
   // Hands the finished episodes to `keep` in episode order, as far as none is missing.
   void Release();
+
+  // An episode that has ended: kept (with its recording) or not (how it ended).
+  struct Finished {
+    std::optional<RecordedEpisode> episode;
+    std::string end;
+  };
 
   DemoRecording recording_;
   Keep keep_;
@@ -67,7 +73,7 @@ class DemoRecorder : public batch::EpisodeSink {
   std::vector<uint8_t> acted_;     // (slots) running when this tick's actions were chosen
   std::vector<uint8_t> recorded_;  // (slots) a frame is taken after this tick's step
   int64_t next_release_;
-  std::map<int64_t, std::optional<RecordedEpisode>> finished_;  // waiting for an earlier episode
+  std::map<int64_t, Finished> finished_;  // waiting for an earlier episode
   std::map<std::string, int64_t> failures_;
   RecordingTimes times_;
 };

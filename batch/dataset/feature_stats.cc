@@ -100,6 +100,13 @@ void ImageStats::AddFrame(const uint8_t* rgb, int width, int height) {
   ++frames_;
 }
 
+ImageStats ImageStats::FromHistogram(int64_t frames, const Histogram& histogram) {
+  ImageStats stats;
+  stats.frames_ = frames;
+  stats.histogram_ = histogram;
+  return stats;
+}
+
 void ImageStats::Merge(const ImageStats& other) {
   for (std::size_t c = 0; c < 3; ++c) {
     for (std::size_t v = 0; v < 256; ++v) histogram_[c][v] += other.histogram_[c][v];

@@ -48,9 +48,14 @@ class ImageStats {
   // Three dimensions (r, g, b) in [0, 1]; count = frames. Throws std::logic_error when empty.
   FeatureStats Compute() const;
 
+  using Histogram = std::array<std::array<int64_t, 256>, 3>;  // [channel][value] sampled pixels
+  const Histogram& histogram() const { return histogram_; }
+  // The statistics of `frames` frames whose sampled pixels are `histogram` (as saved elsewhere).
+  static ImageStats FromHistogram(int64_t frames, const Histogram& histogram);
+
  private:
   int64_t frames_ = 0;
-  std::array<std::array<int64_t, 256>, 3> histogram_{};
+  Histogram histogram_{};
 };
 
 }  // namespace tavis::dataset
