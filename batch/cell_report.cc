@@ -26,19 +26,9 @@ nlohmann::json GaltJson(const CellResult& result, std::optional<kinematics::Galt
   for (const EpisodeRecord& record : result.episodes) {
     if (record.*slot) results.push_back(*(record.*slot));
   }
-  const GaltSummary galt = SummarizeGalt(results);
-  nlohmann::json reasons = nlohmann::json::object();
-  for (int r = 0; r < kinematics::kGaltReasonCount; ++r) {
-    if (galt.reason_counts[r] > 0) reasons[kinematics::ToString(static_cast<kinematics::GaltReason>(r))] = galt.reason_counts[r];
-  }
-  auto optional_number = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
-  return {{"fps", fps},
-          {"n_episodes", galt.n_episodes},
-          {"n_valid", galt.n_valid},
-          {"mean_s", optional_number(galt.mean_s)},
-          {"median_s", optional_number(galt.median_s)},
-          {"std_s", optional_number(galt.std_s)},
-          {"reasons", reasons}};
+  nlohmann::json galt = GaltSummaryJson(SummarizeGalt(results));
+  galt["fps"] = fps;
+  return galt;
 }
 
 // count, mean, median, 95th percentile (nearest rank) and maximum of `values_ms`; null when empty.

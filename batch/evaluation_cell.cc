@@ -72,8 +72,9 @@ void ComputeGalt(CellResult& result, int stride, double fps, std::optional<kinem
   std::vector<EpisodeRecord*> successful;
   for (EpisodeRecord& record : result.episodes) {
     if (!record.success || record.actions.empty()) continue;
-    const int samples = (static_cast<int>(record.actions.size()) + stride - 1) / stride;
-    views.push_back({record.actions.front().data(), samples, kinematics::action::kSize * stride});
+    const kinematics::TrajectoryView every_tick{record.actions.front().data(), static_cast<int>(record.actions.size()),
+                                                kinematics::action::kSize};
+    views.push_back(every_tick.Downsampled(stride));
     successful.push_back(&record);
   }
   const std::vector<kinematics::GaltResult> galt = kinematics::ComputeGaltBatch(views, fps);

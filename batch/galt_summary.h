@@ -5,6 +5,8 @@
 #include <optional>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "kinematics/galt.h"
 
 namespace tavis::batch {
@@ -28,5 +30,9 @@ struct GaltSummary {
 // Summarises the GALT results of a cell's successful episodes; the reference computes GALT only
 // for those, so the caller passes exactly them.
 GaltSummary SummarizeGalt(const std::vector<kinematics::GaltResult>& successful_episodes);
+
+// The summary as summary.json reports it: n_episodes, n_valid, mean_s, median_s, std_s (null when
+// n_valid is 0) and reasons (reason -> count, the non-zero ones).
+nlohmann::json GaltSummaryJson(const GaltSummary& summary);
 
 }  // namespace tavis::batch
