@@ -48,6 +48,9 @@ struct BadValue {
   const char* named;  // what the error message must name
 };
 
+// ctest's test names show the arguments, not the struct's bytes.
+void PrintTo(const BadValue& value, std::ostream* out) { *out << value.args; }
+
 class DemosBadValue : public TavisCommandTest, public ::testing::WithParamInterface<BadValue> {};
 
 TEST_P(DemosBadValue, ExitsOneNamingItAndCreatesNothing) {
