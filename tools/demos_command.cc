@@ -118,6 +118,8 @@ void RunDemos(DemosOptions options) {
   }
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  // Every value is checked before --out is touched: a bad one must not remove what --overwrite would.
+  dataset::ValidateDemoConfig(config);
   PrepareOutput(config.out, options.overwrite, config.resume);
   dataset::ShowOnlyVideoErrors();
   // Until the dataset is finished the folder says so: its files are still FILE.partial and it has

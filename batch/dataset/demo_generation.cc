@@ -28,7 +28,23 @@ constexpr const char* kSpoolFolder = ".tavis_spool";
 
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-void Validate(const DemoConfig& config) {
+std::vector<std::string> StateNames(const kinematics::RobotModel& robot) {
+  std::vector<std::string> names;
+  for (const kinematics::StateEntry& entry : robot.observation_state) names.push_back(entry.name);
+  return names;
+}
+
+int64_t DirectoryBytes(const std::string& root) {
+  int64_t bytes = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file()) bytes += static_cast<int64_t>(entry.file_size());
+  }
+  return bytes;
+}
+
+}  // namespace
+
+void ValidateDemoConfig(const DemoConfig& config) {
   if (config.tasks.empty()) throw std::invalid_argument("no task to record");
   for (const std::string& task : config.tasks) {
     if (scenarios::FindScenario(task).make_expert == nullptr) {
@@ -114,7 +130,7 @@ int64_t DirectoryBytes(const std::string& root) {
 }  // namespace
 
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
-  Validate(config);
+  ValidateDemoConfig(config);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   const Clock::time_point start = Clock::now();
 

@@ -60,6 +60,10 @@ struct DemoReport {
 // Called with (task, written, wanted) after each kept episode.
 using DemoProgress = std::function<void(const std::string&, int64_t, int64_t)>;
 
+// Throws std::invalid_argument naming the first bad setting of `config` (tasks, counts, fps,
+// cameras, video size and codec); touches no file, so a command can check before preparing --out.
+void ValidateDemoConfig(const DemoConfig& config);
+
 // Throws std::invalid_argument / configs::ConfigError for bad settings (before anything is
 // written) or a resume whose settings differ (naming them), std::runtime_error naming the task
 // when its attempt cap is reached first, and std::runtime_error naming the file on an I/O failure.

@@ -6,21 +6,12 @@
 //   node read_parquet.mjs FILE.parquet
 import { asyncBufferFromFile, parquetMetadataAsync, parquetReadObjects } from 'hyparquet';
 import { DuckDBInstance } from '@duckdb/node-api';
+import { plain } from './plain_json.mjs';
 
 const file = process.argv[2];
 if (!file) {
   console.error('usage: node read_parquet.mjs FILE.parquet');
   process.exit(2);
-}
-
-// BigInt -> string, recursively through arrays and objects.
-function plain(value) {
-  if (typeof value === 'bigint') return value.toString();
-  if (Array.isArray(value)) return value.map(plain);
-  if (value !== null && typeof value === 'object') {
-    return Object.fromEntries(Object.entries(value).map(([key, inner]) => [key, plain(inner)]));
-  }
-  return value;
 }
 
 async function readWithHyparquet() {

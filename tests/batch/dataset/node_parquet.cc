@@ -39,6 +39,15 @@ nlohmann::json ReadWithIndependentReaders(const std::string& path) {
   }
 }
 
+nlohmann::json QueryWithDuckdb(const std::string& sql) {
+  const std::string output = RunNode({Script("query_duckdb.mjs"), sql});
+  try {
+    return nlohmann::json::parse(output);
+  } catch (const nlohmann::json::parse_error& error) {
+    throw std::runtime_error("query_duckdb.mjs printed no JSON for " + sql + ": " + error.what());
+  }
+}
+
 void WriteWithDuckdb(const std::string& path, std::size_t rows, const std::string& parquet_version,
                      std::size_t row_group_size, const std::string& compression) {
   RunNode({Script("write_parquet.mjs"), path, std::to_string(rows), parquet_version, std::to_string(row_group_size),

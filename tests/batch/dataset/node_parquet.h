@@ -12,6 +12,9 @@ namespace tavis::dataset::testing {
 // What tests/js/read_parquet.mjs prints for `path`: {"hyparquet": {...}, "duckdb": {...}}.
 nlohmann::json ReadWithIndependentReaders(const std::string& path);
 
+// The rows of one DuckDB query (tests/js/query_duckdb.mjs), e.g. over a glob of files.
+nlohmann::json QueryWithDuckdb(const std::string& sql);
+
 // Writes `path` with DuckDB (tests/js/write_parquet.mjs; its header comment gives the table):
 // `parquet_version` "v1" or "v2", `row_group_size` 0 for DuckDB's default, `compression` as
 // DuckDB names it ("snappy", "zstd", "uncompressed").

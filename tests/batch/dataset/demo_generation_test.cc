@@ -1,0 +1,106 @@
+// GenerateDemos end to end: the simulator's scripted expert recorded into a small v3.0 dataset
+// that the independent readers load, and the same dataset, byte for byte, with 1 and 2 threads.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "batch/dataset/demo_generation.h"
+#include "batch/dataset/video/video_log.h"
+#include "configs/robot_config.h"
+#include "tests/batch/dataset/lerobot_dataset_checks.h"
+
+namespace tavis::dataset {
+namespace {
+
+using namespace testing;  // NOLINT: the test support's many helpers
+
+DemoConfig SmallConfig(const std::string& out) {
+  DemoConfig config;
+  config.tasks = {"clutter-pick-cube"};
+  config.robot = "gr1t2";
+  config.episodes = 2;
+  config.envs = 2;
+  config.seed = 3;
+  config.fps = 20;
+  config.cameras = {"head", "left_wrist"};
+  config.video.width = 64;
+  config.video.height = 48;
+  config.video.codec = VideoCodec::kH264;
+  config.config_dir = TAVIS_CONFIG_DIR;
+  config.out = out;
+  return config;
+}
+
+DemoReport Generate(const std::string& out, int threads) {
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  return GenerateDemos(SmallConfig(out));
+}
+
+// Every file under `root` by its relative path.
+std::map<std::string, std::vector<std::uint8_t>> Files(const std::string& root) {
+  std::map<std::string, std::vector<std::uint8_t>> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file()) files[std::filesystem::relative(entry.path(), root).string()] = ReadBytes(entry.path().string());
+  }
+  return files;
+}
+
+class DemoGeneration : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ShowOnlyVideoErrors();
+    scratch_ = ScratchDir();
+  }
+  std::string scratch_;
+};
+
+TEST_F(DemoGeneration, ExpertEpisodesLoadAsALeRobotDataset) {
+  const DemoReport report = Generate(scratch_ + "/dataset", 2);
+  EXPECT_EQ(report.episodes, 2);
+  const DatasetView view = LoadDataset(scratch_ + "/dataset");
+  EXPECT_EQ(view.info["total_frames"], report.frames);
+  EXPECT_EQ(view.info["robot_type"], "gr1t2");
+  EXPECT_EQ(view.video_keys.size(), 2u);
+  ExpectDataRowsAsLeRobotReadsThem(view);
+  ExpectStatsJsonComplete(view);
+  ExpectVideosAsLeRobotReadsThem(view, scratch_);
+
+  const std::size_t state_size =
+      configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2")).observation_state.size();
+  EXPECT_EQ(view.info["features"]["observation.state"]["shape"], nlohmann::json({state_size}));
+  ASSERT_FALSE(view.hyparquet_rows.empty());
+  const nlohmann::json& first_state = view.hyparquet_rows[0]["observation.state"];
+  ASSERT_EQ(first_state.size(), state_size);
+  for (const nlohmann::json& value : first_state) EXPECT_TRUE(value.is_number() && std::isfinite(value.get<double>())) << first_state;
+  for (const EpisodeEntry& episode : view.episodes) {
+    EXPECT_GT(episode.length, 1);
+    EXPECT_EQ(episode.tasks, view.tasks) << "one task";
+    const nlohmann::json& prompt = view.hyparquet_rows.at(static_cast<std::size_t>(episode.from_index))["language_instruction"];
+    ASSERT_TRUE(prompt.is_string() && !prompt.get<std::string>().empty());
+    for (int64_t row = episode.from_index; row < episode.to_index; ++row) {
+      EXPECT_EQ(view.hyparquet_rows[static_cast<std::size_t>(row)]["language_instruction"], prompt) << "row " << row;
+    }
+  }
+}
+
+TEST_F(DemoGeneration, OneAndTwoThreadsWriteTheSameBytes) {
+  Generate(scratch_ + "/one", 1);
+  Generate(scratch_ + "/two", 2);
+  const auto one = Files(scratch_ + "/one"), two = Files(scratch_ + "/two");
+  ASSERT_EQ(one.size(), two.size());
+  int compared_media = 0;
+  for (const auto& [path, bytes] : one) {
+    ASSERT_TRUE(two.count(path)) << path << " only with one thread";
+    EXPECT_TRUE(bytes == two.at(path)) << path << " differs between 1 and 2 threads";
+    const std::string extension = std::filesystem::path(path).extension().string();
+    compared_media += extension == ".parquet" || extension == ".mp4" ? 1 : 0;
+  }
+  EXPECT_EQ(compared_media, 3 + 2) << "data, episodes and tasks tables and two mp4 files";
+}
+
+}  // namespace
+}  // namespace tavis::dataset
