@@ -34,48 +34,6 @@ std::vector<std::string> StateNames(const kinematics::RobotModel& robot) {
   return names;
 }
 
-int64_t DirectoryBytes(const std::string& root) {
-  int64_t bytes = 0;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
-    if (entry.is_regular_file()) bytes += static_cast<int64_t>(entry.file_size());
-  }
-  return bytes;
-}
-
-}  // namespace
-
-void ValidateDemoConfig(const DemoConfig& config) {
-  if (config.tasks.empty()) throw std::invalid_argument("no task to record");
-  for (const std::string& task : config.tasks) {
-    if (scenarios::FindScenario(task).make_expert == nullptr) {
-      throw std::invalid_argument("task '" + task + "' has no scripted expert to record");
-    }
-  }
-  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
-  if (config.max_attempts < 0) throw std::invalid_argument("--max-attempts must be >= 0, got " + std::to_string(config.max_attempts));
-  if (config.max_attempts > 0 && config.max_attempts < config.episodes) {
-    throw std::invalid_argument("--max-attempts " + std::to_string(config.max_attempts) + " is below --episodes " +
-                                std::to_string(config.episodes));
-  }
-  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
-  if (config.fps != 60 && config.fps != 20) throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
-  batch::CameraSettings cameras;
-  cameras.cameras = config.cameras;
-  cameras.width = config.video.width;
-  cameras.height = config.video.height;
-  batch::ValidateCameraSettings(cameras);
-  for (const std::string& camera : config.cameras) CameraVideoKey(camera);
-  VideoSettings video = config.video;
-  video.fps = config.fps;
-  ValidateVideoSettings(video, "--image-size/--codec");
-}
-
-std::vector<std::string> StateNames(const kinematics::RobotModel& robot) {
-  std::vector<std::string> names;
-  for (const kinematics::StateEntry& entry : robot.observation_state) names.push_back(entry.name);
-  return names;
-}
-
 // The settings that decide what the dataset holds (not envs or threads, which do not).
 nlohmann::json Fingerprint(const DemoConfig& config) {
   return {{"tasks", config.tasks},
@@ -128,6 +86,32 @@ int64_t DirectoryBytes(const std::string& root) {
 }
 
 }  // namespace
+
+void ValidateDemoConfig(const DemoConfig& config) {
+  if (config.tasks.empty()) throw std::invalid_argument("no task to record");
+  for (const std::string& task : config.tasks) {
+    if (scenarios::FindScenario(task).make_expert == nullptr) {
+      throw std::invalid_argument("task '" + task + "' has no scripted expert to record");
+    }
+  }
+  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.max_attempts < 0) throw std::invalid_argument("--max-attempts must be >= 0, got " + std::to_string(config.max_attempts));
+  if (config.max_attempts > 0 && config.max_attempts < config.episodes) {
+    throw std::invalid_argument("--max-attempts " + std::to_string(config.max_attempts) + " is below --episodes " +
+                                std::to_string(config.episodes));
+  }
+  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
+  if (config.fps != 60 && config.fps != 20) throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
+  batch::CameraSettings cameras;
+  cameras.cameras = config.cameras;
+  cameras.width = config.video.width;
+  cameras.height = config.video.height;
+  batch::ValidateCameraSettings(cameras);
+  for (const std::string& camera : config.cameras) CameraVideoKey(camera);
+  VideoSettings video = config.video;
+  video.fps = config.fps;
+  ValidateVideoSettings(video, "--image-size/--codec");
+}
 
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
   ValidateDemoConfig(config);
