@@ -1,5 +1,6 @@
 #include "batch/dataset/video/encoded_episode_file.h"
 
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -69,7 +70,7 @@ void SaveEncodedEpisode(const EncodedEpisode& episode, const std::string& path) 
   const std::string partial = path + ".partial";
   {
     std::ofstream out(partial, std::ios::binary);
-    if (!out) throw std::runtime_error("cannot write " + partial);
+    if (!out) throw std::runtime_error("cannot write " + partial + ": " + std::strerror(errno));
     out.write(kMagic, sizeof kMagic);
     Put<int64_t>(out, episode.frames);
     Put<uint64_t>(out, episode.packets.size());
@@ -80,7 +81,7 @@ void SaveEncodedEpisode(const EncodedEpisode& episode, const std::string& path) 
       Put<uint32_t>(out, static_cast<uint32_t>(packet.data.size()));
       out.write(reinterpret_cast<const char*>(packet.data.data()), static_cast<std::streamsize>(packet.data.size()));
     }
-    if (!out.flush()) throw std::runtime_error("cannot write " + partial);
+    if (!out.flush()) throw std::runtime_error("cannot write " + partial + ": " + std::strerror(errno));
   }
   std::filesystem::rename(partial, path);
 }
