@@ -9,6 +9,7 @@
 #include <chrono>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -60,9 +61,22 @@ TEST_F(DemosPipeline, GaltTableOfTheDatasetEqualsTheCellsForTheSameEpisodes) {
 
   const RunResult demos = Run("demos " + episodes + " --cameras '' --quiet --out " + Quote((root_ / "dataset").string()));
   ASSERT_EQ(demos.exit_code, 0) << demos.err;
-  const RunResult galt = Run("galt --dataset " + Quote((root_ / "dataset").string()) + " --table-only --json-out " +
+  const RunResult galt = Run("galt --dataset " + Quote((root_ / "dataset").string()) + " --json-out " +
                              Quote((root_ / "table.json").string()));
   ASSERT_EQ(galt.exit_code, 0) << galt.err;
+  // Episode by episode: the dataset's GALT lines against the cell's episodes.jsonl.
+  const std::vector<std::string> cell_lines = Lines(ReadText(root_ / "cell" / "episodes.jsonl"));
+  std::vector<nlohmann::json> dataset_lines;
+  for (const std::string& line : Lines(galt.out)) {
+    if (line.front() == '{') dataset_lines.push_back(nlohmann::json::parse(line));
+  }
+  ASSERT_EQ(dataset_lines.size(), cell_lines.size());
+  for (std::size_t i = 0; i < cell_lines.size(); ++i) {
+    const nlohmann::json record = nlohmann::json::parse(cell_lines[i]);
+    EXPECT_EQ(dataset_lines[i]["episode"], record["episode"]);
+    EXPECT_EQ(dataset_lines[i]["galt_s"], record["galt_s"]) << "episode " << i;
+    EXPECT_EQ(dataset_lines[i]["reason"], record["galt_reason"]) << "episode " << i;
+  }
   const nlohmann::json table = ReadJson(root_ / "table.json");
   ASSERT_EQ(table["rows"].size(), 2U);
   // 60 Hz: every control tick's action, as the cell's GALT; 20 Hz: every third, as its policy-rate GALT.
