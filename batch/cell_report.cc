@@ -63,52 +63,50 @@ nlohmann::json EndCountsJson(const std::vector<EpisodeRecord>& episodes) {
   return counts;
 }
 
-// The commanded actions of each episode, one row every `stride` control ticks (the rows the
-// policy chose), as DIR/actions/episode_<i>.csv for `--policy replay --actions`.
-void WriteReplayCsvs(const CellResult& result, const std::filesystem::path& out_dir) {
-  const std::filesystem::path dir = out_dir / "actions";
-  std::filesystem::create_directories(dir);
-  for (const EpisodeRecord& record : result.episodes) {
-    std::vector<kinematics::Action> rows;
-    const std::size_t stride = static_cast<std::size_t>(result.replay_csv_stride);
-    for (std::size_t tick = 0; tick < record.actions.size(); tick += stride) {
-      rows.push_back(record.actions[tick]);
-    }
-    const std::filesystem::path path = dir / ("episode_" + std::to_string(record.episode) + ".csv");
-    WriteActionCsv(path.string() + ".partial", rows);
-    std::filesystem::rename(path.string() + ".partial", path);
-  }
+}  // namespace
+
+std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
+  nlohmann::json line = {
+      {"episode", record.episode},
+      {"seed", seed},
+      {"success", record.success},
+      {"end", engine::ToString(record.end)},
+      {"length_steps", record.length_steps},
+      {"length_control_ticks", record.length_control_ticks},
+      {"solver_messages", record.solver_messages},
+  };
+  if (record.end == engine::EpisodeEnd::kInvalidAction) line["invalid_action"] = InvalidActionJson(record.invalid_action);
+  auto add_galt = [&line](const std::optional<kinematics::GaltResult>& galt, const std::string& prefix) {
+    if (!galt) return;
+    line[prefix + "_s"] = galt->galt_s ? nlohmann::json(*galt->galt_s) : nlohmann::json();
+    line[prefix + "_reason"] = kinematics::ToString(galt->reason);
+  };
+  add_galt(record.galt, "galt");
+  add_galt(record.galt_policy_rate, "galt_policy_rate");
+  return line.dump();
 }
 
-}  // namespace
+void WriteReplayCsv(const EpisodeRecord& record, const std::filesystem::path& out_dir) {
+  const std::filesystem::path dir = out_dir / "actions";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path path = dir / ("episode_" + std::to_string(record.episode) + ".csv");
+  WriteActionCsv(path.string() + ".partial", record.replay_actions);
+  std::filesystem::rename(path.string() + ".partial", path);
+}
 
 void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir) {
   std::filesystem::create_directories(out_dir);
-  if (result.replay_csv_stride > 0) WriteReplayCsvs(result, out_dir);
-  const EvaluationCellConfig& config = result.config;
   std::string episodes_text;
   for (const EpisodeRecord& record : result.episodes) {
-    nlohmann::json line = {
-        {"episode", record.episode},
-        {"seed", config.seed},
-        {"success", record.success},
-        {"end", engine::ToString(record.end)},
-        {"length_steps", record.length_steps},
-        {"length_control_ticks", record.length_control_ticks},
-        {"solver_messages", record.solver_messages},
-    };
-    auto add_galt = [&line](const std::optional<kinematics::GaltResult>& galt, const std::string& prefix) {
-      if (!galt) return;
-      line[prefix + "_s"] = galt->galt_s ? nlohmann::json(*galt->galt_s) : nlohmann::json();
-      line[prefix + "_reason"] = kinematics::ToString(galt->reason);
-    };
-    if (record.end == engine::EpisodeEnd::kInvalidAction) line["invalid_action"] = InvalidActionJson(record.invalid_action);
-    add_galt(record.galt, "galt");
-    add_galt(record.galt_policy_rate, "galt_policy_rate");
-    episodes_text += line.dump() + "\n";
+    if (result.requests) WriteReplayCsv(record, out_dir);
+    episodes_text += EpisodeJsonLine(record, result.config.seed) + "\n";
   }
   WriteFileAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);
+  WriteCellSummary(result, info, out_dir);
+}
 
+void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::string& out_dir) {
+  const EvaluationCellConfig& config = result.config;
   const int n = static_cast<int>(result.episodes.size());
   const ProportionInterval ci = WilsonInterval(result.successes, n);
   nlohmann::json summary = {
@@ -117,6 +115,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
       {"split", scenarios::ToString(config.split)},
       {"camera", ToString(config.camera)},
       {"policy", config.policy},
+      {"actions_file", config.actions_file.empty() ? nlohmann::json() : nlohmann::json(config.actions_file)},
       {"seed", config.seed},
       {"n_episodes", n},
       {"n_successful", result.successes},
@@ -125,8 +124,10 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
       {"ci_high", ci.high},
       {"ends", EndCountsJson(result.episodes)},
       {"wall_s", result.wall_s},
-      {"envs", config.envs},
+      {"envs", result.envs},
       {"threads", info.threads},
+      {"resumed_episodes", info.resumed_episodes},
+      {"config_dir", config.config_dir},
       {"control_ticks", result.control_ticks},
       {"control_ticks_per_s", result.wall_s > 0 ? static_cast<double>(result.control_ticks) / result.wall_s : 0.0},
       {"render",

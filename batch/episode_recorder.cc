@@ -2,8 +2,12 @@
 
 namespace tavis::batch {
 
-EpisodeRecorder::EpisodeRecorder(int64_t episodes, int slots, int max_control_steps)
-    : records_(static_cast<std::size_t>(episodes)), action_logs_(static_cast<std::size_t>(slots)) {
+EpisodeRecorder::EpisodeRecorder(int slots, int max_control_steps, RecordSettings settings, int64_t first_episode,
+                                 Finished finished)
+    : settings_(settings),
+      finished_(std::move(finished)),
+      action_logs_(static_cast<std::size_t>(slots)),
+      next_release_(first_episode) {
   for (auto& log : action_logs_) log.reserve(static_cast<std::size_t>(max_control_steps));
 }
 
@@ -16,10 +20,18 @@ void EpisodeRecorder::ActionsChosen(const VecEnv& env, const ActionBatch& action
   }
 }
 
+std::optional<kinematics::GaltResult> EpisodeRecorder::Galt(const std::vector<kinematics::Action>& log, int stride,
+                                                            double fps) const {
+  if (stride <= 0 || log.empty()) return std::nullopt;
+  const kinematics::TrajectoryView every_tick{log.front().data(), static_cast<int>(log.size()), kinematics::action::kSize};
+  return kinematics::ComputeGalt(every_tick.Downsampled(stride), fps);
+}
+
 void EpisodeRecorder::EpisodeEnded(const VecEnv& env, int slot) {
   const engine::BatchState& state = env.state();
   const int ticks_per_policy_step = env.model().physics.controls_per_policy();
-  EpisodeRecord& record = records_[static_cast<std::size_t>(state.episode[slot])];
+  const std::vector<kinematics::Action>& log = action_logs_[slot];
+  EpisodeRecord record;
   record.episode = state.episode[slot];
   record.end = state.end[slot];
   record.success = state.end[slot] == engine::EpisodeEnd::kSuccess;
@@ -27,8 +39,22 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& env, int slot) {
   record.length_steps = (state.control_step[slot] + ticks_per_policy_step - 1) / ticks_per_policy_step;
   record.solver_messages = env.solver_messages(slot);
   record.invalid_action = state.invalid_action[slot];
-  record.actions = action_logs_[slot];
-  successes_ += record.success ? 1 : 0;
+  if (record.success) {
+    record.galt = Galt(log, settings_.galt_stride, settings_.galt_fps);
+    record.galt_policy_rate = Galt(log, settings_.policy_rate_stride, settings_.policy_rate_fps);
+  }
+  if (settings_.replay_stride > 0) {
+    for (std::size_t tick = 0; tick < log.size(); tick += static_cast<std::size_t>(settings_.replay_stride)) {
+      record.replay_actions.push_back(log[tick]);
+    }
+  }
+  if (settings_.keep_actions) record.actions = log;
+  waiting_[record.episode] = std::move(record);
+  for (auto next = waiting_.find(next_release_); next != waiting_.end(); next = waiting_.find(next_release_)) {
+    finished_(std::move(next->second));
+    waiting_.erase(next);
+    ++next_release_;
+  }
 }
 
 }  // namespace tavis::batch

@@ -1,8 +1,12 @@
-// The sink of an evaluation cell: per episode its outcome, length, solver messages and the
-// commanded action of every control tick (for GALT), in episode order.
+// The sink of an evaluation cell: per episode its outcome, length, solver messages and GALT,
+// computed when the episode ends from the commanded actions of its control ticks, which are then
+// dropped (unless asked to keep them), so a cell's memory does not grow with its episodes.
+// Records are handed on in episode order, whatever order the slots finish in.
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -21,31 +25,48 @@ struct EpisodeRecord {
   int length_control_ticks = 0;  // 60 Hz control ticks
   int solver_messages = 0;       // ODE solver messages (degenerate contacts), for diagnosis
   engine::InvalidAction invalid_action;  // what ended it, when end is kInvalidAction
-  std::vector<kinematics::Action> actions;  // commanded action of every control tick
   // GALT of the commanded actions at the policy's action rate, for successful episodes only
   // (the reference computes it for those).
   std::optional<kinematics::GaltResult> galt;
   // The same at the 20 Hz policy rate, for a policy acting faster (the scripted experts at 60 Hz),
   // as the paper's validation table reports both.
   std::optional<kinematics::GaltResult> galt_policy_rate;
+  std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
+  std::vector<kinematics::Action> actions;  // every control tick's, with RecordSettings::keep_actions
+};
+
+struct RecordSettings {
+  // GALT sampled every galt_stride control ticks at galt_fps (the policy's action rate); 0: no
+  // GALT (the fixed protocol has no head to lead).
+  int galt_stride = 0;
+  double galt_fps = 0.0;
+  // Also at the policy rate, for a policy acting faster; 0: not.
+  int policy_rate_stride = 0;
+  double policy_rate_fps = 0.0;
+  int replay_stride = 0;      // keep the actions a served policy chose, for --policy replay; 0: none
+  bool keep_actions = false;  // keep every control tick's action in the record (tests compare them)
 };
 
 class EpisodeRecorder : public EpisodeSink {
  public:
-  // Records episodes 0..episodes-1 run on `slots` env slots.
-  EpisodeRecorder(int64_t episodes, int slots, int max_control_steps);
+  using Finished = std::function<void(EpisodeRecord&&)>;
+
+  // Records the episodes from `first_episode` on, run on `slots` env slots, handing each to
+  // `finished` in episode order.
+  EpisodeRecorder(int slots, int max_control_steps, RecordSettings settings, int64_t first_episode, Finished finished);
 
   void EpisodeStarted(const VecEnv& env, int slot) override;
   void ActionsChosen(const VecEnv& env, const ActionBatch& actions) override;
   void EpisodeEnded(const VecEnv& env, int slot) override;
 
-  std::vector<EpisodeRecord>& records() { return records_; }  // by episode index
-  int successes() const { return successes_; }
-
  private:
-  std::vector<EpisodeRecord> records_;
+  std::optional<kinematics::GaltResult> Galt(const std::vector<kinematics::Action>& log, int stride, double fps) const;
+
+  RecordSettings settings_;
+  Finished finished_;
   std::vector<std::vector<kinematics::Action>> action_logs_;  // [slot], reserved for a whole episode
-  int successes_ = 0;
+  int64_t next_release_;
+  std::map<int64_t, EpisodeRecord> waiting_;  // ended, after an episode still running
 };
 
 }  // namespace tavis::batch

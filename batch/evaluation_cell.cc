@@ -28,22 +28,6 @@ void ValidatePolicy(const EvaluationCellConfig& config) {
   if (!config.servers.empty()) throw std::invalid_argument("--server is for --policy openpi, not '" + config.policy + "'");
 }
 
-void ValidateConfig(const EvaluationCellConfig& config) {
-  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
-  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
-  ValidatePolicy(config);
-  if ((config.image_width == 0) != (config.image_height == 0)) {
-    throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) + "x" +
-                                std::to_string(config.image_height));
-  }
-  CameraSettings cameras;
-  cameras.cameras = config.render_cameras;
-  if (config.image_width != 0) {
-    cameras.width = config.image_width;
-    cameras.height = config.image_height;
-  }
-  ValidateCameraSettings(cameras);
-}
 
 // The served policy's request layout, with an explicit image size taking the place of its own.
 remote::ObservationKeys ServedKeys(const EvaluationCellConfig& config) {
@@ -65,45 +49,62 @@ std::vector<std::string> CamerasToRender(const Policy& policy, const EvaluationC
   return cameras;
 }
 
-// GALT over the successful episodes' commanded actions, one sample every `stride` control ticks,
-// written to `slot` of each record.
-void ComputeGalt(CellResult& result, int stride, double fps, std::optional<kinematics::GaltResult> EpisodeRecord::*slot) {
-  std::vector<kinematics::TrajectoryView> views;
-  std::vector<EpisodeRecord*> successful;
-  for (EpisodeRecord& record : result.episodes) {
-    if (!record.success || record.actions.empty()) continue;
-    const kinematics::TrajectoryView every_tick{record.actions.front().data(), static_cast<int>(record.actions.size()),
-                                                kinematics::action::kSize};
-    views.push_back(every_tick.Downsampled(stride));
-    successful.push_back(&record);
+// What the recorder keeps: GALT sampled when the policy acted (every `hold_ticks` control ticks),
+// as the reference records actions at its policy rate, and for a policy acting faster also at the
+// 20 Hz policy rate; none under the fixed protocol, where there is no head to lead.
+RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks, const engine::PhysicsSettings& physics,
+                                 bool served) {
+  RecordSettings settings;
+  if (config.camera == CameraProtocol::kHead) {
+    settings.galt_stride = hold_ticks;
+    settings.galt_fps = physics.control_hz / hold_ticks;
+    const int policy_stride = physics.controls_per_policy();
+    if (hold_ticks < policy_stride) {
+      settings.policy_rate_stride = policy_stride;
+      settings.policy_rate_fps = physics.control_hz / policy_stride;
+    }
   }
-  const std::vector<kinematics::GaltResult> galt = kinematics::ComputeGaltBatch(views, fps);
-  for (size_t i = 0; i < successful.size(); ++i) successful[i]->*slot = galt[i];
-}
-
-// GALT sampled when the policy acted (every `hold_ticks` control ticks), as the reference records
-// actions at its policy rate; for a policy acting faster, also at the 20 Hz policy rate.
-void AddGalt(CellResult& result, int hold_ticks, const engine::PhysicsSettings& physics) {
-  result.galt_fps = physics.control_hz / hold_ticks;
-  ComputeGalt(result, hold_ticks, result.galt_fps, &EpisodeRecord::galt);
-  const int policy_stride = physics.controls_per_policy();
-  if (hold_ticks < policy_stride) {
-    result.galt_policy_rate_fps = physics.control_hz / policy_stride;
-    ComputeGalt(result, policy_stride, result.galt_policy_rate_fps, &EpisodeRecord::galt_policy_rate);
-  }
+  settings.replay_stride = served ? hold_ticks : 0;
+  settings.keep_actions = config.keep_actions;
+  return settings;
 }
 
 }  // namespace
 
 std::string CellPolicyNames() { return std::string(BuiltinPolicyNames()) + ", " + kServedPolicy; }
 
-CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress) {
-  ValidateConfig(config);
+void CheckEvaluationCell(const EvaluationCellConfig& config) {
+  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
+  if (config.first_episode < 0 || config.first_episode > config.episodes) {
+    throw std::invalid_argument("the first episode to run must be in [0, " + std::to_string(config.episodes) + "], got " +
+                                std::to_string(config.first_episode));
+  }
+  ValidatePolicy(config);
+  if ((config.image_width == 0) != (config.image_height == 0)) {
+    throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) + "x" +
+                                std::to_string(config.image_height));
+  }
+  CameraSettings cameras;
+  cameras.cameras = config.render_cameras;
+  if (config.image_width != 0) {
+    cameras.width = config.image_width;
+    cameras.height = config.image_height;
+  }
+  ValidateCameraSettings(cameras);
+  scenarios::FindScenario(config.task);
+  configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  if (config.policy == kServedPolicy) remote::LoadObservationKeys(config.observation_keys, config.config_dir);
+}
+
+CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress,
+                             const RecordCallback& on_record) {
+  CheckEvaluationCell(config);
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   const auto start = std::chrono::steady_clock::now();
 
-  const int slots = std::min(config.envs, config.episodes);
+  const int slots = static_cast<int>(std::clamp<int64_t>(config.episodes - config.first_episode, 1, config.envs));
   VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
   CellResult result;
   result.config = config;
@@ -136,24 +137,31 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);
   if (!cameras.empty()) env.EnableCameras({cameras, result.render_width, result.render_height, false, false});
 
-  EpisodeRecorder recorder(config.episodes, slots, env.model().physics.max_control_steps());
-  EpisodeDriver driver(env, *policy, config.episodes);
-  driver.AddSink(recorder);
-  driver.SetProgress(progress);
-  driver.SetCameraProtocol(config.camera);
-  driver.Run();
+  const RecordSettings record_settings =
+      RecordSettingsFor(config, policy->control_ticks_per_action(), env.model().physics, served != nullptr);
+  result.galt_fps = record_settings.galt_fps;
+  result.galt_policy_rate_fps = record_settings.policy_rate_fps;
+  EpisodeRecorder recorder(slots, env.model().physics.max_control_steps(), record_settings, config.first_episode,
+                           [&](EpisodeRecord&& record) {
+                             if (on_record) on_record(record);
+                             result.successes += record.success ? 1 : 0;
+                             result.episodes.push_back(std::move(record));
+                           });
+  if (config.first_episode < config.episodes) {
+    EpisodeDriver driver(env, *policy, config.episodes - config.first_episode, config.first_episode);
+    driver.AddSink(recorder);
+    driver.SetProgress(progress);
+    driver.SetCameraProtocol(config.camera);
+    driver.Run();
+    result.control_ticks = driver.control_ticks();
+  }
 
   result.rendered_cameras = cameras;
-  result.episodes = std::move(recorder.records());
-  result.successes = recorder.successes();
-  result.control_ticks = driver.control_ticks();
-  // GALT measures how the head leads the hand: the fixed protocol has no head to lead.
-  if (config.camera == CameraProtocol::kHead) AddGalt(result, policy->control_ticks_per_action(), env.model().physics);
+  result.envs = slots;
   result.rendered_images = env.rendered_images();
   if (served != nullptr) {
     result.requests = served->timings();
     result.server_metadata = served->server_metadata();
-    result.replay_csv_stride = served->control_ticks_per_action();
   }
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ struct EvaluationCellConfig {
   std::string observation_keys = "tavis";
   double server_ready_timeout_s = 60.0;  // per server, for its /healthz to answer before the cell starts
   int episodes = 96;
+  // Episodes before this one are not run (a resumed cell has their records already); at most
+  // `episodes` (then nothing runs).
+  int64_t first_episode = 0;
   int envs = 32;  // parallel env slots
   uint64_t seed = 0;
   std::string config_dir;  // holds robots/*.yaml
@@ -41,26 +45,29 @@ struct EvaluationCellConfig {
   // keys, 224 x 224 for the presets; the reference's 640 x 480 otherwise).
   int image_width = 0;
   int image_height = 0;
+  // Keep every control tick's commanded action in the records (tests compare them); otherwise a
+  // cell's memory does not grow with its episodes.
+  bool keep_actions = false;
 };
 
 struct CellResult {
   EvaluationCellConfig config;  // as run: the image size resolved
   int render_width = 0;         // the cameras' rendered size (letterboxed into the image size)
   int render_height = 0;
-  std::vector<EpisodeRecord> episodes;  // ordered by episode index
+  std::vector<EpisodeRecord> episodes;  // the episodes run, ordered by episode index
   int successes = 0;
+  int envs = 0;  // the env slots that ran (at most the episodes to run)
   double wall_s = 0.0;
   int64_t control_ticks = 0;  // env control ticks simulated, for throughput
   double galt_fps = 0.0;      // rate of the action samples GALT was computed on
   double galt_policy_rate_fps = 0.0;  // 0 when the policy acts at the policy rate
   std::vector<std::string> rendered_cameras;  // the policy's cameras, then the extra render_cameras
   int64_t rendered_images = 0;                // env-camera images rendered
-  // A served policy's requests; its episodes' actions are saved for --policy replay, one row
-  // every replay_csv_stride control ticks (0: not saved).
+  // A served policy's requests; its episodes' actions are kept for --policy replay
+  // (EpisodeRecord::replay_actions).
   std::optional<remote::RequestTimings> requests;
   std::vector<remote::Value> server_metadata;  // each server's metadata message
   std::string observation_keys_source;         // the request layout's preset or file
-  int replay_csv_stride = 0;
 };
 
 // Policy names a cell accepts, for --help texts and errors: the built-in ones and "openpi".
@@ -69,6 +76,14 @@ std::string CellPolicyNames();
 // Throws std::invalid_argument / configs::ConfigError for bad settings, and std::runtime_error
 // naming the server when a served policy's server is unreachable or fails. An unusable action
 // ends only its episode (invalid_action, recorded with the entry and the reason).
-CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr);
+// Checks every setting (task, robot file, policy, cameras, sizes, the served policy's keys)
+// without running anything; throws as RunEvaluationCell does for bad settings.
+void CheckEvaluationCell(const EvaluationCellConfig& config);
+
+// Called with each episode's record as soon as it and every earlier episode have ended.
+using RecordCallback = std::function<void(const EpisodeRecord&)>;
+
+CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr,
+                             const RecordCallback& on_record = nullptr);
 
 }  // namespace tavis::batch

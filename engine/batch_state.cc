@@ -14,6 +14,17 @@ const char* ToString(EpisodeEnd end) {
   return "unknown";
 }
 
+bool ParseEpisodeEnd(const std::string& text, EpisodeEnd* end) {
+  for (EpisodeEnd candidate : {EpisodeEnd::kRunning, EpisodeEnd::kSuccess, EpisodeEnd::kTimeOut, EpisodeEnd::kPhysicsBlowUp,
+                               EpisodeEnd::kInvalidAction, EpisodeEnd::kStopped}) {
+    if (text == ToString(candidate)) {
+      *end = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 void BatchState::Allocate(int envs, int joints, int objects) {
   num_envs = envs;
   num_joints = joints;

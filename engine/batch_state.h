@@ -18,6 +18,8 @@ namespace tavis::engine {
 // needed (the visibility audit); such an episode has no outcome.
 enum class EpisodeEnd : uint8_t { kRunning = 0, kSuccess, kTimeOut, kPhysicsBlowUp, kInvalidAction, kStopped };
 const char* ToString(EpisodeEnd end);
+// The end named `text` (as ToString writes it); false for another text.
+bool ParseEpisodeEnd(const std::string& text, EpisodeEnd* end);
 
 constexpr int kObjectPoseSize = 7;      // x, y, z, qw, qx, qy, qz (world)
 constexpr int kObjectVelocitySize = 6;  // linear xyz, angular xyz (world)

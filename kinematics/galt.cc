@@ -322,6 +322,16 @@ void ForEachEpisodeParallel(std::size_t count, const Compute& compute) {
 
 }  // namespace
 
+bool ParseGaltReason(const std::string& text, GaltReason* reason) {
+  for (int r = 0; r < kGaltReasonCount; ++r) {
+    if (text == ToString(static_cast<GaltReason>(r))) {
+      *reason = static_cast<GaltReason>(r);
+      return true;
+    }
+  }
+  return false;
+}
+
 const char* ToString(GaltReason reason) {
   switch (reason) {
     case GaltReason::kOk:

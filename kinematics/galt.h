@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "kinematics/action.h"
@@ -72,6 +73,8 @@ enum class GaltReason {
 };
 inline constexpr int kGaltReasonCount = 9;
 const char* ToString(GaltReason reason);
+// The reason named `text` (as ToString writes it); false for another text.
+bool ParseGaltReason(const std::string& text, GaltReason* reason);
 
 // Times are seconds from the first sample; absent values are nullopt (None in the reference).
 struct GaltResult {

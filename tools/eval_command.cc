@@ -1,6 +1,7 @@
 // `tavis eval`: one evaluation cell, written to DIR/episodes.jsonl and DIR/summary.json, or one
 // cell per task of a suite.
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "batch/cell_record_stream.h"
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
 #include "batch/remote/observation_keys.h"
@@ -35,6 +37,8 @@ struct EvalOptions {
   bool image_size_given = false;
   int threads = 0;
   bool quiet = false;
+  bool overwrite = false;
+  bool resume = false;
 };
 
 void PrintProgress(int64_t finished, int64_t total) {
@@ -51,11 +55,26 @@ std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const st
          std::to_string(cell.seed);
 }
 
+// One cell into `out`: its records streamed as episodes end (an interrupted cell keeps them and
+// --resume continues after them), the summary written last.
 batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
                           const std::string& out) {
-  const batch::CellResult result =
-      batch::RunEvaluationCell(cell, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress));
-  batch::WriteCellReport(result, {threads}, out);
+  if (out.empty()) throw std::invalid_argument("--out must name a folder");
+  batch::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
+  if (options.overwrite && std::filesystem::exists(out)) std::filesystem::remove_all(out);
+  batch::CellRecordStream stream(out, cell, options.resume);
+  batch::EvaluationCellConfig config = cell;
+  config.first_episode = stream.next_episode();
+  batch::CellResult result = batch::RunEvaluationCell(
+      config, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress),
+      [&stream](const batch::EpisodeRecord& record) { stream.Write(record); });
+  // The summary covers the whole cell: the resumed records first.
+  std::vector<batch::EpisodeRecord> episodes = stream.resumed();
+  for (batch::EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
+  result.episodes = std::move(episodes);
+  result.successes = 0;
+  for (const batch::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
+  batch::WriteCellSummary(result, {threads, stream.next_episode()}, out);
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
   return result;
 }
@@ -106,6 +125,7 @@ void RunEval(const EvalOptions& options) {
   if (options.image_size_given) std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  if (options.overwrite && options.resume) throw std::invalid_argument("give --overwrite or --resume, not both");
   if (!options.suite.empty()) {
     if (options.task_given) throw std::invalid_argument("give either --task or --suite, not both");
     RunSuite(cell, options, threads);
@@ -180,6 +200,9 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   eval->add_option("--config-dir", options->cell.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
   eval->add_flag("--quiet", options->quiet, "No progress bar");
+  eval->add_flag("--overwrite", options->overwrite, "Replace the results already in --out");
+  eval->add_flag("--resume", options->resume,
+                 "Finish an interrupted cell in --out (same settings): its complete episodes are kept, the rest run");
   eval->callback([options, eval] {
     options->task_given = eval->count("--task") > 0;
     options->image_size_given = eval->count("--image-size") > 0;

@@ -164,11 +164,14 @@ TEST(EpisodeDriver, ANonFiniteActionEndsOnlyItsEpisodeNamingTheEntry) {
       action[kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
     }
   });
-  EpisodeRecorder recorder(4, env.num_envs(), env.model().physics.max_control_steps());
+  std::vector<EpisodeRecord> records;
+  EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), RecordSettings(), 0,
+                           [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
   EpisodeDriver driver(env, policy, 4);
   driver.AddSink(recorder);
   driver.Run();
-  for (const EpisodeRecord& record : recorder.records()) {
+  ASSERT_EQ(records.size(), 4U);
+  for (const EpisodeRecord& record : records) {
     if (record.episode != 2) {
       EXPECT_EQ(record.end, engine::EpisodeEnd::kTimeOut) << "episode " << record.episode;
       continue;
@@ -207,11 +210,13 @@ class FaultyHoldPolicy : public Policy {
 TEST(EpisodeDriver, APolicyFaultEndsOnlyItsEpisodeWithTheReason) {
   VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
   FaultyHoldPolicy policy(env);
-  EpisodeRecorder recorder(3, env.num_envs(), env.model().physics.max_control_steps());
+  std::vector<EpisodeRecord> records;
+  EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), RecordSettings(), 0,
+                           [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
   EpisodeDriver driver(env, policy, 3);
   driver.AddSink(recorder);
   driver.Run();
-  const std::vector<EpisodeRecord>& records = recorder.records();
+  ASSERT_EQ(records.size(), 3U);
   EXPECT_EQ(records[0].end, engine::EpisodeEnd::kTimeOut);
   EXPECT_EQ(records[1].end, engine::EpisodeEnd::kInvalidAction);
   EXPECT_EQ(records[1].length_control_ticks, 0) << "ended before its first step";

@@ -21,6 +21,7 @@ EvaluationCellConfig SmallCell(uint64_t seed = 3, int envs = 3) {
   config.episodes = 6;
   config.envs = envs;
   config.seed = seed;
+  config.keep_actions = true;  // the tests compare every control tick's action
   config.config_dir = TAVIS_CONFIG_DIR;
   return config;
 }

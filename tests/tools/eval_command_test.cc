@@ -68,7 +68,7 @@ TEST_F(EvalCommand, SmallCellWritesEpisodesSummaryAndOneLine) {
   // No temporary files are left next to the results.
   std::set<std::string> names;
   for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
-  EXPECT_EQ(names, (std::set<std::string>{"episodes.jsonl", "summary.json"}));
+  EXPECT_EQ(names, (std::set<std::string>{"cell.json", "episodes.jsonl", "summary.json"}));
 }
 
 TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {

@@ -143,6 +143,7 @@ batch::EvaluationCellConfig ServedCell(const std::vector<std::string>& servers) 
   config.config_dir = TAVIS_CONFIG_DIR;
   config.image_width = 32;
   config.image_height = 24;
+  config.keep_actions = true;  // the tests compare every control tick's action
   return config;
 }
 

@@ -1,0 +1,142 @@
+#include "batch/cell_record_stream.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "batch/atomic_file.h"
+#include "batch/cell_report.h"
+#include "scenarios/split.h"
+
+namespace tavis::batch {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::optional<kinematics::GaltResult> ParseGalt(const nlohmann::json& line, const std::string& prefix) {
+  if (!line.contains(prefix + "_reason")) return std::nullopt;
+  kinematics::GaltResult galt;
+  if (!kinematics::ParseGaltReason(line.at(prefix + "_reason").get<std::string>(), &galt.reason)) {
+    throw std::invalid_argument(prefix + "_reason " + line.at(prefix + "_reason").dump() + " is not a GALT reason");
+  }
+  const nlohmann::json& seconds = line.at(prefix + "_s");
+  if (!seconds.is_null()) galt.galt_s = seconds.get<double>();
+  return galt;
+}
+
+double ParseActionValue(const nlohmann::json& value) {
+  if (value.is_number()) return value.get<double>();
+  const std::string text = value.is_string() ? value.get<std::string>() : "";
+  if (text == "nan") return std::numeric_limits<double>::quiet_NaN();
+  if (text == "inf") return std::numeric_limits<double>::infinity();
+  if (text == "-inf") return -std::numeric_limits<double>::infinity();
+  return 0.0;
+}
+
+}  // namespace
+
+nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
+  return {{"task", config.task},
+          {"robot", config.robot},
+          {"split", scenarios::ToString(config.split)},
+          {"camera", ToString(config.camera)},
+          {"policy", config.policy},
+          {"actions_file", config.actions_file},
+          {"servers", config.servers},
+          {"replan_steps", config.replan_steps},
+          {"observation_keys", config.observation_keys},
+          {"episodes", config.episodes},
+          {"seed", config.seed},
+          {"render_cameras", config.render_cameras},
+          {"image_width", config.image_width},
+          {"image_height", config.image_height}};
+}
+
+EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
+  const nlohmann::json line = nlohmann::json::parse(text);
+  EpisodeRecord record;
+  record.episode = line.at("episode").get<int64_t>();
+  record.success = line.at("success").get<bool>();
+  if (!engine::ParseEpisodeEnd(line.at("end").get<std::string>(), &record.end)) {
+    throw std::invalid_argument("end " + line.at("end").dump() + " is not an episode end");
+  }
+  record.length_steps = line.at("length_steps").get<int>();
+  record.length_control_ticks = line.at("length_control_ticks").get<int>();
+  record.solver_messages = line.at("solver_messages").get<int>();
+  if (line.contains("invalid_action")) {
+    const nlohmann::json& fault = line.at("invalid_action");
+    record.invalid_action.entry = fault.at("entry").is_null() ? -1 : fault.at("entry").get<int>();
+    record.invalid_action.value = ParseActionValue(fault.at("value"));
+    record.invalid_action.reason = fault.at("reason").get<std::string>();
+  }
+  record.galt = ParseGalt(line, "galt");
+  record.galt_policy_rate = ParseGalt(line, "galt_policy_rate");
+  return record;
+}
+
+CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume)
+    : dir_(std::move(dir)), seed_(config.seed), served_(config.policy == "openpi") {
+  const fs::path cell_json = fs::path(dir_) / "cell.json";
+  const nlohmann::json settings = CellSettingsJson(config);
+  const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
+  if (resume) {
+    if (!fs::exists(cell_json)) throw std::invalid_argument("--resume: " + dir_ + " holds no cell (no cell.json)");
+    if (fs::exists(fs::path(dir_) / "summary.json")) throw std::invalid_argument("--resume: " + dir_ + " is complete (it has summary.json)");
+    nlohmann::json was;
+    try {
+      std::ifstream(cell_json) >> was;
+    } catch (const nlohmann::json::exception& error) {
+      throw std::invalid_argument(cell_json.string() + ": " + error.what());
+    }
+    std::string differences;
+    for (const auto& [key, value] : settings.items()) {
+      if (!was.contains(key) || was.at(key) != value) {
+        differences += (differences.empty() ? "" : ", ") + key + " " + (was.contains(key) ? was.at(key).dump() : "unset") + " -> " + value.dump();
+      }
+    }
+    if (!differences.empty()) throw std::invalid_argument("--resume " + dir_ + " with other settings: " + differences);
+    // The complete lines, in order; what follows the last one (a line cut by the interruption) goes.
+    std::ifstream in(episodes_path, std::ios::binary);
+    std::string line;
+    std::uintmax_t kept_bytes = 0;
+    while (std::getline(in, line) && !in.eof()) {
+      EpisodeRecord record;
+      try {
+        record = ParseEpisodeJsonLine(line);
+      } catch (const std::exception&) {
+        break;
+      }
+      if (record.episode != static_cast<int64_t>(resumed_.size())) break;
+      resumed_.push_back(std::move(record));
+      kept_bytes += line.size() + 1;
+    }
+    if (fs::exists(episodes_path)) fs::resize_file(episodes_path, kept_bytes);
+  } else {
+    if (fs::exists(dir_) && !(fs::is_directory(dir_) && fs::is_empty(dir_))) {
+      throw std::invalid_argument(dir_ + " already holds results; give --overwrite to replace them or --resume to finish "
+                                  "an interrupted cell");
+    }
+    fs::create_directories(dir_);
+    WriteFileAtomically(cell_json, settings.dump(2) + "\n");
+  }
+  episodes_ = std::fopen(episodes_path.c_str(), resume ? "ab" : "wb");
+  if (episodes_ == nullptr) throw std::runtime_error("cannot write " + episodes_path.string() + ": " + std::strerror(errno));
+}
+
+CellRecordStream::~CellRecordStream() {
+  if (episodes_ != nullptr) std::fclose(episodes_);
+}
+
+void CellRecordStream::Write(const EpisodeRecord& record) {
+  if (served_) WriteReplayCsv(record, dir_);
+  const std::string line = EpisodeJsonLine(record, seed_) + "\n";
+  if (std::fwrite(line.data(), 1, line.size(), episodes_) != line.size() || std::fflush(episodes_) != 0) {
+    throw std::runtime_error("cannot write " + dir_ + "/episodes.jsonl: " + std::strerror(errno));
+  }
+}
+
+}  // namespace tavis::batch

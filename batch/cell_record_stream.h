@@ -1,0 +1,54 @@
+// An evaluation cell's records on disk while the cell runs (`tavis eval`): DIR/cell.json (the
+// settings) is written first, so an unwritable DIR fails before any work; each episode's line is
+// appended to DIR/episodes.jsonl and flushed as soon as it and every earlier episode have ended
+// (with a served policy's DIR/actions/episode_<i>.csv), so an interrupted cell keeps its complete
+// episodes; summary.json comes last (WriteCellSummary) and marks the cell complete. A resumed
+// cell keeps the complete lines and continues after them.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/episode_recorder.h"
+#include "batch/evaluation_cell.h"
+
+namespace tavis::batch {
+
+class CellRecordStream {
+ public:
+  // Fresh: DIR must be absent or empty. Resumed: DIR must hold this cell's cell.json (the same
+  // settings) and no summary.json; its complete lines are read back and a torn last line is cut.
+  // Throws std::invalid_argument naming DIR and what is wrong, std::runtime_error when it cannot
+  // be written.
+  CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume);
+  ~CellRecordStream();
+  CellRecordStream(const CellRecordStream&) = delete;
+  CellRecordStream& operator=(const CellRecordStream&) = delete;
+
+  // The records read back when resuming, in episode order (without actions).
+  const std::vector<EpisodeRecord>& resumed() const { return resumed_; }
+  // The first episode still to run.
+  int64_t next_episode() const { return static_cast<int64_t>(resumed_.size()); }
+
+  // Appends the record (the next episode) and flushes it.
+  void Write(const EpisodeRecord& record);
+
+ private:
+  std::string dir_;
+  uint64_t seed_;
+  bool served_;
+  std::vector<EpisodeRecord> resumed_;
+  std::FILE* episodes_ = nullptr;
+};
+
+// The settings that decide a cell's records (cell.json), not how it ran (envs, threads).
+nlohmann::json CellSettingsJson(const EvaluationCellConfig& config);
+
+// An episodes.jsonl line read back; throws std::invalid_argument naming the bad field.
+EpisodeRecord ParseEpisodeJsonLine(const std::string& line);
+
+}  // namespace tavis::batch
