@@ -1,6 +1,8 @@
 #include "configs/yaml_reader.h"
 
 #include <cmath>
+#include <map>
+#include <sstream>
 #include <yaml-cpp/yaml.h>
 
 namespace tavis::configs {
@@ -10,11 +12,45 @@ std::string JoinPath(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
 
+// yaml-cpp keeps the first of two equal keys and drops the second without a word, so every
+// mapping of a parsed document is walked once for repeated keys (iteration still shows both).
+void RejectDuplicateKeys(const YAML::Node& node, const std::string& file, const std::string& key_path) {
+  if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      RejectDuplicateKeys(node[i], file, key_path + "[" + std::to_string(i) + "]");
+    }
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> line_of_key;
+  for (const auto& entry : node) {
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : YAML::Dump(entry.first);
+    const int line = entry.first.Mark().line + 1;
+    const auto [first, inserted] = line_of_key.emplace(key, line);
+    if (!inserted) {
+      throw ConfigError(file + ": " + JoinPath(key_path, key) + ": duplicate key '" + key + "' (lines " +
+                        std::to_string(first->second) + " and " + std::to_string(line) + ")");
+    }
+    RejectDuplicateKeys(entry.second, file, JoinPath(key_path, key));
+  }
+}
+
+YAML::Node Checked(const YAML::Node& root, const std::string& file) {
+  RejectDuplicateKeys(root, file, "");
+  return root;
+}
+
+std::string FormatBound(double bound) {
+  std::ostringstream text;
+  text << bound;
+  return text.str();
+}
+
 }  // namespace
 
 YamlValue YamlValue::LoadFile(const std::string& path) {
   try {
-    return YamlValue(YAML::LoadFile(path), path, "");
+    return YamlValue(Checked(YAML::LoadFile(path), path), path, "");
   } catch (const YAML::BadFile&) {
     throw ConfigError(path + ": cannot open file");
   } catch (const YAML::ParserException& e) {
@@ -24,7 +60,7 @@ YamlValue YamlValue::LoadFile(const std::string& path) {
 
 YamlValue YamlValue::LoadString(const std::string& text, const std::string& source_name) {
   try {
-    return YamlValue(YAML::Load(text), source_name, "");
+    return YamlValue(Checked(YAML::Load(text), source_name), source_name, "");
   } catch (const YAML::ParserException& e) {
     throw ConfigError(source_name + ": malformed YAML: " + e.what());
   }
@@ -99,6 +135,25 @@ double YamlValue::AsDouble() const {
   return value;
 }
 
+double YamlValue::AsDouble(const Range& range) const {
+  const double value = AsDouble();
+  const bool below = range.min_excluded ? !(value > range.min) : !(value >= range.min);
+  if (below || !(value <= range.max)) {
+    Fail("got " + Text() + ", expected a value in " + (range.min_excluded ? "(" : "[") + FormatBound(range.min) +
+         ", " + FormatBound(range.max) + "]" + (*range.unit ? std::string(" ") + range.unit : "") +
+         (*range.why ? std::string(" (") + range.why + ")" : ""));
+  }
+  return value;
+}
+
+std::string YamlValue::Text() const {
+  YAML::Emitter out;
+  out.SetMapFormat(YAML::Flow);
+  out.SetSeqFormat(YAML::Flow);
+  out << *node_;
+  return out.c_str();
+}
+
 int YamlValue::AsInt() const {
   int value = 0;
   if (!node_->IsScalar() || !YAML::convert<int>::decode(*node_, value)) Fail("expected an integer");
@@ -132,6 +187,12 @@ Vec3 YamlValue::AsVec3() const {
   const std::vector<double> values = AsDoubles();
   if (values.size() != 3) Fail("expected 3 numbers, got " + std::to_string(values.size()));
   return Vec3(values[0], values[1], values[2]);
+}
+
+Vec3 YamlValue::AsVec3(const Range& range) const {
+  const std::vector<YamlValue> elements = Elements();
+  if (elements.size() != 3) Fail("expected 3 numbers, got " + std::to_string(elements.size()));
+  return Vec3(elements[0].AsDouble(range), elements[1].AsDouble(range), elements[2].AsDouble(range));
 }
 
 }  // namespace tavis::configs

@@ -10,6 +10,7 @@
 #include "engine/ode_runtime.h"
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/gripper_geometry.h"
+#include "kinematics/invariant.h"
 
 namespace tavis::engine {
 namespace {
@@ -21,7 +22,6 @@ constexpr double kPadContactRadius = 0.01;  // m, effective radius of a finger p
 // Robot bodies (links and fingers) get the inertia of a sphere of this radius: a pad's true
 // inertia is tiny next to the arm's, and that ratio stalls the solver (the fingers chatter).
 constexpr double kRobotInertiaRadius = 0.05;  // m
-constexpr double kMinLinkMass = 0.05;         // kg, floor for links the config gives (almost) no mass
 // Finger servo: the slider's velocity target per metre of closing-position error, bounded by
 // the gripper's speed limit.
 constexpr double kFingerServoGain = 40.0;  // 1/s
@@ -199,8 +199,10 @@ struct PhysicsWorld::Impl {
     for (int i = 0; i < robot.num_links(); ++i) {
       if (link_body_link[i] != i) continue;
       dBodyID body = NewBody();
+      // configs::LoadRobotModel rejects lighter links; ODE would abort on a zero mass.
+      TAVIS_INVARIANT(robot.links[i].mass >= kinematics::kMinBodyMass, "link mass validated at load");
       dMass m;
-      dMassSetSphereTotal(&m, std::max(robot.links[i].mass, kMinLinkMass), kRobotInertiaRadius);
+      dMassSetSphereTotal(&m, robot.links[i].mass, kRobotInertiaRadius);
       dBodySetMass(body, &m);
       dBodySetGravityMode(body, 0);  // robot bodies are gravity-free in the reference
       SetBodyPose(body, X_WB * X_BL[i]);
@@ -240,6 +242,8 @@ struct PhysicsWorld::Impl {
     const RobotModel& robot = model.robot;
     const kinematics::GripperSpec& g = gripper.spec();
     const int ik_link = robot.arm(side).ik_link;
+    // The loader requires the ik_link to be moved by the arm's joints, so it has a body.
+    TAVIS_INVARIANT(ik_link >= 0 && link_body_link[ik_link] >= 0, "ik_link is on an arm body");
     const int owner = link_body_link[ik_link];
     const int s = kinematics::Index(side);
     palm_body[s] = link_body[owner];
@@ -256,6 +260,7 @@ struct PhysicsWorld::Impl {
       const RigidTransform X_WF = X_WIk * gripper.X_IkPad(sign, g.open_gap);
       Finger& finger = fingers[s][f];
       finger.body = NewBody();
+      TAVIS_INVARIANT(g.finger_mass >= kinematics::kMinBodyMass, "finger mass validated at load");
       dMass finger_mass;
       dMassSetSphereTotal(&finger_mass, g.finger_mass, kRobotInertiaRadius);
       dBodySetMass(finger.body, &finger_mass);

@@ -13,6 +13,10 @@
 
 namespace tavis::kinematics {
 
+// kg, the lightest body the physics accepts for a link or a finger: lighter bodies next to the
+// arm's make ODE's solver stall (the fingers chatter). The robot loader rejects anything lighter.
+inline constexpr double kMinBodyMass = 0.05;
+
 // A link is placed relative to its parent by a fixed origin, then (if actuated) rotated by its
 // joint about `axis`: X_PL(q) = origin * Rot(axis, q). Links are stored parents-first.
 struct Link {
@@ -20,13 +24,13 @@ struct Link {
   int parent = -1;  // -1 (kBaseLink): the robot's base link
   RigidTransform origin = RigidTransform::Identity();
   int joint = -1;  // index into the joint vector, -1 for a fixed frame
-  double mass = 0.0;
+  double mass = 0.0;  // kg, actuated links only; at least kMinBodyMass
 };
 
 struct Joint {
   std::string name;
   int link = -1;  // the child link this joint moves
-  Vec3 axis = Vec3::UnitZ();
+  Vec3 axis = Vec3::UnitZ();  // unit length
   double lower = 0.0;
   double upper = 0.0;
   double default_position = 0.0;

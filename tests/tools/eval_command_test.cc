@@ -1,6 +1,7 @@
 // Runs the real `tavis` program (TAVIS_BINARY) and checks its exit status, output and files.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -163,6 +164,28 @@ TEST_F(EvalCommand, BadInputDoesNotCreateTheOutputDirectory) {
   const RunResult run = Run("eval --quiet --robot nope --out " + Quote(dir.string()));
   EXPECT_NE(run.exit_code, 0);
   EXPECT_FALSE(fs::exists(dir));
+}
+
+// A robot file that used to abort inside ODE is now refused at load, naming file, key and value,
+// before anything is written.
+TEST_F(EvalCommand, BrokenRobotFileExitsOneNamingFileAndKeyAndWritesNothing) {
+  const fs::path config = root_ / "config";
+  fs::copy(TAVIS_CONFIG_DIR, config, fs::copy_options::recursive);
+  const fs::path robot = config / "robots" / "gr1t2.yaml";
+  std::string text = ReadText(robot);
+  const size_t at = text.find("finger_mass: 0.1");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, std::string("finger_mass: 0.1").size(), "finger_mass: 0.0");
+  std::ofstream(robot, std::ios::binary) << text;
+  const std::map<std::string, std::string> before = Snapshot(root_);
+
+  const fs::path out = root_ / "cell";
+  const RunResult run =
+      Run("eval --config-dir " + Quote(config.string()) + " --episodes 1 --quiet --out " + Quote(out.string()));
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find(robot.string() + ": gripper.finger_mass: got 0.0"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(Snapshot(root_), before) << "nothing is written";
 }
 
 TEST_F(EvalCommand, HelpExitsZeroAndListsOptions) {
