@@ -1,0 +1,90 @@
+// `tavis eval` keeps what it has done: records stream to episodes.jsonl as episodes end, so a cell
+// killed mid-way keeps its complete episodes, refuses to be overwritten by accident, and --resume
+// finishes it with records byte-identical to an uninterrupted run.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "tool_runner.h"
+
+namespace tavis::tools {
+namespace {
+
+using EvalResume = TavisCommandTest;
+
+// Starts `tavis ARGS` and kills it with `signal` once `file` has at least `lines` lines.
+// Returns false if the program finished first.
+bool KillWhenLinesAppear(const std::string& args, const fs::path& file, std::size_t lines, int signal) {
+  const pid_t child = fork();
+  if (child == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + args + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (Lines(ReadText(file)).size() < lines && std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(child, nullptr, WNOHANG) == child) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(child, signal);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFSIGNALED(status);
+}
+
+class EvalInterrupted : public EvalResume, public ::testing::WithParamInterface<int> {};
+
+TEST_P(EvalInterrupted, KeepsCompleteEpisodesAndResumesToTheSameRecords) {
+  const std::string cell = "eval --task clutter-pick-cube --episodes 10 --envs 2 --quiet --seed 4";
+  const fs::path whole = root_ / "whole";
+  ASSERT_EQ(Run(cell + " --out " + Quote(whole.string())).exit_code, 0);
+
+  const fs::path out = root_ / "cell";
+  ASSERT_TRUE(KillWhenLinesAppear(cell + " --out " + Quote(out.string()), out / "episodes.jsonl", 3, GetParam()))
+      << "the cell finished before it could be interrupted";
+  const std::vector<std::string> kept = Lines(ReadText(out / "episodes.jsonl"));
+  const std::vector<std::string> expected = Lines(ReadText(whole / "episodes.jsonl"));
+  ASSERT_GE(kept.size(), 3U);
+  ASSERT_LT(kept.size(), expected.size());
+  for (std::size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(kept[i], expected[i]) << "line " << i;
+  EXPECT_FALSE(fs::exists(out / "summary.json")) << "an interrupted cell must not look complete";
+
+  const RunResult again = Run(cell + " --out " + Quote(out.string()));
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.err.find("--resume"), std::string::npos) << again.err;
+  const RunResult other = Run("eval --task clutter-pick-cube --episodes 10 --envs 2 --quiet --seed 5 --resume --out " +
+                              Quote(out.string()));
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_NE(other.err.find("seed 4 -> 5"), std::string::npos) << other.err;
+
+  const RunResult resumed = Run(cell + " --resume --out " + Quote(out.string()));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(ReadText(out / "episodes.jsonl"), ReadText(whole / "episodes.jsonl"));
+  EXPECT_NE(ReadText(out / "summary.json").find("\"resumed_episodes\": " + std::to_string(kept.size())), std::string::npos);
+  const RunResult complete = Run(cell + " --resume --out " + Quote(out.string()));
+  EXPECT_EQ(complete.exit_code, 1);
+  EXPECT_NE(complete.err.find("is complete"), std::string::npos) << complete.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, EvalInterrupted, ::testing::Values(SIGINT, SIGKILL),
+                         [](const ::testing::TestParamInfo<int>& signal) { return signal.param == SIGINT ? "SIGINT" : "SIGKILL"; });
+
+TEST_F(EvalResume, OverwriteReplacesAnotherRunsResults) {
+  const fs::path out = root_ / "cell";
+  const std::string cell = "eval --task clutter-pick-cube --episodes 2 --envs 2 --quiet --out " + Quote(out.string());
+  ASSERT_EQ(Run(cell + " --seed 0").exit_code, 0);
+  fs::remove(out / "summary.json");
+  std::ofstream(out / "stale.txt") << "from another run";
+  ASSERT_EQ(Run(cell + " --seed 1").exit_code, 1) << "a second run must not mix its records into the first's";
+  ASSERT_EQ(Run(cell + " --seed 1 --overwrite").exit_code, 0);
+  EXPECT_FALSE(fs::exists(out / "stale.txt"));
+  EXPECT_NE(ReadText(out / "episodes.jsonl").find("\"seed\":1"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tavis::tools
