@@ -44,14 +44,44 @@ std::string ReadString(const nlohmann::json& summary, const char* key,
   return it->get<std::string>();
 }
 
-int ReadCount(const nlohmann::json& summary, const char* key, const std::string& source) {
+// Bounded so that the pooled sums of any number of cells cannot overflow 64 bits in practice.
+constexpr int64_t kMaxCount = int64_t{1} << 48;
+
+int64_t ReadCount(const nlohmann::json& summary, const char* key, const std::string& source) {
   const auto it = summary.find(key);
   if (it == summary.end()) throw std::runtime_error(source + ": missing key '" + key + "'");
-  if (!it->is_number_integer() || it->get<long long>() < 0 || it->get<long long>() > 1000000000) {
-    throw std::runtime_error(source + ": key '" + key + "' must be a non-negative integer, got " +
-                             it->dump());
+  if (!it->is_number_integer() || it->get<int64_t>() < 0 || it->get<int64_t>() > kMaxCount) {
+    throw std::runtime_error(source + ": key '" + key + "' must be an integer from 0 to " +
+                             std::to_string(kMaxCount) + ", got " + it->dump());
   }
-  return it->get<int>();
+  return it->get<int64_t>();
+}
+
+// Throws naming `source` unless `name` (of `key`) is one of `known`.
+void RequireKnown(const std::string& name, const char* key, const std::vector<std::string>& known,
+                  const std::string& source) {
+  if (std::find(known.begin(), known.end(), name) != known.end()) return;
+  std::string list;
+  for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+  throw std::runtime_error(source + ": unknown " + key + " '" + name + "' (known: " + list + ")");
+}
+
+const std::vector<std::string>& KnownTaskNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all;
+    for (const scenarios::ScenarioDef& scenario : scenarios::AllScenarios()) all.push_back(scenario.name);
+    return all;
+  }();
+  return names;
+}
+
+const std::vector<std::string>& KnownSplitNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all;
+    for (const scenarios::Split split : scenarios::kAllSplits) all.push_back(scenarios::ToString(split));
+    return all;
+  }();
+  return names;
 }
 
 // Sort key: the position in `known`, names not in it after all known ones, alphabetically.
@@ -138,7 +168,7 @@ std::vector<std::string> SuiteTasks(const std::string& suite) {
   return tasks;
 }
 
-CellCounts ReadCellResult(const std::filesystem::path& path) {
+CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<std::string>& known_robots) {
   const std::string source = path.string();
   std::ifstream in(path);
   if (!in) throw std::runtime_error(source + ": cannot open file");
@@ -157,6 +187,11 @@ CellCounts ReadCellResult(const std::filesystem::path& path) {
   cell.split = KebabCase(ReadString(summary, "split", source));
   if (summary.contains("camera")) cell.camera = CameraMode(ReadString(summary, "camera", source));
   if (summary.contains("policy")) cell.policy = ReadString(summary, "policy", source);
+  if (summary.contains("seed")) cell.seed = summary.at("seed").dump();
+  RequireKnown(cell.task, "task", KnownTaskNames(), source);
+  if (!known_robots.empty()) RequireKnown(cell.robot, "robot", known_robots, source);
+  RequireKnown(cell.split, "split", KnownSplitNames(), source);
+  RequireKnown(cell.camera, "camera", {"head", "fixed"}, source);
   cell.n_episodes = ReadCount(summary, "n_episodes", source);
   cell.n_successful = ReadCount(summary, "n_successful", source);
   if (cell.n_successful > cell.n_episodes) {
@@ -166,7 +201,8 @@ CellCounts ReadCellResult(const std::filesystem::path& path) {
   return cell;
 }
 
-std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder) {
+std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder,
+                                        const std::vector<std::string>& known_robots) {
   if (!std::filesystem::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": not a directory");
   }
@@ -179,7 +215,19 @@ std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder) {
   std::sort(paths.begin(), paths.end());
   std::vector<CellCounts> cells;
   cells.reserve(paths.size());
-  for (const std::filesystem::path& path : paths) cells.push_back(ReadCellResult(path));
+  // A copied cell folder would count its episodes twice and narrow the interval. Files without a
+  // seed (the reference's) cannot be told apart from other seeds of the cell, so they are pooled.
+  std::map<std::tuple<std::string, std::string, std::string, std::string, std::string, std::string>, std::string> seen;
+  for (const std::filesystem::path& path : paths) {
+    CellCounts cell = ReadCellResult(path, known_robots);
+    const auto [it, inserted] = seen.emplace(
+        std::make_tuple(cell.task, cell.robot, cell.split, cell.camera, cell.seed, cell.policy), cell.source);
+    if (!cell.seed.empty() && !inserted) {
+      throw std::runtime_error("duplicate cell (same task, robot, split, camera, seed and policy): " + it->second +
+                               " and " + cell.source);
+    }
+    cells.push_back(std::move(cell));
+  }
   return cells;
 }
 

@@ -18,6 +18,7 @@
 // ood-spatial, ood-init-pose / head, fixed, other names sorted after the known ones.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -33,8 +34,9 @@ struct CellCounts {
   std::string split;
   std::string camera = "head";
   std::string policy;  // empty when the file does not name one
-  int n_episodes = 0;
-  int n_successful = 0;
+  std::string seed;    // as written (a JSON number), empty when the file does not name one
+  int64_t n_episodes = 0;
+  int64_t n_successful = 0;
   std::string source;  // file it came from, for error messages
 };
 
@@ -43,10 +45,14 @@ struct CellCounts {
 std::vector<std::string> SuiteTasks(const std::string& suite);
 
 // Reads one summary.json; throws std::runtime_error naming the file, the key and the value.
-CellCounts ReadCellResult(const std::filesystem::path& path);
+CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<std::string>& known_robots = {});
 
 // Every summary.json under `folder`, in path order.
-std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder);
+// Each task, split and camera must be a known one, and the robot one of `known_robots` unless it
+// is empty; two files of the same cell (task, robot, split, camera, seed, policy) are an error
+// naming both (files without a seed are pooled).
+std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder,
+                                        const std::vector<std::string>& known_robots = {});
 
 struct TableColumn {
   std::string robot;
@@ -58,10 +64,10 @@ struct TableColumn {
 
 // One cell of the table: counts, or nothing when the combination was not evaluated.
 struct RateCell {
-  int n_successful = 0;
-  int n_episodes = 0;
+  int64_t n_successful = 0;
+  int64_t n_episodes = 0;
 
-  double rate() const { return static_cast<double>(n_successful) / n_episodes; }
+  double rate() const { return static_cast<double>(n_successful) / static_cast<double>(n_episodes); }
 };
 
 struct ResultsTable {

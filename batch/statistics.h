@@ -1,6 +1,8 @@
 // Success-rate statistics reported for every evaluation cell.
 #pragma once
 
+#include <cstdint>
+
 namespace tavis::batch {
 
 struct ProportionInterval {
@@ -10,6 +12,6 @@ struct ProportionInterval {
 
 // Wilson score interval for `successes` out of `trials` (z = 1.96 gives the 95% interval the
 // paper reports). trials == 0 yields [0, 1].
-ProportionInterval WilsonInterval(int successes, int trials, double z = 1.96);
+ProportionInterval WilsonInterval(int64_t successes, int64_t trials, double z = 1.96);
 
 }  // namespace tavis::batch

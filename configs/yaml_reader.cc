@@ -1,6 +1,8 @@
 #include "configs/yaml_reader.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <sstream>
 #include <yaml-cpp/yaml.h>
@@ -44,6 +46,14 @@ std::string FormatBound(double bound) {
   std::ostringstream text;
   text << bound;
   return text.str();
+}
+
+// A whole decimal literal that strtod reads but cannot represent (1e400, 1e-400).
+bool IsOutOfRangeNumber(const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  std::strtod(text.c_str(), &end);
+  return !text.empty() && end != text.c_str() && *end == '\0' && errno == ERANGE;
 }
 
 }  // namespace
@@ -130,7 +140,13 @@ std::vector<YamlValue> YamlValue::Elements() const {
 
 double YamlValue::AsDouble() const {
   double value = 0.0;
-  if (!node_->IsScalar() || !YAML::convert<double>::decode(*node_, value)) Fail("expected a number");
+  if (!node_->IsScalar() || !YAML::convert<double>::decode(*node_, value)) {
+    // yaml-cpp also refuses a number beyond the range of a double (1e400): say so.
+    if (node_->IsScalar() && IsOutOfRangeNumber(node_->Scalar())) {
+      Fail("number out of range, got '" + node_->Scalar() + "'");
+    }
+    Fail("expected a number");
+  }
   if (!std::isfinite(value)) Fail("expected a finite number, got '" + node_->Scalar() + "'");
   return value;
 }

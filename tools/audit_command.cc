@@ -158,7 +158,6 @@ void RunAudit(AuditOptions options, bool task_or_robot_given) {
 
 void RegisterAuditCommand(CLI::App& app) {
   auto options = std::make_shared<AuditOptions>();
-  options->audit.config_dir = TAVIS_DEFAULT_CONFIG_DIR;
   CLI::App* audit = app.add_subcommand(
       "audit",
       "Visibility audit: per camera (head, fixed, left_wrist, right_wrist), in how many episodes the\n"
@@ -176,16 +175,14 @@ void RegisterAuditCommand(CLI::App& app) {
   audit->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
   audit->add_flag("--all", options->all, "Audit every task on every robot of --config-dir at --split, in one table");
   audit->add_option("--episodes", options->audit.episodes, "Episodes per task and robot")->capture_default_str();
-  audit->add_option("--seed", options->audit.seed, "Seed: episode i draws its randomness from (seed, i)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  AddSeedOption(*audit, options->audit.seed, "Seed: episode i draws its randomness from (seed, i)");
   audit->add_option("--image-size", options->image_size, "Resolution of the four cameras, WIDTHxHEIGHT")
       ->capture_default_str();
   audit->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   audit->add_option("--out", options->out, "Directory for audit.json (created if missing; no other file is written)");
-  audit->add_option("--config-dir", options->audit.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
+  AddConfigDirOption(*audit, options->audit.config_dir);
   audit->add_flag("--quiet", options->quiet, "No progress lines on stderr");
   audit->callback([options, audit] {
     RunAudit(*options, audit->count("--task") + audit->count("--robot") > 0);

@@ -156,7 +156,6 @@ void RunDemos(DemosOptions options) {
 
 void RegisterDemosCommand(CLI::App& app) {
   auto options = std::make_shared<DemosOptions>();
-  options->config.config_dir = TAVIS_DEFAULT_CONFIG_DIR;
   CLI::App* demos = app.add_subcommand(
       "demos", "Record scripted-expert demonstrations as a LeRobot dataset (v3.0, or v2.1 for openpi).\n"
                "Successful episodes only, in episode order; failures are counted in DIR/tavis_demos.json.\n"
@@ -170,9 +169,7 @@ void RegisterDemosCommand(CLI::App& app) {
                     "Episodes tried per task before giving up (0: 2 x --episodes + 20)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  demos->add_option("--seed", options->config.seed, "Seed: episode i draws its randomness from (seed, i)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  AddSeedOption(*demos, options->config.seed, "Seed: episode i draws its randomness from (seed, i)");
   demos->add_option("--fps", options->config.fps, "Frame rate: 60 (the reference's datasets) or 20 (the policy rate)")
       ->capture_default_str();
   demos->add_option("--image-size", options->image_size, "Camera image size WIDTHxHEIGHT (even)")->capture_default_str();
@@ -192,7 +189,7 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_flag("--resume", options->config.resume,
                   "Finish an interrupted recording in --out (same settings): the episodes it had kept are\n"
                   "reused, the rest is recorded again");
-  demos->add_option("--config-dir", options->config.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
+  AddConfigDirOption(*demos, options->config.config_dir);
   demos->add_flag("--quiet", options->quiet, "No progress line");
   demos->callback([options] { RunDemos(*options); });
 }

@@ -139,7 +139,6 @@ void RunEval(const EvalOptions& options) {
 
 void RegisterEvalCommand(CLI::App& app) {
   auto options = std::make_shared<EvalOptions>();
-  options->cell.config_dir = TAVIS_DEFAULT_CONFIG_DIR;
   CLI::App* eval = app.add_subcommand(
       "eval", "Run one evaluation cell: N episodes of a task with a policy, batched over parallel envs.\n"
               "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
@@ -182,9 +181,7 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--actions", options->cell.actions_file,
                    "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step");
   eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")->capture_default_str();
-  eval->add_option("--seed", options->cell.seed, "Seed: episode i draws its randomness from (seed, i)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  AddSeedOption(*eval, options->cell.seed, "Seed: episode i draws its randomness from (seed, i)");
   eval->add_option("--envs", options->cell.envs, "Parallel env slots (results do not depend on it)")
       ->capture_default_str();
   eval->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
@@ -198,12 +195,20 @@ void RegisterEvalCommand(CLI::App& app) {
                    "Size of the policy's images, WIDTHxHEIGHT (default: the observation keys' size for --policy\n"
                    "openpi, 224x224 in the presets; otherwise the reference's 640x480)");
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
-  eval->add_option("--config-dir", options->cell.config_dir, "Directory holding robots/*.yaml")->capture_default_str();
+  AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet, "No progress bar");
   eval->add_flag("--overwrite", options->overwrite, "Replace the results already in --out");
   eval->add_flag("--resume", options->resume,
                  "Finish an interrupted cell in --out (same settings): its complete episodes are kept, the rest run");
   eval->callback([options, eval] {
+    // Refused rather than ignored: a cell's files must come from the options its command names.
+    if (eval->count("--out") > 0 && options->out.empty()) {
+      throw std::invalid_argument("--out must name a folder, got an empty string");
+    }
+    if (eval->count("--actions") > 0 && options->cell.policy != "replay") {
+      throw std::invalid_argument("--actions '" + options->cell.actions_file + "' applies to --policy replay only, got --policy " +
+                                  options->cell.policy);
+    }
     options->task_given = eval->count("--task") > 0;
     options->image_size_given = eval->count("--image-size") > 0;
     RunEval(*options);

@@ -1,7 +1,5 @@
 // `tavis galt`: the GALT detector on commanded-action CSV files or on a LeRobot dataset's
 // episodes, one JSON object per line; for a dataset also the paper's validation table.
-#include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -16,6 +14,7 @@
 #include "batch/galt_validation.h"
 #include "kinematics/galt.h"
 #include "tools/commands.h"
+#include "tools/option_parsing.h"
 
 namespace tavis::tools {
 namespace {
@@ -50,6 +49,9 @@ Dataset mode (--dataset DIR, instead of CSV files):
   (reason ok or ok_post_anchor); mean and median are over them, as summary.json's n_valid,
   mean_s and median_s. --table-only prints the table alone; --json-out FILE writes its numbers.
   Any unreadable or malformed dataset file is an error naming the file; exit status 1.)";
+
+constexpr double kMinFps = 1.0;
+constexpr double kMaxFps = 1000.0;
 
 struct GaltOptions {
   double fps = 0.0;  // 0: not given
@@ -189,18 +191,12 @@ void RegisterGaltCommand(CLI::App& app) {
   auto options = std::make_shared<GaltOptions>();
   CLI::App* command = app.add_subcommand(
       "galt", "Gaze-Action Lead Time of commanded-action trajectories (CSV files, T x 19, or a LeRobot dataset)");
-  command->add_option("--fps", options->fps,
-                      "Sampling rate of the rows in Hz (20 for policies); required with CSV files, "
-                      "with --dataset it overrides meta/info.json's fps")
-      ->check(
-          [](const std::string& text) -> std::string {
-            char* end = nullptr;
-            const double fps = std::strtod(text.c_str(), &end);
-            const bool positive = end != text.c_str() && *end == '\0' && fps > 0.0 &&
-                                  std::isfinite(fps);
-            return positive ? "" : "must be a positive number of rows per second, got " + text;
-          },
-          "POSITIVE");
+  // Bounded: a rate far outside what a robot records at (1e9, 1e-300) gives confident nonsense
+  // and overflows the step counts derived from it.
+  command->add_option_function<std::string>(
+      "--fps", [options](const std::string& text) { options->fps = ParseNumberInRange("--fps", text, kMinFps, kMaxFps); },
+      "Sampling rate of the rows in Hz, 1 to 1000 (20 for policies); required with CSV files, "
+      "with --dataset it overrides meta/info.json's fps");
   command->add_flag("--multi-event", options->multi_event,
                     "One result per gripper event of each arm instead of the latest event only");
   command->add_option("--dataset", options->dataset,

@@ -1,8 +1,27 @@
-// The `tavis` command-line program: one subcommand per job.
+// The `tavis` program: one subcommand per job.
 #include <exception>
 #include <iostream>
+#include <new>
+#include <string>
 
 #include "tools/commands.h"
+
+namespace {
+
+bool IsSubcommand(const CLI::App& app, const std::string& name) {
+  return !app.get_subcommands([&name](const CLI::App* command) { return command->check_name(name); }).empty();
+}
+
+// "eval, demos, ..." in registration order.
+std::string SubcommandNames(const CLI::App& app) {
+  std::string names;
+  for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    names += (names.empty() ? "" : ", ") + command->get_name();
+  }
+  return names;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"tavis: batched CPU simulator and evaluation harness for the TAVIS benchmark"};
@@ -13,11 +32,19 @@ int main(int argc, char** argv) {
   tavis::tools::RegisterRenderCommand(app);
   tavis::tools::RegisterTableCommand(app);
   tavis::tools::RegisterAuditCommand(app);
+  // CLI11 reports a misspelt subcommand as a missing one ("A subcommand is required").
+  if (argc > 1 && argv[1][0] != '-' && !IsSubcommand(app, argv[1])) {
+    std::cerr << "tavis: error: unknown command '" << argv[1] << "' (known: " << SubcommandNames(app) << ")\n";
+    return 1;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // --help exits 0; every usage error exits 1, like the errors below.
     return app.exit(e) == 0 ? 0 : 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "tavis: error: out of memory (try fewer --envs or a smaller --image-size)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "tavis: error: " << e.what() << "\n";
     return 1;

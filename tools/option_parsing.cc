@@ -1,10 +1,17 @@
 #include "tools/option_parsing.h"
 
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 
-
 namespace tavis::tools {
+
+namespace fs = std::filesystem;
 
 std::pair<int, int> ParseImageSize(const std::string& text) {
   int width = 0;
@@ -14,6 +21,77 @@ std::pair<int, int> ParseImageSize(const std::string& text) {
     throw std::invalid_argument("--image-size '" + text + "' must be WIDTHxHEIGHT with positive integers, e.g. 224x224");
   }
   return {width, height};
+}
+
+uint64_t ParseSeed(const std::string& text) {
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  errno = 0;
+  const unsigned long long value = digits ? std::strtoull(text.c_str(), nullptr, 10) : 0;
+  if (!digits || errno == ERANGE) {
+    throw std::invalid_argument("--seed must be an integer from 0 to " +
+                                std::to_string(std::numeric_limits<uint64_t>::max()) + ", got " + text);
+  }
+  return value;
+}
+
+CLI::Option* AddSeedOption(CLI::App& command, uint64_t& seed, const std::string& help) {
+  // A function option: CLI11's own unsigned conversion clamps 2^64 and more to 2^64 - 1.
+  return command
+      .add_option_function<std::string>("--seed", [&seed](const std::string& text) { seed = ParseSeed(text); }, help)
+      ->default_str(std::to_string(seed));
+}
+
+double ParseNumberInRange(const std::string& option, const std::string& text, double low, double high) {
+  std::ostringstream range;
+  range << "from " << low << " to " << high;
+  char* end = nullptr;
+  errno = 0;
+  const double value = std::strtod(text.c_str(), &end);
+  const bool number = !text.empty() && end != text.c_str() && *end == '\0';
+  if (number && errno == ERANGE) {
+    throw std::invalid_argument(option + " " + text + " is out of range: it must be " + range.str());
+  }
+  if (!number || !std::isfinite(value) || value < low || value > high) {
+    throw std::invalid_argument(option + " must be a number " + range.str() + ", got " + text);
+  }
+  return value;
+}
+
+void RequireConfigDir(const std::string& dir) {
+  std::error_code error;
+  if (!fs::is_directory(dir, error)) {
+    throw std::invalid_argument("--config-dir '" + dir + "' does not exist or is not a folder");
+  }
+  const fs::path robots = fs::path(dir) / "robots";
+  if (fs::is_directory(robots, error)) {
+    for (const auto& entry : fs::directory_iterator(robots, error)) {
+      if (entry.path().extension() == ".yaml") return;
+    }
+  }
+  throw std::invalid_argument("--config-dir '" + dir + "' has no robots/*.yaml");
+}
+
+CLI::Option* AddConfigDirOption(CLI::App& command, std::string& dir) {
+  dir = DefaultConfigDir();
+  return command
+      .add_option_function<std::string>(
+          "--config-dir",
+          [&dir](const std::string& text) {
+            RequireConfigDir(text);
+            dir = text;
+          },
+          "Directory holding robots/*.yaml")
+      ->default_str(dir);
+}
+
+std::string DefaultConfigDir() {
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "tavis" / "configs";
+    if (fs::is_directory(installed / "robots", error)) return installed.string();
+  }
+  return TAVIS_DEFAULT_CONFIG_DIR;
 }
 
 }  // namespace tavis::tools

@@ -1,12 +1,37 @@
 // Option values shared by the subcommands, parsed and listed the same way everywhere.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
+
+#include <CLI/CLI.hpp>
 
 namespace tavis::tools {
 
 // "224x224" -> (224, 224); throws std::invalid_argument naming the value.
 std::pair<int, int> ParseImageSize(const std::string& text);
+
+// A seed: a decimal integer from 0 to 2^64 - 1. Anything else (negative, 2^64 or more, not an
+// integer) throws std::invalid_argument naming the value; nothing is clamped.
+uint64_t ParseSeed(const std::string& text);
+
+// Adds --seed, parsed by ParseSeed into `seed` (which must outlive the parse).
+CLI::Option* AddSeedOption(CLI::App& command, uint64_t& seed, const std::string& help);
+
+// A finite number within [low, high]; throws std::invalid_argument naming `option`, the range
+// and the value, saying "out of range" for a literal beyond the range of a double (1e400).
+double ParseNumberInRange(const std::string& option, const std::string& text, double low, double high);
+
+// Throws std::invalid_argument unless `dir` is a folder holding robots/*.yaml, so that a wrong
+// --config-dir is reported as such rather than as an unknown robot.
+void RequireConfigDir(const std::string& dir);
+
+// Adds --config-dir, checked by RequireConfigDir, into `dir` (set to DefaultConfigDir() until given).
+CLI::Option* AddConfigDirOption(CLI::App& command, std::string& dir);
+
+// The default --config-dir: share/tavis/configs next to an installed binary (bin/../share), else
+// the source tree's configs of the build that made it.
+std::string DefaultConfigDir();
 
 }  // namespace tavis::tools

@@ -23,7 +23,7 @@ struct RenderCommandOptions {
   std::string task = "clutter-pick-cube";
   std::string robot = "gr1t2";
   std::string split = "id";
-  int64_t seed = 0;
+  uint64_t seed = 0;
   int64_t episode = 0;
   std::string out;
   int width = 640;
@@ -105,14 +105,13 @@ void RunRender(const RenderCommandOptions& options) {
   // Every input is checked before anything is simulated or written.
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(options.task);
   const scenarios::Split split = scenarios::ParseSplit(options.split);
-  if (options.seed < 0) throw std::invalid_argument("--seed " + std::to_string(options.seed) + " must be >= 0");
   if (options.episode < 0) throw std::invalid_argument("--episode " + std::to_string(options.episode) + " must be >= 0");
   if (options.steps < 0) throw std::invalid_argument("--steps " + std::to_string(options.steps) + " must be >= 0");
   RequirePositive("--width", options.width);
   RequirePositive("--height", options.height);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(options.config_dir, options.robot));
 
-  batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, split, 1, static_cast<uint64_t>(options.seed));
+  batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, split, 1, options.seed);
   batch::CameraSettings settings;
   settings.cameras = batch::SceneCameraNames();
   settings.width = options.width;
@@ -142,7 +141,6 @@ void RunRender(const RenderCommandOptions& options) {
 
 void RegisterRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderCommandOptions>();
-  options->config_dir = TAVIS_DEFAULT_CONFIG_DIR;
   CLI::App* render = app.add_subcommand(
       "render",
       "Render the four cameras (head, fixed, left_wrist, right_wrist) of one episode at its reset and\n"
@@ -155,15 +153,14 @@ void RegisterRenderCommand(CLI::App& app) {
   render->add_option("--robot", options->robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
   render->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
-  render->add_option("--seed", options->seed, "Seed: the episode draws its randomness from (seed, episode)")
-      ->capture_default_str();
+  AddSeedOption(*render, options->seed, "Seed: the episode draws its randomness from (seed, episode)");
   render->add_option("--episode", options->episode, "Episode index within the seed")->capture_default_str();
   render->add_option("--out", options->out, "Output directory (created if missing)")->required();
   render->add_option("--width", options->width, "Image width in pixels")->capture_default_str();
   render->add_option("--height", options->height, "Image height in pixels")->capture_default_str();
   render->add_option("--steps", options->steps, "Control ticks (60 Hz) of the expert before the second render")
       ->capture_default_str();
-  render->add_option("--config-dir", options->config_dir, "Directory holding robots/*.yaml")->capture_default_str();
+  AddConfigDirOption(*render, options->config_dir);
   render->callback([options] { RunRender(*options); });
 }
 

@@ -6,8 +6,10 @@
 #include <string>
 
 #include "batch/results_table.h"
+#include "configs/robot_config.h"
 #include "scenarios/suite.h"
 #include "tools/commands.h"
+#include "tools/option_parsing.h"
 
 namespace tavis::tools {
 namespace {
@@ -28,7 +30,7 @@ void WriteFile(const std::string& path, const std::string& text) {
 
 void RunTable(const TableOptions& options) {
   const batch::ResultsTable table =
-      batch::BuildResultsTable(batch::LoadCellResults(options.in_dir), options.suite);
+      batch::BuildResultsTable(batch::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir())), options.suite);
   const bool with_intervals = !options.no_intervals;
   WriteFile(options.out_prefix + ".md", batch::FormatMarkdown(table, with_intervals));
   WriteFile(options.out_prefix + ".csv", batch::FormatCsv(table, with_intervals));

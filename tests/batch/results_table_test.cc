@@ -155,6 +155,51 @@ TEST_F(ResultsTableTest, ErrorsNameTheFileAndKey) {
   EXPECT_THROW(LoadCellResults(root_), std::runtime_error);
 }
 
+TEST_F(ResultsTableTest, CopiedCellIsRefusedNamingBothFiles) {
+  const std::string cell = R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "seed": 7,
+                                "n_episodes": 4, "n_successful": 4})";
+  WriteSummary("cell", cell);
+  WriteSummary("cell copy", cell);
+  try {
+    LoadCellResults(root_);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/cell/summary.json and " + (root_ / "cell copy").string()),
+              std::string::npos)
+        << e.what();
+  }
+  // Another seed of the same cell is pooled.
+  WriteSummary("cell copy", R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "seed": 8,
+                                 "n_episodes": 4, "n_successful": 2})");
+  EXPECT_EQ(BuildResultsTable(LoadCellResults(root_), "tavis-head").pooled[0]->n_episodes, 8);
+}
+
+TEST_F(ResultsTableTest, UnknownNamesAreErrorsNamingTheFile) {
+  WriteSummary("a", R"({"task": "wait-then-act", "robot": "gr1t3", "split": "id", "n_episodes": 1,
+                        "n_successful": 1})");
+  EXPECT_NO_THROW(LoadCellResults(root_));  // robots are checked only against a given list
+  try {
+    LoadCellResults(root_, {"gr1t2", "reachy2"});
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a/summary.json: unknown robot 'gr1t3' (known: gr1t2, reachy2)"),
+              std::string::npos)
+        << e.what();
+  }
+  WriteSummary("a", R"({"task": "wait-then-act", "robot": "gr1t2", "split": "od", "n_episodes": 1,
+                        "n_successful": 1})");
+  EXPECT_THROW(LoadCellResults(root_), std::runtime_error);
+}
+
+TEST_F(ResultsTableTest, CountsBeyondThirtyTwoBits) {
+  // Three billion episodes: an int count would wrap negative.
+  WriteSummary("a", R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "n_episodes": 3000000000,
+                        "n_successful": 1500000000})");
+  const ResultsTable table = BuildResultsTable(LoadCellResults(root_), "tavis-head");
+  EXPECT_EQ(table.pooled[0]->n_episodes, 3000000000);
+  EXPECT_DOUBLE_EQ(table.task_average[0].value(), 0.5);
+}
+
 TEST_F(ResultsTableTest, MixedPoliciesOrNoCellsAreErrors) {
   WriteCell("a", "wait-then-act", "gr1t2", "id", "head", 1, 2);
   WriteSummary("b", R"({"task": "conditional-pick", "robot": "gr1t2", "split": "id",

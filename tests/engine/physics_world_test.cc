@@ -38,18 +38,22 @@ std::vector<double> LeftArmAt(const kinematics::RobotModel& robot, const Vec3& t
   return q ? *q : q_start;
 }
 
+// Object 0 first; ReadState writes every object of the world, so the buffers are sized by it.
 struct Observed {
+  explicit Observed(const WorldModel& model)
+      : pose(model.objects.size() * kObjectPoseSize), velocity(model.objects.size() * kObjectVelocitySize) {}
+
   std::vector<double> q;
   double gap[2] = {0, 0};
-  double pose[kObjectPoseSize] = {};
-  double velocity[kObjectVelocitySize] = {};
+  std::vector<double> pose;
+  std::vector<double> velocity;
 };
 
 // Servos the joints along a straight joint-space path from q_from to q_to over `seconds`
 // (the left gripper held at `gripper`), then reads the world.
 Observed StepAlong(PhysicsWorld& world, const std::vector<double>& q_from, const std::vector<double>& q_to,
                    double gripper, double seconds, const WorldModel& model) {
-  Observed o;
+  Observed o(model);
   o.q = q_to;
   const int ticks = static_cast<int>(seconds * model.physics.control_hz);
   std::vector<double> q_target(q_to.size());
@@ -58,7 +62,7 @@ Observed StepAlong(PhysicsWorld& world, const std::vector<double>& q_from, const
     for (size_t j = 0; j < q_to.size(); ++j) q_target[j] = q_from[j] + s * (q_to[j] - q_from[j]);
     EXPECT_TRUE(world.Step(q_target.data(), {gripper, -1.0}, model.physics.substeps_per_control()));
   }
-  world.ReadState(o.q.data(), o.gap, o.pose, o.velocity);
+  world.ReadState(o.q.data(), o.gap, o.pose.data(), o.velocity.data());
   return o;
 }
 
@@ -128,9 +132,9 @@ TEST(PhysicsWorld, FreeFingersMeasureTheOpenAndClosedGaps) {
     PhysicsWorld world(model);
     const std::vector<double> q = model.robot.DefaultPositions();
     world.ResetRobot(q.data());
-    Observed o;
+    Observed o(model);
     o.q = q;
-    world.ReadState(o.q.data(), o.gap, o.pose, o.velocity);
+    world.ReadState(o.q.data(), o.gap, o.pose.data(), o.velocity.data());
     EXPECT_NEAR(o.gap[0], gripper.open_gap, 1e-9) << robot << ": gap at rest";
     EXPECT_NEAR(o.gap[1], gripper.open_gap, 1e-9) << robot << ": gap at rest";
     o = StepFor(world, q, 1.0, 1.0, model);  // the left gripper closes on nothing, the right stays open

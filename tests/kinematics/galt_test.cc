@@ -14,7 +14,9 @@
 namespace tavis::kinematics {
 namespace {
 
-const std::string kConformanceDir = std::string(TAVIS_SHARED_DIR) + "/conformance/galt/";
+// A subset of the reference vectors kept in the repository (tests/data/galt/README.md), so that
+// a clone alone passes.
+const std::string kConformanceDir = std::string(TAVIS_REPO_TEST_DATA_DIR) + "/galt/";
 
 // A T x 19 trajectory stored row-major.
 struct Trajectory {
@@ -99,7 +101,7 @@ std::string Mismatch(const GaltResult& actual, const nlohmann::json& expected) {
 
 TEST(GaltConformance, AllReferenceVectorsAgree) {
   const std::vector<ConformanceCase> cases = LoadConformanceCases();
-  ASSERT_EQ(cases.size(), 240u);
+  ASSERT_EQ(cases.size(), 36u);
   int agreeing = 0;
   for (const ConformanceCase& c : cases) {
     const std::string mismatch = Mismatch(ComputeGalt(c.trajectory.view(), c.fps), c.expected);
@@ -110,7 +112,7 @@ TEST(GaltConformance, AllReferenceVectorsAgree) {
     }
   }
   std::cout << "[ conformance ] " << agreeing << " of " << cases.size() << " vectors agree\n";
-  EXPECT_EQ(agreeing, 240);
+  EXPECT_EQ(agreeing, static_cast<int>(cases.size()));
 }
 
 TEST(GaltBatch, EqualsPerEpisodeResultsWithOneAndTwoThreads) {

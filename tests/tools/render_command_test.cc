@@ -85,7 +85,8 @@ TEST_F(RenderCommand, BadInputExitsOneNamingTheValueAndWritesNothing) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--task nope", "nope"},         {"--robot robby", "robby"},     {"--split sideways", "sideways"},
       {"--width 0", "--width 0"},      {"--height -5", "--height -5"},
-      {"--steps -1", "--steps -1"},    {"--seed -2", "--seed -2"},     {"--episode -1", "--episode -1"},
+      {"--steps -1", "--steps -1"},    {"--seed -2", "--seed must be an integer from 0 to 18446744073709551615, got -2"},
+      {"--episode -1", "--episode -1"},
       {"--width banana", "banana"},
   };
   for (const auto& [args, needle] : cases) {

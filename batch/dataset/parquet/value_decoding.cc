@@ -38,6 +38,7 @@ void DecodePlainFixed(const std::uint8_t* data, std::size_t size, std::size_t co
   if (count > size / sizeof(T)) {
     Fail(context, std::to_string(count) + " PLAIN values need more than the " + std::to_string(size) + " bytes left");
   }
+  if (count == 0) return;  // memcpy from or to a null pointer is undefined even for 0 bytes
   const std::size_t start = out.size();
   out.resize(start + count);
   std::memcpy(out.data() + start, data, count * sizeof(T));

@@ -1,0 +1,140 @@
+// Bad input through the real program: each case must exit with status 1, print a message naming
+// the bad value, and write nothing (no result folder, no table, no default results/ folder).
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+
+#include "tool_runner.h"
+
+namespace tavis::tools {
+namespace {
+
+class RedTeamCliTest : public TavisCommandTest {
+ protected:
+  // Runs `tavis ARGS` from inside root_ (so that a default output folder would land there) and
+  // expects a refusal naming `expected`, with root_ unchanged. `limits` runs before (ulimit).
+  void ExpectRefused(const std::string& args, const std::string& expected, const std::string& limits = "") {
+    const std::map<std::string, std::string> before = Snapshot(root_);
+    const std::set<fs::path> paths_before = Paths();
+    const fs::path out = root_.string() + ".stdout";
+    const fs::path err = root_.string() + ".stderr";
+    const std::string command = "cd " + Quote(root_.string()) + " && " + limits + Quote(TAVIS_BINARY) + " " + args + " >" +
+                                Quote(out.string()) + " 2>" + Quote(err.string());
+    const int status = std::system(command.c_str());
+    const std::string output = ReadText(out) + ReadText(err);
+    fs::remove(out);
+    fs::remove(err);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << args << "\n" << output;
+    EXPECT_NE(output.find(expected), std::string::npos) << args << "\nwanted: " << expected << "\ngot: " << output;
+    EXPECT_EQ(Snapshot(root_), before) << args << ": wrote files";
+    EXPECT_EQ(Paths(), paths_before) << args << ": created folders";
+  }
+
+  // Every file and folder under root_.
+  std::set<fs::path> Paths() const {
+    std::set<fs::path> paths;
+    for (const auto& entry : fs::recursive_directory_iterator(root_)) paths.insert(entry.path());
+    return paths;
+  }
+
+  void WriteFile(const fs::path& path, const std::string& text) {
+    fs::create_directories(path.parent_path());
+    std::ofstream(path) << text;
+  }
+
+  // A cell's summary.json with the keys `tavis table` reads.
+  void WriteSummary(const std::string& folder, const std::string& robot = "gr1t2", const std::string& split = "id",
+                    const std::string& camera = "head", const std::string& task = "clutter-pick-cube") {
+    WriteFile(root_ / "cells" / folder / "summary.json",
+              R"({"task": ")" + task + R"(", "robot": ")" + robot + R"(", "split": ")" + split +
+                  R"(", "camera": ")" + camera +
+                  R"(", "policy": "expert", "seed": 0, "n_episodes": 4, "n_successful": 4})");
+  }
+};
+
+constexpr const char* kSeedRange = "--seed must be an integer from 0 to 18446744073709551615, got ";
+
+TEST_F(RedTeamCliTest, SeedsOutsideSixtyFourBitsAreRefusedByEveryCommand) {
+  const std::string out = " --out out";
+  ExpectRefused("eval --episodes 1 --seed -1" + out, std::string(kSeedRange) + "-1");
+  ExpectRefused("eval --episodes 1 --seed 18446744073709551616" + out, std::string(kSeedRange) + "18446744073709551616");
+  ExpectRefused("render --seed 18446744073709551616" + out, std::string(kSeedRange) + "18446744073709551616");
+  ExpectRefused("audit --task clutter-pick-cube --robot gr1t2 --seed 99999999999999999999" + out,
+                std::string(kSeedRange) + "99999999999999999999");
+  ExpectRefused("demos --episodes 1 --seed -1" + out, std::string(kSeedRange) + "-1");
+  ExpectRefused("eval --episodes 1 --seed 1e3" + out, std::string(kSeedRange) + "1e3");
+}
+
+TEST_F(RedTeamCliTest, MisspeltCommandIsNamed) {
+  ExpectRefused("evl --episodes 1", "unknown command 'evl' (known: eval, demos, galt, render, table, audit)");
+}
+
+TEST_F(RedTeamCliTest, MissingOrEmptyConfigDirIsNamed) {
+  ExpectRefused("eval --episodes 1 --config-dir /nonexistent/configs --out out",
+                "--config-dir '/nonexistent/configs' does not exist");
+  fs::create_directories(root_ / "empty");
+  ExpectRefused("render --config-dir " + Quote((root_ / "empty").string()) + " --out out",
+                "--config-dir '" + (root_ / "empty").string() + "' has no robots/*.yaml");
+}
+
+TEST_F(RedTeamCliTest, NumberBeyondDoubleRangeIsOutOfRange) {
+  ExpectRefused("galt --fps 1e400 missing.csv", "--fps 1e400 is out of range");
+  // In a robot file: yaml-cpp refuses the literal as if it were no number at all.
+  const fs::path configs = root_ / "configs";
+  fs::copy(fs::path(TAVIS_CONFIG_DIR), configs, fs::copy_options::recursive);
+  const fs::path robot = configs / "robots" / "gr1t2.yaml";
+  std::string text = ReadText(robot);
+  const std::size_t key = text.find("damping: ");
+  ASSERT_NE(key, std::string::npos);
+  text.replace(key, text.find('\n', key) - key, "damping: 1e400");
+  WriteFile(robot, text);
+  ExpectRefused("eval --episodes 1 --config-dir " + Quote(configs.string()) + " --out out", "'1e400'");
+  ExpectRefused("eval --episodes 1 --config-dir " + Quote(configs.string()) + " --out out", "out of range");
+}
+
+TEST_F(RedTeamCliTest, OutOfMemoryIsReportedPlainly) {
+  // Terapixel images for one env: far more than any machine has. The address-space limit makes
+  // sure the allocation fails rather than being overcommitted.
+  ExpectRefused("eval --episodes 1 --envs 1 --render-cameras head --image-size 1000000x1000000 --out out",
+                "out of memory (try fewer --envs or a smaller --image-size)", "ulimit -v 16000000 && ");
+}
+
+TEST_F(RedTeamCliTest, TableRefusesACopiedCellNamingBothFolders) {
+  WriteSummary("a");
+  WriteSummary("b");
+  ExpectRefused("table --in cells --suite tavis-head --out table", "cells/a/summary.json and cells/b/summary.json");
+}
+
+TEST_F(RedTeamCliTest, TableNamesAnUnknownNameWithItsFile) {
+  WriteSummary("a", "gr1t3");
+  ExpectRefused("table --in cells --suite tavis-head --out table", "cells/a/summary.json: unknown robot 'gr1t3'");
+  fs::remove_all(root_ / "cells");
+  WriteSummary("a", "gr1t2", "ood-spacial");
+  ExpectRefused("table --in cells --suite tavis-head --out table", "cells/a/summary.json: unknown split 'ood-spacial'");
+  fs::remove_all(root_ / "cells");
+  WriteSummary("a", "gr1t2", "id", "wrist");
+  ExpectRefused("table --in cells --suite tavis-head --out table", "cells/a/summary.json: unknown camera 'wrist'");
+  fs::remove_all(root_ / "cells");
+  WriteSummary("a", "gr1t2", "id", "head", "clutter-pick-cub");
+  ExpectRefused("table --in cells --suite tavis-head --out table", "cells/a/summary.json: unknown task 'clutter-pick-cub'");
+}
+
+TEST_F(RedTeamCliTest, GaltFpsOutsideOneToAThousandHertz) {
+  WriteFile(root_ / "episode.csv", "0,0,0,1,0,0,0,0,0,0,1,0,0,0,0,0,0,-1,-1\n");
+  for (const std::string fps : {"1e9", "1e-300", "1e308", "0.5", "1001", "nan", "-20"}) {
+    ExpectRefused("galt --fps " + fps + " episode.csv", "--fps must be a number from 1 to 1000, got " + fps);
+  }
+  ExpectRefused("galt --dataset nowhere --fps 1e9", "--fps must be a number from 1 to 1000, got 1e9");
+}
+
+TEST_F(RedTeamCliTest, EvalProvenanceOptionsAreNotIgnored) {
+  WriteFile(root_ / "actions.csv", "0,0,0,1,0,0,0,0,0,0,1,0,0,0,0,0,0,-1,-1\n");
+  ExpectRefused("eval --episodes 1 --actions actions.csv --out out",
+                "--actions 'actions.csv' applies to --policy replay only, got --policy expert");
+  ExpectRefused("eval --episodes 1 --out ''", "--out must name a folder, got an empty string");
+}
+
+}  // namespace
+}  // namespace tavis::tools
