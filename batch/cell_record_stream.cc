@@ -137,6 +137,7 @@ void CellRecordStream::Write(const EpisodeRecord& record) {
   if (std::fwrite(line.data(), 1, line.size(), episodes_) != line.size() || std::fflush(episodes_) != 0) {
     throw std::runtime_error("cannot write " + dir_ + "/episodes.jsonl: " + std::strerror(errno));
   }
+  ++written_;
 }
 
 }  // namespace tavis::batch

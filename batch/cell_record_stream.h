@@ -36,6 +36,8 @@ class CellRecordStream {
 
   // Appends the record (the next episode) and flushes it.
   void Write(const EpisodeRecord& record);
+  // Records written by this stream (not counting the resumed ones).
+  int64_t written() const { return written_; }
 
  private:
   std::string dir_;
@@ -43,6 +45,7 @@ class CellRecordStream {
   bool served_;
   std::vector<EpisodeRecord> resumed_;
   std::FILE* episodes_ = nullptr;
+  int64_t written_ = 0;
 };
 
 // The settings that decide a cell's records (cell.json), not how it ran (envs, threads).

@@ -62,12 +62,20 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   if (out.empty()) throw std::invalid_argument("--out must name a folder");
   batch::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
   if (options.overwrite && std::filesystem::exists(out)) std::filesystem::remove_all(out);
+  const bool created = !std::filesystem::exists(out);
   batch::CellRecordStream stream(out, cell, options.resume);
   batch::EvaluationCellConfig config = cell;
   config.first_episode = stream.next_episode();
-  batch::CellResult result = batch::RunEvaluationCell(
-      config, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress),
-      [&stream](const batch::EpisodeRecord& record) { stream.Write(record); });
+  batch::CellResult result;
+  try {
+    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress),
+                                      [&stream](const batch::EpisodeRecord& record) { stream.Write(record); });
+  } catch (...) {
+    // A cell that failed before its first episode leaves nothing behind; one that recorded
+    // episodes keeps them for --resume.
+    if (created && stream.written() == 0) std::filesystem::remove_all(out);
+    throw;
+  }
   // The summary covers the whole cell: the resumed records first.
   std::vector<batch::EpisodeRecord> episodes = stream.resumed();
   for (batch::EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
