@@ -174,12 +174,14 @@ void RegisterAuditCommand(CLI::App& app) {
       ->capture_default_str();
   audit->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
   audit->add_flag("--all", options->all, "Audit every task on every robot of --config-dir at --split, in one table");
-  audit->add_option("--episodes", options->audit.episodes, "Episodes per task and robot")->capture_default_str();
+  audit->add_option("--episodes", options->audit.episodes, "Episodes per task and robot")
+      ->check(IntegerIn(1, 100000000))
+      ->capture_default_str();
   AddSeedOption(*audit, options->audit.seed, "Seed: episode i draws its randomness from (seed, i)");
   audit->add_option("--image-size", options->image_size, "Resolution of the four cameras, WIDTHxHEIGHT")
       ->capture_default_str();
   audit->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   audit->add_option("--out", options->out, "Directory for audit.json (created if missing; no other file is written)");
   AddConfigDirOption(*audit, options->audit.config_dir);

@@ -164,10 +164,12 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_option("--suite", options->suite, "Every task of a suite in one dataset: " + scenarios::KnownSuites());
   demos->add_option("--robot", options->config.robot, "Robot: gr1t2 or reachy2")->capture_default_str();
   demos->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
-  demos->add_option("--episodes", options->config.episodes, "Episodes written per task")->capture_default_str();
+  demos->add_option("--episodes", options->config.episodes, "Episodes written per task")
+      ->check(IntegerIn(1, 10000000))
+      ->capture_default_str();
   demos->add_option("--max-attempts", options->config.max_attempts,
                     "Episodes tried per task before giving up (0: 2 x --episodes + 20)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(IntegerIn(0, 100000000))
       ->capture_default_str();
   AddSeedOption(*demos, options->config.seed, "Seed: episode i draws its randomness from (seed, i)");
   demos->add_option("--fps", options->config.fps, "Frame rate: 60 (the reference's datasets) or 20 (the policy rate)")
@@ -180,9 +182,10 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_option("--format", options->format, "Dataset format: v3.0 or v2.1 (one file per episode, for openpi)")
       ->capture_default_str();
   demos->add_option("--envs", options->config.envs, "Parallel env slots (the dataset does not depend on it)")
+      ->check(IntegerIn(1, 4096))
       ->capture_default_str();
   demos->add_option("--threads", options->threads, "Worker threads (0 = all cores; the dataset does not depend on it)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   demos->add_option("--out", options->config.out, "Dataset folder (default datasets/tavis-<task|suite>-<robot>); must be empty");
   demos->add_flag("--overwrite", options->overwrite, "Replace what the --out folder holds");

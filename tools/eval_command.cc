@@ -175,7 +175,7 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--replan-steps", options->cell.replan_steps,
                    "For --policy openpi: rows of each action chunk an env steps with before asking again\n"
                    "(0: the whole chunk, as openpi's ActionChunkBroker; its LIBERO example uses 5)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(IntegerIn(0, 1000000))
       ->capture_default_str();
   eval->add_option("--keys", options->cell.observation_keys,
                    "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() + ") or a\n"
@@ -184,16 +184,19 @@ void RegisterEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_option("--server-timeout", options->cell.server_ready_timeout_s,
                    "For --policy openpi: seconds to wait for each server's /healthz before giving up")
-      ->check(CLI::PositiveNumber)
+      ->check(NumberIn(0.001, 86400))
       ->capture_default_str();
   eval->add_option("--actions", options->cell.actions_file,
                    "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step");
-  eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")->capture_default_str();
+  eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")
+      ->check(IntegerIn(1, 100000000))
+      ->capture_default_str();
   AddSeedOption(*eval, options->cell.seed, "Seed: episode i draws its randomness from (seed, i)");
   eval->add_option("--envs", options->cell.envs, "Parallel env slots (results do not depend on it)")
+      ->check(IntegerIn(1, 4096))
       ->capture_default_str();
   eval->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   eval->add_option("--render-cameras", options->render_cameras,
                    "Comma-separated cameras to render on every policy tick (20 Hz) even if the policy uses no\n"

@@ -94,4 +94,40 @@ std::string DefaultConfigDir() {
   return TAVIS_DEFAULT_CONFIG_DIR;
 }
 
+CLI::Validator IntegerIn(int64_t low, int64_t high) {
+  const std::string range = "an integer from " + std::to_string(low) + " to " + std::to_string(high);
+  return CLI::Validator(
+      [low, high, range](std::string& text) -> std::string {
+        std::size_t used = 0;
+        long long value = 0;
+        try {
+          value = std::stoll(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || text.empty() || value < low || value > high) return "must be " + range + ", got '" + text + "'";
+        return "";
+      },
+      range);
+}
+
+CLI::Validator NumberIn(double low, double high) {
+  std::ostringstream text_of_range;
+  text_of_range << "a number from " << low << " to " << high;
+  const std::string range = text_of_range.str();
+  return CLI::Validator(
+      [low, high, range](std::string& text) -> std::string {
+        std::size_t used = 0;
+        double value = std::nan("");
+        try {
+          value = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || text.empty() || !(value >= low && value <= high)) return "must be " + range + ", got '" + text + "'";
+        return "";
+      },
+      range);
+}
+
 }  // namespace tavis::tools

@@ -23,6 +23,12 @@ CLI::Option* AddSeedOption(CLI::App& command, uint64_t& seed, const std::string&
 // and the value, saying "out of range" for a literal beyond the range of a double (1e400).
 double ParseNumberInRange(const std::string& option, const std::string& text, double low, double high);
 
+// Checks an integer option's text before CLI11 converts it, so a bad value reads "must be an
+// integer from LOW to HIGH, got 'TEXT'" rather than CLI11's conversion error or a 309-digit bound.
+CLI::Validator IntegerIn(int64_t low, int64_t high);
+// The same for a number (seconds, rates): finite, within [low, high].
+CLI::Validator NumberIn(double low, double high);
+
 // Throws std::invalid_argument unless `dir` is a folder holding robots/*.yaml, so that a wrong
 // --config-dir is reported as such rather than as an unknown robot.
 void RequireConfigDir(const std::string& dir);

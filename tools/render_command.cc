@@ -154,11 +154,14 @@ void RegisterRenderCommand(CLI::App& app) {
       ->capture_default_str();
   render->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
   AddSeedOption(*render, options->seed, "Seed: the episode draws its randomness from (seed, episode)");
-  render->add_option("--episode", options->episode, "Episode index within the seed")->capture_default_str();
+  render->add_option("--episode", options->episode, "Episode index within the seed")
+      ->check(IntegerIn(0, 1000000000))
+      ->capture_default_str();
   render->add_option("--out", options->out, "Output directory (created if missing)")->required();
-  render->add_option("--width", options->width, "Image width in pixels")->capture_default_str();
-  render->add_option("--height", options->height, "Image height in pixels")->capture_default_str();
+  render->add_option("--width", options->width, "Image width in pixels")->check(IntegerIn(1, 8192))->capture_default_str();
+  render->add_option("--height", options->height, "Image height in pixels")->check(IntegerIn(1, 8192))->capture_default_str();
   render->add_option("--steps", options->steps, "Control ticks (60 Hz) of the expert before the second render")
+      ->check(IntegerIn(0, 1000000))
       ->capture_default_str();
   AddConfigDirOption(*render, options->config_dir);
   render->callback([options] { RunRender(*options); });

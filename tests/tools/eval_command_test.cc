@@ -82,8 +82,8 @@ TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--episodes 1 --task nope", "nope"},   {"--episodes 1 --robot nope", "nope"},
       {"--episodes 1 --split nope", "nope"},  {"--episodes 1 --policy nope", "nope"},
-      {"--episodes 0", "got 0"},              {"--episodes -3", "got -3"},
-      {"--episodes 1 --envs 0", "got 0"},     {"--episodes 1 --seed banana", "banana"},
+      {"--episodes 0", "got '0'"},            {"--episodes -3", "got '-3'"},
+      {"--episodes 1 --envs 0", "got '0'"},   {"--episodes 1 --seed banana", "banana"},
       {"--episodes 1 --suite nope", "nope"},  {"--episodes 1 --suite tavis-head --task wait-then-act", "--suite"},
       {"--episodes 1 --camera side", "side"},
   };

@@ -56,6 +56,22 @@ class RedTeamCliTest : public TavisCommandTest {
 
 constexpr const char* kSeedRange = "--seed must be an integer from 0 to 18446744073709551615, got ";
 
+TEST_F(RedTeamCliTest, CountsAndRatesOutsideTheirRangeAreNamedPlainly) {
+  // Before: CLI11's "Could not convert" or a bound printed with 309 digits.
+  ExpectRefused("eval --episodes 1e400 --out out", "--episodes: must be an integer from 1 to 100000000, got '1e400'");
+  ExpectRefused("eval --episodes 99999999999 --out out", "got '99999999999'");
+  ExpectRefused("eval --episodes ten --out out", "--episodes: must be an integer from 1 to 100000000, got 'ten'");
+  ExpectRefused("eval --envs 5000 --out out", "--envs: must be an integer from 1 to 4096, got '5000'");
+  ExpectRefused("eval --threads -1 --out out", "--threads: must be an integer from 0 to 1024, got '-1'");
+  ExpectRefused("eval --replan-steps -2 --out out", "--replan-steps: must be an integer from 0 to 1000000, got '-2'");
+  ExpectRefused("eval --server-timeout 0 --out out", "--server-timeout: must be a number from 0.001 to 86400, got '0'");
+  ExpectRefused("demos --max-attempts -1 --out out", "--max-attempts: must be an integer from 0 to 100000000, got '-1'");
+  ExpectRefused("render --steps -1 --out out", "--steps: must be an integer from 0 to 1000000, got '-1'");
+  ExpectRefused("render --width 0 --out out", "--width: must be an integer from 1 to 8192, got '0'");
+  ExpectRefused("audit --task clutter-pick-cube --robot gr1t2 --episodes 0 --out out",
+                "--episodes: must be an integer from 1 to 100000000, got '0'");
+}
+
 TEST_F(RedTeamCliTest, SeedsOutsideSixtyFourBitsAreRefusedByEveryCommand) {
   const std::string out = " --out out";
   ExpectRefused("eval --episodes 1 --seed -1" + out, std::string(kSeedRange) + "-1");

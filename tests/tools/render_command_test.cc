@@ -84,9 +84,10 @@ TEST_F(RenderCommand, BadInputExitsOneNamingTheValueAndWritesNothing) {
   const fs::path dir = root_ / "never";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--task nope", "nope"},         {"--robot robby", "robby"},     {"--split sideways", "sideways"},
-      {"--width 0", "--width 0"},      {"--height -5", "--height -5"},
-      {"--steps -1", "--steps -1"},    {"--seed -2", "--seed must be an integer from 0 to 18446744073709551615, got -2"},
-      {"--episode -1", "--episode -1"},
+      {"--width 0", "--width: must be an integer from 1 to 8192, got '0'"},
+      {"--height -5", "--height: must be an integer from 1 to 8192, got '-5'"},
+      {"--steps -1", "--steps: must be an integer from 0 to 1000000, got '-1'"},    {"--seed -2", "--seed must be an integer from 0 to 18446744073709551615, got -2"},
+      {"--episode -1", "--episode: must be an integer from 0 to 1000000000, got '-1'"},
       {"--width banana", "banana"},
   };
   for (const auto& [args, needle] : cases) {
