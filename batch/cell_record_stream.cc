@@ -10,6 +10,7 @@
 
 #include "batch/atomic_file.h"
 #include "batch/cell_report.h"
+#include "batch/settings_difference.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {
@@ -92,12 +93,7 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
     } catch (const nlohmann::json::exception& error) {
       throw std::invalid_argument(cell_json.string() + ": " + error.what());
     }
-    std::string differences;
-    for (const auto& [key, value] : settings.items()) {
-      if (!was.contains(key) || was.at(key) != value) {
-        differences += (differences.empty() ? "" : ", ") + key + " " + (was.contains(key) ? was.at(key).dump() : "unset") + " -> " + value.dump();
-      }
-    }
+    const std::string differences = SettingsDifference(was, settings);
     if (!differences.empty()) throw std::invalid_argument("--resume " + dir_ + " with other settings: " + differences);
     // The complete lines, in order; what follows the last one (a line cut by the interruption) goes.
     std::ifstream in(episodes_path, std::ios::binary);

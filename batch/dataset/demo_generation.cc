@@ -14,6 +14,7 @@
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/episode_driver.h"
 #include "batch/scene_render.h"
+#include "batch/settings_difference.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
@@ -58,12 +59,7 @@ void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   }
   const nlohmann::json was = progress.at("settings");
   const nlohmann::json now = Fingerprint(config);
-  std::string differences;
-  for (const auto& [key, value] : now.items()) {
-    if (!was.contains(key) || was.at(key) != value) {
-      differences += (differences.empty() ? "" : ", ") + key + " " + (was.contains(key) ? was.at(key).dump() : "unset") + " -> " + value.dump();
-    }
-  }
+  const std::string differences = batch::SettingsDifference(was, now);
   if (!differences.empty()) throw std::invalid_argument("--resume with other settings than the interrupted recording: " + differences);
 }
 
