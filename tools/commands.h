@@ -11,6 +11,7 @@ void RegisterDemosCommand(CLI::App& app);
 void RegisterEvalCommand(CLI::App& app);
 void RegisterGaltCommand(CLI::App& app);
 void RegisterRenderCommand(CLI::App& app);
+void RegisterSweepCommand(CLI::App& app);
 void RegisterTableCommand(CLI::App& app);
 
 }  // namespace tavis::tools

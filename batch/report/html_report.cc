@@ -1,0 +1,245 @@
+#include "batch/report/html_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "batch/report/sweep_summary.h"
+#include "batch/report/sweep_tables.h"
+
+namespace tavis::batch::report {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+std::string Escape(const std::string& text) {
+  std::string escaped;
+  for (const char c : text) {
+    switch (c) {
+      case '&': escaped += "&amp;"; break;
+      case '<': escaped += "&lt;"; break;
+      case '>': escaped += "&gt;"; break;
+      case '"': escaped += "&quot;"; break;
+      default: escaped += c;
+    }
+  }
+  return escaped;
+}
+
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.2f", value);
+  return text;
+}
+
+const char* SplitColour(const std::string& split) {
+  if (split == "id") return "#1f77b4";
+  if (split == "ood-spatial") return "#ff7f0e";
+  return "#2ca02c";
+}
+
+// Success rate and Wilson interval of every pooled cell of one suite and robot: a row per task,
+// split and camera; a filled dot for head, a hollow one for fixed.
+std::string SuccessPlot(const Json& suite, const std::string& robot) {
+  struct Row {
+    std::string label, split, camera;
+    Json rate;
+  };
+  std::vector<Row> rows;
+  const Json& columns = suite["columns"];
+  for (std::size_t t = 0; t < columns[0]["tasks"].size(); ++t) {
+    for (const Json& column : columns) {
+      if (column["robot"] != robot || !column["tasks"][t].contains("success_rate")) continue;
+      rows.push_back({column["tasks"][t]["task"].get<std::string>() + " " + column["split"].get<std::string>() + " " +
+                          column["camera"].get<std::string>(),
+                      column["split"], column["camera"], column["tasks"][t]});
+    }
+  }
+  if (rows.empty()) return "";
+  const int left = 330, width = 300, row_height = 16, top = 24;
+  const int height = top + row_height * static_cast<int>(rows.size()) + 10;
+  std::ostringstream svg;
+  svg << "<figure><figcaption>" << Escape(suite["title"].get<std::string>() + ", " + robot)
+      << ": success rate with 95% Wilson interval (filled: head, hollow: fixed)</figcaption>\n"
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << left + width + 20 << "\" height=\"" << height << "\">\n";
+  for (int percent = 0; percent <= 100; percent += 25) {
+    const double x = left + width * percent / 100.0;
+    svg << "<line x1=\"" << x << "\" y1=\"" << top - 6 << "\" x2=\"" << x << "\" y2=\"" << height - 8
+        << "\" stroke=\"#ddd\"/><text x=\"" << x << "\" y=\"" << top - 10 << "\" font-size=\"10\" text-anchor=\"middle\">" << percent
+        << "%</text>\n";
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& row = rows[i];
+    const double y = top + row_height * (static_cast<double>(i) + 0.5);
+    const double low = left + width * row.rate["ci_low"].get<double>();
+    const double high = left + width * row.rate["ci_high"].get<double>();
+    const double x = left + width * row.rate["success_rate"].get<double>();
+    const char* colour = SplitColour(row.split);
+    svg << "<text x=\"" << left - 6 << "\" y=\"" << y + 3 << "\" font-size=\"10\" text-anchor=\"end\">" << Escape(row.label)
+        << "</text><line x1=\"" << low << "\" y1=\"" << y << "\" x2=\"" << high << "\" y2=\"" << y << "\" stroke=\"" << colour
+        << "\" stroke-width=\"2\"/><circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"4\" stroke=\"" << colour << "\" fill=\""
+        << (row.camera == "head" ? colour : "white") << "\"><title>" << Escape(row.label) << ": "
+        << Percent(row.rate["success_rate"]) << "% " << PercentInterval(row.rate["ci_low"], row.rate["ci_high"]) << "</title></circle>\n";
+  }
+  svg << "</svg></figure>\n";
+  return svg.str();
+}
+
+// Histograms of `series` (name -> values) over [0, upper) in `bins` bins, as outlined steps, with
+// an optional dashed reference line.
+std::string Histogram(const std::string& caption, const std::vector<std::pair<std::string, std::vector<double>>>& series,
+                      const std::string& unit, double reference, const std::string& reference_label) {
+  double upper = reference > 0 ? reference * 1.5 : 1.0;
+  for (const auto& [name, values] : series) {
+    for (const double value : values) upper = std::max(upper, value * 1.05);
+  }
+  const int bins = 24, left = 40, width = 480, plot_height = 140, top = 20;
+  std::vector<std::vector<int>> counts;
+  int most = 1;
+  for (const auto& [name, values] : series) {
+    std::vector<int> bin_counts(bins, 0);
+    for (const double value : values) ++bin_counts[std::min(bins - 1, static_cast<int>(value / upper * bins))];
+    most = std::max(most, *std::max_element(bin_counts.begin(), bin_counts.end()));
+    counts.push_back(bin_counts);
+  }
+  static const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728"};
+  std::ostringstream svg;
+  svg << "<figure><figcaption>" << Escape(caption) << "</figcaption>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\""
+      << left + width + 160 << "\" height=\"" << top + plot_height + 30 << "\">\n";
+  const double bottom = top + plot_height;
+  svg << "<line x1=\"" << left << "\" y1=\"" << bottom << "\" x2=\"" << left + width << "\" y2=\"" << bottom << "\" stroke=\"#333\"/>\n";
+  for (int tick = 0; tick <= 4; ++tick) {
+    const double x = left + width * tick / 4.0;
+    svg << "<text x=\"" << x << "\" y=\"" << bottom + 14 << "\" font-size=\"10\" text-anchor=\"middle\">" << Number(upper * tick / 4.0)
+        << " " << unit << "</text>\n";
+  }
+  svg << "<text x=\"" << left - 4 << "\" y=\"" << top + 4 << "\" font-size=\"10\" text-anchor=\"end\">" << most << "</text>\n";
+  for (std::size_t s = 0; s < series.size(); ++s) {
+    std::ostringstream path;
+    path << "M" << left << "," << bottom;
+    for (int b = 0; b < bins; ++b) {
+      const double y = bottom - plot_height * counts[s][b] / static_cast<double>(most);
+      path << " L" << left + width * b / static_cast<double>(bins) << "," << y << " L" << left + width * (b + 1) / static_cast<double>(bins)
+           << "," << y;
+    }
+    path << " L" << left + width << "," << bottom;
+    const char* colour = colours[s % 4];
+    svg << "<path d=\"" << path.str() << "\" fill=\"" << colour << "\" fill-opacity=\"0.25\" stroke=\"" << colour << "\"/>\n"
+        << "<text x=\"" << left + width + 10 << "\" y=\"" << top + 12 + 14 * s << "\" font-size=\"11\" fill=\"" << colour << "\">"
+        << Escape(series[s].first) << " (n = " << series[s].second.size() << ")</text>\n";
+  }
+  if (reference > 0) {
+    const double x = left + width * reference / upper;
+    svg << "<line x1=\"" << x << "\" y1=\"" << top << "\" x2=\"" << x << "\" y2=\"" << bottom
+        << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\" stroke-width=\"2\"/><text x=\"" << x + 4 << "\" y=\"" << top + 10
+        << "\" font-size=\"10\" fill=\"#d62728\">" << Escape(reference_label) << "</text>\n";
+  }
+  svg << "</svg></figure>\n";
+  return svg.str();
+}
+
+double HumanGalt(const std::string& robot) {
+  if (robot == "gr1t2") return kHumanGaltGr1t2;
+  if (robot == "reachy2") return kHumanGaltReachy2;
+  return 0.0;
+}
+
+std::vector<std::string> Robots(const Json& summary) {
+  std::vector<std::string> robots;
+  for (const Json& cell : summary["cells"]) {
+    const std::string robot = cell["robot"];
+    if (std::find(robots.begin(), robots.end(), robot) == robots.end()) robots.push_back(robot);
+  }
+  return robots;
+}
+
+std::string HtmlTable(const TextTable& table) {
+  std::ostringstream html;
+  html << "<h3>" << Escape(table.title) << "</h3>\n<table><tr>";
+  for (const std::string& name : table.header) html << "<th>" << Escape(name) << "</th>";
+  html << "</tr>\n";
+  for (const std::vector<std::string>& row : table.rows) {
+    html << "<tr>";
+    for (const std::string& cell : row) html << "<td>" << Escape(cell) << "</td>";
+    html << "</tr>\n";
+  }
+  html << "</table>\n";
+  if (!table.note.empty()) html << "<p class=\"note\">" << Escape(table.note) << "</p>\n";
+  return html.str();
+}
+
+std::string Field(const std::string& cell, const std::string& field, const std::string& text) {
+  return "<td data-cell=\"" + Escape(cell) + "\" data-field=\"" + field + "\">" + Escape(text) + "</td>";
+}
+
+// Every cell with its own numbers (percent with one decimal, seconds with two), for reading and
+// for checking against summary.json.
+std::string CellTable(const Json& summary) {
+  std::ostringstream html;
+  html << "<h3>Cells</h3>\n<table id=\"cells\"><tr><th>cell</th><th>episodes</th><th>successful</th><th>success %</th>"
+          "<th>ci low %</th><th>ci high %</th><th>successful length mean s</th><th>GALT mean s</th></tr>\n";
+  for (const Json& cell : summary["cells"]) {
+    const std::string id = cell["id"];
+    html << "<tr><td>" << Escape(id) << "</td>" << Field(id, "n_episodes", std::to_string(cell["n_episodes"].get<int64_t>()))
+         << Field(id, "n_successful", std::to_string(cell["n_successful"].get<int64_t>()))
+         << Field(id, "success_rate", Percent(cell["success_rate"])) << Field(id, "ci_low", Percent(cell["ci_low"]))
+         << Field(id, "ci_high", Percent(cell["ci_high"]))
+         << Field(id, "successful_length_mean_s", Seconds(cell["successful_length_s"]["mean"]))
+         << Field(id, "galt_mean_s", cell["galt"].is_null() ? "-" : Seconds(cell["galt"]["mean_s"])) << "</tr>\n";
+  }
+  html << "</table>\n";
+  return html.str();
+}
+
+}  // namespace
+
+std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>TAVIS sweep report</title>\n<style>\n"
+          "body{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}table{border-collapse:collapse;margin:0.5em 0}"
+          "td,th{border:1px solid #ccc;padding:2px 6px;font-size:12px;text-align:right}td:first-child{text-align:left}"
+          "figure{margin:1em 0}figcaption{font-weight:bold;font-size:13px}.note{font-size:12px;color:#555}"
+          "pre{background:#f6f6f6;padding:0.5em;font-size:11px;overflow:auto}\n</style></head><body>\n"
+       << "<h1>TAVIS sweep report</h1>\n<p>" << summary["cells"].size() << " cells, policy "
+       << Escape(summary["spec"]["policy"]["name"].get<std::string>()) << ", " << summary["spec"]["episodes"] << " episodes per cell; program "
+       << Escape(manifest.value("version", "")) << ".</p>\n<h2>Success rates</h2>\n";
+  const std::vector<std::string> robots = Robots(summary);
+  for (const Json& suite : summary["success"]) {
+    for (const std::string& robot : robots) html << SuccessPlot(suite, robot);
+  }
+  html << "<h2>GALT distributions (head camera, successful episodes)</h2>\n";
+  for (const std::string& robot : robots) {
+    std::vector<double> values;
+    for (const Json& cell : summary["cells"]) {
+      if (cell["robot"] != robot || cell["galt"].is_null()) continue;
+      for (const Json& value : cell["galt"]["values_s"]) values.push_back(value);
+    }
+    char label[64];
+    std::snprintf(label, sizeof(label), "human %.2f s", HumanGalt(robot));
+    html << Histogram(robot + ": GALT (s)", {{robot + " head", values}}, "s", HumanGalt(robot), label);
+  }
+  html << "<h2>Successful-episode length distributions</h2>\n";
+  for (const std::string& robot : robots) {
+    std::vector<std::pair<std::string, std::vector<double>>> series;
+    for (const char* camera : {"head", "fixed"}) {
+      std::vector<double> values;
+      for (const Json& cell : summary["cells"]) {
+        if (cell["robot"] != robot || cell["camera"] != camera) continue;
+        for (const Json& value : cell["successful_length_s"]["values"]) values.push_back(value);
+      }
+      if (!values.empty()) series.emplace_back(camera, values);
+    }
+    if (!series.empty()) html << Histogram(robot + ": length of successful episodes (s)", series, "s", 0.0, "");
+  }
+  html << "<h2>Tables</h2>\n";
+  for (const TextTable& table : SweepTables(summary)) html << HtmlTable(table);
+  html << CellTable(summary);
+  html << "<h2>Spec</h2>\n<pre id=\"spec\">" << Escape(summary["spec"].dump(2)) << "</pre>\n<h2>Manifest</h2>\n<pre id=\"manifest\">"
+       << Escape(manifest.dump(2)) << "</pre>\n</body></html>\n";
+  return html.str();
+}
+
+}  // namespace tavis::batch::report

@@ -1,0 +1,34 @@
+// The numbers of a sweep, computed once from its cells' episode records into summary.json; the
+// tables and the HTML report are written from this JSON, so their numbers are its numbers.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/episode_recorder.h"
+#include "batch/evaluation_cell.h"
+
+namespace tavis::batch::report {
+
+struct CellEpisodes {
+  std::string id;
+  EvaluationCellConfig config;
+  std::vector<EpisodeRecord> episodes;  // in episode order
+};
+
+// The human teleoperators' mean GALT per robot (reference 11.3), marked on the GALT plots.
+inline constexpr double kHumanGaltGr1t2 = 2.57;
+inline constexpr double kHumanGaltReachy2 = 2.10;
+
+// summary.json: "spec" (as given), "cells" (per cell: counts, rate, Wilson interval, the lengths of
+// its successful episodes in seconds at 20 Hz with mean/median/std, its GALT summary and values),
+// "success" (per suite: the paper-layout table's columns, task rows and suite means),
+// "id_minus_ood" (per task, robot, camera and ood split, in points), "paired" (head vs fixed per
+// task, robot and split over matched episodes, McNemar's exact p), "galt" (per robot, task and
+// split over the head cells). Cells of several seeds are pooled in everything but "cells".
+// No timing: the same episodes give the same bytes.
+nlohmann::ordered_json SweepSummaryJson(const nlohmann::ordered_json& spec, const std::vector<CellEpisodes>& cells);
+
+}  // namespace tavis::batch::report

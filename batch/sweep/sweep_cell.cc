@@ -1,0 +1,68 @@
+#include "batch/sweep/sweep_cell.h"
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/cell_record_stream.h"
+#include "batch/cell_report.h"
+
+namespace tavis::batch::sweep {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::optional<nlohmann::json> ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const fs::path& dir, const EvaluationCellConfig& config) {
+  const std::optional<nlohmann::json> settings = ReadJson(dir / "cell.json");
+  const std::optional<nlohmann::json> summary = ReadJson(dir / "summary.json");
+  if (!settings || !summary || *settings != CellSettingsJson(config)) return std::nullopt;
+  std::ifstream in(dir / "episodes.jsonl", std::ios::binary);
+  std::vector<EpisodeRecord> records;
+  int64_t successes = 0;
+  for (std::string line; std::getline(in, line);) {
+    try {
+      records.push_back(ParseEpisodeJsonLine(line));
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+    if (records.back().episode != static_cast<int64_t>(records.size()) - 1) return std::nullopt;
+    successes += records.back().success ? 1 : 0;
+  }
+  if (static_cast<int64_t>(records.size()) != config.episodes || summary->value("n_episodes", int64_t{-1}) != config.episodes ||
+      summary->value("n_successful", int64_t{-1}) != successes) {
+    return std::nullopt;
+  }
+  return records;
+}
+
+CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, int threads, const ProgressCallback& progress) {
+  // A folder with settings continues; anything else there (a cell that failed before writing its
+  // settings, or one whose summary does not match its records) starts over.
+  const bool resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
+  if (!resume) fs::remove_all(dir);
+  CellRecordStream stream(dir.string(), config, resume);
+  EvaluationCellConfig remaining = config;
+  remaining.first_episode = stream.next_episode();
+  CellResult result = RunEvaluationCell(remaining, progress, [&stream](const EpisodeRecord& record) { stream.Write(record); });
+  std::vector<EpisodeRecord> episodes = stream.resumed();
+  for (EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
+  result.episodes = std::move(episodes);
+  result.successes = 0;
+  for (const EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
+  WriteCellSummary(result, {threads, stream.next_episode()}, dir.string());
+  return result;
+}
+
+}  // namespace tavis::batch::sweep

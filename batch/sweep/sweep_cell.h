@@ -1,0 +1,26 @@
+// One cell of a sweep in its folder, through the eval cell's record stream: a cell interrupted
+// after some episodes continues after its complete ones (their records are kept, a torn last line
+// is cut), a complete one is recognised by checking its files against its settings.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "batch/episode_driver.h"
+#include "batch/episode_recorder.h"
+#include "batch/evaluation_cell.h"
+
+namespace tavis::batch::sweep {
+
+// The cell's records when DIR holds it complete: cell.json with these settings, summary.json,
+// and episodes.jsonl with exactly episodes 0 .. N-1 whose successes match the summary's count.
+// nullopt otherwise (absent, interrupted, or not matching: such a folder is run again).
+std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir, const EvaluationCellConfig& config);
+
+// Runs the cell into DIR (continuing an interrupted one), writes its summary.json last and
+// returns the whole cell's result (the kept records first).
+CellResult RunCellInto(const EvaluationCellConfig& config, const std::filesystem::path& dir, int threads,
+                       const ProgressCallback& progress);
+
+}  // namespace tavis::batch::sweep

@@ -1,0 +1,114 @@
+#include "batch/sweep/sweep_manifest.h"
+
+#include <sys/utsname.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+#include "batch/atomic_file.h"
+#include "batch/settings_difference.h"
+
+#ifndef TAVIS_VERSION
+#define TAVIS_VERSION "unknown"
+#endif
+
+namespace tavis::batch::sweep {
+namespace {
+
+std::string UtcNow() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+}  // namespace
+
+std::string ProgramVersion() { return TAVIS_VERSION; }
+
+nlohmann::ordered_json MachineJson() {
+  char host[256] = {};
+  gethostname(host, sizeof(host) - 1);
+  utsname system{};
+  uname(&system);
+  return {{"hostname", host},
+          {"cores", std::thread::hardware_concurrency()},
+          {"system", std::string(system.sysname) + " " + system.release + " " + system.machine}};
+}
+
+SweepManifest::SweepManifest(const SweepSpec& spec, const std::string& spec_yaml, const Shard& shard,
+                             const std::vector<std::string>& cell_ids) {
+  nlohmann::ordered_json cells = nlohmann::ordered_json::object();
+  for (const std::string& id : cell_ids) cells[id] = "pending";
+  json_ = {{"format", "tavis-sweep/1"},
+           {"spec", SweepSpecJson(spec)},
+           {"spec_file", spec.source},
+           {"spec_yaml", spec_yaml},
+           {"version", ProgramVersion()},
+           {"machine", MachineJson()},
+           {"shard", {{"index", shard.index}, {"count", shard.count}}},
+           {"cells", cells},
+           {"timing", {{"started", UtcNow()}, {"updated", UtcNow()}}}};
+}
+
+nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
+  const std::filesystem::path path = dir / "manifest.json";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open file (not a sweep's output folder?)");
+  nlohmann::ordered_json manifest;
+  try {
+    manifest = nlohmann::ordered_json::parse(in);
+  } catch (const nlohmann::json::exception& error) {
+    throw std::runtime_error(path.string() + ": invalid JSON: " + error.what());
+  }
+  for (const char* key : {"spec", "spec_yaml", "version", "shard", "cells"}) {
+    if (!manifest.contains(key)) throw std::runtime_error(path.string() + ": missing key '" + key + "'");
+  }
+  return manifest;
+}
+
+void SweepManifest::RequireSameSweep(const nlohmann::ordered_json& existing, const std::filesystem::path& dir) const {
+  const auto compared = [](const nlohmann::ordered_json& manifest) {
+    return nlohmann::json::parse(nlohmann::ordered_json{{"spec", manifest["spec"]}, {"version", manifest["version"]},
+                                                        {"shard", manifest["shard"]}}.dump());
+  };
+  const nlohmann::json was = compared(existing);
+  const nlohmann::json now = compared(json_);
+  const std::string difference = SettingsDifference(was, now);
+  if (!difference.empty()) {
+    throw std::invalid_argument(dir.string() + " holds another sweep (" + difference +
+                                "); give another --out, or remove it to start over");
+  }
+}
+
+void SweepManifest::SetState(const std::string& cell_id, const std::string& state) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  json_["cells"][cell_id] = state;
+  json_["timing"]["updated"] = UtcNow();
+}
+
+void SweepManifest::SetTiming(double wall_s, int threads, int jobs) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  json_["timing"]["wall_s"] = wall_s;
+  json_["timing"]["threads"] = threads;
+  json_["timing"]["concurrent_cells"] = jobs;
+  json_["timing"]["updated"] = UtcNow();
+}
+
+nlohmann::ordered_json SweepManifest::Json() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return json_;
+}
+
+void SweepManifest::Write(const std::filesystem::path& dir) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  WriteFileAtomically(dir / "manifest.json", json_.dump(2) + "\n");
+}
+
+}  // namespace tavis::batch::sweep

@@ -1,0 +1,78 @@
+#include "batch/sweep/sweep_merge.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "batch/atomic_file.h"
+#include "batch/settings_difference.h"
+#include "batch/sweep/sweep_cell.h"
+#include "batch/sweep/sweep_manifest.h"
+#include "batch/sweep/sweep_results.h"
+#include "batch/sweep/sweep_spec.h"
+
+namespace tavis::batch::sweep {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+// The settings shards must share, as plain JSON for SettingsDifference.
+nlohmann::json SweepIdentity(const Json& manifest) {
+  return nlohmann::json::parse(Json{{"spec", manifest["spec"]}, {"version", manifest["version"]},
+                                    {"shard count", manifest["shard"]["count"]}}.dump());
+}
+
+}  // namespace
+
+void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir, const std::string& config_dir) {
+  if (shard_dirs.empty()) throw std::invalid_argument("merge needs the shards' output folders");
+  std::vector<Json> manifests;
+  for (const std::string& dir : shard_dirs) manifests.push_back(SweepManifest::Read(dir));
+  const Json& first = manifests.front();
+  const int count = first["shard"]["count"].get<int>();
+  std::vector<std::string> shard_of(static_cast<std::size_t>(count));
+  std::vector<const Json*> manifest_of(static_cast<std::size_t>(count), nullptr);
+  for (std::size_t s = 0; s < manifests.size(); ++s) {
+    const std::string difference = SettingsDifference(SweepIdentity(first), SweepIdentity(manifests[s]));
+    if (!difference.empty()) {
+      throw std::invalid_argument("shards of different sweeps: " + shard_dirs[s] + " differs from " + shard_dirs.front() + ": " + difference);
+    }
+    const int index = manifests[s]["shard"]["index"].get<int>();
+    if (index < 0 || index >= count) throw std::invalid_argument(shard_dirs[s] + "/manifest.json: shard index " + std::to_string(index) + " out of range");
+    if (!shard_of[index].empty()) throw std::invalid_argument("shard " + std::to_string(index) + " given twice: " + shard_of[index] + " and " + shard_dirs[s]);
+    shard_of[index] = shard_dirs[s];
+    manifest_of[index] = &manifests[s];
+  }
+  std::string missing;
+  for (int index = 0; index < count; ++index) {
+    if (shard_of[index].empty()) missing += (missing.empty() ? "" : ", ") + std::to_string(index) + "/" + std::to_string(count);
+  }
+  if (!missing.empty()) throw std::invalid_argument("merge needs every shard; missing " + missing);
+
+  const SweepSpec spec = ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir);
+  const std::vector<SweepCell> cells = ExpandCells(spec, config_dir);
+  const fs::path out = out_dir;
+  if (fs::exists(out) && !(fs::is_directory(out) && fs::is_empty(out))) {
+    throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
+  }
+  fs::create_directories(out / "cells");
+  SweepManifest manifest(spec, first["spec_yaml"].get<std::string>(), Shard{0, 1}, {});
+  Json merged = manifest.Json();
+  merged["spec_file"] = first["spec_file"];
+  merged["merged_from"] = Json::array();
+  for (int index = 0; index < count; ++index) {
+    merged["merged_from"].push_back({{"dir", shard_of[index]}, {"machine", (*manifest_of[index])["machine"]}, {"timing", (*manifest_of[index])["timing"]}});
+  }
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const fs::path from = fs::path(shard_of[i % static_cast<std::size_t>(count)]) / "cells" / cells[i].id;
+    if (!ReadCompleteCell(from, cells[i].config)) {
+      throw std::invalid_argument(from.string() + " is not complete: rerun that shard (it resumes) before merging");
+    }
+    fs::copy(from, out / "cells" / cells[i].id, fs::copy_options::recursive);
+    merged["cells"][cells[i].id] = "complete";
+  }
+  WriteFileAtomically(out / "manifest.json", merged.dump(2) + "\n");
+  WriteSweepResults(out, SweepSpecJson(spec), cells, merged);
+}
+
+}  // namespace tavis::batch::sweep

@@ -1,0 +1,113 @@
+#include "batch/sweep/sweep_runner.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <fstream>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "batch/cell_report.h"
+#include "batch/sweep/sweep_cell.h"
+#include "batch/sweep/sweep_manifest.h"
+#include "batch/sweep/sweep_progress.h"
+#include "batch/sweep/sweep_results.h"
+
+namespace tavis::batch::sweep {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Episodes already recorded in an interrupted cell's folder (for the progress line).
+int64_t RecordedEpisodes(const fs::path& dir) {
+  std::ifstream in(dir / "episodes.jsonl");
+  int64_t lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  return lines;
+}
+
+}  // namespace
+
+void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
+  const fs::path out = options.out_dir;
+  const std::vector<SweepCell> all = ExpandCells(spec, options.config_dir);
+  std::vector<SweepCell> mine;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (InShard(i, options.shard)) mine.push_back(all[i]);
+  }
+  std::vector<std::string> ids;
+  for (const SweepCell& cell : mine) ids.push_back(cell.id);
+  for (const SweepCell& cell : mine) CheckEvaluationCell(cell.config);  // bad settings fail before any work
+
+  SweepManifest manifest(spec, options.spec_yaml, options.shard, ids);
+  if (fs::exists(out / "manifest.json")) manifest.RequireSameSweep(SweepManifest::Read(out), out);
+  fs::create_directories(out / "cells");
+
+  std::vector<const SweepCell*> to_run;
+  int64_t episodes_done = 0;
+  for (const SweepCell& cell : mine) {
+    const fs::path dir = out / "cells" / cell.id;
+    if (ReadCompleteCell(dir, cell.config)) {
+      manifest.SetState(cell.id, "complete");
+      episodes_done += cell.config.episodes;
+    } else {
+      if (fs::exists(dir / "cell.json")) {
+        manifest.SetState(cell.id, "interrupted");
+        episodes_done += std::min<int64_t>(RecordedEpisodes(dir), cell.config.episodes);
+      }
+      to_run.push_back(&cell);
+    }
+  }
+  manifest.Write(out);
+
+  const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : options.threads,
+                                             static_cast<int>(to_run.size())));
+  // Each running cell's own thread works too: TBB gets the cores the cell threads leave.
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                            static_cast<std::size_t>(std::max(1, options.threads - jobs + 1)));
+  SweepProgress progress(static_cast<int>(mine.size()), static_cast<int>(mine.size() - to_run.size()),
+                         static_cast<int64_t>(mine.size()) * spec.episodes, episodes_done, options.quiet);
+  const auto start = std::chrono::steady_clock::now();
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr first_error;
+  std::mutex error_mutex;
+  const auto worker = [&] {
+    for (std::size_t i = next++; i < to_run.size() && !failed; i = next++) {
+      const SweepCell& cell = *to_run[i];
+      try {
+        manifest.SetState(cell.id, "running");
+        manifest.Write(out);
+        int64_t reported = 0;
+        const CellResult result = RunCellInto(cell.config, out / "cells" / cell.id, options.threads,
+                                              [&progress, &reported](int64_t finished, int64_t) {
+                                                progress.AddEpisodes(finished - reported);
+                                                reported = finished;
+                                              });
+        manifest.SetState(cell.id, "complete");
+        manifest.Write(out);
+        progress.CellFinished(CellSummaryLine(result));
+      } catch (...) {
+        manifest.SetState(cell.id, "failed");
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!first_error) first_error = std::current_exception();
+        failed = true;
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
+  worker();
+  for (std::thread& thread : threads) thread.join();
+  manifest.SetTiming(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), options.threads, jobs);
+  manifest.Write(out);
+  if (first_error) std::rethrow_exception(first_error);
+  if (options.shard.count == 1) WriteSweepResults(out, SweepSpecJson(spec), all, manifest.Json());
+}
+
+}  // namespace tavis::batch::sweep

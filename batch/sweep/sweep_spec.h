@@ -1,0 +1,62 @@
+// A sweep spec (configs/sweeps/*.yaml): the evaluation cells of a sweep as the product of tasks
+// (named or by suite), robots, splits, camera protocols and seeds, each cell N episodes of one
+// policy. Read strictly: an unknown key, a missing key or a bad value is an error naming the file,
+// the key and the value.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/evaluation_cell.h"
+
+namespace tavis::batch::sweep {
+
+struct SweepSpec {
+  std::string source;               // the file it was read from, for messages
+  std::vector<std::string> suites;  // as given
+  std::vector<std::string> tasks;   // the suites' tasks in suite order, then the named ones, no repeats
+  std::vector<std::string> robots;
+  std::vector<scenarios::Split> splits;
+  std::vector<CameraProtocol> cameras;
+  std::vector<uint64_t> seeds;
+  int episodes = 96;
+  int envs = 32;  // env slots per cell (results do not depend on it)
+  // The policy and its settings, as an evaluation cell takes them.
+  std::string policy = "expert";
+  std::string actions_file;
+  std::vector<std::string> servers;
+  int replan_steps = 0;
+  std::string observation_keys = "tavis";
+  double server_timeout_s = 60.0;
+};
+
+struct SweepCell {
+  std::string id;  // <task>_<robot>_<split>_<camera>_<policy>_s<seed>, its folder under cells/
+  EvaluationCellConfig config;
+};
+
+// Throws configs::ConfigError ("FILE: key: message, got VALUE") for any mistake; robots must be
+// among configs_dir's robots/*.yaml.
+SweepSpec LoadSweepSpec(const std::string& path, const std::string& config_dir);
+SweepSpec ParseSweepSpec(const std::string& yaml_text, const std::string& source_name, const std::string& config_dir);
+
+// The spec's settings as JSON (what the manifest records and merge compares; not the file name).
+nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec);
+
+// Every cell, ordered task, robot, split, camera, seed (the spec's orders).
+std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& config_dir);
+
+struct Shard {
+  int index = 0;  // 0 <= index < count
+  int count = 1;
+};
+
+// "I/N" with 0 <= I < N; throws std::invalid_argument naming the text.
+Shard ParseShard(const std::string& text);
+// Shard I of N holds the cells whose position in ExpandCells() is I mod N.
+bool InShard(std::size_t cell_position, const Shard& shard);
+
+}  // namespace tavis::batch::sweep

@@ -1,0 +1,111 @@
+// Sweep specs are read strictly: every kind of mistake names the file, the key and the value.
+#include "batch/sweep/sweep_spec.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "configs/yaml_reader.h"
+
+namespace tavis::batch::sweep {
+namespace {
+
+const char* kValid =
+    "tasks: [clutter-pick-cube]\n"
+    "robots: [gr1t2]\n"
+    "splits: [id, ood-spatial]\n"
+    "cameras: [head, fixed]\n"
+    "seeds: [0, 7]\n"
+    "episodes: 3\n"
+    "policy:\n"
+    "  name: expert\n";
+
+SweepSpec Parse(const std::string& text) { return ParseSweepSpec(text, "specs/bad.yaml", TAVIS_CONFIG_DIR); }
+
+// The error for `text`, which must be refused.
+std::string ErrorOf(const std::string& text) {
+  try {
+    Parse(text);
+  } catch (const configs::ConfigError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "accepted:\n" << text;
+  return "";
+}
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(SweepSpec, ExpandsTheProductInSpecOrder) {
+  const SweepSpec spec = Parse(kValid);
+  const std::vector<SweepCell> cells = ExpandCells(spec, TAVIS_CONFIG_DIR);
+  ASSERT_EQ(cells.size(), 8U);
+  EXPECT_EQ(cells[0].id, "clutter-pick-cube_gr1t2_id_head_expert_s0");
+  EXPECT_EQ(cells[1].id, "clutter-pick-cube_gr1t2_id_head_expert_s7");
+  EXPECT_EQ(cells[2].id, "clutter-pick-cube_gr1t2_id_fixed_expert_s0");
+  EXPECT_EQ(cells[7].id, "clutter-pick-cube_gr1t2_ood-spatial_fixed_expert_s7");
+  EXPECT_EQ(cells[7].config.episodes, 3);
+  EXPECT_EQ(cells[7].config.seed, 7U);
+}
+
+TEST(SweepSpec, SuitesBringTheirTasksOnce) {
+  const SweepSpec spec = Parse(Replace(kValid, "tasks: [clutter-pick-cube]", "suites: [tavis-head, tavis-hands]\ntasks: [clutter-pick-cube]"));
+  EXPECT_EQ(spec.tasks.size(), 8U);
+}
+
+TEST(SweepSpec, ShardsPartitionTheCells) {
+  EXPECT_EQ(ParseShard("2/3").index, 2);
+  int held = 0;
+  for (std::size_t cell = 0; cell < 10; ++cell) {
+    for (int index = 0; index < 3; ++index) held += InShard(cell, {index, 3}) ? 1 : 0;
+  }
+  EXPECT_EQ(held, 10);
+  for (const char* bad : {"3/3", "1", "-1/3", "a/b", "0/0", "1/2/3"}) {
+    EXPECT_THROW(ParseShard(bad), std::invalid_argument) << bad;
+  }
+}
+
+struct BadSpec {
+  const char* name;
+  const char* from;
+  const char* to;
+  const char* key;    // the key path the message names
+  const char* value;  // the bad value it quotes
+};
+
+class SweepSpecErrors : public ::testing::TestWithParam<BadSpec> {};
+
+TEST_P(SweepSpecErrors, NameFileKeyAndValue) {
+  const BadSpec& bad = GetParam();
+  const std::string error = ErrorOf(Replace(kValid, bad.from, bad.to));
+  EXPECT_NE(error.find("specs/bad.yaml"), std::string::npos) << error;
+  EXPECT_NE(error.find(bad.key), std::string::npos) << error;
+  EXPECT_NE(error.find(bad.value), std::string::npos) << error;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Mistakes, SweepSpecErrors,
+    ::testing::Values(BadSpec{"UnknownKey", "episodes: 3", "episodes: 3\nepisode: 4", "episode", "episode"},
+                      BadSpec{"UnknownTask", "[clutter-pick-cube]", "[clutter-pick-cub]", "tasks[0]", "clutter-pick-cub"},
+                      BadSpec{"UnknownSuite", "tasks: [clutter-pick-cube]", "suites: [tavis-feet]", "suites[0]", "tavis-feet"},
+                      BadSpec{"UnknownRobot", "[gr1t2]", "[gr1t2, atlas]", "robots[1]", "atlas"},
+                      BadSpec{"UnknownSplit", "[id, ood-spatial]", "[id, ood]", "splits[1]", "'ood'"},
+                      BadSpec{"UnknownCamera", "[head, fixed]", "[head, wrist]", "cameras[1]", "wrist"},
+                      BadSpec{"RepeatedCamera", "[head, fixed]", "[head, head]", "cameras[1]", "head"},
+                      BadSpec{"NegativeSeed", "[0, 7]", "[0, -7]", "seeds[1]", "-7"},
+                      BadSpec{"SeedTooLarge", "[0, 7]", "[18446744073709551616]", "seeds[0]", "18446744073709551616"},
+                      BadSpec{"ZeroEpisodes", "episodes: 3", "episodes: 0", "episodes", "got 0"},
+                      BadSpec{"TextEpisodes", "episodes: 3", "episodes: many", "episodes", "many"},
+                      BadSpec{"EmptyRobots", "[gr1t2]", "[]", "robots", "[]"},
+                      BadSpec{"UnknownPolicy", "name: expert", "name: oracle", "policy.name", "oracle"},
+                      BadSpec{"ReplayWithoutActions", "name: expert", "name: replay", "policy", "replay"},
+                      BadSpec{"ServersForExpert", "name: expert", "name: expert\n  servers: [ws://x:1]", "policy.servers", "expert"},
+                      BadSpec{"UnknownPolicyKey", "name: expert", "name: expert\n  temperature: 2", "policy", "temperature"},
+                      BadSpec{"MissingRobots", "robots: [gr1t2]\n", "", "robots", "robots"}),
+    [](const ::testing::TestParamInfo<BadSpec>& case_info) { return std::string(case_info.param.name); });
+
+}  // namespace
+}  // namespace tavis::batch::sweep
