@@ -76,7 +76,7 @@ nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
 void SweepManifest::RequireSameSweep(const nlohmann::ordered_json& existing, const std::filesystem::path& dir) const {
   const auto compared = [](const nlohmann::ordered_json& manifest) {
     return nlohmann::json::parse(nlohmann::ordered_json{{"spec", manifest["spec"]}, {"version", manifest["version"]},
-                                                        {"shard", manifest["shard"]}}.dump());
+                                                        {"shard", manifest["shard"]}}.flatten().dump());
   };
   const nlohmann::json was = compared(existing);
   const nlohmann::json now = compared(json_);

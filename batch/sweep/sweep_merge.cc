@@ -16,10 +16,10 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-// The settings shards must share, as plain JSON for SettingsDifference.
+// The settings shards must share, flattened for SettingsDifference ("/spec/episodes 6 -> 5").
 nlohmann::json SweepIdentity(const Json& manifest) {
   return nlohmann::json::parse(Json{{"spec", manifest["spec"]}, {"version", manifest["version"]},
-                                    {"shard count", manifest["shard"]["count"]}}.dump());
+                                    {"shard count", manifest["shard"]["count"]}}.flatten().dump());
 }
 
 }  // namespace

@@ -1,0 +1,216 @@
+// `tavis sweep` end to end on a small sweep: the results do not depend on the thread count or on
+// running cells at once; a sweep killed mid-cell and rerun ends with the records of an
+// uninterrupted run; three shards merged equal the unsharded sweep; bad specs are named; the
+// HTML report read back by headless Chromium shows summary.json's numbers.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/child_process.h"
+#include "tool_runner.h"
+
+namespace tavis::tools {
+namespace {
+
+using SweepCommand = TavisCommandTest;
+
+// 4 cells (2 splits x head/fixed) of 6 episodes: a second or two.
+const char* kSpec =
+    "tasks: [clutter-pick-cube]\n"
+    "robots: [gr1t2]\n"
+    "splits: [id, ood-spatial]\n"
+    "cameras: [head, fixed]\n"
+    "seeds: [3]\n"
+    "episodes: 6\n"
+    "envs: 2\n"
+    "policy:\n"
+    "  name: expert\n";
+
+const char* kFirstCell = "clutter-pick-cube_gr1t2_id_head_expert_s3";
+
+class SweepRuns : public SweepCommand {
+ protected:
+  void SetUp() override {
+    SweepCommand::SetUp();
+    spec_ = root_ / "small.yaml";
+    std::ofstream(spec_) << kSpec;
+  }
+  RunResult Sweep(const fs::path& out, const std::string& options = "") const {
+    return Run("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet " + options);
+  }
+  fs::path spec_;
+
+// What a run decides, with the fields that say how it ran (time, threads, resumed episodes) taken
+// out (a resumed cell counts the control ticks of its last run only): every file but the manifest, each cell's summary without its timing fields, the report
+// without the manifest it shows.
+  static std::map<std::string, std::string> Results(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& [path, text] : Snapshot(dir)) {
+    const std::string name = fs::relative(path, dir).string();
+    if (name == "manifest.json") continue;
+    if (name.rfind("cells/", 0) == 0 && fs::path(name).filename() == "summary.json") {
+      nlohmann::json summary = nlohmann::json::parse(text);
+      for (const char* timing : {"wall_s", "control_ticks_per_s", "threads", "resumed_episodes", "control_ticks"}) summary.erase(timing);
+      files[name] = summary.dump(2);
+    } else if (name == "report.html") {
+      files[name] = std::regex_replace(text, std::regex("<pre id=\"manifest\">[^]*?</pre>"), "");
+    } else {
+      files[name] = text;
+    }
+  }
+  return files;
+}
+
+  static void ExpectSameResults(const fs::path& expected, const fs::path& actual) {
+  const auto want = Results(expected);
+  const auto got = Results(actual);
+  ASSERT_FALSE(want.empty());
+  for (const auto& [name, text] : want) {
+    const auto it = got.find(name);
+    ASSERT_NE(it, got.end()) << actual << " lacks " << name;
+    EXPECT_EQ(it->second, text) << name << " differs between " << expected << " and " << actual;
+  }
+  EXPECT_EQ(got.size(), want.size());
+}
+};
+
+TEST_F(SweepRuns, ThreadsAndConcurrentCellsGiveIdenticalResults) {
+  const RunResult one = Sweep(root_ / "one", "--threads 1");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  ASSERT_EQ(Sweep(root_ / "two", "--threads 2").exit_code, 0);  // two cells at once
+  ASSERT_EQ(Sweep(root_ / "two_in_one_cell", "--threads 2 --concurrent-cells 1").exit_code, 0);
+  ASSERT_EQ(Sweep(root_ / "one_thread_two_cells", "--threads 1 --concurrent-cells 2").exit_code, 0);
+  ExpectSameResults(root_ / "one", root_ / "two");
+  ExpectSameResults(root_ / "one", root_ / "two_in_one_cell");
+  ExpectSameResults(root_ / "one", root_ / "one_thread_two_cells");
+  // One line per finished cell, with the counts in quiet mode.
+  EXPECT_EQ(Lines(one.out).size(), 5U) << one.out;
+  EXPECT_NE(one.out.find("[cells 4/4, episodes 24/24"), std::string::npos) << one.out;
+  const nlohmann::json manifest = nlohmann::json::parse(ReadText(root_ / "one" / "manifest.json"));
+  EXPECT_EQ(manifest["cells"][kFirstCell], "complete");
+  EXPECT_FALSE(manifest["version"].get<std::string>().empty());
+  EXPECT_FALSE(manifest["machine"]["hostname"].get<std::string>().empty());
+  EXPECT_EQ(manifest["spec_yaml"], kSpec);
+}
+
+// Starts `tavis ARGS` and SIGKILLs it once `file` has `lines` lines; false if it finished first.
+bool KillWhenLinesAppear(const std::string& args, const fs::path& file, std::size_t lines) {
+  const pid_t child = fork();
+  if (child == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + args + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (Lines(ReadText(file)).size() < lines && std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(child, nullptr, WNOHANG) == child) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFSIGNALED(status);
+}
+
+TEST_F(SweepRuns, KilledMidCellAndRerunEqualsAnUninterruptedRun) {
+  ASSERT_EQ(Sweep(root_ / "whole", "--threads 1").exit_code, 0);
+  const fs::path out = root_ / "killed";
+  const fs::path first = out / "cells" / kFirstCell / "episodes.jsonl";
+  ASSERT_TRUE(KillWhenLinesAppear("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet --threads 1 --concurrent-cells 1",
+                                  first, 2))
+      << "the sweep finished before it could be killed";
+  const std::size_t kept = Lines(ReadText(first)).size();
+  ASSERT_LT(kept, 6U) << "killed after the cell ended: nothing was interrupted";
+  EXPECT_FALSE(fs::exists(out / "cells" / kFirstCell / "summary.json"));
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  EXPECT_EQ(nlohmann::json::parse(ReadText(out / "manifest.json"))["cells"][kFirstCell], "running");
+
+  const RunResult rerun = Sweep(out, "--threads 2");
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.err;
+  ExpectSameResults(root_ / "whole", out);
+  // Every episode exactly once, in order, in every cell.
+  for (const auto& cell : fs::directory_iterator(out / "cells")) {
+    const std::vector<std::string> lines = Lines(ReadText(cell.path() / "episodes.jsonl"));
+    ASSERT_EQ(lines.size(), 6U) << cell.path();
+    for (std::size_t i = 0; i < lines.size(); ++i) EXPECT_EQ(nlohmann::json::parse(lines[i])["episode"], i) << cell.path();
+  }
+  EXPECT_EQ(nlohmann::json::parse(ReadText(out / "cells" / kFirstCell / "summary.json"))["resumed_episodes"], kept);
+
+  // A complete sweep reruns nothing; a cell whose files do not match is run again.
+  const RunResult again = Sweep(out);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(Lines(again.out).size(), 1U) << again.out;
+  std::ofstream(out / "cells" / kFirstCell / "episodes.jsonl", std::ios::app) << "{\"episode\": 6}\n";
+  const RunResult repaired = Sweep(out);
+  ASSERT_EQ(repaired.exit_code, 0) << repaired.err;
+  EXPECT_EQ(Lines(repaired.out).size(), 2U) << repaired.out;
+  ExpectSameResults(root_ / "whole", out);
+}
+
+TEST_F(SweepRuns, ThreeShardsMergedEqualTheUnshardedSweep) {
+  ASSERT_EQ(Sweep(root_ / "whole").exit_code, 0);
+  std::string shards;
+  for (int index = 0; index < 3; ++index) {
+    const fs::path shard = root_ / ("shard" + std::to_string(index));
+    const RunResult run = Sweep(shard, "--shard " + std::to_string(index) + "/3");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_FALSE(fs::exists(shard / "summary.json")) << "a shard alone is not the sweep's result";
+    shards += " " + Quote(shard.string());
+  }
+  const RunResult merged = Run("sweep merge --out " + Quote((root_ / "merged").string()) + shards);
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  ExpectSameResults(root_ / "whole", root_ / "merged");
+
+  // Refused: a shard missing, a shard given twice, a shard of another spec.
+  const RunResult missing = Run("sweep merge --out " + Quote((root_ / "m2").string()) + " " + Quote((root_ / "shard0").string()) + " " +
+                                Quote((root_ / "shard2").string()));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("missing 1/3"), std::string::npos) << missing.err;
+  std::string other_spec = kSpec;
+  other_spec.replace(other_spec.find("episodes: 6"), 11, "episodes: 5");
+  std::ofstream(root_ / "other.yaml") << other_spec;
+  ASSERT_EQ(Run("sweep " + Quote((root_ / "other.yaml").string()) + " --quiet --shard 1/3 --out " + Quote((root_ / "other1").string())).exit_code, 0);
+  const RunResult mixed = Run("sweep merge --out " + Quote((root_ / "m3").string()) + " " + Quote((root_ / "shard0").string()) + " " +
+                              Quote((root_ / "other1").string()) + " " + Quote((root_ / "shard2").string()));
+  EXPECT_EQ(mixed.exit_code, 1);
+  EXPECT_NE(mixed.err.find("different sweeps"), std::string::npos) << mixed.err;
+  EXPECT_NE(mixed.err.find("/spec/episodes 6 -> 5"), std::string::npos) << mixed.err;
+  // And a folder of one sweep does not take another's cells.
+  const RunResult reuse = Run("sweep " + Quote((root_ / "other.yaml").string()) + " --quiet --out " + Quote((root_ / "whole").string()));
+  EXPECT_EQ(reuse.exit_code, 1);
+  EXPECT_NE(reuse.err.find("holds another sweep"), std::string::npos) << reuse.err;
+}
+
+TEST_F(SweepRuns, BadSpecNamesFileKeyAndValueAndWritesNothing) {
+  std::string bad = kSpec;
+  bad.replace(bad.find("[head, fixed]"), 13, "[head, side]");
+  std::ofstream(root_ / "bad.yaml") << bad;
+  const RunResult run = Run("sweep " + Quote((root_ / "bad.yaml").string()) + " --out " + Quote((root_ / "out").string()));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find((root_ / "bad.yaml").string() + ": cameras[1]: unknown camera protocol 'side'"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(root_ / "out"));
+  const RunResult shard = Sweep(root_ / "out", "--shard 3/3");
+  EXPECT_EQ(shard.exit_code, 1);
+  EXPECT_NE(shard.err.find("'3/3'"), std::string::npos) << shard.err;
+}
+
+TEST_F(SweepRuns, HtmlReportInHeadlessChromiumShowsTheJsonNumbers) {
+  ASSERT_EQ(Sweep(root_ / "out").exit_code, 0);
+  fs::create_directories(root_ / "chromium");
+  testing::ChildProcess check(testing::kDebianPython,
+                              {TAVIS_TEST_DATA_DIR "/sweep/check_report_in_chromium.py", (root_ / "out").string(), (root_ / "chromium").string()},
+                              "needs Debian's chromium and python3-av (.ci/install-deps)");
+  const std::string report = check.ReadAllOutput(std::chrono::seconds(180));
+  EXPECT_NE(report.find("report ok: 4 cells"), std::string::npos) << report;
+}
+
+}  // namespace
+}  // namespace tavis::tools
