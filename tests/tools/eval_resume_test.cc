@@ -18,25 +18,6 @@ namespace {
 
 using EvalResume = TavisCommandTest;
 
-// Starts `tavis ARGS` and kills it with `signal` once `file` has at least `lines` lines.
-// Returns false if the program finished first.
-bool KillWhenLinesAppear(const std::string& args, const fs::path& file, std::size_t lines, int signal) {
-  const pid_t child = fork();
-  if (child == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + args + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (Lines(ReadText(file)).size() < lines && std::chrono::steady_clock::now() < deadline) {
-    if (waitpid(child, nullptr, WNOHANG) == child) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  kill(child, signal);
-  int status = 0;
-  waitpid(child, &status, 0);
-  return WIFSIGNALED(status);
-}
-
 class EvalInterrupted : public EvalResume, public ::testing::WithParamInterface<int> {};
 
 TEST_P(EvalInterrupted, KeepsCompleteEpisodesAndResumesToTheSameRecords) {

@@ -102,30 +102,12 @@ TEST_F(SweepRuns, ThreadsAndConcurrentCellsGiveIdenticalResults) {
   EXPECT_EQ(manifest["spec_yaml"], kSpec);
 }
 
-// Starts `tavis ARGS` and SIGKILLs it once `file` has `lines` lines; false if it finished first.
-bool KillWhenLinesAppear(const std::string& args, const fs::path& file, std::size_t lines) {
-  const pid_t child = fork();
-  if (child == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + args + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (Lines(ReadText(file)).size() < lines && std::chrono::steady_clock::now() < deadline) {
-    if (waitpid(child, nullptr, WNOHANG) == child) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  kill(child, SIGKILL);
-  int status = 0;
-  waitpid(child, &status, 0);
-  return WIFSIGNALED(status);
-}
-
 TEST_F(SweepRuns, KilledMidCellAndRerunEqualsAnUninterruptedRun) {
   ASSERT_EQ(Sweep(root_ / "whole", "--threads 1").exit_code, 0);
   const fs::path out = root_ / "killed";
   const fs::path first = out / "cells" / kFirstCell / "episodes.jsonl";
   ASSERT_TRUE(KillWhenLinesAppear("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet --threads 1 --concurrent-cells 1",
-                                  first, 2))
+                                  first, 2, SIGKILL))
       << "the sweep finished before it could be killed";
   const std::size_t kept = Lines(ReadText(first)).size();
   ASSERT_LT(kept, 6U) << "killed after the cell ended: nothing was interrupted";

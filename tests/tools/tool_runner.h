@@ -4,15 +4,18 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace tavis::tools {
@@ -46,6 +49,25 @@ inline std::vector<std::string> Lines(const std::string& text) {
     if (!line.empty()) lines.push_back(line);
   }
   return lines;
+}
+
+// Starts `tavis ARGS` and kills it with `signal` once `file` has at least `lines` lines (waiting
+// at most a minute). Returns false if the program finished first.
+inline bool KillWhenLinesAppear(const std::string& args, const fs::path& file, std::size_t lines, int signal) {
+  const pid_t child = fork();
+  if (child == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + args + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (Lines(ReadText(file)).size() < lines && std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(child, nullptr, WNOHANG) == child) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  kill(child, signal);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFSIGNALED(status);
 }
 
 class TavisCommandTest : public ::testing::Test {
