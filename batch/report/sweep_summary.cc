@@ -127,7 +127,30 @@ Json SuccessJson(const std::string& suite, const std::vector<CellEpisodes>& cell
                        {"task_average", *table.task_average[c]},
                        {"pooled", RateJson(table.pooled[c]->n_successful, table.pooled[c]->n_episodes)}});
   }
-  return {{"suite", suite}, {"title", scenarios::Title(scenarios::ParseSuite(suite))}, {"columns", columns}};
+  // id - ood per robot and camera: per task, then for the task average and the pooled rate.
+  Json differences = Json::array();
+  for (const Json& id : columns) {
+    if (id["split"] != "id") continue;
+    for (const Json& ood : columns) {
+      if (ood["split"] == "id" || ood["robot"] != id["robot"] || ood["camera"] != id["camera"]) continue;
+      Json tasks = Json::array();
+      for (std::size_t t = 0; t < id["tasks"].size(); ++t) {
+        const Json& a = id["tasks"][t];
+        const Json& b = ood["tasks"][t];
+        tasks.push_back(a.contains("success_rate") && b.contains("success_rate")
+                            ? Json(a["success_rate"].get<double>() - b["success_rate"].get<double>())
+                            : Json());
+      }
+      differences.push_back({{"robot", id["robot"]},
+                             {"camera", id["camera"]},
+                             {"ood_split", ood["split"]},
+                             {"tasks", tasks},
+                             {"task_average", id["task_average"].get<double>() - ood["task_average"].get<double>()},
+                             {"pooled", id["pooled"]["success_rate"].get<double>() - ood["pooled"]["success_rate"].get<double>()}});
+    }
+  }
+  return {{"suite", suite}, {"title", scenarios::Title(scenarios::ParseSuite(suite))}, {"columns", columns},
+          {"id_minus_ood", differences}};
 }
 
 }  // namespace

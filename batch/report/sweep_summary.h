@@ -24,7 +24,8 @@ inline constexpr double kHumanGaltReachy2 = 2.10;
 
 // summary.json: "spec" (as given), "cells" (per cell: counts, rate, Wilson interval, the lengths of
 // its successful episodes in seconds at 20 Hz with mean/median/std, its GALT summary and values),
-// "success" (per suite: the paper-layout table's columns, task rows and suite means),
+// "success" (per suite: the paper-layout table's columns, task rows and suite means, and its
+// id - ood columns per robot and camera, in rate differences),
 // "id_minus_ood" (per task, robot, camera and ood split, in points), "paired" (head vs fixed per
 // task, robot and split over matched episodes, McNemar's exact p), "galt" (per robot, task and
 // split over the head cells). Cells of several seeds are pooled in everything but "cells".

@@ -27,10 +27,17 @@ TextTable SuccessTable(const Json& suite) {
   TextTable table{"success_" + suite["suite"].get<std::string>(), suite["title"].get<std::string>() + ": success rate (%) [95% Wilson interval]",
                   {"task"}, {}, ""};
   const Json& columns = suite["columns"];
+  const Json& differences = suite["id_minus_ood"];
   for (const Json& column : columns) table.header.push_back(ColumnLabel(column));
+  for (const Json& difference : differences) {
+    table.header.push_back(difference["robot"].get<std::string>() + " " + difference["camera"].get<std::string>() + " id - " +
+                           difference["ood_split"].get<std::string>());
+  }
+  const auto points = [](const Json& value) { return value.is_null() ? std::string("-") : Points(value); };
   for (std::size_t t = 0; t < columns[0]["tasks"].size(); ++t) {
     std::vector<std::string> row{columns[0]["tasks"][t]["task"]};
     for (const Json& column : columns) row.push_back(RateText(column["tasks"][t]));
+    for (const Json& difference : differences) row.push_back(points(difference["tasks"][t]));
     table.rows.push_back(row);
   }
   std::vector<std::string> average{suite["title"].get<std::string>() + " mean (task average)"};
@@ -39,9 +46,14 @@ TextTable SuccessTable(const Json& suite) {
     average.push_back(Percent(column["task_average"]));
     pooled.push_back(RateText(column["pooled"]));
   }
+  for (const Json& difference : differences) {
+    average.push_back(points(difference["task_average"]));
+    pooled.push_back(points(difference["pooled"]));
+  }
   table.rows.push_back(average);
   table.rows.push_back(pooled);
-  table.note = "Cells of several seeds are pooled. The task average is the mean of the task rates present in the column.";
+  table.note = "Cells of several seeds are pooled. The task average is the mean of the task rates present in the column. "
+               "id - ood columns: the id rate minus the ood split's, in percentage points.";
   return table;
 }
 

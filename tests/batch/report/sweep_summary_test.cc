@@ -66,6 +66,11 @@ TEST(SweepSummary, GivesIdMinusOodAndTablesPrintTheNumbers) {
   const nlohmann::ordered_json summary = SweepSummaryJson({{"episodes", 4}}, cells);
   ASSERT_EQ(summary["id_minus_ood"].size(), 1U);
   EXPECT_DOUBLE_EQ(summary["id_minus_ood"][0]["difference"].get<double>(), 0.5);
+  const std::vector<TextTable> tables = SweepTables(summary);
+  ASSERT_EQ(tables[0].name, "success_tavis-head");
+  EXPECT_EQ(tables[0].header.back(), "gr1t2 head id - ood-spatial");
+  EXPECT_EQ(tables[0].rows[1].back(), "+50.0") << "clutter-pick-cube is the suite's second task";
+  EXPECT_EQ(tables[0].rows[0].back(), "-") << "clutter-pick-lift was not evaluated";
   std::string markdown;
   for (const TextTable& table : SweepTables(summary)) markdown += ToMarkdown(table) + ToCsv(table) + ToLatex(table);
   EXPECT_NE(markdown.find("| clutter-pick-cube | gr1t2 | head | ood-spatial | 75.0 | 25.0 | +50.0 |"), std::string::npos) << markdown;
