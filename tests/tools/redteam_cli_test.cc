@@ -84,7 +84,7 @@ TEST_F(RedTeamCliTest, SeedsOutsideSixtyFourBitsAreRefusedByEveryCommand) {
 }
 
 TEST_F(RedTeamCliTest, MisspeltCommandIsNamed) {
-  ExpectRefused("evl --episodes 1", "unknown command 'evl' (known: eval, demos, galt, render, table, audit)");
+  ExpectRefused("evl --episodes 1", "unknown command 'evl' (known: eval, demos, galt, render, table, audit, sweep)");
 }
 
 TEST_F(RedTeamCliTest, MissingOrEmptyConfigDirIsNamed) {

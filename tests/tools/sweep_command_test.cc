@@ -47,40 +47,42 @@ class SweepRuns : public SweepCommand {
   RunResult Sweep(const fs::path& out, const std::string& options = "") const {
     return Run("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet " + options);
   }
-  fs::path spec_;
-
-// What a run decides, with the fields that say how it ran (time, threads, resumed episodes) taken
-// out (a resumed cell counts the control ticks of its last run only): every file but the manifest, each cell's summary without its timing fields, the report
-// without the manifest it shows.
+  // What a run decides: every file but the manifest, each cell's summary without the fields that
+  // say how it ran (time, threads, resumed episodes, the control ticks of its last run only), the
+  // report without the manifest it shows.
   static std::map<std::string, std::string> Results(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const auto& [path, text] : Snapshot(dir)) {
-    const std::string name = fs::relative(path, dir).string();
-    if (name == "manifest.json") continue;
-    if (name.rfind("cells/", 0) == 0 && fs::path(name).filename() == "summary.json") {
-      nlohmann::json summary = nlohmann::json::parse(text);
-      for (const char* timing : {"wall_s", "control_ticks_per_s", "threads", "resumed_episodes", "control_ticks"}) summary.erase(timing);
-      files[name] = summary.dump(2);
-    } else if (name == "report.html") {
-      files[name] = std::regex_replace(text, std::regex("<pre id=\"manifest\">[^]*?</pre>"), "");
-    } else {
-      files[name] = text;
+    std::map<std::string, std::string> files;
+    for (const auto& [path, text] : Snapshot(dir)) {
+      const std::string name = fs::relative(path, dir).string();
+      if (name == "manifest.json") continue;
+      if (name.rfind("cells/", 0) == 0 && fs::path(name).filename() == "summary.json") {
+        nlohmann::json summary = nlohmann::json::parse(text);
+        for (const char* timing : {"wall_s", "control_ticks_per_s", "threads", "resumed_episodes", "control_ticks"}) {
+          summary.erase(timing);
+        }
+        files[name] = summary.dump(2);
+      } else if (name == "report.html") {
+        files[name] = std::regex_replace(text, std::regex("<pre id=\"manifest\">[^]*?</pre>"), "");
+      } else {
+        files[name] = text;
+      }
     }
+    return files;
   }
-  return files;
-}
 
   static void ExpectSameResults(const fs::path& expected, const fs::path& actual) {
-  const auto want = Results(expected);
-  const auto got = Results(actual);
-  ASSERT_FALSE(want.empty());
-  for (const auto& [name, text] : want) {
-    const auto it = got.find(name);
-    ASSERT_NE(it, got.end()) << actual << " lacks " << name;
-    EXPECT_EQ(it->second, text) << name << " differs between " << expected << " and " << actual;
+    const auto want = Results(expected);
+    const auto got = Results(actual);
+    ASSERT_FALSE(want.empty());
+    for (const auto& [name, text] : want) {
+      const auto it = got.find(name);
+      ASSERT_NE(it, got.end()) << actual << " lacks " << name;
+      EXPECT_EQ(it->second, text) << name << " differs between " << expected << " and " << actual;
+    }
+    EXPECT_EQ(got.size(), want.size());
   }
-  EXPECT_EQ(got.size(), want.size());
-}
+
+  fs::path spec_;
 };
 
 TEST_F(SweepRuns, ThreadsAndConcurrentCellsGiveIdenticalResults) {
