@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <string>
 
 #include "configs/yaml_reader.h"
@@ -75,6 +76,8 @@ struct BadSpec {
   const char* key;    // the key path the message names
   const char* value;  // the bad value it quotes
 };
+
+void PrintTo(const BadSpec& bad, std::ostream* out) { *out << bad.name; }
 
 class SweepSpecErrors : public ::testing::TestWithParam<BadSpec> {};
 
