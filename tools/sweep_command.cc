@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <tbb/info.h>
 
 #include "batch/sweep/sweep_merge.h"
@@ -53,7 +55,8 @@ void RunSweepCommand(const SweepOptions& options) {
   run.out_dir = options.out.empty() ? "results/" + std::filesystem::path(options.spec_file).stem().string() : options.out;
   run.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   run.concurrent_cells = options.concurrent_cells;
-  run.quiet = options.quiet;
+  // A status line rewritten in place only makes sense on a terminal; a log gets the cell lines.
+  run.quiet = options.quiet || isatty(STDERR_FILENO) == 0;
   batch::sweep::RunSweep(spec, run);
   std::cout << (run.shard.count == 1 ? "sweep complete: " : "shard " + options.shard + " complete: ") << run.out_dir
             << (run.shard.count == 1 ? " (summary.json, tables/, report.html)" : " (merge the shards with `tavis sweep merge`)") << "\n";
@@ -81,7 +84,7 @@ void RegisterSweepCommand(CLI::App& app) {
                     "Run shard I of N (0 <= I < N): the cells whose position in the spec's order is I mod N; the\n"
                     "shards' folders are then combined by `tavis sweep merge` (e.g. one Slurm array task each)")
       ->capture_default_str();
-  sweep->add_flag("--quiet", options->quiet, "No status line: one line per finished cell with the counts (for logs)");
+  sweep->add_flag("--quiet", options->quiet, "No status line: one line per finished cell with the counts (the default when stderr is not a terminal)");
   AddConfigDirOption(*sweep, options->config_dir);
 
   auto merge_options = std::make_shared<MergeOptions>();
