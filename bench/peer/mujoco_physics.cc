@@ -25,8 +25,8 @@ constexpr double kSliderStopClearance = 0.002; // m
 constexpr double kPadTorsionRadius = 0.01;     // m, ODE's rolling-friction radius on pads
 // An ODE motor reaches its velocity target within its force limit in one step; a MuJoCo velocity
 // actuator approaches it with gain kv. These make full effort flow at a small velocity error.
-constexpr double kArmVelocityErrorAtFullEffort = 0.05;     // rad/s
-constexpr double kFingerVelocityErrorAtFullForce = 0.005;  // m/s
+constexpr double kArmVelocityErrorAtFullEffort = 0.5;     // rad/s
+constexpr double kFingerVelocityErrorAtFullForce = 0.05;  // m/s
 // Contact filtering as in the ODE world: robot <-> objects and static; objects <-> everything.
 constexpr int kRobotBit = 1;
 constexpr int kObjectBit = 2;
@@ -138,9 +138,10 @@ std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
   xml << "<mujoco model=\"tavis_peer\">\n";
   xml << "  <compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n";
   xml << "  <option timestep=\"" << 1.0 / model.physics.substep_hz << "\" gravity=\"0 0 " << model.physics.gravity
-      << "\" integrator=\"implicit\" cone=\"pyramidal\" jacobian=\"" << (sparse_jacobian ? "sparse" : "dense")
+      << "\" integrator=\"implicit\" cone=\"elliptic\" impratio=\"10\" jacobian=\"" << (sparse_jacobian ? "sparse" : "dense")
       << "\"/>\n";
   xml << "  <size njmax=\"3000\" nconmax=\"600\"/>\n";
+  xml << "  <default><geom solref=\"0.01 1\"/></default>\n";
   xml << "  <worldbody>\n";
   xml << "    <geom name=\"floor\" type=\"plane\" size=\"0 0 1\" " << static_filter << ' '
       << MaterialFriction(model, engine::Material::kDefault) << "/>\n";

@@ -46,10 +46,18 @@ std::string BuildMjcf(const render::SceneLayout& layout, bool shadows) {
   // Scene extent 2 m about the workspace: the shadow map and clip planes scale with it.
   xml << "  <statistic extent=\"2\" center=\"0.5 0 1\"/>\n";
   xml << "  <visual>\n    <global offwidth=\"" << max_side << "\" offheight=\"" << max_side << "\"/>\n";
-  xml << "    <quality shadowsize=\"4096\" offsamples=\"0\"/>\n";
+  // Shadow map: about twice the image side (1024 to 4096 texels), kinder to MuJoCo on small
+  // images than its default 4096.
+  int shadow_size = 1024;
+  while (shadow_size < 2 * max_side && shadow_size < 4096) shadow_size *= 2;
+  xml << "    <quality shadowsize=\"" << shadow_size << "\" offsamples=\"0\"/>\n";
   xml << "    <map znear=\"0.02\" zfar=\"5\" shadowclip=\"1\"/>\n";
   // The dome: an ambient term; the distant light does the rest.
   xml << "    <headlight ambient=\"0.45 0.45 0.45\" diffuse=\"0 0 0\" specular=\"0 0 0\"/>\n  </visual>\n";
+  // Rays that hit nothing see the dome; MuJoCo's equivalent is a flat skybox of its colour.
+  const float dome = Encoded(layout.lighting.dome_intensity * 3.14159265f * layout.lighting.exposure);
+  xml << "  <asset><texture type=\"skybox\" builtin=\"flat\" rgb1=\"" << dome << ' ' << dome << ' ' << dome << "\" rgb2=\""
+      << dome << ' ' << dome << ' ' << dome << "\" width=\"16\" height=\"16\"/></asset>\n";
   xml << "  <worldbody>\n";
   xml << "    <light directional=\"true\" castshadow=\"" << (shadows ? "true" : "false") << "\" pos=\""
       << 0.5 - 3.0 * d.x() << ' ' << -3.0 * d.y() << ' ' << 1.0 - 3.0 * d.z() << "\" dir=\"" << d.x() << ' ' << d.y() << ' '
@@ -130,7 +138,7 @@ MujocoRenderer::~MujocoRenderer() {
   mj_deleteModel(s.model);
 }
 
-void MujocoRenderer::Render(const RigidTransform* X_WI, const RigidTransform* X_WC) {
+void MujocoRenderer::Render(const RigidTransform* X_WI, const RigidTransform* X_WC, const uint8_t* visible) {
   Impl& s = *impl_;
   const int n_instances = static_cast<int>(s.layout.instances.size());
   auto set_mocap = [&](int body, const Vec3& p, const Mat3& R) {
@@ -144,7 +152,11 @@ void MujocoRenderer::Render(const RigidTransform* X_WI, const RigidTransform* X_
     s.data->mocap_quat[4 * m + 2] = q.y();
     s.data->mocap_quat[4 * m + 3] = q.z();
   };
-  for (int i = 0; i < n_instances; ++i) set_mocap(1 + i, X_WI[i].translation(), X_WI[i].linear());
+  for (int i = 0; i < n_instances; ++i) {
+    // A hidden instance moves far below the floor, out of every view and shadow.
+    const Vec3 p = visible[i] != 0 ? X_WI[i].translation() : Vec3(0.0, 0.0, -1000.0);
+    set_mocap(1 + i, p, X_WI[i].linear());
+  }
   for (std::size_t c = 0; c < s.layout.cameras.size(); ++c) {
     // Ours: x forward, y left, z up. MuJoCo's camera: x right, y up, looking along -z.
     const Mat3& R = X_WC[c].linear();

@@ -22,9 +22,9 @@ class MujocoRenderer {
   MujocoRenderer(const MujocoRenderer&) = delete;
   MujocoRenderer& operator=(const MujocoRenderer&) = delete;
 
-  // Renders every camera of one env from its instance and camera poses; images(c) holds camera
-  // c's RGB afterwards (top row first, like ours).
-  void Render(const RigidTransform* X_WI, const RigidTransform* X_WC);
+  // Renders every camera of one env from its instance and camera poses; image(c) holds camera
+  // c's RGB afterwards (top row first, like ours). Instances with visible[i] == 0 are not drawn.
+  void Render(const RigidTransform* X_WI, const RigidTransform* X_WC, const uint8_t* visible);
   const std::vector<uint8_t>& image(int camera) const;
   std::string mjcf() const;
 

@@ -195,6 +195,10 @@ std::vector<Row> RunRendering(const Options& options, const engine::WorldModel& 
   const int n_cameras = static_cast<int>(config.cameras.size());
   std::vector<RigidTransform> X_WI(ours.layout().instances.size() * static_cast<std::size_t>(options.envs));
   std::vector<RigidTransform> X_WC(config.cameras.size() * static_cast<std::size_t>(options.envs));
+  // SceneRender's instance order: floor, static parts, objects, robot; only objects can be hidden.
+  const std::size_t n_instances = ours.layout().instances.size();
+  const std::size_t first_object = 1 + model.static_parts.size();
+  std::vector<uint8_t> visible(n_instances * static_cast<std::size_t>(options.envs), 1);
   std::vector<double> ours_rates, shadow_rates, plain_rates;
   for (int round = 0; round < options.rounds; ++round) {
     double ours_s = 0.0, shadow_s = 0.0, plain_s = 0.0;
@@ -204,14 +208,18 @@ std::vector<Row> RunRendering(const Options& options, const engine::WorldModel& 
       ours_s += Seconds(start);
       for (int env = 0; env < options.envs; ++env) {
         std::copy(ours.instance_poses(env), ours.instance_poses(env) + ours.layout().instances.size(),
-                  X_WI.begin() + static_cast<std::ptrdiff_t>(env * ours.layout().instances.size()));
+                  X_WI.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(env) * n_instances));
         std::copy(ours.camera_poses(env), ours.camera_poses(env) + n_cameras, X_WC.begin() + env * n_cameras);
+        for (int o = 0; o < model.num_objects(); ++o) {
+          visible[static_cast<std::size_t>(env) * n_instances + first_object + static_cast<std::size_t>(o)] =
+              state.object_enabled[static_cast<std::size_t>(env * model.num_objects() + o)];
+        }
       }
       for (MujocoRenderer* renderer : {&mujoco_shadows, &mujoco_plain}) {
         start = Clock::now();
         for (int env = 0; env < options.envs; ++env) {
-          renderer->Render(&X_WI[static_cast<std::size_t>(env) * ours.layout().instances.size()],
-                           &X_WC[static_cast<std::size_t>(env * n_cameras)]);
+          renderer->Render(&X_WI[static_cast<std::size_t>(env) * n_instances], &X_WC[static_cast<std::size_t>(env * n_cameras)],
+                           &visible[static_cast<std::size_t>(env) * n_instances]);
         }
         (renderer == &mujoco_shadows ? shadow_s : plain_s) += Seconds(start);
       }
@@ -222,14 +230,12 @@ std::vector<Row> RunRendering(const Options& options, const engine::WorldModel& 
     plain_rates.push_back(env_steps / plain_s);
   }
   // Env 0 of the last frame: MuJoCo's renderer still holds env options.envs-1, so render env 0 again.
-  const std::size_t n_instances = ours.layout().instances.size();
-  mujoco_shadows.Render(&X_WI[0], &X_WC[0]);
+  mujoco_shadows.Render(&X_WI[0], &X_WC[0], &visible[0]);
   std::vector<const uint8_t*> ours_rgb, mujoco_rgb;
   for (int c = 0; c < n_cameras; ++c) {
     ours_rgb.push_back(ours.images().rgb(0, c));
     mujoco_rgb.push_back(mujoco_shadows.image(c).data());
   }
-  (void)n_instances;
   WriteSheet(options.out + "/ours_" + config.name + ".png", config.cameras, ours_rgb, config.width, config.height);
   WriteSheet(options.out + "/mujoco_" + config.name + ".png", config.cameras, mujoco_rgb, config.width, config.height);
   const std::string what = std::to_string(n_cameras) + " x " + std::to_string(config.width) + "x" + std::to_string(config.height);
