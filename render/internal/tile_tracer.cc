@@ -189,7 +189,9 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
         const InstanceFrame& frame = env.frames[instance];
         const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
         const Eigen::Vector3f p = camera.origin + depth * direction;
-        const Eigen::Vector3f p_local = frame.ToLocal(p);
+        // Plain boxes and planes (floor, table, most links) need no local point: their normal
+        // follows from the triangle and they have no label.
+        const Eigen::Vector3f p_local = NeedsLocalPoint(surface) ? frame.ToLocal(p) : Eigen::Vector3f::Zero();
         const Eigen::Vector3f n_local = LocalNormal(surface, p_local, primary.hit.primID[k]);
         Eigen::Vector3f n = frame.RotateToWorld(n_local);
         if (n.dot(direction) > 0.0f) n = -n;  // seen from behind (a plane from below, a camera inside)
