@@ -16,7 +16,7 @@ if ((${#missing[@]} > 0)); then
   apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 
-cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release -DTAVIS_BUILD_TESTS=OFF -DTAVIS_BUILD_PEER_BENCH=ON
+cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release -DTAVIS_BUILD_PEER_BENCH=ON
 cmake --build "$build" -j2 --target tavis_peer_bench
 # llvmpipe (Mesa's software rasteriser) gets the same two threads as our renderer.
 export LP_NUM_THREADS="${LP_NUM_THREADS:-2}"
