@@ -67,6 +67,12 @@ class SceneRender {
   void Render(const engine::BatchState& state, const uint8_t* render_env);
 
   const render::ImageBatch& images() const { return *images_; }
+  // The instance poses (layout order) and camera poses (settings order) of env `env` at its last
+  // Render, so that another renderer can draw exactly the same scene (bench/peer).
+  const RigidTransform* instance_poses(int env) const {
+    return X_WI_.data() + static_cast<std::size_t>(env) * sources_.size();
+  }
+  const RigidTransform* camera_poses(int env) const { return X_WC_.data() + Index(env, 0); }
 
  private:
   // Where an instance's pose comes from each tick.

@@ -48,55 +48,94 @@ RTCIntersectContext MakeContext(RTCIntersectContextFlags flags) {
   return context;
 }
 
-template <typename Ray>
-void SetRay(Ray* rays, int k, const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near,
-            float t_far) {
-  rays->org_x[k] = origin.x();
-  rays->org_y[k] = origin.y();
-  rays->org_z[k] = origin.z();
-  rays->dir_x[k] = direction.x();
-  rays->dir_y[k] = direction.y();
-  rays->dir_z[k] = direction.z();
-  rays->tnear[k] = t_near;
-  rays->tfar[k] = t_far;
-  rays->time[k] = 0.0f;
-  rays->mask[k] = ~0u;
-  rays->id[k] = static_cast<unsigned int>(k);
-  rays->flags[k] = 0;
+// Fields that stay the same for every ray of a packet during one tile (Embree writes only tfar and
+// the hit): set once per tile instead of once per block.
+template <int K, typename Ray>
+void SetTileConstants(Ray* rays, const Eigen::Vector3f& origin, float t_near) {
+  for (int k = 0; k < K; ++k) {
+    rays->org_x[k] = origin.x();
+    rays->org_y[k] = origin.y();
+    rays->org_z[k] = origin.z();
+    rays->tnear[k] = t_near;
+    rays->time[k] = 0.0f;
+    rays->mask[k] = ~0u;
+    rays->id[k] = static_cast<unsigned int>(k);
+    rays->flags[k] = 0;
+  }
 }
 
-// Primary rays of the block whose top-left pixel is (block_x, block_y); lanes outside the tile
-// are invalid. Returns the number of valid lanes.
+// Lane k of a packet covers pixel (block_x + kLaneColumn[k], block_y + kLaneRow[k]).
+template <int K>
+struct LaneOffsets {
+  float column[K];
+  float row[K];
+  int column_index[K];
+  int row_index[K];
+  constexpr LaneOffsets() : column(), row(), column_index(), row_index() {
+    for (int k = 0; k < K; ++k) {
+      column_index[k] = k % Packet<K>::kBlockWidth;
+      row_index[k] = k / Packet<K>::kBlockWidth;
+      column[k] = static_cast<float>(column_index[k]);
+      row[k] = static_cast<float>(row_index[k]);
+    }
+  }
+};
+
+// Directions of the primary rays of the block whose top-left pixel is (block_x, block_y), in
+// structure-of-arrays loops the compiler vectorises; lanes outside the tile are invalid. The
+// other ray fields come from SetTileConstants. Returns the number of valid lanes.
 template <int K>
 int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect, int block_x,
                    int block_y, int* valid, typename Packet<K>::RayHit* packet) {
-  constexpr int kBlockWidth = Packet<K>::kBlockWidth;
+  static constexpr LaneOffsets<K> kLanes;
+  const int columns_left = rect.x1 - block_x;
+  const int rows_left = rect.y1 - block_y;
+  const float x0 = static_cast<float>(block_x);
+  const float y0 = static_cast<float>(block_y);
   int count = 0;
   for (int k = 0; k < K; ++k) {
-    const int column = block_x + k % kBlockWidth;
-    const int row = block_y + k / kBlockWidth;
-    const bool inside = column < rect.x1 && row < rect.y1;
+    const bool inside = kLanes.column_index[k] < columns_left && kLanes.row_index[k] < rows_left;
     valid[k] = inside ? -1 : 0;
     count += inside ? 1 : 0;
-    const float a = (raster.cx - (static_cast<float>(column) + 0.5f)) * raster.inv_fx;
-    const float b = (raster.cy - (static_cast<float>(row) + 0.5f)) * raster.inv_fx;
-    SetRay(&packet->ray, k, camera.origin, camera.forward + a * camera.left + b * camera.up, raster.near_m,
-           raster.far_m);
+  }
+  for (int k = 0; k < K; ++k) {
+    const float a = (raster.cx - ((x0 + kLanes.column[k]) + 0.5f)) * raster.inv_fx;
+    const float b = (raster.cy - ((y0 + kLanes.row[k]) + 0.5f)) * raster.inv_fx;
+    packet->ray.dir_x[k] = camera.forward.x() + a * camera.left.x() + b * camera.up.x();
+    packet->ray.dir_y[k] = camera.forward.y() + a * camera.left.y() + b * camera.up.y();
+    packet->ray.dir_z[k] = camera.forward.z() + a * camera.left.z() + b * camera.up.z();
+    packet->ray.tfar[k] = raster.far_m;
     packet->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     packet->hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
   }
   return count;
 }
 
-enum class LaneKind : uint8_t { kOutside, kMiss, kEmissive, kDiffuse };
+// Writes one shaded pixel: sRGB colour, and depth and object id where the image has them.
+struct PixelWriter {
+  const ImageView& image;
+  const SrgbEncoder& encoder;
+
+  void Write(std::size_t pixel, const Eigen::Vector3f& linear, float depth, int32_t object_id) const {
+    uint8_t* rgb = image.rgb + 3 * pixel;
+    rgb[0] = encoder.Encode(linear.x());
+    rgb[1] = encoder.Encode(linear.y());
+    rgb[2] = encoder.Encode(linear.z());
+    if (image.depth != nullptr) image.depth[pixel] = depth;
+    if (image.object_id != nullptr) image.object_id[pixel] = object_id;
+  }
+};
 
 template <int K>
 TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect,
                       const Shading& shading, const ImageView& image) {
   using P = Packet<K>;
+  static constexpr LaneOffsets<K> kLanes;
   constexpr int kBlockHeight = K / P::kBlockWidth;
   const LightingModel& lighting = *shading.lighting;
-  const SrgbEncoder& encoder = *shading.encoder;
+  const PixelWriter writer{image, *shading.encoder};
+  const Eigen::Vector3f to_light = lighting.to_light();
+  const bool shadows = lighting.shadows();
   RTCIntersectContext primary_context = MakeContext(RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
   // Shadow packets are traced without the coherent hint: with it, rtcOccluded16 of Embree 3.13.5
   // never returned on an AVX-512 AMD CPU (observed on the development machine).
@@ -105,85 +144,85 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   alignas(64) int shadow_valid[K];
   alignas(64) typename P::RayHit primary;
   alignas(64) typename P::Ray shadow;
-  LaneKind kind[K];
-  Eigen::Vector3f colour[K];
-  Eigen::Vector3f normal[K];
-  float cosine[K];
+  // Lit diffuse lanes waiting for their shadow ray: lane, pixel, reflectance, normal, cosine.
+  int waiting_lane[K];
+  std::size_t waiting_pixel[K];
+  Eigen::Vector3f waiting_colour[K];
+  Eigen::Vector3f waiting_normal[K];
+  float waiting_cosine[K];
   TileCounts counts;
-  // Inactive lanes keep harmless finite rays.
-  for (int k = 0; k < K; ++k) SetRay(&shadow, k, camera.origin, lighting.to_light(), 0.0f, 0.0f);
+  SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
+  // Shadow rays all go towards the distant light; only their origins and tfar change per block.
+  SetTileConstants<K>(&shadow, camera.origin, 0.0f);
+  for (int k = 0; k < K; ++k) {
+    shadow.dir_x[k] = to_light.x();
+    shadow.dir_y[k] = to_light.y();
+    shadow.dir_z[k] = to_light.z();
+    shadow.tfar[k] = 0.0f;  // inactive lanes keep harmless finite rays
+  }
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
       counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
 
-      int shadow_count = 0;
+      int n_waiting = 0;
       for (int k = 0; k < K; ++k) {
         shadow_valid[k] = 0;
-        if (valid[k] == 0) {
-          kind[k] = LaneKind::kOutside;
-          continue;
-        }
+        if (valid[k] == 0) continue;
+        const std::size_t pixel =
+            static_cast<std::size_t>(block_y + kLanes.row_index[k]) * static_cast<std::size_t>(image.width) +
+            static_cast<std::size_t>(block_x + kLanes.column_index[k]);
         if (primary.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-          kind[k] = LaneKind::kMiss;
-          colour[k] = lighting.background();
+          writer.Write(pixel, lighting.background(), 0.0f, kBackgroundObjectId);
           continue;
         }
         ++counts.primary_hits;
         const unsigned int instance = primary.hit.instID[0][k];
-        const InstanceFrame& frame = env.frames[instance];
         const SurfaceModel& surface = env.surfaces[instance];
-        const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
-        const Eigen::Vector3f p = camera.origin + primary.ray.tfar[k] * direction;
+        const float depth = primary.ray.tfar[k];
         const Eigen::Vector3f base = env.rgb_override != nullptr ? env.rgb_override[instance] : surface.appearance.rgb;
         if (surface.appearance.emissive) {
-          kind[k] = LaneKind::kEmissive;
-          colour[k] = base;
+          writer.Write(pixel, base, depth, surface.object_id);
           continue;
         }
-        const Eigen::Vector3f p_local = frame.ToLocal(p);
+        const InstanceFrame& frame = env.frames[instance];
+        const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
+        const Eigen::Vector3f p = camera.origin + depth * direction;
+        // Plain boxes and planes (floor, table, most links) need no local point: their normal
+        // follows from the triangle and they have no label.
+        const Eigen::Vector3f p_local = NeedsLocalPoint(surface) ? frame.ToLocal(p) : Eigen::Vector3f::Zero();
         const Eigen::Vector3f n_local = LocalNormal(surface, p_local, primary.hit.primID[k]);
         Eigen::Vector3f n = frame.RotateToWorld(n_local);
         if (n.dot(direction) > 0.0f) n = -n;  // seen from behind (a plane from below, a camera inside)
-        kind[k] = LaneKind::kDiffuse;
-        colour[k] = Reflectance(surface, base, p_local, n_local);
-        normal[k] = n;
-        cosine[k] = std::max(0.0f, n.dot(lighting.to_light()));
-        if (cosine[k] > 0.0f && lighting.shadows()) {
+        const Eigen::Vector3f colour = Reflectance(surface, base, p_local, n_local);
+        const float cosine = std::max(0.0f, n.dot(to_light));
+        if (cosine > 0.0f && shadows) {
           shadow_valid[k] = -1;
-          ++shadow_count;
-          SetRay(&shadow, k, p + kShadowRayOffset * n, lighting.to_light(), 0.0f,
-                 std::numeric_limits<float>::infinity());
+          const Eigen::Vector3f origin = p + kShadowRayOffset * n;
+          shadow.org_x[k] = origin.x();
+          shadow.org_y[k] = origin.y();
+          shadow.org_z[k] = origin.z();
+          shadow.tfar[k] = std::numeric_limits<float>::infinity();
+          waiting_lane[n_waiting] = k;
+          waiting_pixel[n_waiting] = pixel;
+          waiting_colour[n_waiting] = colour;
+          waiting_normal[n_waiting] = n;
+          waiting_cosine[n_waiting] = cosine;
+          ++n_waiting;
+          continue;
         }
+        writer.Write(pixel, lighting.Shade(colour, n, cosine), depth, surface.object_id);
       }
-      if (shadow_count > 0) {
-        P::Occluded(shadow_valid, env.scene, &shadow_context, &shadow);
-        counts.shadow_rays += shadow_count;
-      }
-
-      for (int k = 0; k < K; ++k) {
-        if (kind[k] == LaneKind::kOutside) continue;
-        const int column = block_x + k % P::kBlockWidth;
-        const int row = block_y + k / P::kBlockWidth;
-        const std::size_t pixel = static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) +
-                                  static_cast<std::size_t>(column);
-        Eigen::Vector3f linear = colour[k];
-        if (kind[k] == LaneKind::kDiffuse) {
-          // rtcOccluded sets tfar to -inf for blocked rays.
-          const bool blocked = shadow_valid[k] != 0 && shadow.tfar[k] < 0.0f;
-          linear = lighting.Shade(colour[k], normal[k], blocked ? 0.0f : cosine[k]);
-        }
-        uint8_t* rgb = image.rgb + 3 * pixel;
-        rgb[0] = encoder.Encode(linear.x());
-        rgb[1] = encoder.Encode(linear.y());
-        rgb[2] = encoder.Encode(linear.z());
-        const bool hit = kind[k] != LaneKind::kMiss;
-        if (image.depth != nullptr) image.depth[pixel] = hit ? primary.ray.tfar[k] : 0.0f;
-        if (image.object_id != nullptr) {
-          image.object_id[pixel] =
-              hit ? env.surfaces[primary.hit.instID[0][k]].object_id : kBackgroundObjectId;
-        }
+      if (n_waiting == 0) continue;
+      P::Occluded(shadow_valid, env.scene, &shadow_context, &shadow);
+      counts.shadow_rays += n_waiting;
+      for (int w = 0; w < n_waiting; ++w) {
+        const int k = waiting_lane[w];
+        // rtcOccluded sets tfar to -inf for blocked rays.
+        const bool blocked = shadow.tfar[k] < 0.0f;
+        writer.Write(waiting_pixel[w], lighting.Shade(waiting_colour[w], waiting_normal[w], blocked ? 0.0f : waiting_cosine[w]),
+                     primary.ray.tfar[k], env.surfaces[primary.hit.instID[0][k]].object_id);
       }
     }
   }
@@ -199,6 +238,7 @@ TileCounts CastPrimaryTileK(const EnvView& env, const CameraRaster& raster, cons
   alignas(64) int valid[K];
   alignas(64) typename P::RayHit primary;
   TileCounts counts;
+  SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
       counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);

@@ -1,0 +1,59 @@
+#include "bench/peer/expert_trajectories.h"
+
+#include <algorithm>
+
+#include "batch/builtin_policies.h"
+#include "batch/vec_env.h"
+#include "configs/robot_config.h"
+#include "scenarios/registry.h"
+
+namespace tavis::peer {
+
+ExpertTrajectories RecordExpertTrajectories(const std::string& config_dir, const std::string& task,
+                                            const std::string& robot, int episodes, int ticks) {
+  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
+  const kinematics::RobotModel robot_model = configs::LoadRobotModel(configs::RobotConfigPath(config_dir, robot));
+  batch::VecEnv env(batch::BuildWorldModel(robot_model, scenario), scenario, scenarios::Split::kId, episodes, 0);
+  batch::ExpertPolicy policy(scenario, env.model(), episodes);
+
+  std::vector<batch::EpisodeStart> starts;
+  for (int e = 0; e < episodes; ++e) starts.push_back({e, e});
+  env.Reset(starts);
+  const engine::BatchState& state = env.state();
+  std::vector<const char*> prompts(static_cast<std::size_t>(episodes));
+  for (int e = 0; e < episodes; ++e) prompts[static_cast<std::size_t>(e)] = scenario.prompt(state, e);
+  const batch::Observation observation{env.model(), state, nullptr, prompts, nullptr};
+  std::vector<uint8_t> all(static_cast<std::size_t>(episodes), 1);
+  policy.Reset(observation, all);
+
+  ExpertTrajectories out;
+  out.model = env.model();
+  out.ticks = ticks;
+  const int nj = state.num_joints;
+  const int no = state.num_objects;
+  out.episodes.resize(static_cast<std::size_t>(episodes));
+  for (int e = 0; e < episodes; ++e) {
+    EpisodeTrajectory& t = out.episodes[static_cast<std::size_t>(e)];
+    t.q0.assign(state.q_row(e), state.q_row(e) + nj);
+    t.object_pose0.assign(state.object_pose_row(e, 0), state.object_pose_row(e, 0) + no * engine::kObjectPoseSize);
+    t.object_enabled.assign(state.object_enabled.begin() + static_cast<std::ptrdiff_t>(e) * no,
+                            state.object_enabled.begin() + static_cast<std::ptrdiff_t>(e + 1) * no);
+  }
+  batch::ActionBatch actions(static_cast<std::size_t>(episodes));
+  for (int tick = 0; tick < ticks; ++tick) {
+    std::vector<uint8_t> acting(static_cast<std::size_t>(episodes));
+    for (int e = 0; e < episodes; ++e) acting[static_cast<std::size_t>(e)] = state.running(e) ? 1 : 0;
+    policy.Act(observation, acting, actions);
+    env.Step(actions);
+    for (int e = 0; e < episodes; ++e) {
+      EpisodeTrajectory& t = out.episodes[static_cast<std::size_t>(e)];
+      // An ended episode is no longer stepped, so its row holds its last command.
+      t.q_target.insert(t.q_target.end(), state.q_target_row(e), state.q_target_row(e) + nj);
+      t.gripper_command.insert(t.gripper_command.end(), state.gripper_command_row(e), state.gripper_command_row(e) + 2);
+      if (state.end[static_cast<std::size_t>(e)] == engine::EpisodeEnd::kSuccess) t.success = true;
+    }
+  }
+  return out;
+}
+
+}  // namespace tavis::peer
