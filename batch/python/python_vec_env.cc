@@ -99,6 +99,7 @@ PythonVecEnv::PythonVecEnv(const PythonVecEnvConfig& config)
   ended_.assign(n, 0);
   ended_how_.assign(n, engine::EpisodeEnd::kRunning);
   ended_episode_.assign(n, -1);
+  reported_episode_.assign(n, -1);
   final_state_.assign(n * static_cast<std::size_t>(state_size()), 0.0F);
 }
 
@@ -142,7 +143,7 @@ void PythonVecEnv::StartEpisodes() {
   std::fill(started_.begin(), started_.end(), 0);
   for (const EpisodeStart& start : starts_) {
     started_[start.env] = 1;
-    ended_episode_[start.env] = -1;
+    reported_episode_[start.env] = -1;
     prompts_[start.env] = scenario_.prompt(env_.state(), start.env);
   }
   env_.RenderPolicyTick();
@@ -209,11 +210,12 @@ void PythonVecEnv::CollectEnded() {
   UpdateObservation();
   for (int env = 0; env < num_envs(); ++env) {
     // An env already reported keeps its end until reset; report each end once.
-    if (state.episode[env] < 0 || state.running(env) || ended_episode_[env] == state.episode[env]) continue;
+    if (state.episode[env] < 0 || state.running(env) || reported_episode_[env] == state.episode[env]) continue;
     const engine::EpisodeEnd end = state.end[env];
     ended_[env] = 1;
     ended_how_[env] = end;
     ended_episode_[env] = state.episode[env];
+    reported_episode_[env] = state.episode[env];
     rewards_[env] = end == engine::EpisodeEnd::kSuccess ? 1.0F : 0.0F;
     truncated_[env] = end == engine::EpisodeEnd::kTimeOut ? 1 : 0;
     terminated_[env] = truncated_[env] == 0 ? 1 : 0;
@@ -285,11 +287,11 @@ void PythonVecEnv::WriteResults(const std::string& out_dir, const std::string& p
   result.wall_s = busy_s_;
   result.control_ticks = control_ticks_;
   result.rendered_cameras = cameras_;
-  result.render_width = cameras_.empty() ? 0 : config_.image_width;
-  result.render_height = cameras_.empty() ? 0 : config_.image_height;
+  result.render_width = config_.image_width;
+  result.render_height = config_.image_height;
   result.rendered_images = env_.rendered_images();
   RunInfo info;
-  info.threads = config_.threads;
+  info.threads = arena_.max_concurrency();
   WriteCellReport(result, info, out_dir);
 }
 

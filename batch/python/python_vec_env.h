@@ -134,6 +134,7 @@ class PythonVecEnv {
   std::vector<uint8_t> ended_;
   std::vector<engine::EpisodeEnd> ended_how_;
   std::vector<int64_t> ended_episode_;
+  std::vector<int64_t> reported_episode_;  // the episode whose end was reported, -1 once it restarts
   std::vector<float> final_state_;
 };
 
