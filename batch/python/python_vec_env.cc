@@ -244,6 +244,10 @@ std::shared_ptr<Policy> PythonVecEnv::MakePolicy(const std::string& name, const 
 }
 
 void PythonVecEnv::Act(Policy& policy, double* actions) {
+  const auto is_this = [&](const std::shared_ptr<Policy>& mine) { return mine.get() == &policy; };
+  if (std::none_of(policies_.begin(), policies_.end(), is_this)) {
+    throw std::invalid_argument("policy '" + policy.name() + "' was made by another env (make it with this env's make_policy)");
+  }
   std::vector<uint8_t> acting(static_cast<std::size_t>(num_envs()), 0);
   ActionBatch chosen(static_cast<std::size_t>(num_envs()), kinematics::Action{});
   for (int env = 0; env < num_envs(); ++env) acting[env] = env_.state().running(env) ? 1 : 0;

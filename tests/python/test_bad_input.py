@@ -93,3 +93,10 @@ def test_step_before_reset_and_policy_at_another_rate_raise_value_error():
 def test_writing_episodes_not_ended_raises_value_error(env, tmp_path):
     with pytest.raises(ValueError, match="episode 0 has not ended"):
         env.write_results(tmp_path / "out", "hold", 4)
+
+
+def test_a_policy_of_another_env_raises_value_error(env):
+    other = make_small(num_envs=5, cameras=[], control_ticks_per_step=3)
+    policy = other.make_policy("hold")
+    with pytest.raises(ValueError, match="another env"):
+        env._core.act(policy._policy)
