@@ -49,6 +49,10 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& env, int slot) {
     }
   }
   if (settings_.keep_actions) record.actions = log;
+  if (!settings_.in_episode_order) {
+    finished_(std::move(record));
+    return;
+  }
   waiting_[record.episode] = std::move(record);
   for (auto next = waiting_.find(next_release_); next != waiting_.end(); next = waiting_.find(next_release_)) {
     finished_(std::move(next->second));

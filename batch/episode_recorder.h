@@ -45,6 +45,9 @@ struct RecordSettings {
   double policy_rate_fps = 0.0;
   int replay_stride = 0;      // keep the actions a served policy chose, for --policy replay; 0: none
   bool keep_actions = false;  // keep every control tick's action in the record (tests compare them)
+  // Hand records on in episode order (the driver deals episodes in sequence); false: as each
+  // episode ends (the Python module, whose caller may deal episodes in any order).
+  bool in_episode_order = true;
 };
 
 class EpisodeRecorder : public EpisodeSink {

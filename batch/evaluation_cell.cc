@@ -49,6 +49,8 @@ std::vector<std::string> CamerasToRender(const Policy& policy, const EvaluationC
   return cameras;
 }
 
+}  // namespace
+
 // What the recorder keeps: GALT sampled when the policy acted (every `hold_ticks` control ticks),
 // as the reference records actions at its policy rate, and for a policy acting faster also at the
 // 20 Hz policy rate; none under the fixed protocol, where there is no head to lead.
@@ -68,8 +70,6 @@ RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ti
   settings.keep_actions = config.keep_actions;
   return settings;
 }
-
-}  // namespace
 
 std::string CellPolicyNames() { return std::string(BuiltinPolicyNames()) + ", " + kServedPolicy; }
 

@@ -80,6 +80,12 @@ std::string CellPolicyNames();
 // without running anything; throws as RunEvaluationCell does for bad settings.
 void CheckEvaluationCell(const EvaluationCellConfig& config);
 
+// What a cell's recorder keeps for a policy acting every `hold_ticks` control ticks: GALT at that
+// rate (and at the 20 Hz policy rate for a faster policy) under the head protocol, the served
+// policy's actions for replay, every action with config.keep_actions.
+RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks, const engine::PhysicsSettings& physics,
+                                 bool served);
+
 // Called with each episode's record as soon as it and every earlier episode have ended.
 using RecordCallback = std::function<void(const EpisodeRecord&)>;
 

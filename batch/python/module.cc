@@ -1,0 +1,222 @@
+// tavis._tavis: the pybind11 layer over PythonVecEnv (docs/python.md). Images and
+// observation.state are returned as numpy views of the simulator's buffers (no copy, read-only,
+// their base is the env, so the env outlives them); the GIL is released while the env resets,
+// steps, renders and while a built-in policy acts. Bad input raises ValueError, an unknown name
+// KeyError, before anything moves.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "batch/builtin_policies.h"
+#include "batch/cell_report.h"
+#include "batch/python/python_vec_env.h"
+#include "batch/scene_render.h"
+#include "configs/yaml_reader.h"
+#include "kinematics/action.h"
+#include "scenarios/registry.h"
+
+namespace py = pybind11;
+
+namespace tavis::batch {
+namespace {
+
+constexpr int kActionSize = kinematics::action::kSize;
+
+// A read-only numpy view of `data` whose base is `owner`.
+py::array View(const py::dtype& dtype, std::vector<py::ssize_t> shape, std::vector<py::ssize_t> strides,
+               const void* data, const py::object& owner) {
+  py::array view(dtype, std::move(shape), std::move(strides), data, owner);
+  view.attr("setflags")(py::arg("write") = false);
+  return view;
+}
+
+// The images of each camera as (num_envs, H, W, 3) uint8, keyed by camera name. The batch is
+// env-major (render::ImageBatch), so a camera's images are one view with the env stride.
+py::dict Pixels(const py::object& self) {
+  const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+  py::dict pixels;
+  const render::ImageBatch* images = env.images();
+  if (images == nullptr) return pixels;
+  const py::dtype u8 = py::dtype::of<uint8_t>();
+  for (int camera = 0; camera < images->n_cameras(); ++camera) {
+    const py::ssize_t height = images->height(camera);
+    const py::ssize_t width = images->width(camera);
+    const py::ssize_t env_stride = images->n_envs() > 1 ? images->rgb(1, camera) - images->rgb(0, camera) : height * width * 3;
+    pixels[py::str(env.camera_names()[static_cast<std::size_t>(camera)])] =
+        View(u8, {images->n_envs(), height, width, 3}, {env_stride, width * 3, 3, 1}, images->rgb(0, camera), self);
+  }
+  return pixels;
+}
+
+py::array AgentPos(const py::object& self) {
+  const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+  const py::ssize_t row = env.state_size();
+  return View(py::dtype::of<float>(), {env.num_envs(), row}, {row * static_cast<py::ssize_t>(sizeof(float)), sizeof(float)},
+              env.agent_pos(), self);
+}
+
+// The actions as a contiguous (num_envs x 19) float64 buffer; ValueError for another shape or a
+// dtype other than float32 / float64.
+std::vector<double> Actions(const PythonVecEnv& env, const py::handle& actions) {
+  if (!py::isinstance<py::array>(actions)) {
+    throw py::value_error("actions must be a numpy array of shape (" + std::to_string(env.num_envs()) + ", " +
+                          std::to_string(kActionSize) + "), got " + py::type::of(actions).attr("__name__").cast<std::string>());
+  }
+  const py::array array = py::reinterpret_borrow<py::array>(actions);
+  const py::dtype dtype = array.dtype();
+  if (dtype.kind() != 'f' || (dtype.itemsize() != 4 && dtype.itemsize() != 8)) {
+    throw py::value_error("actions must have dtype float32 or float64, got " + dtype.attr("name").cast<std::string>());
+  }
+  if (array.ndim() != 2 || array.shape(0) != env.num_envs() || array.shape(1) != kActionSize) {
+    std::string shape;
+    for (py::ssize_t axis = 0; axis < array.ndim(); ++axis) shape += (axis ? ", " : "") + std::to_string(array.shape(axis));
+    throw py::value_error("actions must have shape (" + std::to_string(env.num_envs()) + ", " + std::to_string(kActionSize) +
+                          "), got (" + shape + ")");
+  }
+  const auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+  return std::vector<double>(values.data(), values.data() + values.size());
+}
+
+template <typename T>
+py::array_t<T> Copy(const std::vector<T>& values) {
+  return py::array_t<T>(static_cast<py::ssize_t>(values.size()), values.data());
+}
+
+py::array_t<bool> Flags(const std::vector<uint8_t>& values) {
+  py::array_t<bool> flags(static_cast<py::ssize_t>(values.size()));
+  for (std::size_t i = 0; i < values.size(); ++i) flags.mutable_data()[i] = values[i] != 0;
+  return flags;
+}
+
+PythonVecEnv* MakeEnv(PythonVecEnvConfig config) {
+  py::gil_scoped_release release;
+  return new PythonVecEnv(config);
+}
+
+}  // namespace
+}  // namespace tavis::batch
+
+PYBIND11_MODULE(_tavis, m) {
+  using namespace tavis;         // NOLINT: the module's one scope
+  using namespace tavis::batch;  // NOLINT
+  m.doc() = "TAVIS-C++ batched env (the pybind11 core of the tavis package; see docs/python.md)";
+  py::register_exception_translator([](std::exception_ptr thrown) {
+    try {
+      if (thrown) std::rethrow_exception(thrown);
+    } catch (const UnknownName& error) {
+      PyErr_SetString(PyExc_KeyError, error.what());
+    } catch (const configs::ConfigError& error) {
+      PyErr_SetString(PyExc_ValueError, error.what());
+    }
+  });
+
+  m.attr("ACTION_SIZE") = kActionSize;
+  m.attr("DEFAULT_CONFIG_DIR") = TAVIS_DEFAULT_CONFIG_DIR;
+  m.def("camera_names", &SceneCameraNames, "The cameras: head, fixed, left_wrist, right_wrist");
+  m.def("known_tasks", &scenarios::KnownTasks, "The tasks, comma-separated");
+  m.def("builtin_policy_names", &BuiltinPolicyNames);
+
+  py::class_<Policy, std::shared_ptr<Policy>>(m, "BuiltinPolicy",
+                                              "A built-in policy bound to one env (VecEnvCore.make_policy)")
+      .def_property_readonly("name", &Policy::name)
+      .def_property_readonly("control_ticks_per_action", &Policy::control_ticks_per_action);
+
+  py::class_<PythonVecEnv>(m, "VecEnvCore")
+      .def(py::init([](const std::string& task, const std::string& robot, const std::string& split, int num_envs,
+                       uint64_t seed, const std::string& camera, const std::vector<std::string>& cameras,
+                       std::pair<int, int> image_size, int threads, int control_ticks_per_step, bool autoreset,
+                       const std::string& config_dir) {
+             return MakeEnv({task, robot, split, num_envs, seed, camera, cameras, image_size.second, image_size.first,
+                             threads, control_ticks_per_step, autoreset, config_dir});
+           }),
+           py::arg("task"), py::arg("robot"), py::arg("split"), py::arg("num_envs"), py::arg("seed"), py::arg("camera"),
+           py::arg("cameras"), py::arg("image_size"), py::arg("threads"), py::arg("control_ticks_per_step"),
+           py::arg("autoreset"), py::arg("config_dir"))
+      .def_property_readonly("num_envs", &PythonVecEnv::num_envs)
+      .def_property_readonly("state_size", &PythonVecEnv::state_size)
+      .def_property_readonly("control_ticks_per_step", &PythonVecEnv::control_ticks_per_step)
+      .def_property_readonly("max_episode_steps", &PythonVecEnv::max_episode_steps)
+      .def_property_readonly("camera_names", &PythonVecEnv::camera_names)
+      .def(
+          "reset",
+          [](PythonVecEnv& env, const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes) {
+            py::gil_scoped_release release;
+            env.Reset(mask, episodes);
+          },
+          py::arg("mask"), py::arg("episodes"))
+      .def(
+          "step",
+          [](PythonVecEnv& env, const py::handle& actions) {
+            const std::vector<double> values = Actions(env, actions);
+            py::gil_scoped_release release;
+            env.Step(values.data());
+          },
+          py::arg("actions"))
+      .def("pixels", &Pixels, "Views of the current images, {camera: (N, H, W, 3) uint8}, valid until the next step")
+      .def("agent_pos", &AgentPos, "A view of observation.state, (N, D) float32, valid until the next step")
+      .def("prompts",
+           [](const PythonVecEnv& env) {
+             std::vector<std::string> prompts;
+             for (int i = 0; i < env.num_envs(); ++i) prompts.emplace_back(env.prompt(i));
+             return prompts;
+           })
+      .def("episodes",
+           [](const PythonVecEnv& env) {
+             std::vector<int64_t> episodes;
+             for (int i = 0; i < env.num_envs(); ++i) episodes.push_back(env.episode(i));
+             return Copy(episodes);
+           })
+      .def("rewards", [](const PythonVecEnv& env) { return Copy(env.rewards()); })
+      .def("terminated", [](const PythonVecEnv& env) { return Flags(env.terminated()); })
+      .def("truncated", [](const PythonVecEnv& env) { return Flags(env.truncated()); })
+      .def("ended", [](const PythonVecEnv& env) { return Flags(env.ended()); })
+      .def("ended_episodes", [](const PythonVecEnv& env) { return Copy(env.ended_episode()); })
+      .def("ended_how",
+           [](const PythonVecEnv& env) {
+             std::vector<std::string> ends;
+             for (engine::EpisodeEnd end : env.ended_how()) ends.emplace_back(engine::ToString(end));
+             return ends;
+           })
+      .def("final_agent_pos",
+           [](const PythonVecEnv& env) {
+             py::array_t<float> rows({env.num_envs(), env.state_size()});
+             std::copy(env.final_state().begin(), env.final_state().end(), rows.mutable_data());
+             return rows;
+           })
+      .def(
+          "make_policy",
+          [](PythonVecEnv& env, const std::string& name, const std::string& actions_file) {
+            py::gil_scoped_release release;
+            return env.MakePolicy(name, actions_file);
+          },
+          py::arg("name"), py::arg("actions_file") = "", py::keep_alive<0, 1>())
+      .def(
+          "act",
+          [](PythonVecEnv& env, Policy& policy) {
+            py::array_t<double> actions({env.num_envs(), kActionSize});
+            double* data = actions.mutable_data();
+            {
+              py::gil_scoped_release release;
+              env.Act(policy, data);
+            }
+            return actions;
+          },
+          py::arg("policy"))
+      .def("episode_json_lines",
+           [](const PythonVecEnv& env) {
+             std::vector<std::string> lines;
+             for (const auto& [episode, record] : env.records()) lines.push_back(EpisodeJsonLine(record, env.config().seed));
+             return lines;
+           })
+      .def(
+          "write_results",
+          [](const PythonVecEnv& env, const std::string& out_dir, const std::string& policy, int64_t first, int64_t count) {
+            py::gil_scoped_release release;
+            env.WriteResults(out_dir, policy, first, count);
+          },
+          py::arg("out_dir"), py::arg("policy"), py::arg("first"), py::arg("count"));
+}

@@ -1,0 +1,302 @@
+#include "batch/python/python_vec_env.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "batch/builtin_policies.h"
+#include "batch/cell_report.h"
+#include "configs/robot_config.h"
+#include "scenarios/registry.h"
+
+namespace tavis::batch {
+namespace {
+
+// Runs `body` and rethrows an std::invalid_argument it throws as UnknownName (a name lookup).
+template <typename Body>
+auto AsUnknownName(Body&& body) -> decltype(body()) {
+  try {
+    return body();
+  } catch (const UnknownName&) {
+    throw;
+  } catch (const std::invalid_argument& error) {
+    throw UnknownName(error.what());
+  }
+}
+
+const PythonVecEnvConfig& Checked(const PythonVecEnvConfig& config) {
+  if (config.num_envs < 1) throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(config.num_envs));
+  if (config.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores), got " + std::to_string(config.threads));
+  if (config.control_ticks_per_step < 0) {
+    throw std::invalid_argument("control_ticks_per_step must be >= 1 (0: the policy rate's), got " +
+                                std::to_string(config.control_ticks_per_step));
+  }
+  const std::vector<std::string>& known = SceneCameraNames();
+  for (const std::string& name : config.cameras) {
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      std::string names;
+      for (const std::string& camera : known) names += (names.empty() ? "" : ", ") + camera;
+      throw UnknownName("unknown camera '" + name + "' (known: " + names + ")");
+    }
+  }
+  ValidateCameraSettings({config.cameras, config.image_width, config.image_height, false, false});
+  return config;
+}
+
+kinematics::RobotModel LoadRobot(const PythonVecEnvConfig& config) {
+  std::string path;
+  try {
+    path = configs::RobotConfigPath(config.config_dir, config.robot);
+  } catch (const std::exception& error) {
+    throw UnknownName(error.what());
+  }
+  return configs::LoadRobotModel(path);
+}
+
+tbb::task_arena::constraints ArenaThreads(int threads) {
+  return tbb::task_arena::constraints{}.set_max_concurrency(threads > 0 ? threads : tbb::task_arena::automatic);
+}
+
+}  // namespace
+
+PythonVecEnv::PythonVecEnv(const PythonVecEnvConfig& config)
+    : config_(Checked(config)),
+      scenario_(AsUnknownName([&]() -> const scenarios::ScenarioDef& { return scenarios::FindScenario(config.task); })),
+      protocol_(AsUnknownName([&] { return ParseCameraProtocol(config.camera); })),
+      arena_(ArenaThreads(config.threads)),
+      env_(BuildWorldModel(LoadRobot(config), scenario_), scenario_,
+           AsUnknownName([&] { return scenarios::ParseSplit(config.split); }), config.num_envs, config.seed),
+      ticks_per_step_(config.control_ticks_per_step > 0 ? config.control_ticks_per_step
+                                                        : env_.model().physics.controls_per_policy()),
+      cameras_(ProtocolCameras(config.cameras, protocol_)),
+      proprioception_(env_.model().robot, config.num_envs) {
+  const std::size_t n = static_cast<std::size_t>(num_envs());
+  if (!cameras_.empty() && ticks_per_step_ % env_.model().physics.controls_per_policy() != 0) {
+    throw std::invalid_argument("control_ticks_per_step " + std::to_string(ticks_per_step_) +
+                                " with cameras: images are rendered at policy ticks, so it must be a multiple of " +
+                                std::to_string(env_.model().physics.controls_per_policy()) + " (or give cameras=[])");
+  }
+  proprioception_.SetCameraProtocol(protocol_);
+  if (!cameras_.empty()) env_.EnableCameras({cameras_, config.image_width, config.image_height, false, false});
+  EvaluationCellConfig cell;
+  cell.camera = protocol_;
+  RecordSettings settings = RecordSettingsFor(cell, ticks_per_step_, env_.model().physics, false);
+  settings.in_episode_order = false;
+  recorder_ = std::make_unique<EpisodeRecorder>(num_envs(), env_.model().physics.max_control_steps(), settings, 0,
+                                                [this](EpisodeRecord&& record) {
+                                                  const int64_t episode = record.episode;
+                                                  records_[episode] = std::move(record);
+                                                });
+  prompts_.assign(n, nullptr);
+  starts_.reserve(n);
+  started_.assign(n, 0);
+  all_envs_.assign(n, 1);
+  actions_.assign(n, kinematics::Action{});
+  rewards_.assign(n, 0.0F);
+  terminated_.assign(n, 0);
+  truncated_.assign(n, 0);
+  ended_.assign(n, 0);
+  ended_how_.assign(n, engine::EpisodeEnd::kRunning);
+  ended_episode_.assign(n, -1);
+  reported_episode_.assign(n, -1);
+  final_state_.assign(n * static_cast<std::size_t>(state_size()), 0.0F);
+}
+
+int PythonVecEnv::max_episode_steps() const {
+  return (env_.model().physics.max_control_steps() + ticks_per_step_ - 1) / ticks_per_step_;
+}
+
+Observation PythonVecEnv::MakeObservation() const {
+  return Observation{env_.model(), env_.state(), env_.images(), prompts_, &proprioception_};
+}
+
+void PythonVecEnv::Reset(const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes) {
+  const std::size_t n = static_cast<std::size_t>(num_envs());
+  if (mask.size() != n || episodes.size() != n) {
+    throw std::invalid_argument("reset needs one mask entry and one episode per env (" + std::to_string(n) + "), got " +
+                                std::to_string(mask.size()) + " and " + std::to_string(episodes.size()));
+  }
+  if (std::none_of(mask.begin(), mask.end(), [](uint8_t m) { return m != 0; })) {
+    throw std::invalid_argument("reset_mask selects no env");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  std::fill(rewards_.begin(), rewards_.end(), 0.0F);
+  std::fill(terminated_.begin(), terminated_.end(), 0);
+  std::fill(truncated_.begin(), truncated_.end(), 0);
+  std::fill(ended_.begin(), ended_.end(), 0);
+  starts_.clear();
+  for (int env = 0; env < num_envs(); ++env) {
+    if (mask[env] == 0) continue;
+    const int64_t episode = episodes[env] >= 0 ? episodes[env] : next_episode_;
+    next_episode_ = std::max(next_episode_, episode + 1);
+    starts_.push_back({env, episode});
+  }
+  arena_.execute([&] { StartEpisodes(); });
+  was_reset_ = true;
+  busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void PythonVecEnv::StartEpisodes() {
+  if (starts_.empty()) return;
+  env_.Reset(starts_);
+  std::fill(started_.begin(), started_.end(), 0);
+  for (const EpisodeStart& start : starts_) {
+    started_[start.env] = 1;
+    reported_episode_[start.env] = -1;
+    prompts_[start.env] = scenario_.prompt(env_.state(), start.env);
+  }
+  env_.RenderPolicyTick();
+  UpdateObservation();
+  for (const std::shared_ptr<Policy>& policy : policies_) policy->Reset(MakeObservation(), started_);
+  for (const EpisodeStart& start : starts_) recorder_->EpisodeStarted(env_, start.env);
+  // An ood-init-pose warm-up can end its episode.
+  CollectEnded();
+}
+
+void PythonVecEnv::UpdateObservation() { proprioception_.Update(env_.state(), all_envs_); }
+
+void PythonVecEnv::Step(const double* actions) {
+  if (!was_reset_) throw std::invalid_argument("step before reset: call reset() first");
+  const engine::BatchState& state = env_.state();
+  for (int env = 0; env < num_envs(); ++env) {
+    if (!state.running(env)) continue;
+    for (int entry = 0; entry < kinematics::action::kSize; ++entry) {
+      const double value = actions[static_cast<std::size_t>(env) * kinematics::action::kSize + entry];
+      if (!std::isfinite(value)) {
+        throw std::invalid_argument("action of env " + std::to_string(env) + ", entry " + std::to_string(entry) +
+                                    " is not finite (" + std::to_string(value) + ")");
+      }
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  for (int env = 0; env < num_envs(); ++env) {
+    std::copy_n(actions + static_cast<std::size_t>(env) * kinematics::action::kSize, kinematics::action::kSize,
+                actions_[env].begin());
+    ApplyToAction(protocol_, actions_[env]);
+  }
+  std::fill(rewards_.begin(), rewards_.end(), 0.0F);
+  std::fill(terminated_.begin(), terminated_.end(), 0);
+  std::fill(truncated_.begin(), truncated_.end(), 0);
+  std::fill(ended_.begin(), ended_.end(), 0);
+  arena_.execute([&] {
+    for (int tick = 0; tick < ticks_per_step_; ++tick) {
+      int running = 0;
+      for (int env = 0; env < num_envs(); ++env) running += state.running(env) ? 1 : 0;
+      if (running == 0) break;
+      recorder_->ActionsChosen(env_, actions_);
+      env_.Step(actions_);
+      control_ticks_ += running;
+    }
+    CollectEnded();
+    if (config_.autoreset) {
+      // Every ended episode's slot, including one whose episode ended in an earlier reset's
+      // warm-up (a warm-up that ends here reports in this step, over the previous episode's end).
+      starts_.clear();
+      for (int env = 0; env < num_envs(); ++env) {
+        if (state.episode[env] >= 0 && !state.running(env)) starts_.push_back({env, next_episode_++});
+      }
+      StartEpisodes();
+    }
+    env_.RenderPolicyTick();
+    UpdateObservation();
+  });
+  busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void PythonVecEnv::CollectEnded() {
+  const engine::BatchState& state = env_.state();
+  const std::size_t row = static_cast<std::size_t>(state_size());
+  UpdateObservation();
+  for (int env = 0; env < num_envs(); ++env) {
+    // An env already reported keeps its end until reset; report each end once.
+    if (state.episode[env] < 0 || state.running(env) || reported_episode_[env] == state.episode[env]) continue;
+    const engine::EpisodeEnd end = state.end[env];
+    ended_[env] = 1;
+    ended_how_[env] = end;
+    ended_episode_[env] = state.episode[env];
+    reported_episode_[env] = state.episode[env];
+    rewards_[env] = end == engine::EpisodeEnd::kSuccess ? 1.0F : 0.0F;
+    truncated_[env] = end == engine::EpisodeEnd::kTimeOut ? 1 : 0;
+    terminated_[env] = truncated_[env] == 0 ? 1 : 0;
+    std::copy_n(proprioception_.state(env), row, final_state_.begin() + static_cast<std::ptrdiff_t>(env * row));
+    recorder_->EpisodeEnded(env_, env);
+  }
+}
+
+std::shared_ptr<Policy> PythonVecEnv::MakePolicy(const std::string& name, const std::string& actions_file) {
+  AsUnknownName([&] { CheckBuiltinPolicyName(name); });
+  std::shared_ptr<Policy> policy = MakeBuiltinPolicy(name, scenario_, env_.model(), num_envs(), actions_file);
+  if (policy->control_ticks_per_action() != ticks_per_step_) {
+    throw std::invalid_argument("policy '" + name + "' acts every " + std::to_string(policy->control_ticks_per_action()) +
+                                " control ticks but the env steps " + std::to_string(ticks_per_step_) +
+                                "; make the env with control_ticks_per_step=" +
+                                std::to_string(policy->control_ticks_per_action()));
+  }
+  if (!policy->cameras().empty()) throw std::invalid_argument("built-in policy '" + name + "' uses cameras");
+  arena_.execute([&] {
+    std::vector<uint8_t> running(static_cast<std::size_t>(num_envs()), 0);
+    for (int env = 0; env < num_envs(); ++env) running[env] = env_.state().running(env) ? 1 : 0;
+    policy->Reset(MakeObservation(), running);
+  });
+  policies_.push_back(policy);
+  return policy;
+}
+
+void PythonVecEnv::Act(Policy& policy, double* actions) {
+  const auto is_this = [&](const std::shared_ptr<Policy>& mine) { return mine.get() == &policy; };
+  if (std::none_of(policies_.begin(), policies_.end(), is_this)) {
+    throw std::invalid_argument("policy '" + policy.name() + "' was made by another env (make it with this env's make_policy)");
+  }
+  std::vector<uint8_t> acting(static_cast<std::size_t>(num_envs()), 0);
+  ActionBatch chosen(static_cast<std::size_t>(num_envs()), kinematics::Action{});
+  for (int env = 0; env < num_envs(); ++env) acting[env] = env_.state().running(env) ? 1 : 0;
+  arena_.execute([&] { policy.Act(MakeObservation(), acting, chosen); });
+  for (int env = 0; env < num_envs(); ++env) {
+    std::copy(chosen[env].begin(), chosen[env].end(), actions + static_cast<std::size_t>(env) * kinematics::action::kSize);
+  }
+}
+
+void PythonVecEnv::WriteResults(const std::string& out_dir, const std::string& policy, int64_t first, int64_t count) const {
+  if (first < 0 || count < 1) {
+    throw std::invalid_argument("episodes to write: first >= 0 and count >= 1, got first " + std::to_string(first) +
+                                ", count " + std::to_string(count));
+  }
+  CellResult result;
+  EvaluationCellConfig& cell = result.config;
+  cell.task = config_.task;
+  cell.robot = config_.robot;
+  cell.split = scenarios::ParseSplit(config_.split);
+  cell.camera = protocol_;
+  cell.policy = policy;
+  cell.episodes = static_cast<int>(count);
+  cell.envs = num_envs();
+  cell.seed = config_.seed;
+  cell.config_dir = config_.config_dir;
+  cell.image_width = config_.image_width;
+  cell.image_height = config_.image_height;
+  for (int64_t episode = first; episode < first + count; ++episode) {
+    const auto record = records_.find(episode);
+    if (record == records_.end()) {
+      throw std::invalid_argument("episode " + std::to_string(episode) + " has not ended (episodes ended: " +
+                                  std::to_string(records_.size()) + ")");
+    }
+    result.episodes.push_back(record->second);
+    result.successes += record->second.success ? 1 : 0;
+  }
+  const RecordSettings settings = RecordSettingsFor(cell, ticks_per_step_, env_.model().physics, false);
+  result.galt_fps = settings.galt_fps;
+  result.galt_policy_rate_fps = settings.policy_rate_fps;
+  result.envs = num_envs();
+  result.wall_s = busy_s_;
+  result.control_ticks = control_ticks_;
+  result.rendered_cameras = cameras_;
+  result.render_width = config_.image_width;
+  result.render_height = config_.image_height;
+  result.rendered_images = env_.rendered_images();
+  RunInfo info;
+  info.threads = arena_.max_concurrency();
+  WriteCellReport(result, info, out_dir);
+}
+
+}  // namespace tavis::batch

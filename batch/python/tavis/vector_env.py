@@ -1,0 +1,210 @@
+"""The batched TAVIS env as a Gymnasium-style VectorEnv (docs/python.md).
+
+Observations use LeRobot's raw keys: ``pixels`` = {OBS_HEAD | OBS_FIXED, OBS_WRIST_LEFT,
+OBS_WRIST_RIGHT: (N, H, W, 3) uint8}, ``agent_pos`` = (N, D) float32 (observation.state) and
+``task`` = the prompt per env. The arrays are read-only views of the simulator's buffers, not
+copies: they are overwritten by the next ``step``/``reset`` (copy them to keep them).
+
+Episodes: episode i of a cell has the randomness of (seed, i), whichever env runs it. A reset
+seed chooses episode indices, as Gymnasium's per-sub-env seeds: ``reset(seed=s)`` starts episodes
+s .. s+N-1, a list gives one per env, None continues with the next episodes not dealt yet; the
+cell seed is ``make_vec(seed=...)``. With ``autoreset=True`` (Gymnasium's SAME_STEP) an env whose
+episode ends starts the next episode in the same step, the ended one's observation.state going
+to ``infos["final_obs"]``; with ``autoreset=False`` (DISABLED) it stays ended, its actions are
+ignored, until ``reset(options={"reset_mask": ...})``.
+"""
+
+import json
+
+import numpy as np
+
+from . import _tavis
+
+try:  # Gymnasium is optional: subclass its VectorEnv when it is there.
+    import gymnasium
+    from gymnasium.vector import VectorEnv as _VectorEnvBase
+
+    try:
+        from gymnasium.vector import AutoresetMode as _AutoresetMode
+    except ImportError:  # Gymnasium < 1.1 has no AutoresetMode
+        _AutoresetMode = None
+except ImportError:
+    gymnasium = None
+    _VectorEnvBase = object
+    _AutoresetMode = None
+
+# Camera name -> LeRobot's raw pixel key (TAVIS checkpoints' observation.images.<key>).
+PIXEL_KEYS = {
+    "head": "OBS_HEAD",
+    "fixed": "OBS_FIXED",
+    "left_wrist": "OBS_WRIST_LEFT",
+    "right_wrist": "OBS_WRIST_RIGHT",
+}
+
+
+def _autoreset_mode(autoreset):
+    name = "SAME_STEP" if autoreset else "DISABLED"
+    return getattr(_AutoresetMode, name) if _AutoresetMode is not None else name.lower()
+
+
+class BuiltinPolicy:
+    """A policy built into the simulator ("expert", "hold", "replay") acting on one env.
+
+    ``policy()`` returns the actions of every env for the current state, (N, 19) float64 (rows of
+    envs not running are zero); it is reset with the env's episodes.
+    """
+
+    def __init__(self, env, core_policy):
+        self._env = env
+        self._policy = core_policy
+
+    @property
+    def name(self):
+        return self._policy.name
+
+    @property
+    def control_ticks_per_action(self):
+        return self._policy.control_ticks_per_action
+
+    def __call__(self, observation=None):
+        return self._env._core.act(self._policy)
+
+
+class TavisVectorEnv(_VectorEnvBase):
+    """N envs of one task stepped together in C++; see the module docstring."""
+
+    def __init__(self, task, robot="gr1t2", split="id", num_envs=1, seed=0, camera="head",
+                 cameras=("head", "left_wrist", "right_wrist"), image_size=(224, 224), threads=0,
+                 control_ticks_per_step=0, autoreset=True, config_dir=None):
+        if isinstance(cameras, str):
+            raise ValueError(f"cameras must be a list of camera names, got the string {cameras!r}")
+        if len(tuple(image_size)) != 2:
+            raise ValueError(f"image_size must be (height, width), got {image_size!r}")
+        self._core = _tavis.VecEnvCore(
+            task=task, robot=robot, split=split, num_envs=num_envs, seed=seed, camera=camera,
+            cameras=list(cameras), image_size=tuple(int(v) for v in image_size), threads=threads,
+            control_ticks_per_step=control_ticks_per_step, autoreset=bool(autoreset),
+            config_dir=config_dir if config_dir is not None else _tavis.DEFAULT_CONFIG_DIR)
+        self.num_envs = num_envs
+        self.task = task
+        self.seed = seed
+        self.autoreset = bool(autoreset)
+        self.image_size = tuple(image_size)
+        self.camera_names = list(self._core.camera_names)
+        self.control_ticks_per_step = self._core.control_ticks_per_step
+        self._max_episode_steps = self._core.max_episode_steps
+        self.render_mode = None
+        self.metadata = {
+            "render_fps": 60 // self.control_ticks_per_step,
+            "autoreset_mode": _autoreset_mode(autoreset),
+        }
+        if gymnasium is not None:
+            self._define_spaces()
+
+    def _define_spaces(self):
+        from gymnasium import spaces
+        from gymnasium.vector.utils import batch_space
+
+        height, width = self.image_size
+        pixels = {PIXEL_KEYS[name]: spaces.Box(0, 255, (height, width, 3), np.uint8) for name in self.camera_names}
+        single = {"agent_pos": spaces.Box(-np.inf, np.inf, (self._core.state_size,), np.float32)}
+        if pixels:
+            single["pixels"] = spaces.Dict(pixels)
+        self.single_observation_space = spaces.Dict(single)
+        self.single_action_space = spaces.Box(-np.inf, np.inf, (_tavis.ACTION_SIZE,), np.float64)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+
+    # Gymnasium's API
+
+    def reset(self, *, seed=None, options=None):
+        mask = np.ones(self.num_envs, dtype=bool)
+        if options and options.get("reset_mask") is not None:
+            mask = np.asarray(options["reset_mask"])
+            if mask.dtype != np.bool_ or mask.shape != (self.num_envs,):
+                raise ValueError(f"reset_mask must be a bool array of shape ({self.num_envs},), "
+                                 f"got {mask.dtype} {mask.shape}")
+        self._core.reset(mask.astype(np.uint8).tolist(), self._episode_indices(seed))
+        return self._observation(), self._infos()
+
+    def step(self, actions):
+        self._core.step(actions)
+        return (self._observation(), self._core.rewards(), self._core.terminated(), self._core.truncated(),
+                self._infos())
+
+    def call(self, name, *args, **kwargs):
+        if name in ("task_description", "task"):
+            return tuple(self._core.prompts())
+        if name == "_max_episode_steps":
+            return (self._max_episode_steps,) * self.num_envs
+        value = getattr(self, name)
+        return value(*args, **kwargs) if callable(value) else (value,) * self.num_envs
+
+    def get_attr(self, name):
+        return self.call(name)
+
+    def close(self, **kwargs):
+        """Nothing to release early: the buffers live as long as the env or a view of them."""
+
+    # TAVIS's additions
+
+    def make_policy(self, name, actions_file=""):
+        """A built-in policy acting on this env (tavis.builtin_policy_names())."""
+        return BuiltinPolicy(self, self._core.make_policy(name, actions_file))
+
+    def episode_records(self):
+        """The ended episodes' records, as `tavis eval` writes them in episodes.jsonl."""
+        return [json.loads(line) for line in self._core.episode_json_lines()]
+
+    def write_results(self, out_dir, policy, episodes, first_episode=0):
+        """Writes episodes first_episode .. +episodes-1 as `tavis eval` does: OUT/episodes.jsonl and
+        OUT/summary.json. ``policy`` names what acted (the summary's "policy")."""
+        self._core.write_results(str(out_dir), policy, first_episode, episodes)
+
+    # Helpers
+
+    def _episode_indices(self, seed):
+        if seed is None:
+            return [-1] * self.num_envs
+        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"seed must be an int or {self.num_envs} ints, got {len(seeds)} values")
+        for s in seeds:
+            valid = s is None or (isinstance(s, (int, np.integer)) and not isinstance(s, bool) and s >= 0)
+            if not valid:
+                raise ValueError(f"a seed is an episode index >= 0 (or None: the next one), got {s!r}")
+        return [-1 if s is None else int(s) for s in seeds]
+
+    def _observation(self):
+        pixels = self._core.pixels()
+        return {
+            "pixels": {PIXEL_KEYS[name]: view for name, view in pixels.items()},
+            "agent_pos": self._core.agent_pos(),
+            "task": self._core.prompts(),
+        }
+
+    def _infos(self):
+        ended = self._core.ended()
+        ends = np.array(self._core.ended_how(), dtype=object)
+        success = ended & (ends == "success")
+        final_info = {
+            "is_success": success, "_is_success": ended,
+            "episode": self._core.ended_episodes(), "_episode": ended,
+            "end": np.where(ended, ends, None), "_end": ended,
+        }
+        infos = {
+            "episode": self._core.episodes(), "_episode": np.ones(self.num_envs, dtype=bool),
+            "is_success": success, "_is_success": ended,
+            "final_info": final_info, "_final_info": ended,
+        }
+        if self.autoreset:
+            final_state = self._core.final_agent_pos()
+            final_obs = np.empty(self.num_envs, dtype=object)
+            for env in np.flatnonzero(ended):
+                final_obs[env] = {"agent_pos": final_state[env]}
+            infos["final_obs"] = final_obs
+            infos["_final_obs"] = ended
+        return infos

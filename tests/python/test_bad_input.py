@@ -1,0 +1,102 @@
+"""Bad input raises ValueError or KeyError naming the bad value; the env stays usable."""
+
+import numpy as np
+import pytest
+
+import tavis
+from conftest import TASK, hold_actions, make_small
+
+
+@pytest.fixture
+def env():
+    env = make_small(num_envs=2, cameras=[], control_ticks_per_step=3)
+    env.reset(seed=0)
+    return env
+
+
+@pytest.mark.parametrize("actions, message", [
+    (np.zeros((2, 18)), r"shape \(2, 19\), got \(2, 18\)"),
+    (np.zeros((3, 19)), r"shape \(2, 19\), got \(3, 19\)"),
+    (np.zeros(38), r"shape \(2, 19\), got \(38\)"),
+    (np.zeros((2, 19), dtype=np.int64), "dtype float32 or float64, got int64"),
+    (np.zeros((2, 19), dtype=np.float16), "dtype float32 or float64, got float16"),
+    ([[0.0] * 19] * 2, "numpy array"),
+])
+def test_wrong_actions_raise_value_error(env, actions, message):
+    with pytest.raises(ValueError, match=message):
+        env.step(actions)
+    env.step(hold_actions(env))  # still usable
+
+
+@pytest.mark.parametrize("value", [np.nan, np.inf])
+def test_non_finite_action_raises_value_error_before_anything_moves(env, value):
+    before = env._core.agent_pos().copy()
+    actions = hold_actions(env)
+    actions[1, 7] = value
+    with pytest.raises(ValueError, match="env 1, entry 7 is not finite"):
+        env.step(actions.astype(np.float32))
+    np.testing.assert_array_equal(env._core.agent_pos(), before)
+    _, _, terminated, _, _ = env.step(hold_actions(env))
+    assert not terminated.any()
+
+
+@pytest.mark.parametrize("option, value, message", [
+    ("task", "no-such-task", "unknown task 'no-such-task'"),
+    ("robot", "no-such-robot", "no-such-robot"),
+    ("camera", "sideways", "sideways"),
+    ("cameras", ["head", "tail"], "unknown camera 'tail'"),
+    ("split", "ood-everything", "unknown split 'ood-everything'"),
+])
+def test_unknown_names_raise_key_error(option, value, message):
+    options = {"task": TASK, "num_envs": 1, "cameras": []}
+    options[option] = value
+    with pytest.raises(KeyError, match=message):
+        tavis.make_vec(**options)
+
+
+def test_unknown_policy_raises_key_error(env):
+    with pytest.raises(KeyError, match="no-such-policy"):
+        env.make_policy("no-such-policy")
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"num_envs": 0}, "num_envs must be at least 1, got 0"),
+    ({"image_size": (0, 10)}, "0"),
+    ({"control_ticks_per_step": 1, "cameras": ["head"]}, "multiple of 3"),
+])
+def test_bad_values_raise_value_error(options, message):
+    settings = {"task": TASK, "num_envs": 1, "cameras": []}
+    settings.update(options)
+    with pytest.raises(ValueError, match=message):
+        tavis.make_vec(**settings)
+
+
+def test_bad_reset_arguments_raise_value_error(env):
+    with pytest.raises(ValueError, match="reset_mask must be a bool array of shape"):
+        env.reset(options={"reset_mask": np.array([1, 0])})
+    with pytest.raises(ValueError, match="selects no env"):
+        env.reset(options={"reset_mask": np.array([False, False])})
+    with pytest.raises(ValueError, match="episode index >= 0"):
+        env.reset(seed=[0, -4])
+    with pytest.raises(ValueError, match="2 ints, got 3"):
+        env.reset(seed=[0, 1, 2])
+
+
+def test_step_before_reset_and_policy_at_another_rate_raise_value_error():
+    env = make_small(num_envs=1, cameras=[])
+    with pytest.raises(ValueError, match="reset"):
+        env.step(np.zeros((1, 19)))
+    with pytest.raises(ValueError, match="control_ticks_per_step=1"):
+        env.make_policy("expert")
+
+
+def test_writing_episodes_not_ended_raises_value_error(env, tmp_path):
+    with pytest.raises(ValueError, match="episode 0 has not ended"):
+        env.write_results(tmp_path / "out", "hold", 4)
+
+
+def test_a_policy_of_another_env_raises_value_error(env):
+    other = make_small(num_envs=5, cameras=[], control_ticks_per_step=3)
+    policy = other.make_policy("hold")
+    with pytest.raises(ValueError, match="another env"):
+        env._core.act(policy._policy)
