@@ -126,6 +126,72 @@ struct PixelWriter {
   }
 };
 
+// Lit diffuse pixels waiting for their shadow ray, packed into full packets across the blocks of
+// a tile: one rtcOccluded call per K waiting pixels rather than one per block.
+template <int K>
+class ShadowQueue {
+ public:
+  // What a waiting pixel needs once its shadow ray is known.
+  struct Waiting {
+    std::size_t pixel;
+    Eigen::Vector3f colour;
+    Eigen::Vector3f normal;
+    float cosine;
+    float depth;
+    int32_t object_id;
+  };
+
+  explicit ShadowQueue(const Eigen::Vector3f& to_light)
+      : context_(MakeContext(RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT)) {
+    // Shadow rays all go towards the distant light; only their origins change.
+    SetTileConstants<K>(&rays_, Eigen::Vector3f::Zero(), 0.0f);
+    for (int k = 0; k < K; ++k) {
+      rays_.dir_x[k] = to_light.x();
+      rays_.dir_y[k] = to_light.y();
+      rays_.dir_z[k] = to_light.z();
+    }
+  }
+
+  bool full() const { return size_ == K; }
+
+  void Push(const Eigen::Vector3f& origin, const Waiting& waiting) {
+    rays_.org_x[size_] = origin.x();
+    rays_.org_y[size_] = origin.y();
+    rays_.org_z[size_] = origin.z();
+    waiting_[size_] = waiting;
+    ++size_;
+  }
+
+  // Traces the waiting shadow rays, writes their pixels and empties the queue; returns the number
+  // of rays traced.
+  int Flush(RTCScene scene, const LightingModel& lighting, const PixelWriter& writer) {
+    if (size_ == 0) return 0;
+    alignas(64) int valid[K];
+    for (int k = 0; k < K; ++k) {
+      valid[k] = k < size_ ? -1 : 0;
+      rays_.tfar[k] = k < size_ ? std::numeric_limits<float>::infinity() : 0.0f;  // inactive lanes stay finite
+    }
+    Packet<K>::Occluded(valid, scene, &context_, &rays_);
+    for (int k = 0; k < size_; ++k) {
+      const Waiting& w = waiting_[k];
+      // rtcOccluded sets tfar to -inf for blocked rays.
+      const bool blocked = rays_.tfar[k] < 0.0f;
+      writer.Write(w.pixel, lighting.Shade(w.colour, w.normal, blocked ? 0.0f : w.cosine), w.depth, w.object_id);
+    }
+    const int traced = size_;
+    size_ = 0;
+    return traced;
+  }
+
+ private:
+  // Shadow packets are traced without the coherent hint: with it, rtcOccluded16 of Embree 3.13.5
+  // never returned on an AVX-512 AMD CPU (observed on the development machine).
+  RTCIntersectContext context_;
+  alignas(64) typename Packet<K>::Ray rays_;
+  Waiting waiting_[K];
+  int size_ = 0;
+};
+
 template <int K>
 TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect,
                       const Shading& shading, const ImageView& image) {
@@ -137,38 +203,18 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   const Eigen::Vector3f to_light = lighting.to_light();
   const bool shadows = lighting.shadows();
   RTCIntersectContext primary_context = MakeContext(RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
-  // Shadow packets are traced without the coherent hint: with it, rtcOccluded16 of Embree 3.13.5
-  // never returned on an AVX-512 AMD CPU (observed on the development machine).
-  RTCIntersectContext shadow_context = MakeContext(RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT);
   alignas(64) int valid[K];
-  alignas(64) int shadow_valid[K];
   alignas(64) typename P::RayHit primary;
-  alignas(64) typename P::Ray shadow;
-  // Lit diffuse lanes waiting for their shadow ray: lane, pixel, reflectance, normal, cosine.
-  int waiting_lane[K];
-  std::size_t waiting_pixel[K];
-  Eigen::Vector3f waiting_colour[K];
-  Eigen::Vector3f waiting_normal[K];
-  float waiting_cosine[K];
+  ShadowQueue<K> queue(to_light);
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
-  // Shadow rays all go towards the distant light; only their origins and tfar change per block.
-  SetTileConstants<K>(&shadow, camera.origin, 0.0f);
-  for (int k = 0; k < K; ++k) {
-    shadow.dir_x[k] = to_light.x();
-    shadow.dir_y[k] = to_light.y();
-    shadow.dir_z[k] = to_light.z();
-    shadow.tfar[k] = 0.0f;  // inactive lanes keep harmless finite rays
-  }
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
       counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
 
-      int n_waiting = 0;
       for (int k = 0; k < K; ++k) {
-        shadow_valid[k] = 0;
         if (valid[k] == 0) continue;
         const std::size_t pixel =
             static_cast<std::size_t>(block_y + kLanes.row_index[k]) * static_cast<std::size_t>(image.width) +
@@ -198,34 +244,15 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
         const Eigen::Vector3f colour = Reflectance(surface, base, p_local, n_local);
         const float cosine = std::max(0.0f, n.dot(to_light));
         if (cosine > 0.0f && shadows) {
-          shadow_valid[k] = -1;
-          const Eigen::Vector3f origin = p + kShadowRayOffset * n;
-          shadow.org_x[k] = origin.x();
-          shadow.org_y[k] = origin.y();
-          shadow.org_z[k] = origin.z();
-          shadow.tfar[k] = std::numeric_limits<float>::infinity();
-          waiting_lane[n_waiting] = k;
-          waiting_pixel[n_waiting] = pixel;
-          waiting_colour[n_waiting] = colour;
-          waiting_normal[n_waiting] = n;
-          waiting_cosine[n_waiting] = cosine;
-          ++n_waiting;
+          queue.Push(p + kShadowRayOffset * n, {pixel, colour, n, cosine, depth, surface.object_id});
+          if (queue.full()) counts.shadow_rays += queue.Flush(env.scene, lighting, writer);
           continue;
         }
         writer.Write(pixel, lighting.Shade(colour, n, cosine), depth, surface.object_id);
       }
-      if (n_waiting == 0) continue;
-      P::Occluded(shadow_valid, env.scene, &shadow_context, &shadow);
-      counts.shadow_rays += n_waiting;
-      for (int w = 0; w < n_waiting; ++w) {
-        const int k = waiting_lane[w];
-        // rtcOccluded sets tfar to -inf for blocked rays.
-        const bool blocked = shadow.tfar[k] < 0.0f;
-        writer.Write(waiting_pixel[w], lighting.Shade(waiting_colour[w], waiting_normal[w], blocked ? 0.0f : waiting_cosine[w]),
-                     primary.ray.tfar[k], env.surfaces[primary.hit.instID[0][k]].object_id);
-      }
     }
   }
+  counts.shadow_rays += queue.Flush(env.scene, lighting, writer);
   return counts;
 }
 
