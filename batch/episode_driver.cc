@@ -1,7 +1,11 @@
 #include "batch/episode_driver.h"
 
+#include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
+
+#include <tbb/task_arena.h>
 
 namespace tavis::batch {
 
@@ -23,6 +27,35 @@ EpisodeDriver::EpisodeDriver(VecEnv& env, Policy& policy, int64_t episodes, int6
   actions_.assign(slots, kinematics::Action{});
 }
 
+template <typename Body>
+double EpisodeDriver::WallSeconds(Body&& body) {
+  if (!profiling_) {
+    body();
+    return 0.0;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  body();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double EpisodeDriver::EndSection(const std::vector<uint8_t>& slots) {
+  double slowest = 0.0, work = 0.0, env_work = 0.0;
+  for (int slot = 0; slot < env_.num_envs(); ++slot) {
+    if (!slots[slot]) continue;
+    const double policy = timed_policy_ != nullptr ? timed_policy_->TakeEnvSeconds(slot) : 0.0;
+    const double env_cost = env_.TakeEnvSeconds(slot);
+    const double cost = env_cost + policy;
+    env_work += env_cost;
+    policy_seconds_ += policy;
+    episode_seconds_[slot] += cost;
+    slowest = std::max(slowest, cost);
+    work += cost;
+  }
+  profile_.slowest_env_seconds += slowest;
+  profile_.sections.emplace_back(slowest, work);
+  return env_work;
+}
+
 Observation EpisodeDriver::MakeObservation() const {
   return Observation{env_.model(), env_.state(), env_.images(), prompts_, &proprioception_};
 }
@@ -37,11 +70,21 @@ void EpisodeDriver::Run() {
   }
   const engine::BatchState& state = env_.state();
   const int slots = env_.num_envs();
+  const auto run_start = std::chrono::steady_clock::now();
+  if (profiling_) {
+    env_.EnableStageTiming(true);
+    timed_policy_ = dynamic_cast<PerEnvPolicy*>(&policy_);
+    if (timed_policy_ != nullptr) timed_policy_->EnableEnvTiming(true);
+    episode_seconds_.assign(slots, 0.0);
+    all_slots_.assign(slots, 1);
+  }
   while (true) {
     CollectAndRefill();
     if (finished_ >= total_) break;
-    for (EpisodeSink* sink : sinks_) sink->TickStarting(env_);
-    env_.RenderPolicyTick();
+    recording_seconds_ += WallSeconds([&] {
+      for (EpisodeSink* sink : sinks_) sink->TickStarting(env_);
+    });
+    parallel_seconds_ += WallSeconds([&] { env_.RenderPolicyTick(); });
     int running = 0;
     for (int slot = 0; slot < slots; ++slot) {
       acting_[slot] = state.running(slot) && state.control_step[slot] % hold_ticks == 0;
@@ -49,16 +92,43 @@ void EpisodeDriver::Run() {
       running += state.running(slot) ? 1 : 0;
     }
     proprioception_.Update(state, observed_);
-    policy_.Act(MakeObservation(), acting_, actions_);
+    const double act_seconds = WallSeconds([&] { policy_.Act(MakeObservation(), acting_, actions_); });
+    parallel_seconds_ += act_seconds;
+    if (profiling_ && timed_policy_ == nullptr) policy_seconds_ += act_seconds;
     faults_.clear();
     policy_.TakeFaults(faults_);
     for (PolicyFault& fault : faults_) env_.EndInvalid(fault.env, {-1, 0.0, std::move(fault.reason)});
     for (ActionBatch::value_type& action : actions_) ApplyToAction(protocol_, action);
-    for (EpisodeSink* sink : sinks_) sink->ActionsChosen(env_, actions_);
-    env_.Step(actions_);
+    recording_seconds_ += WallSeconds([&] {
+      for (EpisodeSink* sink : sinks_) sink->ActionsChosen(env_, actions_);
+    });
+    parallel_seconds_ += WallSeconds([&] { env_.Step(actions_); });
     control_ticks_ += running;
-    for (EpisodeSink* sink : sinks_) sink->Stepped(env_);
+    if (profiling_) EndSection(all_slots_);
+    recording_seconds_ += WallSeconds([&] {
+      for (EpisodeSink* sink : sinks_) sink->Stepped(env_);
+    });
   }
+  if (profiling_) FinishProfile(std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count());
+}
+
+void EpisodeDriver::FinishProfile(double wall_seconds) {
+  const int threads = tbb::this_task_arena::max_concurrency();
+  const std::array<double, kNumStages> stage = env_.stage_seconds();
+  profile_.threads = threads;
+  profile_.wall_seconds = wall_seconds;
+  profile_.serial_seconds = std::max(0.0, wall_seconds - parallel_seconds_);
+  profile_.render_seconds = stage[static_cast<int>(Stage::kRender)] * threads;
+  profile_.stages.clear();
+  for (Stage name : {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask,
+                     Stage::kEndEpisodes}) {
+    profile_.stages.emplace_back(ToString(name), stage[static_cast<int>(name)]);
+  }
+  profile_.stages.emplace_back(ToString(Stage::kReset), reset_seconds_);
+  profile_.stages.emplace_back(ToString(Stage::kRender), profile_.render_seconds);
+  profile_.stages.emplace_back("policy", policy_seconds_);
+  profile_.stages.emplace_back("recording", recording_seconds_);
+  profile_.stages.emplace_back("driver", std::max(0.0, profile_.serial_seconds - recording_seconds_));
 }
 
 void EpisodeDriver::CollectAndRefill() {
@@ -78,7 +148,13 @@ void EpisodeDriver::CollectAndRefill() {
       if (!complete) continue;
       env_.Stop(slot);
     }
-    for (EpisodeSink* sink : sinks_) sink->EpisodeEnded(env_, slot);
+    if (profiling_) {
+      profile_.episodes.push_back({state.episode[slot], slot, state.control_step[slot], episode_seconds_[slot]});
+      episode_seconds_[slot] = 0.0;
+    }
+    recording_seconds_ += WallSeconds([&] {
+      for (EpisodeSink* sink : sinks_) sink->EpisodeEnded(env_, slot);
+    });
     ++finished_;
     if (progress_) progress_(finished_, total_);
     prompts_[slot] = nullptr;
@@ -89,15 +165,18 @@ void EpisodeDriver::CollectAndRefill() {
     }
   }
   if (starts_.empty()) return;
-  env_.Reset(starts_);
+  parallel_seconds_ += WallSeconds([&] { env_.Reset(starts_); });
   for (const EpisodeStart& start : starts_) {
     started_[start.env] = 1;
     prompts_[start.env] = env_.scenario().prompt(state, start.env);
   }
-  policy_.Reset(MakeObservation(), started_);
-  for (const EpisodeStart& start : starts_) {
-    for (EpisodeSink* sink : sinks_) sink->EpisodeStarted(env_, start.env);
-  }
+  parallel_seconds_ += WallSeconds([&] { policy_.Reset(MakeObservation(), started_); });
+  if (profiling_) reset_seconds_ += EndSection(started_);
+  recording_seconds_ += WallSeconds([&] {
+    for (const EpisodeStart& start : starts_) {
+      for (EpisodeSink* sink : sinks_) sink->EpisodeStarted(env_, start.env);
+    }
+  });
 }
 
 }  // namespace tavis::batch

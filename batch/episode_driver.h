@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "batch/camera_protocol.h"
+#include "batch/cell_profile.h"
 #include "batch/policy.h"
 #include "batch/vec_env.h"
 
@@ -66,12 +67,25 @@ class EpisodeDriver {
   // Env control ticks simulated (for throughput).
   int64_t control_ticks() const { return control_ticks_; }
 
+  // Collects profile() during Run: switches the env's stage timing on (and a PerEnvPolicy's
+  // per-env timing) and times the driver's own parts. Call before Run. Under ood-init-pose the
+  // warm-up's ticks count in both "reset" and the tick stages.
+  void EnableProfile() { profiling_ = true; }
+  const CellProfile& profile() const { return profile_; }
+
  private:
   Observation MakeObservation() const;
   // Reports the slots whose episodes have ended (stopping those a sink is done with), deals the
   // next episodes to them and to idle slots in slot order, resets those slots in parallel, then
   // tells the policy and the sinks.
   void CollectAndRefill();
+  // Profiling: adds each slot's cost in the parallel section just run (`slots` flags them) to
+  // its episode and the section's slowest env and work to the profile; returns the env's part
+  // of the work (the policy's is counted apart).
+  double EndSection(const std::vector<uint8_t>& slots);
+  void FinishProfile(double wall_seconds);
+  template <typename Body>
+  double WallSeconds(Body&& body);
 
   VecEnv& env_;
   Policy& policy_;
@@ -92,6 +106,15 @@ class EpisodeDriver {
   std::vector<EpisodeStart> starts_;
   ActionBatch actions_;
   std::vector<PolicyFault> faults_;
+  bool profiling_ = false;
+  CellProfile profile_;
+  PerEnvPolicy* timed_policy_ = nullptr;  // the policy, when it times its envs
+  double parallel_seconds_ = 0.0;         // wall time in parallel sections
+  double recording_seconds_ = 0.0;        // wall time in sinks
+  double policy_seconds_ = 0.0;
+  double reset_seconds_ = 0.0;
+  std::vector<double> episode_seconds_;   // (slots) the running episode's cost so far
+  std::vector<uint8_t> all_slots_;
 };
 
 }  // namespace tavis::batch

@@ -152,8 +152,10 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     driver.AddSink(recorder);
     driver.SetProgress(progress);
     driver.SetCameraProtocol(config.camera);
+    if (config.profile) driver.EnableProfile();
     driver.Run();
     result.control_ticks = driver.control_ticks();
+    if (config.profile) result.profile = driver.profile();
   }
 
   result.rendered_cameras = cameras;

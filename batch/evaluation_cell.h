@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "batch/camera_protocol.h"
+#include "batch/cell_profile.h"
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
 #include "batch/remote/remote_policy.h"
@@ -48,6 +49,8 @@ struct EvaluationCellConfig {
   // Keep every control tick's commanded action in the records (tests compare them); otherwise a
   // cell's memory does not grow with its episodes.
   bool keep_actions = false;
+  // Time every stage and episode (CellResult::profile; `tavis eval --profile`).
+  bool profile = false;
 };
 
 struct CellResult {
@@ -68,6 +71,7 @@ struct CellResult {
   std::optional<remote::RequestTimings> requests;
   std::vector<remote::Value> server_metadata;  // each server's metadata message
   std::string observation_keys_source;         // the request layout's preset or file
+  std::optional<CellProfile> profile;          // with config.profile
 };
 
 // Policy names a cell accepts, for --help texts and errors: the built-in ones and "openpi".

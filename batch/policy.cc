@@ -2,18 +2,40 @@
 
 #include <tbb/parallel_for.h>
 
+#include "batch/cell_profile.h"
+
 namespace tavis::batch {
 
+template <typename Body>
+void PerEnvPolicy::Timed(int env, Body&& body) {
+  if (!env_timing_) {
+    body();
+    return;
+  }
+  const int64_t start = ThreadCpuNanoseconds();
+  body();
+  env_nanoseconds_[env] += ThreadCpuNanoseconds() - start;
+}
+
 void PerEnvPolicy::Reset(const Observation& observation, const std::vector<uint8_t>& started) {
+  if (env_timing_) env_nanoseconds_.resize(started.size(), 0);
   tbb::parallel_for(0, static_cast<int>(started.size()), [&](int env) {
-    if (started[env]) ResetEnv(observation, env);
+    if (started[env]) Timed(env, [&] { ResetEnv(observation, env); });
   });
 }
 
 void PerEnvPolicy::Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) {
+  if (env_timing_) env_nanoseconds_.resize(acting.size(), 0);
   tbb::parallel_for(0, static_cast<int>(acting.size()), [&](int env) {
-    if (acting[env]) ActEnv(observation, env, actions[env]);
+    if (acting[env]) Timed(env, [&] { ActEnv(observation, env, actions[env]); });
   });
+}
+
+double PerEnvPolicy::TakeEnvSeconds(int env) {
+  if (static_cast<size_t>(env) >= env_nanoseconds_.size()) return 0.0;
+  const double seconds = 1e-9 * static_cast<double>(env_nanoseconds_[env]);
+  env_nanoseconds_[env] = 0;
+  return seconds;
 }
 
 }  // namespace tavis::batch

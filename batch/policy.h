@@ -71,10 +71,21 @@ class PerEnvPolicy : public Policy {
  public:
   void Reset(const Observation& observation, const std::vector<uint8_t>& started) final;
   void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) final;
+  // Per-env timing for profiles: TakeEnvSeconds returns the CPU time ResetEnv and ActEnv spent on
+  // the env since the last call and starts again from zero. Off by default.
+  void EnableEnvTiming(bool enabled) { env_timing_ = enabled; }
+  double TakeEnvSeconds(int env);
 
  protected:
   virtual void ResetEnv(const Observation& observation, int env) = 0;
   virtual void ActEnv(const Observation& observation, int env, kinematics::Action& action) = 0;
+
+ private:
+  template <typename Body>
+  void Timed(int env, Body&& body);
+
+  bool env_timing_ = false;
+  std::vector<int64_t> env_nanoseconds_;
 };
 
 }  // namespace tavis::batch

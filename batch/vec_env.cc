@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "batch/cell_profile.h"
 #include "batch/init_pose_warmup.h"
 #include "kinematics/action_check.h"
 #include "kinematics/inverse_kinematics.h"
@@ -73,6 +74,14 @@ void VecEnv::Timed(Stage stage, Body&& body) {
     body();
     return;
   }
+  // A control tick's stages run on one thread: their CPU time. Reset and render start parallel
+  // work: their wall time.
+  if (stage != Stage::kReset && stage != Stage::kRender) {
+    const int64_t start = ThreadCpuNanoseconds();
+    body();
+    stage_nanoseconds_[static_cast<int>(stage)] += ThreadCpuNanoseconds() - start;
+    return;
+  }
   const auto start = std::chrono::steady_clock::now();
   body();
   const auto elapsed = std::chrono::steady_clock::now() - start;
@@ -82,6 +91,14 @@ void VecEnv::Timed(Stage stage, Body&& body) {
 void VecEnv::EnableStageTiming(bool enabled) {
   stage_timing_ = enabled;
   for (auto& nanoseconds : stage_nanoseconds_) nanoseconds = 0;
+  env_nanoseconds_.assign(num_envs(), 0);
+}
+
+double VecEnv::TakeEnvSeconds(int env) {
+  if (!stage_timing_) return 0.0;
+  const double seconds = 1e-9 * static_cast<double>(env_nanoseconds_[env]);
+  env_nanoseconds_[env] = 0;
+  return seconds;
 }
 
 std::array<double, kNumStages> VecEnv::stage_seconds() const {
@@ -92,7 +109,11 @@ std::array<double, kNumStages> VecEnv::stage_seconds() const {
 
 void VecEnv::Reset(const std::vector<EpisodeStart>& starts) {
   Timed(Stage::kReset, [&] {
-    tbb::parallel_for(0, static_cast<int>(starts.size()), [&](int i) { ResetOne(starts[i]); });
+    tbb::parallel_for(0, static_cast<int>(starts.size()), [&](int i) {
+      const int64_t start = stage_timing_ ? ThreadCpuNanoseconds() : 0;
+      ResetOne(starts[i]);
+      if (stage_timing_) env_nanoseconds_[starts[i].env] += ThreadCpuNanoseconds() - start;
+    });
   });
 }
 
@@ -143,7 +164,15 @@ void VecEnv::Stop(int env) {
 void VecEnv::Step(const std::vector<kinematics::Action>& actions) {
   TAVIS_INVARIANT(static_cast<int>(actions.size()) == num_envs(), "one action per env slot");
   tbb::parallel_for(tbb::blocked_range<int>(0, num_envs(), 1), [&](const tbb::blocked_range<int>& range) {
-    ControlTick({range.begin(), range.end()}, actions);
+    if (!stage_timing_) {
+      ControlTick({range.begin(), range.end()}, actions);
+      return;
+    }
+    for (int env = range.begin(); env < range.end(); ++env) {
+      const int64_t start = ThreadCpuNanoseconds();
+      ControlTick({env, env + 1}, actions);
+      env_nanoseconds_[env] += ThreadCpuNanoseconds() - start;
+    }
   });
 }
 

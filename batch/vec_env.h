@@ -96,10 +96,14 @@ class VecEnv {
   // ODE solver messages (degenerate contact sets) in the env's current episode.
   int solver_messages(int env) const { return worlds_[env]->solver_messages(); }
 
-  // Per-stage wall time, summed over the env ranges (so it can exceed the elapsed time on several
-  // threads). Off by default; the counters start from zero when it is switched on.
+  // Per-stage time, summed over the env ranges (so it can exceed the elapsed time on several
+  // threads): the CPU time of a control tick's stages, the wall time of reset and render (which
+  // start parallel work). Off by default; the counters start from zero when it is switched on.
   void EnableStageTiming(bool enabled);
   std::array<double, kNumStages> stage_seconds() const;
+  // With stage timing on: the CPU time spent on the env (its resets and control ticks) since
+  // the last call, which returns it and starts again from zero. Envs are then timed one by one.
+  double TakeEnvSeconds(int env);
 
  private:
   // One control tick of the envs in `envs`, each with actions[env]: the stages in order.
@@ -129,6 +133,7 @@ class VecEnv {
   int64_t rendered_images_ = 0;
   bool stage_timing_ = false;
   std::array<std::atomic<int64_t>, kNumStages> stage_nanoseconds_{};
+  std::vector<int64_t> env_nanoseconds_;  // (num_envs) for TakeEnvSeconds
 };
 
 }  // namespace tavis::batch

@@ -37,6 +37,11 @@ constexpr int kOdeAxisZ = 3;  // ODE's code for a body's local z axis, Shape's l
 // mid-grasp. Servoed within its limits a joint never reaches the stops; they remain hard limits.
 constexpr double kHingeStopClearance = 0.02;   // rad
 constexpr double kSliderStopClearance = 0.002;  // m
+// An arm none of whose geoms comes within this distance of an object or the static scene
+// follows its servo kinematically: its bodies leave the LCP (docs/fidelity.md). The margin
+// exceeds a substep's motion of any arm point (5 rad/s joints, under 1 m of arm: 2 cm at
+// 240 Hz), so every contact begins with the arm already simulated.
+constexpr double kKinematicArmMargin = 0.03;  // m
 
 // Collision categories: the robot does not collide with itself (reference: self-collisions off).
 enum CategoryBits : unsigned long { kRobotBit = 1, kObjectBit = 2, kStaticBit = 4 };
@@ -49,12 +54,18 @@ struct GeomInfo {
 // links moved by the neck are servoed outside the physics and take no part here.
 enum class LinkRole { kStatic, kArmBody, kNeck };
 
-void SetBodyPose(dBodyID body, const RigidTransform& X_WB) {
+// Places the body, keeping its velocities (a kinematic body's carry its motion).
+void SetBodyPoseOnly(dBodyID body, const RigidTransform& X_WB) {
   const Vec3& p = X_WB.translation();
   dBodySetPosition(body, p.x(), p.y(), p.z());
   const Quat q(X_WB.linear());
   const dQuaternion ode_q = {q.w(), q.x(), q.y(), q.z()};
   dBodySetQuaternion(body, ode_q);
+}
+
+// Places the body at rest.
+void SetBodyPose(dBodyID body, const RigidTransform& X_WB) {
+  SetBodyPoseOnly(body, X_WB);
   dBodySetLinearVel(body, 0, 0, 0);
   dBodySetAngularVel(body, 0, 0, 0);
 }
@@ -100,7 +111,37 @@ struct Finger {
   dBodyID body = nullptr;
   dJointID slider = nullptr;
   RigidTransform X_PF_open;  // finger pose in the palm body frame when open
+  Vec3 inward_P = Vec3::Zero();  // the slider's closing direction in the palm body frame
 };
+
+// How an arm moves in a substep (docs/fidelity.md, "kinematic arms"). kSimulated: links and
+// fingers are bodies in the solver. kGrip: the links follow their servo kinematically, the
+// fingers are simulated against the moving palm (a held object away from everything else).
+// kKinematic: links and fingers follow their servos (nothing near the arm).
+enum class ArmMode { kSimulated, kGrip, kKinematic };
+
+// One arm's bodies and joints, for switching it between modes.
+struct ArmParts {
+  std::vector<int> motors;  // indices into Impl::motors
+  std::vector<int> links;   // links owning a body
+  std::vector<int> chain;   // ascending: every link whose pose depends on the arm's joints
+  std::vector<dBodyID> bodies;  // link bodies, then the two fingers
+  std::vector<int> geoms;   // indices into Impl::all_geoms attached to these bodies
+  ArmMode mode = ArmMode::kSimulated;
+  std::array<double, 2> closing{};  // finger slider positions while kKinematic
+  bool links_kinematic() const { return mode != ArmMode::kSimulated; }
+  bool fingers_kinematic() const { return mode == ArmMode::kKinematic; }
+};
+
+// Velocity that carries a body from `from` to `to` in dt, for a kinematic body's contacts and
+// for the moment it is simulated again.
+void SetBodyMotion(dBodyID body, const RigidTransform& from, const RigidTransform& to, double dt) {
+  const Vec3 v = (to.translation() - from.translation()) / dt;
+  const Eigen::AngleAxisd turn(to.linear() * from.linear().transpose());
+  const Vec3 w = turn.axis() * (turn.angle() / dt);
+  dBodySetLinearVel(body, v.x(), v.y(), v.z());
+  dBodySetAngularVel(body, w.x(), w.y(), w.z());
+}
 
 }  // namespace
 
@@ -128,6 +169,10 @@ struct PhysicsWorld::Impl {
   std::vector<double> aabbs;        // (geoms x 6) broad-phase scratch
   std::vector<GeomInfo> geom_infos;  // stable storage: reserved up front, never reallocated
   std::vector<RigidTransform> X_BL;  // FK scratch
+  std::array<ArmParts, 2> arms;
+  std::vector<double> q_kinematic;   // (num_joints) joint positions of kinematic arms
+  std::array<std::vector<RigidTransform>, 2> X_WBody_after;  // scratch: kinematic arms' next poses
+  std::vector<uint8_t> object_supported;  // (geoms) scratch for ArmModes
 
   dBodyID NewBody() {
     all_bodies.push_back(dBodyCreate(world));
@@ -275,6 +320,7 @@ struct PhysicsWorld::Impl {
       finger.slider = dJointCreateSlider(world, nullptr);
       dJointAttach(finger.slider, finger.body, palm_body[s]);
       const Vec3 inward = -sign * (X_WIk.linear() * g.closing_axis);
+      finger.inward_P = BodyPose(palm_body[s]).linear().transpose() * inward;
       dJointSetSliderAxis(finger.slider, inward.x(), inward.y(), inward.z());
       dJointSetSliderParam(finger.slider, dParamLoStop, -kSliderStopClearance);
       dJointSetSliderParam(finger.slider, dParamHiStop, gripper.finger_travel() + kSliderStopClearance);
@@ -352,13 +398,174 @@ struct PhysicsWorld::Impl {
     }
   }
 
+  // Which bodies, joints and geoms make up each arm; called once everything is built.
+  void CollectArmParts() {
+    const RobotModel& robot = model.robot;
+    for (Side side : kinematics::kSides) {
+      ArmParts& arm = arms[kinematics::Index(side)];
+      const std::array<int, kinematics::kArmDof>& joints = robot.arm(side).joints;
+      for (size_t m = 0; m < motors.size(); ++m) {
+        if (std::find(joints.begin(), joints.end(), motors[m].joint_index) == joints.end()) continue;
+        arm.motors.push_back(static_cast<int>(m));
+        const int link = robot.joints[motors[m].joint_index].link;
+        arm.links.push_back(link);
+        arm.bodies.push_back(link_body[link]);
+      }
+      for (const Finger& finger : fingers[kinematics::Index(side)]) arm.bodies.push_back(finger.body);
+      for (size_t g = 0; g < all_geoms.size(); ++g) {
+        dBodyID body = dGeomGetBody(all_geoms[g]);
+        if (body != nullptr && std::find(arm.bodies.begin(), arm.bodies.end(), body) != arm.bodies.end()) {
+          arm.geoms.push_back(static_cast<int>(g));
+        }
+      }
+    }
+    for (int i = 0; i < robot.num_links(); ++i) {
+      const int owner = link_body_link[i];
+      if (owner < 0) continue;
+      for (Side side : kinematics::kSides) {
+        ArmParts& arm = arms[kinematics::Index(side)];
+        if (std::find(arm.links.begin(), arm.links.end(), owner) != arm.links.end()) arm.chain.push_back(i);
+      }
+    }
+    q_kinematic.assign(robot.num_joints(), 0.0);
+  }
+
+  void ComputeAabbs() {
+    for (size_t i = 0; i < all_geoms.size(); ++i) dGeomGetAABB(all_geoms[i], &aabbs[6 * i]);
+  }
+
+  // Whether the boxes of geoms i and j come within kKinematicArmMargin of each other; the
+  // ground plane, whose box is unbounded, by the height of the other box.
+  bool Near(size_t i, size_t j) const {
+    const double* box_a = &aabbs[6 * i];
+    const double* box_b = &aabbs[6 * j];
+    constexpr double m = kKinematicArmMargin;
+    if (dGeomGetClass(all_geoms[j]) == dPlaneClass) return box_a[4] < m;
+    if (dGeomGetClass(all_geoms[i]) == dPlaneClass) return box_b[4] < m;
+    return !(box_a[0] > box_b[1] + m || box_b[0] > box_a[1] + m || box_a[2] > box_b[3] + m || box_b[2] > box_a[3] + m ||
+             box_a[4] > box_b[5] + m || box_b[4] > box_a[5] + m);
+  }
+
+  // The mode of each arm this substep (needs ComputeAabbs). An object near the static scene or
+  // another object is supported: an arm near it, or near the static scene, is simulated, so
+  // that what it presses on pushes back through its effort-limited motors. An arm near only
+  // unsupported objects (what it holds in the air) grips them with simulated fingers.
+  std::array<ArmMode, 2> ArmModes() {
+    const size_t n = all_geoms.size();
+    object_supported.assign(n, 0);
+    for (size_t i = 0; i < n; ++i) {
+      if (dGeomGetCategoryBits(all_geoms[i]) != kObjectBit || !dGeomIsEnabled(all_geoms[i])) continue;
+      for (size_t j = 0; j < n && !object_supported[i]; ++j) {
+        if (j == i || (dGeomGetCategoryBits(all_geoms[j]) & (kObjectBit | kStaticBit)) == 0) continue;
+        if (dGeomIsEnabled(all_geoms[j]) && Near(i, j)) object_supported[i] = 1;
+      }
+    }
+    std::array<ArmMode, 2> modes{};
+    for (int side = 0; side < 2; ++side) {
+      ArmMode mode = ArmMode::kKinematic;
+      for (int a : arms[side].geoms) {
+        for (size_t j = 0; j < n && mode != ArmMode::kSimulated; ++j) {
+          const unsigned long category = dGeomGetCategoryBits(all_geoms[j]);
+          if ((category & (kObjectBit | kStaticBit)) == 0 || !dGeomIsEnabled(all_geoms[j]) || !Near(a, j)) continue;
+          mode = (category == kObjectBit && !object_supported[j]) ? ArmMode::kGrip : ArmMode::kSimulated;
+        }
+      }
+      modes[side] = mode;
+    }
+    return modes;
+  }
+
+  // Kinematic bodies leave the solver: infinite mass, their joints off. Joint positions and
+  // finger slides are taken from the simulation when they become kinematic; bodies simulated
+  // again keep the velocities their kinematic motion gave them.
+  void SetArmMode(int side, ArmMode mode) {
+    ArmParts& arm = arms[side];
+    const bool links_were = arm.links_kinematic();
+    const bool fingers_were = arm.fingers_kinematic();
+    arm.mode = mode;
+    if (arm.links_kinematic() != links_were) {
+      const bool kinematic = arm.links_kinematic();
+      for (size_t i = 0; i < arm.motors.size(); ++i) {
+        const ArmJointMotor& motor = motors[arm.motors[i]];
+        if (kinematic) {
+          q_kinematic[motor.joint_index] = dJointGetHingeAngle(motor.joint);
+          dJointDisable(motor.joint);
+          dBodySetKinematic(arm.bodies[i]);
+        } else {
+          dJointEnable(motor.joint);
+          dBodySetDynamic(arm.bodies[i]);
+        }
+      }
+    }
+    if (arm.fingers_kinematic() != fingers_were) {
+      const bool kinematic = arm.fingers_kinematic();
+      for (int f = 0; f < 2; ++f) {
+        const Finger& finger = fingers[side][f];
+        if (kinematic) {
+          arm.closing[f] = dJointGetSliderPosition(finger.slider);
+          dJointDisable(finger.slider);
+          dBodySetKinematic(finger.body);
+        } else {
+          dJointEnable(finger.slider);
+          dBodySetDynamic(finger.body);
+        }
+      }
+    }
+  }
+
+  // The poses of a kinematic arm's bodies (links, and fingers if kinematic) at q_kinematic and
+  // its finger slides, into X_WBody.
+  void KinematicArmPoses(int side, std::vector<RigidTransform>& X_WBody) {
+    const RobotModel& robot = model.robot;
+    const RigidTransform X_WB = MakeTransform(robot.root_world, Mat3::Identity());
+    const ArmParts& arm = arms[side];
+    // The links before the arm's chain are static, and X_BL always holds their poses.
+    kinematics::ComputeLinkPosesOf(robot, q_kinematic.data(), arm.chain, X_BL.data());
+    X_WBody.resize(arm.bodies.size());
+    for (size_t i = 0; i < arm.links.size(); ++i) X_WBody[i] = X_WB * X_BL[arm.links[i]];
+    if (!arm.fingers_kinematic()) return;
+    const RigidTransform X_WP = X_WB * X_BL[link_body_link[robot.arm(kinematics::kSides[side]).ik_link]];
+    for (int f = 0; f < 2; ++f) {
+      const Finger& finger = fingers[side][f];
+      RigidTransform X_PF = finger.X_PF_open;
+      X_PF.translation() += arm.closing[f] * finger.inward_P;
+      X_WBody[arm.links.size() + f] = X_WP * X_PF;
+    }
+  }
+
+  // The kinematic servo: joints (and finger slides if kinematic) move at their servo velocities
+  // for dt, exactly, where a simulated arm's motion is bounded by its motors' effort. Sets the
+  // kinematic bodies' velocities toward their new poses (in next_poses), which Step places
+  // after the solver step.
+  void AdvanceKinematicArm(int side, const double* q_target, double closing_target, double dt,
+                           std::vector<RigidTransform>& next_poses) {
+    const RobotModel& robot = model.robot;
+    ArmParts& arm = arms[side];
+    for (int m : arm.motors) {
+      const int j = motors[m].joint_index;
+      const kinematics::Joint& joint = robot.joints[j];
+      const double target = std::clamp(q_target[j], joint.lower, joint.upper);
+      q_kinematic[j] += dt * std::clamp(robot.arm_actuator.position_gain * (target - q_kinematic[j]),
+                                        -robot.arm_actuator.velocity_limit, robot.arm_actuator.velocity_limit);
+    }
+    if (arm.fingers_kinematic()) {
+      const double max_finger_speed = gripper.spec().max_speed;
+      for (double& closing : arm.closing) {
+        closing += dt * std::clamp(kFingerServoGain * (closing_target - closing), -max_finger_speed, max_finger_speed);
+      }
+    }
+    KinematicArmPoses(side, next_poses);
+    const size_t kinematic_bodies = arm.fingers_kinematic() ? arm.bodies.size() : arm.links.size();
+    for (size_t i = 0; i < kinematic_bodies; ++i) SetBodyMotion(arm.bodies[i], BodyPose(arm.bodies[i]), next_poses[i], dt);
+  }
+
   // Broad phase over all geom pairs in creation order. ODE's spaces move each geom that moved
   // to the front of their lists, so the order of contact pairs (and, through floating-point
   // summation order, the solution) would depend on the world's past episodes; a fixed order
   // makes an episode depend on its own inputs only. A few dozen geoms make this cheap.
+  // Needs ComputeAabbs.
   void CollideAllPairs() {
     const size_t n = all_geoms.size();
-    for (size_t i = 0; i < n; ++i) dGeomGetAABB(all_geoms[i], &aabbs[6 * i]);
     for (size_t i = 0; i < n; ++i) {
       dGeomID a = all_geoms[i];
       if (!dGeomIsEnabled(a)) continue;
@@ -411,6 +618,7 @@ PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Imp
   s.BuildObjects();
   s.BuildStaticScene();
   s.aabbs.resize(6 * s.all_geoms.size());
+  s.CollectArmParts();
 }
 
 PhysicsWorld::~PhysicsWorld() {
@@ -426,6 +634,7 @@ void PhysicsWorld::ResetRobot(const double* q) {
   s.solver_messages = 0;
   const RobotModel& robot = s.model.robot;
   const RigidTransform X_WB = MakeTransform(robot.root_world, Mat3::Identity());
+  for (int side = 0; side < 2; ++side) s.SetArmMode(side, ArmMode::kSimulated);
   kinematics::ComputeLinkPoses(robot, q, s.X_BL.data());
   for (int i = 0; i < robot.num_links(); ++i) {
     if (s.link_body[i] != nullptr) SetBodyPose(s.link_body[i], X_WB * s.X_BL[i]);
@@ -469,21 +678,30 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
   const uint64_t messages_before = OdeMessagesOnThisThread();
   bool sane = true;
   for (int step = 0; step < substeps && sane; ++step) {
-    // Joint-space servo: the motor's velocity target is proportional to the position error,
-    // bounded by the joint velocity limit; the motor force is bounded by the effort limit.
-    // Targets stay within the joint limits, clear of the stops (see kHingeStopClearance).
-    for (const ArmJointMotor& motor : s.motors) {
-      const kinematics::Joint& joint = robot.joints[motor.joint_index];
-      const double target = std::clamp(q_target[motor.joint_index], joint.lower, joint.upper);
-      const double error = target - dJointGetHingeAngle(motor.joint);
-      const double velocity = std::clamp(robot.arm_actuator.position_gain * error,
-                                         -robot.arm_actuator.velocity_limit, robot.arm_actuator.velocity_limit);
-      dJointSetHingeParam(motor.joint, dParamVel, velocity);
-    }
+    s.ComputeAabbs();
+    const std::array<ArmMode, 2> modes = s.ArmModes();
     for (int side = 0; side < 2; ++side) {
-      const double closing = s.gripper.ClosingTarget(gripper_command[side]);
+      const double closing_target = s.gripper.ClosingTarget(gripper_command[side]);
+      ArmParts& arm = s.arms[side];
+      s.SetArmMode(side, modes[side]);
+      if (arm.links_kinematic()) s.AdvanceKinematicArm(side, q_target, closing_target, dt, s.X_WBody_after[side]);
+      // Joint-space servo: the motor's velocity target is proportional to the position error,
+      // bounded by the joint velocity limit; the motor force is bounded by the effort limit.
+      // Targets stay within the joint limits, clear of the stops (see kHingeStopClearance).
+      if (!arm.links_kinematic()) {
+        for (int m : arm.motors) {
+          const ArmJointMotor& motor = s.motors[m];
+          const kinematics::Joint& joint = robot.joints[motor.joint_index];
+          const double target = std::clamp(q_target[motor.joint_index], joint.lower, joint.upper);
+          const double error = target - dJointGetHingeAngle(motor.joint);
+          const double velocity = std::clamp(robot.arm_actuator.position_gain * error,
+                                             -robot.arm_actuator.velocity_limit, robot.arm_actuator.velocity_limit);
+          dJointSetHingeParam(motor.joint, dParamVel, velocity);
+        }
+      }
+      if (arm.fingers_kinematic()) continue;
       for (Finger& finger : s.fingers[side]) {
-        const double error = closing - dJointGetSliderPosition(finger.slider);
+        const double error = closing_target - dJointGetSliderPosition(finger.slider);
         dJointSetSliderParam(finger.slider, dParamVel,
                              std::clamp(kFingerServoGain * error, -max_finger_speed, max_finger_speed));
       }
@@ -493,6 +711,12 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
     // out of the fingers, and it shuffles constraints with a process-global random seed.
     dWorldStep(s.world, dt);
     dJointGroupEmpty(s.contacts);
+    for (int side = 0; side < 2; ++side) {
+      const ArmParts& arm = s.arms[side];
+      if (!arm.links_kinematic()) continue;
+      const size_t kinematic_bodies = arm.fingers_kinematic() ? arm.bodies.size() : arm.links.size();
+      for (size_t i = 0; i < kinematic_bodies; ++i) SetBodyPoseOnly(arm.bodies[i], s.X_WBody_after[side][i]);
+    }
     sane = s.BodiesAreSane();
   }
   s.solver_messages += static_cast<int>(OdeMessagesOnThisThread() - messages_before);
@@ -501,10 +725,15 @@ bool PhysicsWorld::Step(const double* q_target, const std::array<double, 2>& gri
 
 void PhysicsWorld::ReadState(double* q, double* gripper_gap, double* object_pose, double* object_velocity) const {
   const Impl& s = *impl_;
-  for (const ArmJointMotor& motor : s.motors) q[motor.joint_index] = dJointGetHingeAngle(motor.joint);
   for (int side = 0; side < 2; ++side) {
-    gripper_gap[side] = s.gripper.GapFromClosing(dJointGetSliderPosition(s.fingers[side][0].slider),
-                                                 dJointGetSliderPosition(s.fingers[side][1].slider));
+    const ArmParts& arm = s.arms[side];
+    for (int m : arm.motors) {
+      const ArmJointMotor& motor = s.motors[m];
+      q[motor.joint_index] = arm.links_kinematic() ? s.q_kinematic[motor.joint_index] : dJointGetHingeAngle(motor.joint);
+    }
+    gripper_gap[side] = arm.fingers_kinematic() ? s.gripper.GapFromClosing(arm.closing[0], arm.closing[1])
+                                      : s.gripper.GapFromClosing(dJointGetSliderPosition(s.fingers[side][0].slider),
+                                                                 dJointGetSliderPosition(s.fingers[side][1].slider));
   }
   for (size_t i = 0; i < s.object_body.size(); ++i) {
     if (s.object_body[i] == nullptr) {  // kinematic: the task's pose stands, and it is at rest

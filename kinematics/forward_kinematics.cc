@@ -2,16 +2,26 @@
 
 namespace tavis::kinematics {
 
-void ComputeLinkPoses(const RobotModel& robot, const double* q, RigidTransform* X_BL) {
-  for (int i = 0; i < robot.num_links(); ++i) {
-    const Link& link = robot.links[i];
-    RigidTransform X_PL = link.origin;
-    if (link.joint >= 0) {
-      const Joint& joint = robot.joints[link.joint];
-      X_PL.linear() = X_PL.linear() * Eigen::AngleAxisd(q[link.joint], joint.axis).toRotationMatrix();
-    }
-    X_BL[i] = link.parent < 0 ? X_PL : X_BL[link.parent] * X_PL;
+namespace {
+
+void ComputeLinkPose(const RobotModel& robot, const double* q, int i, RigidTransform* X_BL) {
+  const Link& link = robot.links[i];
+  RigidTransform X_PL = link.origin;
+  if (link.joint >= 0) {
+    const Joint& joint = robot.joints[link.joint];
+    X_PL.linear() = X_PL.linear() * Eigen::AngleAxisd(q[link.joint], joint.axis).toRotationMatrix();
   }
+  X_BL[i] = link.parent < 0 ? X_PL : X_BL[link.parent] * X_PL;
+}
+
+}  // namespace
+
+void ComputeLinkPoses(const RobotModel& robot, const double* q, RigidTransform* X_BL) {
+  for (int i = 0; i < robot.num_links(); ++i) ComputeLinkPose(robot, q, i, X_BL);
+}
+
+void ComputeLinkPosesOf(const RobotModel& robot, const double* q, const std::vector<int>& links, RigidTransform* X_BL) {
+  for (int i : links) ComputeLinkPose(robot, q, i, X_BL);
 }
 
 ArmJacobian ComputeArmJacobian(const RobotModel& robot, Side side, const RigidTransform* X_BL) {

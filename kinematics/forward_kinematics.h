@@ -2,6 +2,8 @@
 // batch stages call these per env inside their parallel loops.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "kinematics/robot_model.h"
@@ -12,6 +14,9 @@ using ArmJacobian = Eigen::Matrix<double, 6, kArmDof>;  // rows: linear (3), ang
 
 // Pose of every link in the base frame, X_BL[link], for joint positions q (num_joints).
 void ComputeLinkPoses(const RobotModel& robot, const double* q, RigidTransform* X_BL);
+// The same for `links` only (ascending; each link's parent is in `links` or already in X_BL):
+// one arm's chain when nothing else moved.
+void ComputeLinkPosesOf(const RobotModel& robot, const double* q, const std::vector<int>& links, RigidTransform* X_BL);
 
 // Geometric Jacobian of the arm's IK link origin in the base frame, from link poses already
 // computed by ComputeLinkPoses for the same q.

@@ -17,7 +17,6 @@ Vec6 IkPoseError(const RobotModel& robot, Side side, const RigidTransform* X_BL,
 
 std::array<double, kArmDof> IkStep(const RobotModel& robot, Side side, const double* q,
                                    const RigidTransform* X_BL, const PoseTarget& target) {
-  using Matrix7 = Eigen::Matrix<double, kArmDof, kArmDof>;
   using Vector7 = Eigen::Matrix<double, kArmDof, 1>;
   const ArmSpec& arm = robot.arm(side);
   const ArmJacobian J_full = ComputeArmJacobian(robot, side, X_BL);
@@ -36,16 +35,21 @@ std::array<double, kArmDof> IkStep(const RobotModel& robot, Side side, const dou
   // The reference leaves limits to the physics engine, which makes the step stall when a joint
   // saturates (and the null-space target of Reachy2 lies on its shoulder-roll limit). Joints the
   // step would push past a limit are pinned there and the step is re-solved with the rest.
+  // The damped pseudo-inverse is applied, never formed: J+ e = J^T (J J^T + l^2 I)^-1 e, and the
+  // null-space projection (I - J+ J) v = v - J+ (J v), with one 6x6 Cholesky factor per pass.
   Vector7 free = Vector7::Ones();
   Vector7 step = Vector7::Zero();
+  const Vector7 rest_pull = robot.nullspace_gain * (q_rest - q_arm);
   for (int pass = 0; pass <= kArmDof; ++pass) {
     const ArmJacobian J = J_full * free.asDiagonal();
     const Vector7 pinned_motion = (Vector7::Ones() - free).cwiseProduct(step);
     const Vec6 remaining_error = error - J_full * pinned_motion;
-    const Eigen::Matrix<double, 6, 6> JJt = J * J.transpose() + lambda_sq * Eigen::Matrix<double, 6, 6>::Identity();
-    const Eigen::Matrix<double, kArmDof, 6> J_pinv = J.transpose() * JJt.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
-    const Matrix7 nullspace = free.asDiagonal() * (Matrix7::Identity() - J_pinv * J);
-    const Vector7 free_step = J_pinv * remaining_error + nullspace * (robot.nullspace_gain * (q_rest - q_arm));
+    Eigen::Matrix<double, 6, 6> JJt = J * J.transpose();
+    JJt.diagonal().array() += lambda_sq;
+    const Eigen::LLT<Eigen::Matrix<double, 6, 6>> factor(JJt);
+    const Vector7 primary = J.transpose() * factor.solve(remaining_error);
+    const Vector7 secondary = rest_pull - J.transpose() * factor.solve(J * rest_pull);
+    const Vector7 free_step = primary + free.cwiseProduct(secondary);
     bool pinned_any = false;
     for (int i = 0; i < kArmDof; ++i) {
       if (free[i] == 0.0) continue;

@@ -13,6 +13,8 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "batch/atomic_file.h"
+#include "batch/cell_profile.h"
 #include "batch/cell_record_stream.h"
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
@@ -84,6 +86,10 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   for (const batch::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
   batch::WriteCellSummary(result, {threads, stream.next_episode()}, out);
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
+  if (result.profile) {
+    std::cout << batch::FormatCellProfile(*result.profile);
+    batch::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
+  }
   return result;
 }
 
@@ -208,6 +214,10 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet, "No progress bar");
+  eval->add_flag("--profile", options->cell.profile,
+                 "Time every stage (actions/IK, physics, neck, task, reset, render, policy, recording) and\n"
+                 "episode; print the shares, the critical path (unlimited threads) and thread-count\n"
+                 "estimates, and write DIR/profile.json");
   eval->add_flag("--overwrite", options->overwrite, "Replace the results already in --out");
   eval->add_flag("--resume", options->resume,
                  "Finish an interrupted cell in --out (same settings): its complete episodes are kept, the rest run");

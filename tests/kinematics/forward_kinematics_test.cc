@@ -54,6 +54,37 @@ TEST(ForwardKinematics, Reachy2HeadCameraLooksTenDegreesDown) {
   EXPECT_NEAR((X_TC.linear() * Vec3::UnitX() - Vec3(0.985, 0.0, -0.174)).norm(), 0.0, 2e-3);
 }
 
+// Moving one arm's joints and recomputing only the links below its shoulder gives every link the
+// pose a full pass gives.
+TEST(ForwardKinematics, PosesOfOneArmsChainMatchAFullPass) {
+  std::mt19937 rng(3);
+  for (const char* name : {"gr1t2", "reachy2"}) {
+    const RobotModel robot = LoadRobot(name);
+    for (Side side : kSides) {
+      const ArmSpec& arm = robot.arm(side);
+      std::vector<uint8_t> below(robot.num_links(), 0);
+      std::vector<int> chain;
+      for (int i = 0; i < robot.num_links(); ++i) {
+        const Link& link = robot.links[i];
+        below[i] = (link.parent >= 0 && below[link.parent]) || link.joint == arm.joints[0];
+        if (below[i]) chain.push_back(i);
+      }
+      ASSERT_GE(chain.size(), static_cast<size_t>(kArmDof)) << name;
+      std::vector<double> q = robot.DefaultPositions();
+      std::vector<RigidTransform> X_BL = LinkPoses(robot, q);
+      for (int joint : arm.joints) {
+        std::uniform_real_distribution<double> within(robot.joints[joint].lower, robot.joints[joint].upper);
+        q[joint] = within(rng);
+      }
+      ComputeLinkPosesOf(robot, q.data(), chain, X_BL.data());
+      const std::vector<RigidTransform> full = LinkPoses(robot, q);
+      for (int i = 0; i < robot.num_links(); ++i) {
+        EXPECT_TRUE(X_BL[i].isApprox(full[i], 1e-12)) << name << " link " << robot.links[i].name;
+      }
+    }
+  }
+}
+
 class JacobianTest : public ::testing::TestWithParam<std::tuple<std::string, Side>> {};
 
 TEST_P(JacobianTest, MatchesFiniteDifferences) {

@@ -72,6 +72,51 @@ TEST_F(EvalCommand, SmallCellWritesEpisodesSummaryAndOneLine) {
   EXPECT_EQ(names, (std::set<std::string>{"cell.json", "episodes.jsonl", "summary.json"}));
 }
 
+TEST_F(EvalCommand, ProfilePrintsSharesAndWritesProfileJsonWithoutChangingTheRecords) {
+  const fs::path plain = root_ / "plain";
+  const fs::path profiled = root_ / "profiled";
+  const std::string cell = "eval --episodes 3 --envs 2 --seed 5 --quiet --out ";
+  ASSERT_EQ(Run(cell + Quote(plain.string())).exit_code, 0);
+  const RunResult run = Run(cell + Quote(profiled.string()) + " --profile");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("critical path (unlimited threads)"), std::string::npos) << run.out;
+  EXPECT_EQ(ReadText(profiled / "episodes.jsonl"), ReadText(plain / "episodes.jsonl")) << "timing changes nothing";
+
+  const nlohmann::json profile = nlohmann::json::parse(ReadText(profiled / "profile.json"));
+  const nlohmann::json& stages = profile.at("stage_s");
+  double work = 0.0;
+  for (const char* stage : {"apply_actions", "step_physics", "reset", "render", "policy", "recording", "driver"}) {
+    ASSERT_TRUE(stages.contains(stage)) << stage << " missing in " << stages.dump();
+    EXPECT_GE(stages.at(stage).get<double>(), 0.0) << stage;
+  }
+  for (const auto& [name, seconds] : stages.items()) work += seconds.get<double>();
+  EXPECT_GT(stages.at("step_physics").get<double>(), 0.0);
+  EXPECT_NEAR(profile.at("work_s").get<double>(), work, 1e-9);
+  // Every episode is timed once, with the ticks its record reports.
+  const std::vector<std::string> records = Lines(ReadText(profiled / "episodes.jsonl"));
+  const nlohmann::json& episodes = profile.at("episodes");
+  ASSERT_EQ(episodes.size(), records.size());
+  std::set<int> seen;
+  for (const nlohmann::json& episode : episodes) {
+    const int index = episode.at("episode").get<int>();
+    ASSERT_TRUE(index >= 0 && index < 3) << episode.dump();
+    seen.insert(index);
+    EXPECT_GT(episode.at("seconds").get<double>(), 0.0);
+    EXPECT_EQ(episode.at("control_ticks").get<int64_t>(),
+              nlohmann::json::parse(records[index]).at("length_control_ticks").get<int64_t>());
+  }
+  EXPECT_EQ(seen.size(), 3u);
+  // More threads never make the estimate longer, and no number of threads beats the critical path.
+  const double critical_path = profile.at("critical_path_s").get<double>();
+  double previous = profile.at("estimates").at("1").at("seconds").get<double>();
+  for (const char* threads : {"2", "4", "8", "16"}) {
+    const double estimate = profile.at("estimates").at(threads).at("seconds").get<double>();
+    EXPECT_LE(estimate, previous + 1e-12) << threads;
+    EXPECT_GE(estimate, critical_path - 1e-12) << threads;
+    previous = estimate;
+  }
+}
+
 TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {
   const fs::path dir = root_ / "cell";
   ASSERT_EQ(Run("eval --episodes 1 --envs 1 --quiet --out " + Quote(dir.string())).exit_code, 0);

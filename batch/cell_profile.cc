@@ -1,0 +1,100 @@
+#include "batch/cell_profile.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+
+#include <nlohmann/json.hpp>
+
+namespace tavis::batch {
+
+int64_t ThreadCpuNanoseconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
+}
+
+double CellProfile::work_seconds() const {
+  double total = 0.0;
+  for (const auto& stage : stages) total += stage.second;
+  return total;
+}
+
+double CellProfile::critical_path_seconds() const { return serial_seconds + slowest_env_seconds; }
+
+double CellProfile::EstimatedSeconds(int on_threads) const {
+  double seconds = serial_seconds + render_seconds / on_threads;
+  for (const auto& [slowest, work] : sections) seconds += std::max(slowest, work / on_threads);
+  return seconds;
+}
+
+namespace {
+
+// The share of a 16-thread cell that is serial or waits on its slowest env.
+double SerialOrTailShare(const CellProfile& profile, int on_threads) {
+  const double estimate = profile.EstimatedSeconds(on_threads);
+  return estimate > 0.0 ? 1.0 - profile.work_seconds() / on_threads / estimate : 0.0;
+}
+
+}  // namespace
+
+std::string FormatCellProfile(const CellProfile& profile) {
+  std::string text;
+  char line[256];
+  const double work = profile.work_seconds();
+  std::snprintf(line, sizeof line, "profile: %.2f s wall on %d threads, %.2f s of measured work\n", profile.wall_seconds,
+                profile.threads, work);
+  text += line;
+  for (const auto& [name, seconds] : profile.stages) {
+    std::snprintf(line, sizeof line, "  %-14s %8.3f s  %5.1f%%\n", name.c_str(), seconds,
+                  work > 0.0 ? 100.0 * seconds / work : 0.0);
+    text += line;
+  }
+  double longest = 0.0, total = 0.0;
+  for (const EpisodeCost& cost : profile.episodes) {
+    longest = std::max(longest, cost.seconds);
+    total += cost.seconds;
+  }
+  const double mean = profile.episodes.empty() ? 0.0 : total / static_cast<double>(profile.episodes.size());
+  std::snprintf(line, sizeof line, "  episodes: %zu, cost mean %.3f s, longest %.3f s\n", profile.episodes.size(), mean,
+                longest);
+  text += line;
+  std::snprintf(line, sizeof line,
+                "  critical path (unlimited threads): %.3f s = serial %.3f s + slowest env per section %.3f s\n",
+                profile.critical_path_seconds(), profile.serial_seconds, profile.slowest_env_seconds);
+  text += line;
+  for (int on_threads : {1, 2, 16}) {
+    std::snprintf(line, sizeof line, "  estimate on %2d threads: %.3f s (%.0f%% serial or tail)\n", on_threads,
+                  profile.EstimatedSeconds(on_threads), 100.0 * SerialOrTailShare(profile, on_threads));
+    text += line;
+  }
+  return text;
+}
+
+std::string CellProfileJson(const CellProfile& profile) {
+  nlohmann::json json;
+  json["threads"] = profile.threads;
+  json["wall_s"] = profile.wall_seconds;
+  json["work_s"] = profile.work_seconds();
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [name, seconds] : profile.stages) stages[name] = seconds;
+  json["stage_s"] = stages;
+  json["serial_s"] = profile.serial_seconds;
+  json["slowest_env_per_section_s"] = profile.slowest_env_seconds;
+  json["critical_path_s"] = profile.critical_path_seconds();
+  nlohmann::json estimates = nlohmann::json::object();
+  for (int on_threads : {1, 2, 4, 8, 16}) {
+    estimates[std::to_string(on_threads)] = {{"seconds", profile.EstimatedSeconds(on_threads)},
+                                             {"serial_or_tail_share", SerialOrTailShare(profile, on_threads)}};
+  }
+  json["estimates"] = estimates;
+  nlohmann::json episodes = nlohmann::json::array();
+  for (const EpisodeCost& cost : profile.episodes) {
+    episodes.push_back({{"episode", cost.episode}, {"slot", cost.slot}, {"control_ticks", cost.control_ticks},
+                        {"seconds", cost.seconds}});
+  }
+  json["episodes"] = episodes;
+  return json.dump(2) + "\n";
+}
+
+}  // namespace tavis::batch

@@ -1,0 +1,55 @@
+// Where a cell's time goes: the summed time of each stage (actions/IK, physics, neck, task,
+// end checks, reset, render, policy, recording, the driver's own serial work), every episode's
+// measured cost, and from those costs the cell's critical path: the time it would take with
+// unlimited threads. EpisodeDriver::EnableProfile collects it; `tavis eval --profile` prints it
+// and writes DIR/profile.json.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tavis::batch {
+
+// CPU time of the calling thread: an env's cost measured on it does not include the time its
+// thread waited for a core, so costs measured on a loaded machine stay meaningful.
+int64_t ThreadCpuNanoseconds();
+
+struct EpisodeCost {
+  int64_t episode = 0;
+  int slot = 0;
+  int64_t control_ticks = 0;
+  double seconds = 0.0;  // CPU time of its env's reset and ticks and of the policy's work for it
+};
+
+struct CellProfile {
+  // (name, seconds) per stage, summed over envs and threads: the env's stages, then "render"
+  // (wall time x threads: it is parallel over tiles, not envs), "policy", "recording" (the
+  // sinks) and "driver" (the rest of the serial loop).
+  std::vector<std::pair<std::string, double>> stages;
+  std::vector<EpisodeCost> episodes;  // in the order they ended
+  int threads = 1;
+  double wall_seconds = 0.0;
+  // Wall time outside the parallel sections (collecting, refilling, sinks, the tick loop).
+  double serial_seconds = 0.0;
+  // Per parallel section (a refill's resets, a tick's policy and step), the slowest env's cost,
+  // summed: the parallel sections' part of the critical path.
+  double slowest_env_seconds = 0.0;
+  // Per section, max(slowest env, section work / threads) summed, for the estimates.
+  std::vector<std::pair<double, double>> sections;  // (slowest env, work)
+  double render_seconds = 0.0;  // render stage, wall x threads
+
+  double work_seconds() const;           // all measured work (stages' sum)
+  double critical_path_seconds() const;  // serial + slowest envs: unlimited threads
+  // The cell's time on `threads` threads estimated from the measured costs: serial time plus,
+  // per section, the longer of its slowest env and its work spread over the threads.
+  double EstimatedSeconds(int threads) const;
+};
+
+// A text table: stage shares, episode costs, critical path and the 1/2/16-thread estimates.
+std::string FormatCellProfile(const CellProfile& profile);
+// The same as JSON, with every episode's cost.
+std::string CellProfileJson(const CellProfile& profile);
+
+}  // namespace tavis::batch

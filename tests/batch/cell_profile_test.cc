@@ -1,0 +1,62 @@
+// CellProfile's critical path and thread-count estimates on hand-made costs, and its JSON.
+#include "batch/cell_profile.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+namespace tavis::batch {
+namespace {
+
+// Two ticks on four envs: in the first, one env costs 3 s and three cost 1 s; in the second,
+// all four cost 1 s. 0.5 s serial, 0.8 s of rendering (parallel over tiles).
+CellProfile HandMadeProfile() {
+  CellProfile profile;
+  profile.stages = {{"step_physics", 7.0}, {"render", 0.8}, {"driver", 0.5}};
+  profile.sections = {{3.0, 6.0}, {1.0, 4.0}};
+  profile.slowest_env_seconds = 4.0;
+  profile.serial_seconds = 0.5;
+  profile.render_seconds = 0.8;
+  profile.episodes = {{0, 0, 10, 4.0}, {1, 1, 10, 2.0}};
+  return profile;
+}
+
+TEST(CellProfile, CriticalPathIsSerialPlusEachSectionsSlowestEnv) {
+  EXPECT_DOUBLE_EQ(HandMadeProfile().critical_path_seconds(), 0.5 + 3.0 + 1.0);
+}
+
+TEST(CellProfile, EstimatesSpreadWorkButNeverBeatTheSlowestEnv) {
+  const CellProfile profile = HandMadeProfile();
+  // One thread does all the work in turn.
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(1), 0.5 + 0.8 + 6.0 + 4.0);
+  // Two: the first tick waits for its 3 s env, the second splits 4 s in two.
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(2), 0.5 + 0.4 + 3.0 + 2.0);
+  // Four and more: every section is as long as its slowest env; only rendering still shrinks.
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(4), 0.5 + 0.2 + 3.0 + 1.0);
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(16), 0.5 + 0.05 + 3.0 + 1.0);
+  EXPECT_GT(profile.EstimatedSeconds(1000), profile.critical_path_seconds());
+}
+
+TEST(CellProfile, JsonCarriesStagesEstimatesAndEveryEpisode) {
+  const nlohmann::json json = nlohmann::json::parse(CellProfileJson(HandMadeProfile()));
+  EXPECT_DOUBLE_EQ(json.at("work_s").get<double>(), 8.3);
+  EXPECT_DOUBLE_EQ(json.at("stage_s").at("step_physics").get<double>(), 7.0);
+  EXPECT_DOUBLE_EQ(json.at("critical_path_s").get<double>(), 4.5);
+  EXPECT_DOUBLE_EQ(json.at("estimates").at("2").at("seconds").get<double>(), 5.9);
+  // On 16 threads 8.3 s of work would ideally take 0.51875 s; the estimate is 4.55 s.
+  EXPECT_NEAR(json.at("estimates").at("16").at("serial_or_tail_share").get<double>(), 1.0 - 0.51875 / 4.55, 1e-12);
+  ASSERT_EQ(json.at("episodes").size(), 2u);
+  EXPECT_EQ(json.at("episodes")[1].at("episode").get<int>(), 1);
+  EXPECT_DOUBLE_EQ(json.at("episodes")[0].at("seconds").get<double>(), 4.0);
+}
+
+TEST(CellProfile, TextNamesEveryStageAndTheCriticalPath) {
+  const std::string text = FormatCellProfile(HandMadeProfile());
+  for (const char* part : {"step_physics", "render", "driver", "critical path (unlimited threads): 4.500 s",
+                           "estimate on  2 threads: 5.900 s"}) {
+    EXPECT_NE(text.find(part), std::string::npos) << part << " missing in\n" << text;
+  }
+}
+
+}  // namespace
+}  // namespace tavis::batch
