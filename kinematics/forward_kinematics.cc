@@ -1,5 +1,8 @@
 #include "kinematics/forward_kinematics.h"
 
+#include <algorithm>
+#include <cstdint>
+
 namespace tavis::kinematics {
 
 namespace {
@@ -22,6 +25,25 @@ void ComputeLinkPoses(const RobotModel& robot, const double* q, RigidTransform* 
 
 void ComputeLinkPosesOf(const RobotModel& robot, const double* q, const std::vector<int>& links, RigidTransform* X_BL) {
   for (int i : links) ComputeLinkPose(robot, q, i, X_BL);
+}
+
+void ComputeLinkPoseChain(const RobotModel& robot, const double* q, int link, RigidTransform* X_BL) {
+  const int parent = robot.links[link].parent;
+  if (parent >= 0) ComputeLinkPoseChain(robot, q, parent, X_BL);
+  ComputeLinkPose(robot, q, link, X_BL);
+}
+
+std::vector<int> LinksMovedByArm(const RobotModel& robot, Side side) {
+  const ArmSpec& arm = robot.arm(side);
+  std::vector<uint8_t> moved(static_cast<std::size_t>(robot.num_links()), 0);
+  std::vector<int> links;
+  for (int i = 0; i < robot.num_links(); ++i) {
+    const Link& link = robot.links[i];
+    const bool own_joint = link.joint >= 0 && std::find(arm.joints.begin(), arm.joints.end(), link.joint) != arm.joints.end();
+    moved[i] = own_joint || (link.parent >= 0 && moved[link.parent]);
+    if (moved[i]) links.push_back(i);
+  }
+  return links;
 }
 
 ArmJacobian ComputeArmJacobian(const RobotModel& robot, Side side, const RigidTransform* X_BL) {

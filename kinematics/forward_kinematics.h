@@ -17,6 +17,12 @@ void ComputeLinkPoses(const RobotModel& robot, const double* q, RigidTransform* 
 // The same for `links` only (ascending; each link's parent is in `links` or already in X_BL):
 // one arm's chain when nothing else moved.
 void ComputeLinkPosesOf(const RobotModel& robot, const double* q, const std::vector<int>& links, RigidTransform* X_BL);
+// The pose of `link` and of its ancestors only (what a camera or hand pose needs); allocates
+// nothing.
+void ComputeLinkPoseChain(const RobotModel& robot, const double* q, int link, RigidTransform* X_BL);
+// The links whose pose depends on the arm's joints, ascending: what ComputeLinkPosesOf needs
+// after only that arm's joints changed.
+std::vector<int> LinksMovedByArm(const RobotModel& robot, Side side);
 
 // Geometric Jacobian of the arm's IK link origin in the base frame, from link poses already
 // computed by ComputeLinkPoses for the same q.

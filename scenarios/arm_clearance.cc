@@ -108,11 +108,14 @@ bool ArmObstacles::JointPathIsClear(const kinematics::RobotModel& robot, kinemat
   for (const int joint : robot.arm(side).joints) largest = std::max(largest, std::abs(q_to[joint] - q_from[joint]));
   const int samples = std::max(2, static_cast<int>(std::ceil(largest / kPathSampleStep)));
   std::vector<double> q = q_from;
+  // Only the arm's joints move along the path: the other links' poses are computed once.
   std::vector<RigidTransform> X_BL(robot.links.size());
+  kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+  const std::vector<int> arm_links = kinematics::LinksMovedByArm(robot, side);
   for (int i = 1; i <= samples; ++i) {
     const double s = static_cast<double>(i) / samples;
     for (const int joint : robot.arm(side).joints) q[joint] = q_from[joint] + s * (q_to[joint] - q_from[joint]);
-    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    kinematics::ComputeLinkPosesOf(robot, q.data(), arm_links, X_BL.data());
     if (!ArmIsClear(robot, side, X_BL.data())) return false;
   }
   return true;

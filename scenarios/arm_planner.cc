@@ -16,10 +16,13 @@ constexpr int kSeeds = 24;
 constexpr double kStillStep = 1e-9;  // rad
 
 // Iterates the controller's IK step kinematically (joint limits respected); returns the error.
+// X_BL holds q's poses of the links the arm does not move; `arm_links` (LinksMovedByArm) are
+// recomputed at each step.
 double Converge(const kinematics::RobotModel& robot, kinematics::Side side, std::vector<double>& q,
-                const kinematics::PoseTarget& target, std::vector<RigidTransform>& X_BL) {
+                const kinematics::PoseTarget& target, const std::vector<int>& arm_links,
+                std::vector<RigidTransform>& X_BL) {
   for (int i = 0; i < kIterationsPerSeed; ++i) {
-    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    kinematics::ComputeLinkPosesOf(robot, q.data(), arm_links, X_BL.data());
     const auto next = kinematics::IkStep(robot, side, q.data(), X_BL.data(), target);
     double change = 0.0;
     for (int k = 0; k < kinematics::kArmDof; ++k) {
@@ -29,7 +32,7 @@ double Converge(const kinematics::RobotModel& robot, kinematics::Side side, std:
     }
     if (change < kStillStep) break;  // a fixed point: further steps would not move the arm
   }
-  kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+  kinematics::ComputeLinkPosesOf(robot, q.data(), arm_links, X_BL.data());
   const Vec6 error = kinematics::IkPoseError(robot, side, X_BL.data(), target);
   return error.head<3>().norm() / kPositionTolerance + error.tail<3>().norm() / kAngleTolerance;
 }
@@ -55,13 +58,16 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
                                                          const kinematics::PoseTarget& target,
                                                          const ArmObstacles* obstacles,
                                                          const std::vector<double>* clear_path_from) {
+  // Seeds differ in the arm's joints only: the other links' poses are computed once.
   std::vector<RigidTransform> X_BL(robot.links.size());
+  kinematics::ComputeLinkPoses(robot, q_start.data(), X_BL.data());
+  const std::vector<int> arm_links = kinematics::LinksMovedByArm(robot, side);
   std::vector<double> best;
   double best_score = 1e300;
   for (int seed = -1; seed < kSeeds; ++seed) {
     std::vector<double> q = q_start;
     if (seed >= 0) SpreadSeed(robot, side, seed, q);
-    const double score = Converge(robot, side, q, target, X_BL);
+    const double score = Converge(robot, side, q, target, arm_links, X_BL);
     if (obstacles && !obstacles->ArmIsClear(robot, side, X_BL.data())) continue;
     if (obstacles && clear_path_from && !obstacles->JointPathIsClear(robot, side, *clear_path_from, q)) continue;
     if (score < best_score) {
@@ -80,6 +86,7 @@ bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side 
   std::vector<RigidTransform> X_BL(robot.links.size());
   std::vector<double> q = q_start;
   kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+  const std::vector<int> arm_links = kinematics::LinksMovedByArm(robot, side);
   const RigidTransform start = X_BL[robot.arm(side).ik_link];
   const Quat start_orientation(start.linear());
   for (int tick = 1; tick <= ticks + 30; ++tick) {
@@ -88,7 +95,7 @@ bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side 
                                         start_orientation.slerp(s, goal.orientation)};
     const auto next = kinematics::IkStep(robot, side, q.data(), X_BL.data(), target);
     for (int k = 0; k < kinematics::kArmDof; ++k) q[robot.arm(side).joints[k]] = next[k];
-    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    kinematics::ComputeLinkPosesOf(robot, q.data(), arm_links, X_BL.data());
     const Vec6 error = kinematics::IkPoseError(robot, side, X_BL.data(), target);
     if (error.head<3>().norm() > kPathTolerance) return false;
     if (obstacles && !obstacles->ArmIsClear(robot, side, X_BL.data())) return false;
@@ -100,7 +107,7 @@ bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side 
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q) {
   CheckFitsRobotBuffers(robot);
   LinkPoses X_BL;
-  kinematics::ComputeLinkPoses(robot, q, X_BL.data());
+  kinematics::ComputeLinkPoseChain(robot, q, robot.arm(side).ik_link, X_BL.data());
   RigidTransform X = X_BL[robot.arm(side).ik_link];
   X.translation() = robot.BaseToCanonical(X.translation());
   return X;

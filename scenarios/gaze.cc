@@ -11,9 +11,10 @@ namespace {
 
 // Direction to the target in the head camera frame (x forward, y left, z up).
 Vec3 TargetInCamera(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world) {
+  const int camera = robot.CameraIndex("head");
   LinkPoses X_BL;
-  kinematics::ComputeLinkPoses(robot, q, X_BL.data());
-  const RigidTransform X_BC = kinematics::CameraPose(robot, robot.CameraIndex("head"), X_BL.data());
+  kinematics::ComputeLinkPoseChain(robot, q, robot.cameras[camera].link, X_BL.data());
+  const RigidTransform X_BC = kinematics::CameraPose(robot, camera, X_BL.data());
   return X_BC.inverse() * (target_world - robot.root_world);
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "tests/kinematics/robot_fixture.h"
@@ -56,31 +57,53 @@ TEST(ForwardKinematics, Reachy2HeadCameraLooksTenDegreesDown) {
 
 // Moving one arm's joints and recomputing only the links below its shoulder gives every link the
 // pose a full pass gives.
-TEST(ForwardKinematics, PosesOfOneArmsChainMatchAFullPass) {
+// The planner moves one arm's joints and recomputes only LinksMovedByArm: the poses must equal
+// a full pass bit for bit, or planning (and so every record) would change.
+TEST(ForwardKinematics, PosesOfTheLinksAnArmMovesEqualAFullPassExactly) {
   std::mt19937 rng(3);
   for (const char* name : {"gr1t2", "reachy2"}) {
     const RobotModel robot = LoadRobot(name);
     for (Side side : kSides) {
       const ArmSpec& arm = robot.arm(side);
-      std::vector<uint8_t> below(robot.num_links(), 0);
-      std::vector<int> chain;
-      for (int i = 0; i < robot.num_links(); ++i) {
-        const Link& link = robot.links[i];
-        below[i] = (link.parent >= 0 && below[link.parent]) || link.joint == arm.joints[0];
-        if (below[i]) chain.push_back(i);
-      }
-      ASSERT_GE(chain.size(), static_cast<size_t>(kArmDof)) << name;
+      const std::vector<int> moved = LinksMovedByArm(robot, side);
+      ASSERT_GE(moved.size(), static_cast<size_t>(kArmDof)) << name;
+      EXPECT_TRUE(std::is_sorted(moved.begin(), moved.end()));
+      EXPECT_NE(std::find(moved.begin(), moved.end(), arm.ik_link), moved.end()) << name;
       std::vector<double> q = robot.DefaultPositions();
       std::vector<RigidTransform> X_BL = LinkPoses(robot, q);
+      const std::vector<RigidTransform> before = X_BL;
       for (int joint : arm.joints) {
         std::uniform_real_distribution<double> within(robot.joints[joint].lower, robot.joints[joint].upper);
         q[joint] = within(rng);
       }
-      ComputeLinkPosesOf(robot, q.data(), chain, X_BL.data());
+      ComputeLinkPosesOf(robot, q.data(), moved, X_BL.data());
       const std::vector<RigidTransform> full = LinkPoses(robot, q);
       for (int i = 0; i < robot.num_links(); ++i) {
-        EXPECT_TRUE(X_BL[i].isApprox(full[i], 1e-12)) << name << " link " << robot.links[i].name;
+        EXPECT_EQ(X_BL[i].matrix(), full[i].matrix()) << name << " link " << robot.links[i].name;
+        const bool listed = std::find(moved.begin(), moved.end(), i) != moved.end();
+        if (!listed) {
+          EXPECT_EQ(before[i].matrix(), full[i].matrix()) << "an unlisted link moved: " << robot.links[i].name;
+        }
       }
+    }
+  }
+}
+
+TEST(ForwardKinematics, ALinksChainAloneGivesItsFullPassPoseExactly) {
+  std::mt19937 rng(5);
+  for (const char* name : {"gr1t2", "reachy2"}) {
+    const RobotModel robot = LoadRobot(name);
+    std::vector<double> q = robot.DefaultPositions();
+    for (int j = 0; j < robot.num_joints(); ++j) {
+      std::uniform_real_distribution<double> within(robot.joints[j].lower, robot.joints[j].upper);
+      q[j] = within(rng);
+    }
+    const std::vector<RigidTransform> full = LinkPoses(robot, q);
+    for (int link : {robot.cameras[robot.CameraIndex("head")].link, robot.arm(Side::kLeft).ik_link,
+                     robot.arm(Side::kRight).ik_link}) {
+      std::vector<RigidTransform> X_BL(robot.links.size(), RigidTransform::Identity());
+      ComputeLinkPoseChain(robot, q.data(), link, X_BL.data());
+      EXPECT_EQ(X_BL[link].matrix(), full[link].matrix()) << name << " link " << robot.links[link].name;
     }
   }
 }
