@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
+#include <functional>
 
 #include <nlohmann/json.hpp>
 
@@ -20,12 +21,29 @@ double CellProfile::work_seconds() const {
   return total;
 }
 
-double CellProfile::critical_path_seconds() const { return serial_seconds + slowest_env_seconds; }
+double CellProfile::critical_path_seconds() const {
+  if (!per_slot) return serial_seconds + slowest_env_seconds;
+  double longest = 0.0;
+  for (const EpisodeCost& cost : episodes) longest = std::max(longest, cost.seconds);
+  return serial_seconds + longest;
+}
 
 double CellProfile::EstimatedSeconds(int on_threads) const {
   double seconds = serial_seconds + render_seconds / on_threads;
-  for (const auto& [slowest, work] : sections) seconds += std::max(slowest, work / on_threads);
-  return seconds;
+  if (!per_slot) {
+    for (const auto& [slowest, work] : sections) seconds += std::max(slowest, work / on_threads);
+    return seconds;
+  }
+  std::vector<EpisodeCost> dealt = episodes;
+  std::sort(dealt.begin(), dealt.end(), [](const EpisodeCost& a, const EpisodeCost& b) { return a.episode < b.episode; });
+  // Each thread's busy-until time, as a min-heap: the next episode goes to the first one free.
+  std::vector<double> free_at(static_cast<std::size_t>(std::max(on_threads, 1)), 0.0);
+  for (const EpisodeCost& cost : dealt) {
+    std::pop_heap(free_at.begin(), free_at.end(), std::greater<>());
+    free_at.back() += cost.seconds;
+    std::push_heap(free_at.begin(), free_at.end(), std::greater<>());
+  }
+  return seconds + *std::max_element(free_at.begin(), free_at.end());
 }
 
 namespace {
@@ -59,9 +77,15 @@ std::string FormatCellProfile(const CellProfile& profile) {
   std::snprintf(line, sizeof line, "  episodes: %zu, cost mean %.3f s, longest %.3f s\n", profile.episodes.size(), mean,
                 longest);
   text += line;
-  std::snprintf(line, sizeof line,
-                "  critical path (unlimited threads): %.3f s = serial %.3f s + slowest env per section %.3f s\n",
-                profile.critical_path_seconds(), profile.serial_seconds, profile.slowest_env_seconds);
+  if (profile.per_slot) {
+    std::snprintf(line, sizeof line,
+                  "  critical path (unlimited threads): %.3f s = serial %.3f s + longest episode %.3f s (per-slot schedule)\n",
+                  profile.critical_path_seconds(), profile.serial_seconds, longest);
+  } else {
+    std::snprintf(line, sizeof line,
+                  "  critical path (unlimited threads): %.3f s = serial %.3f s + slowest env per section %.3f s (lock-step)\n",
+                  profile.critical_path_seconds(), profile.serial_seconds, profile.slowest_env_seconds);
+  }
   text += line;
   for (int on_threads : {1, 2, 16}) {
     std::snprintf(line, sizeof line, "  estimate on %2d threads: %.3f s (%.0f%% serial or tail)\n", on_threads,
@@ -79,6 +103,7 @@ std::string CellProfileJson(const CellProfile& profile) {
   nlohmann::json stages = nlohmann::json::object();
   for (const auto& [name, seconds] : profile.stages) stages[name] = seconds;
   json["stage_s"] = stages;
+  json["schedule"] = profile.per_slot ? "per_slot" : "lock_step";
   json["serial_s"] = profile.serial_seconds;
   json["slowest_env_per_section_s"] = profile.slowest_env_seconds;
   json["critical_path_s"] = profile.critical_path_seconds();

@@ -24,6 +24,9 @@ struct EpisodeCost {
 };
 
 struct CellProfile {
+  // Run on the driver's per-slot schedule (each episode on one thread from start to end, the
+  // next dealt as a thread frees up) rather than lock-step (a section per tick across the batch).
+  bool per_slot = false;
   // (name, seconds) per stage, summed over envs and threads: the env's stages, then "render"
   // (wall time x threads: it is parallel over tiles, not envs), "policy", "recording" (the
   // sinks) and "driver" (the rest of the serial loop).
@@ -40,10 +43,14 @@ struct CellProfile {
   std::vector<std::pair<double, double>> sections;  // (slowest env, work)
   double render_seconds = 0.0;  // render stage, wall x threads
 
-  double work_seconds() const;           // all measured work (stages' sum)
-  double critical_path_seconds() const;  // serial + slowest envs: unlimited threads
-  // The cell's time on `threads` threads estimated from the measured costs: serial time plus,
-  // per section, the longer of its slowest env and its work spread over the threads.
+  double work_seconds() const;  // all measured work (stages' sum)
+  // The time with unlimited threads: serial time plus, lock-step, the slowest env of every
+  // section; per slot, the longest episode.
+  double critical_path_seconds() const;
+  // The cell's time on `threads` threads estimated from the measured costs. Lock-step: serial
+  // time plus, per section, the longer of its slowest env and its work spread over the threads.
+  // Per slot: serial time plus the span of the episodes dealt in index order, each to the thread
+  // that frees up first.
   double EstimatedSeconds(int threads) const;
 };
 

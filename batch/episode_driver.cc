@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 namespace tavis::batch {
@@ -60,6 +62,16 @@ Observation EpisodeDriver::MakeObservation() const {
   return Observation{env_.model(), env_.state(), env_.images(), prompts_, &proprioception_};
 }
 
+EpisodeDriver::Schedule EpisodeDriver::schedule() const {
+  if (lock_step_required_ || env_.cameras() != nullptr || dynamic_cast<PerEnvPolicy*>(&policy_) == nullptr) {
+    return Schedule::kLockStep;
+  }
+  for (const EpisodeSink* sink : sinks_) {
+    if (!sink->works_per_slot()) return Schedule::kLockStep;
+  }
+  return Schedule::kPerSlot;
+}
+
 void EpisodeDriver::Run() {
   const int hold_ticks = policy_.control_ticks_per_action();
   const int ticks_per_policy_step = env_.model().physics.controls_per_policy();
@@ -68,16 +80,30 @@ void EpisodeDriver::Run() {
                                 std::to_string(hold_ticks) + " control ticks; it must act on policy ticks (a multiple of " +
                                 std::to_string(ticks_per_policy_step) + "), where its images are rendered");
   }
-  const engine::BatchState& state = env_.state();
   const int slots = env_.num_envs();
   const auto run_start = std::chrono::steady_clock::now();
+  const Schedule chosen = schedule();
   if (profiling_) {
     env_.EnableStageTiming(true);
     timed_policy_ = dynamic_cast<PerEnvPolicy*>(&policy_);
-    if (timed_policy_ != nullptr) timed_policy_->EnableEnvTiming(true);
+    if (timed_policy_ != nullptr) timed_policy_->EnableEnvTiming(true, slots);
     episode_seconds_.assign(slots, 0.0);
     all_slots_.assign(slots, 1);
+    profile_.per_slot = chosen == Schedule::kPerSlot;
   }
+  if (chosen == Schedule::kPerSlot) {
+    RunPerSlot(*dynamic_cast<PerEnvPolicy*>(&policy_));
+  } else {
+    RunLockStep();
+  }
+  if (profiling_) FinishProfile(std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count());
+}
+
+void EpisodeDriver::RunLockStep() {
+  const int hold_ticks = policy_.control_ticks_per_action();
+  const int ticks_per_policy_step = env_.model().physics.controls_per_policy();
+  const engine::BatchState& state = env_.state();
+  const int slots = env_.num_envs();
   while (true) {
     CollectAndRefill();
     if (finished_ >= total_) break;
@@ -100,7 +126,10 @@ void EpisodeDriver::Run() {
     for (PolicyFault& fault : faults_) env_.EndInvalid(fault.env, {-1, 0.0, std::move(fault.reason)});
     for (ActionBatch::value_type& action : actions_) ApplyToAction(protocol_, action);
     recording_seconds_ += WallSeconds([&] {
-      for (EpisodeSink* sink : sinks_) sink->ActionsChosen(env_, actions_);
+      for (int slot = 0; slot < slots; ++slot) {
+        if (!state.running(slot)) continue;
+        for (EpisodeSink* sink : sinks_) sink->ActionChosen(env_, slot, actions_[slot]);
+      }
     });
     parallel_seconds_ += WallSeconds([&] { env_.Step(actions_); });
     control_ticks_ += running;
@@ -109,7 +138,88 @@ void EpisodeDriver::Run() {
       for (EpisodeSink* sink : sinks_) sink->Stepped(env_);
     });
   }
-  if (profiling_) FinishProfile(std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count());
+}
+
+void EpisodeDriver::RunPerSlot(PerEnvPolicy& policy) {
+  // One worker per thread, each on its own slot: the slots beyond the threads stay idle.
+  const int workers = std::min(env_.num_envs(), tbb::this_task_arena::max_concurrency());
+  parallel_seconds_ += WallSeconds([&] {
+    tbb::parallel_for(0, workers, 1, [&](int slot) { RunSlot(policy, slot); }, tbb::simple_partitioner());
+  });
+}
+
+int64_t EpisodeDriver::DealNext() {
+  std::lock_guard<std::mutex> lock(deal_mutex_);
+  return next_episode_ < end_episode_ && !stopping_ ? next_episode_++ : -1;
+}
+
+void EpisodeDriver::RunSlot(PerEnvPolicy& policy, int slot) {
+  SlotCosts costs;
+  try {
+    for (int64_t episode = DealNext(); episode >= 0; episode = DealNext()) RunSlotEpisode(policy, slot, episode, costs);
+    env_.Release(slot);
+  } catch (...) {
+    // The other workers stop at their next deal rather than run the cell to its end.
+    stopping_ = true;
+    throw;
+  }
+}
+
+void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episode, SlotCosts& costs) {
+  const int hold_ticks = policy.control_ticks_per_action();
+  const int ticks_per_policy_step = env_.model().physics.controls_per_policy();
+  const engine::BatchState& state = env_.state();
+  const Observation observation = MakeObservation();
+  kinematics::Action& action = actions_[slot];
+  env_.ResetEnv(slot, episode);
+  if (profiling_) costs.reset += env_.TakeEnvSeconds(slot);
+  prompts_[slot] = env_.scenario().prompt(state, slot);
+  policy.ResetOne(observation, slot);
+  costs.recording += WallSeconds([&] {
+    for (EpisodeSink* sink : sinks_) sink->EpisodeStarted(env_, slot);
+  });
+  while (state.running(slot)) {
+    bool complete = false;
+    for (const EpisodeSink* sink : sinks_) complete = complete || sink->EpisodeComplete(env_, slot);
+    if (complete) {
+      env_.Stop(slot);
+      break;
+    }
+    if (state.control_step[slot] % hold_ticks == 0) {
+      if (state.control_step[slot] % ticks_per_policy_step == 0) proprioception_.UpdateEnv(state, slot);
+      policy.ActOne(observation, slot, action);
+      ApplyToAction(protocol_, action);
+    }
+    costs.recording += WallSeconds([&] {
+      for (EpisodeSink* sink : sinks_) sink->ActionChosen(env_, slot, action);
+    });
+    env_.StepEnv(slot, actions_);
+    ++costs.control_ticks;
+  }
+  FinishSlotEpisode(slot, costs);
+}
+
+void EpisodeDriver::FinishSlotEpisode(int slot, SlotCosts& costs) {
+  const engine::BatchState& state = env_.state();
+  std::lock_guard<std::mutex> lock(finish_mutex_);
+  if (profiling_) {
+    const double policy = timed_policy_->TakeEnvSeconds(slot);
+    const double cost = env_.TakeEnvSeconds(slot) + costs.reset + policy;
+    profile_.episodes.push_back({state.episode[slot], slot, state.control_step[slot], cost});
+    reset_seconds_ += costs.reset;
+    policy_seconds_ += policy;
+  }
+  const double ended_seconds = WallSeconds([&] {
+    for (EpisodeSink* sink : sinks_) sink->EpisodeEnded(env_, slot);
+  });
+  // The ends are serialised: on unlimited threads they would still run one at a time.
+  profile_.serial_seconds += ended_seconds;
+  recording_seconds_ += costs.recording + ended_seconds;
+  control_ticks_ += costs.control_ticks;
+  costs = SlotCosts();
+  prompts_[slot] = nullptr;
+  ++finished_;
+  if (progress_) progress_(finished_, total_);
 }
 
 void EpisodeDriver::FinishProfile(double wall_seconds) {
@@ -117,7 +227,8 @@ void EpisodeDriver::FinishProfile(double wall_seconds) {
   const std::array<double, kNumStages> stage = env_.stage_seconds();
   profile_.threads = threads;
   profile_.wall_seconds = wall_seconds;
-  profile_.serial_seconds = std::max(0.0, wall_seconds - parallel_seconds_);
+  const double outside_parallel = std::max(0.0, wall_seconds - parallel_seconds_);
+  profile_.serial_seconds += outside_parallel;
   profile_.render_seconds = stage[static_cast<int>(Stage::kRender)] * threads;
   profile_.stages.clear();
   for (Stage name : {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask,
@@ -128,7 +239,9 @@ void EpisodeDriver::FinishProfile(double wall_seconds) {
   profile_.stages.emplace_back(ToString(Stage::kRender), profile_.render_seconds);
   profile_.stages.emplace_back("policy", policy_seconds_);
   profile_.stages.emplace_back("recording", recording_seconds_);
-  profile_.stages.emplace_back("driver", std::max(0.0, profile_.serial_seconds - recording_seconds_));
+  // Lock-step sinks run outside the parallel sections, per-slot ones inside them.
+  profile_.stages.emplace_back("driver", profile_.per_slot ? outside_parallel
+                                                           : std::max(0.0, outside_parallel - recording_seconds_));
 }
 
 void EpisodeDriver::CollectAndRefill() {

@@ -5,13 +5,21 @@
 // world has moved, and when the episode ends; it may end an episode early once it has what it
 // needs.
 //
-// Episode i is always dealt with the randomness of (seed, i), whichever slot runs it; finished
-// episodes are collected and slots refilled in slot order, so what sinks see does not depend on
-// the thread count or on the number of slots.
+// Two schedules, with the same results. Lock-step: every slot takes a control tick together, the
+// batch's observation goes to the policy at once (a served or Python policy answers the whole
+// batch), and finished episodes are collected and slots refilled in slot order. Per slot: when
+// the policy decides each env on its own, nothing is rendered and every sink works per slot, each
+// worker thread runs one slot's episodes tick after tick and takes the next episode as soon as
+// its own ends, so no env waits for the batch's slowest at every tick (docs/architecture.md).
+//
+// Episode i is always dealt with the randomness of (seed, i), whichever slot runs it, so results
+// do not depend on the schedule, the thread count or the number of slots.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 #include "batch/camera_protocol.h"
@@ -24,19 +32,25 @@ namespace tavis::batch {
 class EpisodeSink {
  public:
   virtual ~EpisodeSink() = default;
-  // A control tick is about to begin: the policy will observe the state as it is now.
+  // A control tick of the lock-step schedule is about to begin: the policy will observe the
+  // state as it is now.
   virtual void TickStarting(const VecEnv& /*env*/) {}
   // The slot has started episode state.episode[slot] (reset, warm-up included, and the policy reset).
   virtual void EpisodeStarted(const VecEnv& /*env*/, int /*slot*/) {}
-  // The actions the running slots step with on this tick (chosen now or held), before the step.
-  virtual void ActionsChosen(const VecEnv& /*env*/, const ActionBatch& /*actions*/) {}
-  // The control tick is done.
+  // The action the running slot steps with on this tick (chosen now or held), before the step.
+  virtual void ActionChosen(const VecEnv& /*env*/, int /*slot*/, const kinematics::Action& /*action*/) {}
+  // A control tick of the lock-step schedule is done.
   virtual void Stepped(const VecEnv& /*env*/) {}
   // True once the sink has all it needs of the running episode in `slot`: the driver then stops
   // it (EpisodeEnd::kStopped) before the next tick. Asked before every tick.
   virtual bool EpisodeComplete(const VecEnv& /*env*/, int /*slot*/) const { return false; }
   // The episode in `slot` has ended (state.end[slot] says how), before the slot is refilled.
   virtual void EpisodeEnded(const VecEnv& /*env*/, int /*slot*/) {}
+  // True if the sink can follow slots run independently: it needs neither TickStarting nor
+  // Stepped; EpisodeStarted, ActionChosen and EpisodeComplete touch only their slot's data (they
+  // may run concurrently for distinct slots); and it accepts EpisodeEnded calls, one at a time,
+  // in the order episodes happen to end. False: the driver runs lock-step.
+  virtual bool works_per_slot() const { return false; }
 };
 
 // Called after each finished episode with (finished, total).
@@ -44,11 +58,14 @@ using ProgressCallback = std::function<void(int64_t, int64_t)>;
 
 class EpisodeDriver {
  public:
+  enum class Schedule { kLockStep, kPerSlot };
+
   // Runs episodes first_episode .. first_episode + episodes - 1 of the env's task on its slots
   // with `policy`. Sinks and the policy must outlive Run.
   EpisodeDriver(VecEnv& env, Policy& policy, int64_t episodes, int64_t first_episode = 0);
 
   void AddSink(EpisodeSink& sink) { sinks_.push_back(&sink); }
+  // Called after each finished episode (one call at a time, on any thread).
   void SetProgress(ProgressCallback progress) { progress_ = std::move(progress); }
   // The camera protocol's action rule, applied to every action before sinks see it and the world
   // steps with it (head by default: actions pass unchanged).
@@ -56,12 +73,18 @@ class EpisodeDriver {
     protocol_ = protocol;
     proprioception_.SetCameraProtocol(protocol);
   }
+  // Runs lock-step even where the per-slot schedule applies (tests compare the two).
+  void RequireLockStep() { lock_step_required_ = true; }
+  // The schedule Run uses: per slot when the policy is a PerEnvPolicy, the env renders nothing,
+  // every sink works_per_slot() and lock-step is not required; otherwise lock-step.
+  Schedule schedule() const;
+
   // Until every episode has ended or been stopped. An unusable action (VecEnv::Step's check) or
   // a policy fault (Policy::TakeFaults) ends only its episode, as invalid_action, and sinks see it
   // like any other end. At policy ticks the env renders the cameras it has enabled
   // (VecEnv::EnableCameras); the caller enables the policy's. Throws std::invalid_argument if a
-  // policy with cameras does not act on policy ticks; whatever the policy throws (a served
-  // policy's server failing) stops the run.
+  // policy with cameras does not act on policy ticks; whatever the policy or a sink throws (a
+  // served policy's server failing) stops the run.
   void Run();
 
   // Env control ticks simulated (for throughput).
@@ -74,11 +97,29 @@ class EpisodeDriver {
   const CellProfile& profile() const { return profile_; }
 
  private:
+  // What a worker of the per-slot schedule has spent, added to the profile as each episode ends.
+  struct SlotCosts {
+    double reset = 0.0;   // the env's part of resets
+    double policy = 0.0;  // the policy's resets and actions
+    double recording = 0.0;  // wall time in sinks
+    int64_t control_ticks = 0;
+  };
+
   Observation MakeObservation() const;
-  // Reports the slots whose episodes have ended (stopping those a sink is done with), deals the
-  // next episodes to them and to idle slots in slot order, resets those slots in parallel, then
-  // tells the policy and the sinks.
+  void RunLockStep();
+  // Lock-step: reports the slots whose episodes have ended (stopping those a sink is done
+  // with), deals the next episodes to them and to idle slots in slot order, resets those slots
+  // in parallel, then tells the policy and the sinks.
   void CollectAndRefill();
+  void RunPerSlot(PerEnvPolicy& policy);
+  // Per slot: `slot`'s episodes one after the other until none is left to deal.
+  void RunSlot(PerEnvPolicy& policy, int slot);
+  void RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episode, SlotCosts& costs);
+  // Per slot: the next episode index, or -1 when all are dealt.
+  int64_t DealNext();
+  // Per slot: tells the sinks and the progress callback that `slot`'s episode has ended and
+  // adds its costs to the profile; one call at a time.
+  void FinishSlotEpisode(int slot, SlotCosts& costs);
   // Profiling: adds each slot's cost in the parallel section just run (`slots` flags them) to
   // its episode and the section's slowest env and work to the profile; returns the env's part
   // of the work (the policy's is counted apart).
@@ -97,6 +138,10 @@ class EpisodeDriver {
   std::vector<EpisodeSink*> sinks_;
   ProgressCallback progress_;
   CameraProtocol protocol_ = CameraProtocol::kHead;
+  bool lock_step_required_ = false;
+  std::mutex deal_mutex_;    // per slot: next_episode_
+  std::atomic<bool> stopping_{false};  // per slot: a worker failed
+  std::mutex finish_mutex_;  // per slot: episode ends, progress and the profile
   ProprioceptionBatch proprioception_;
   // Per-slot buffers, sized once.
   std::vector<const char*> prompts_;

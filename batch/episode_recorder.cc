@@ -13,11 +13,8 @@ EpisodeRecorder::EpisodeRecorder(int slots, int max_control_steps, RecordSetting
 
 void EpisodeRecorder::EpisodeStarted(const VecEnv&, int slot) { action_logs_[slot].clear(); }
 
-void EpisodeRecorder::ActionsChosen(const VecEnv& env, const ActionBatch& actions) {
-  const engine::BatchState& state = env.state();
-  for (int slot = 0; slot < state.num_envs; ++slot) {
-    if (state.running(slot)) action_logs_[slot].push_back(actions[slot]);
-  }
+void EpisodeRecorder::ActionChosen(const VecEnv&, int slot, const kinematics::Action& action) {
+  action_logs_[slot].push_back(action);
 }
 
 std::optional<kinematics::GaltResult> EpisodeRecorder::Galt(const std::vector<kinematics::Action>& log, int stride,

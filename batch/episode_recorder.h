@@ -59,8 +59,10 @@ class EpisodeRecorder : public EpisodeSink {
   EpisodeRecorder(int slots, int max_control_steps, RecordSettings settings, int64_t first_episode, Finished finished);
 
   void EpisodeStarted(const VecEnv& env, int slot) override;
-  void ActionsChosen(const VecEnv& env, const ActionBatch& actions) override;
+  void ActionChosen(const VecEnv& env, int slot, const kinematics::Action& action) override;
   void EpisodeEnded(const VecEnv& env, int slot) override;
+  // Per-slot logs, and records put in episode order whatever order episodes end in.
+  bool works_per_slot() const override { return true; }
 
  private:
   std::optional<kinematics::GaltResult> Galt(const std::vector<kinematics::Action>& log, int stride, double fps) const;

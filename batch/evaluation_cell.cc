@@ -97,6 +97,10 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   if (config.policy == kServedPolicy) remote::LoadObservationKeys(config.observation_keys, config.config_dir);
 }
 
+bool RunsPerSlot(const EvaluationCellConfig& config) {
+  return config.policy != kServedPolicy && config.render_cameras.empty();
+}
+
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress,
                              const RecordCallback& on_record) {
   CheckEvaluationCell(config);
@@ -153,6 +157,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     driver.SetProgress(progress);
     driver.SetCameraProtocol(config.camera);
     if (config.profile) driver.EnableProfile();
+    result.per_slot = driver.schedule() == EpisodeDriver::Schedule::kPerSlot;
     driver.Run();
     result.control_ticks = driver.control_ticks();
     if (config.profile) result.profile = driver.profile();

@@ -72,6 +72,7 @@ struct CellResult {
   std::vector<remote::Value> server_metadata;  // each server's metadata message
   std::string observation_keys_source;         // the request layout's preset or file
   std::optional<CellProfile> profile;          // with config.profile
+  bool per_slot = false;  // run on the driver's per-slot schedule (RunsPerSlot)
 };
 
 // Policy names a cell accepts, for --help texts and errors: the built-in ones and "openpi".
@@ -89,6 +90,11 @@ void CheckEvaluationCell(const EvaluationCellConfig& config);
 // policy's actions for replay, every action with config.keep_actions.
 RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks, const engine::PhysicsSettings& physics,
                                  bool served);
+
+// True if the cell's episodes run on the episode driver's per-slot schedule: a built-in policy
+// (each env decided on its own) and no camera rendered. Such a cell keeps every thread busy until
+// its last episodes, so a sweep runs these one after the other on all cores.
+bool RunsPerSlot(const EvaluationCellConfig& config);
 
 // Called with each episode's record as soon as it and every earlier episode have ended.
 using RecordCallback = std::function<void(const EpisodeRecord&)>;

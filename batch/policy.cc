@@ -18,17 +18,28 @@ void PerEnvPolicy::Timed(int env, Body&& body) {
 }
 
 void PerEnvPolicy::Reset(const Observation& observation, const std::vector<uint8_t>& started) {
-  if (env_timing_) env_nanoseconds_.resize(started.size(), 0);
   tbb::parallel_for(0, static_cast<int>(started.size()), [&](int env) {
-    if (started[env]) Timed(env, [&] { ResetEnv(observation, env); });
+    if (started[env]) ResetOne(observation, env);
   });
 }
 
 void PerEnvPolicy::Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) {
-  if (env_timing_) env_nanoseconds_.resize(acting.size(), 0);
   tbb::parallel_for(0, static_cast<int>(acting.size()), [&](int env) {
-    if (acting[env]) Timed(env, [&] { ActEnv(observation, env, actions[env]); });
+    if (acting[env]) ActOne(observation, env, actions[env]);
   });
+}
+
+void PerEnvPolicy::ResetOne(const Observation& observation, int env) {
+  Timed(env, [&] { ResetEnv(observation, env); });
+}
+
+void PerEnvPolicy::ActOne(const Observation& observation, int env, kinematics::Action& action) {
+  Timed(env, [&] { ActEnv(observation, env, action); });
+}
+
+void PerEnvPolicy::EnableEnvTiming(bool enabled, int num_envs) {
+  env_timing_ = enabled;
+  env_nanoseconds_.assign(enabled ? static_cast<std::size_t>(num_envs) : 0, 0);
 }
 
 double PerEnvPolicy::TakeEnvSeconds(int env) {

@@ -71,9 +71,13 @@ class PerEnvPolicy : public Policy {
  public:
   void Reset(const Observation& observation, const std::vector<uint8_t>& started) final;
   void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) final;
-  // Per-env timing for profiles: TakeEnvSeconds returns the CPU time ResetEnv and ActEnv spent on
-  // the env since the last call and starts again from zero. Off by default.
-  void EnableEnvTiming(bool enabled) { env_timing_ = enabled; }
+  // What Reset and Act do for one env, on the calling thread. Calls for distinct envs may run
+  // concurrently (the episode driver's per-slot schedule).
+  void ResetOne(const Observation& observation, int env);
+  void ActOne(const Observation& observation, int env, kinematics::Action& action);
+  // Per-env timing for profiles of `num_envs` envs: TakeEnvSeconds returns the CPU time ResetEnv
+  // and ActEnv spent on the env since the last call and starts again from zero. Off by default.
+  void EnableEnvTiming(bool enabled, int num_envs);
   double TakeEnvSeconds(int env);
 
  protected:

@@ -26,6 +26,8 @@ class ProprioceptionBatch {
 
   // Fills the rows of the envs with envs[env] != 0 from the batch state.
   void Update(const engine::BatchState& state, const std::vector<uint8_t>& envs);
+  // The same for one env; calls for distinct envs may run concurrently.
+  void UpdateEnv(const engine::BatchState& state, int env);
 
   const float* state(int env) const { return &state_[static_cast<std::size_t>(env) * state_size_]; }
   const float* eef_position(int env, kinematics::Side side) const { return &eef_position_[Hand(env, side) * 3]; }
@@ -35,7 +37,6 @@ class ProprioceptionBatch {
   static std::size_t Hand(int env, kinematics::Side side) {
     return static_cast<std::size_t>(env) * 2 + static_cast<std::size_t>(kinematics::Index(side));
   }
-  void UpdateEnv(const engine::BatchState& state, int env);
 
   const kinematics::RobotModel& robot_;
   int state_size_ = 0;

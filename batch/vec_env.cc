@@ -109,12 +109,18 @@ std::array<double, kNumStages> VecEnv::stage_seconds() const {
 
 void VecEnv::Reset(const std::vector<EpisodeStart>& starts) {
   Timed(Stage::kReset, [&] {
-    tbb::parallel_for(0, static_cast<int>(starts.size()), [&](int i) {
-      const int64_t start = stage_timing_ ? ThreadCpuNanoseconds() : 0;
-      ResetOne(starts[i]);
-      if (stage_timing_) env_nanoseconds_[starts[i].env] += ThreadCpuNanoseconds() - start;
-    });
+    tbb::parallel_for(0, static_cast<int>(starts.size()), [&](int i) { TimedResetOne(starts[i]); });
   });
+}
+
+void VecEnv::ResetEnv(int env, int64_t episode) {
+  Timed(Stage::kReset, [&] { TimedResetOne({env, episode}); });
+}
+
+void VecEnv::TimedResetOne(const EpisodeStart& start) {
+  const int64_t begin = stage_timing_ ? ThreadCpuNanoseconds() : 0;
+  ResetOne(start);
+  if (stage_timing_) env_nanoseconds_[start.env] += ThreadCpuNanoseconds() - begin;
 }
 
 void VecEnv::ResetOne(const EpisodeStart& start) {
@@ -168,12 +174,23 @@ void VecEnv::Step(const std::vector<kinematics::Action>& actions) {
       ControlTick({range.begin(), range.end()}, actions);
       return;
     }
-    for (int env = range.begin(); env < range.end(); ++env) {
-      const int64_t start = ThreadCpuNanoseconds();
-      ControlTick({env, env + 1}, actions);
-      env_nanoseconds_[env] += ThreadCpuNanoseconds() - start;
-    }
+    for (int env = range.begin(); env < range.end(); ++env) TimedControlTick(env, actions);
   });
+}
+
+void VecEnv::StepEnv(int env, const std::vector<kinematics::Action>& actions) {
+  TAVIS_INVARIANT(static_cast<int>(actions.size()) == num_envs(), "one action per env slot");
+  TimedControlTick(env, actions);
+}
+
+void VecEnv::TimedControlTick(int env, const std::vector<kinematics::Action>& actions) {
+  if (!stage_timing_) {
+    ControlTick({env, env + 1}, actions);
+    return;
+  }
+  const int64_t start = ThreadCpuNanoseconds();
+  ControlTick({env, env + 1}, actions);
+  env_nanoseconds_[env] += ThreadCpuNanoseconds() - start;
 }
 
 void VecEnv::ControlTick(EnvRange envs, const std::vector<kinematics::Action>& actions) {

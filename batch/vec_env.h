@@ -61,7 +61,9 @@ class VecEnv {
   // reference's InitPoseWrapper; the policy first sees its end). An episode can end in its
   // warm-up.
   void Reset(const std::vector<EpisodeStart>& starts);
-  void ResetEnv(int env, int64_t episode) { Reset({{env, episode}}); }
+  // The same for one slot on the calling thread. Like StepEnv, safe to call concurrently for
+  // distinct envs.
+  void ResetEnv(int env, int64_t episode);
   // Marks a slot idle: it is skipped by Step until reset again.
   void Release(int env) { state_.episode[env] = -1; }
   // Ends a running episode without an outcome (EpisodeEnd::kStopped).
@@ -74,6 +76,10 @@ class VecEnv {
   // ended envs' entries are ignored). Ends episodes on success, time-out, blow-up or an invalid
   // action (kinematics::FindActionDefect, or an IK result that is not finite).
   void Step(const std::vector<kinematics::Action>& actions);
+  // One control tick of one env on the calling thread (nothing if it is not running). Calls for
+  // distinct envs may run concurrently: a tick touches only its env's rows and world. The
+  // episode driver uses it to run slots independently of each other.
+  void StepEnv(int env, const std::vector<kinematics::Action>& actions);
 
   // Camera observations: builds the render scene once (images at settings.width x height, in
   // the order of settings.cameras); the scenario's black_cameras start blocked in every env.
@@ -115,6 +121,9 @@ class VecEnv {
   void UpdateTask(EnvRange envs);    // the episode's clock and the task's own update
   void EndEpisodes(EnvRange envs);   // blow-up, success, time-out
   void ResetOne(const EpisodeStart& start);
+  // ResetOne and ControlTick of one env, its CPU time added to the env's cost with stage timing.
+  void TimedResetOne(const EpisodeStart& start);
+  void TimedControlTick(int env, const std::vector<kinematics::Action>& actions);
 
   template <typename Body>
   void Timed(Stage stage, Body&& body);

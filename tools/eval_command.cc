@@ -198,7 +198,8 @@ void RegisterEvalCommand(CLI::App& app) {
       ->check(IntegerIn(1, 100000000))
       ->capture_default_str();
   AddSeedOption(*eval, options->cell.seed, "Seed: episode i draws its randomness from (seed, i)");
-  eval->add_option("--envs", options->cell.envs, "Parallel env slots (results do not depend on it)")
+  eval->add_option("--envs", options->cell.envs, "Parallel env slots stepped lock-step, for a served policy or rendering; a built-in policy\n"
+                   "without rendering runs one slot per thread instead (results do not depend on it)")
       ->check(IntegerIn(1, 4096))
       ->capture_default_str();
   eval->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")

@@ -77,7 +77,8 @@ void RegisterSweepCommand(CLI::App& app) {
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   sweep->add_option("--concurrent-cells", options->concurrent_cells,
-                    "Cells run at once, sharing the cores (0 = as many as --threads; results do not depend on it)")
+                    "Cells run at once, sharing the cores (0 = one when every cell runs a built-in policy without\n"
+                    "rendering, which keeps all cores busy; otherwise as many as --threads; results do not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   sweep->add_option("--shard", options->shard,

@@ -60,12 +60,9 @@ void DemoRecorder::EpisodeStarted(const batch::VecEnv& env, int slot) {
   for (const std::string& camera : recording_.cameras) recording.encoders.emplace_back(recording_.video, camera);
 }
 
-void DemoRecorder::ActionsChosen(const batch::VecEnv& env, const batch::ActionBatch& actions) {
-  const engine::BatchState& state = env.state();
-  for (int slot = 0; slot < state.num_envs; ++slot) {
-    acted_[static_cast<std::size_t>(slot)] = state.running(slot);
-    if (state.running(slot)) slots_[static_cast<std::size_t>(slot)].action = actions[static_cast<std::size_t>(slot)];
-  }
+void DemoRecorder::ActionChosen(const batch::VecEnv&, int slot, const kinematics::Action& action) {
+  acted_[static_cast<std::size_t>(slot)] = 1;
+  slots_[static_cast<std::size_t>(slot)].action = action;
 }
 
 void DemoRecorder::Stepped(const batch::VecEnv& env) {
@@ -75,6 +72,7 @@ void DemoRecorder::Stepped(const batch::VecEnv& env) {
     // control_step is now t + 1 for the tick t just stepped; the tick that ended the episode is not recorded.
     const bool take = acted_[static_cast<std::size_t>(slot)] && state.running(slot) &&
                       (state.control_step[slot] - 1) % recording_.stride == 0;
+    acted_[static_cast<std::size_t>(slot)] = 0;  // set again by the next tick's ActionChosen
     recorded_[static_cast<std::size_t>(slot)] = take;
     any = any || take;
   }

@@ -46,7 +46,7 @@ class DemoRecorder : public batch::EpisodeSink {
   ~DemoRecorder() override;
 
   void EpisodeStarted(const batch::VecEnv& env, int slot) override;
-  void ActionsChosen(const batch::VecEnv& env, const batch::ActionBatch& actions) override;
+  void ActionChosen(const batch::VecEnv& env, int slot, const kinematics::Action& action) override;
   void Stepped(const batch::VecEnv& env) override;
   void EpisodeEnded(const batch::VecEnv& env, int slot) override;
 

@@ -184,7 +184,9 @@ void PythonVecEnv::Step(const double* actions) {
       int running = 0;
       for (int env = 0; env < num_envs(); ++env) running += state.running(env) ? 1 : 0;
       if (running == 0) break;
-      recorder_->ActionsChosen(env_, actions_);
+      for (int env = 0; env < num_envs(); ++env) {
+        if (state.running(env)) recorder_->ActionChosen(env_, env, actions_[env]);
+      }
       env_.Step(actions_);
       control_ticks_ += running;
     }

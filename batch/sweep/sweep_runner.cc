@@ -65,7 +65,13 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   }
   manifest.Write(out);
 
-  const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : options.threads,
+  // By default cells that keep every thread busy to their end (RunsPerSlot) run one after the
+  // other on all cores; lock-step cells run side by side, so that one cell's wait for its slowest
+  // env is filled by another's work.
+  const bool all_per_slot = std::all_of(to_run.begin(), to_run.end(),
+                                        [](const SweepCell* cell) { return RunsPerSlot(cell->config); });
+  const int default_jobs = all_per_slot ? 1 : options.threads;
+  const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : default_jobs,
                                              static_cast<int>(to_run.size())));
   // Each running cell's own thread works too: TBB gets the cores the cell threads leave.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism,

@@ -15,8 +15,8 @@ struct SweepRunOptions {
   std::string config_dir;
   Shard shard;
   int threads = 1;  // cores in use at once
-  // Cells run at once (each by its own thread, sharing the cores); 0: as many as threads. The
-  // results do not depend on it.
+  // Cells run at once (each by its own thread, sharing the cores); 0: one if every cell runs per
+  // slot (RunsPerSlot), else as many as threads. The results do not depend on it.
   int concurrent_cells = 0;
   bool quiet = false;
 };

@@ -37,6 +37,37 @@ TEST(CellProfile, EstimatesSpreadWorkButNeverBeatTheSlowestEnv) {
   EXPECT_GT(profile.EstimatedSeconds(1000), profile.critical_path_seconds());
 }
 
+// The per-slot schedule: episodes of 1, 1, 3, 1 and 2 s (ended out of order) dealt in index
+// order to the thread that frees up first; 0.25 s serial.
+CellProfile PerSlotProfile() {
+  CellProfile profile;
+  profile.per_slot = true;
+  profile.stages = {{"step_physics", 7.75}, {"driver", 0.25}};
+  profile.serial_seconds = 0.25;
+  profile.episodes = {{1, 1, 10, 1.0}, {0, 0, 10, 1.0}, {3, 1, 10, 1.0}, {2, 0, 30, 3.0}, {4, 1, 20, 2.0}};
+  return profile;
+}
+
+TEST(CellProfile, PerSlotCriticalPathIsSerialPlusTheLongestEpisode) {
+  EXPECT_DOUBLE_EQ(PerSlotProfile().critical_path_seconds(), 0.25 + 3.0);
+}
+
+TEST(CellProfile, PerSlotEstimatesDealEpisodesInIndexOrderToTheFirstFreeThread) {
+  const CellProfile profile = PerSlotProfile();
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(1), 0.25 + 8.0);
+  // Two threads: 0 and 1 start together; episode 2 (3 s) goes to thread A at 1 s, episode 3 to
+  // B at 1 s, episode 4 to B at 2 s: A ends at 4 s, B at 4 s.
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(2), 0.25 + 4.0);
+  // Three: episode 3 and 4 follow 0 and 1; episode 2 from 0 s ends last at 3 s.
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(3), 0.25 + 3.0);
+  EXPECT_DOUBLE_EQ(profile.EstimatedSeconds(16), profile.critical_path_seconds());
+  const std::string text = FormatCellProfile(profile);
+  EXPECT_NE(text.find("critical path (unlimited threads): 3.250 s = serial 0.250 s + longest episode 3.000 s"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(nlohmann::json::parse(CellProfileJson(profile)).at("schedule").get<std::string>(), "per_slot");
+}
+
 TEST(CellProfile, JsonCarriesStagesEstimatesAndEveryEpisode) {
   const nlohmann::json json = nlohmann::json::parse(CellProfileJson(HandMadeProfile()));
   EXPECT_DOUBLE_EQ(json.at("work_s").get<double>(), 8.3);

@@ -4,6 +4,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -44,9 +45,7 @@ class EventLog : public EpisodeSink {
     Add('E', env, slot);
     final_q.emplace_back(env.state().q_row(slot), env.state().q_row(slot) + env.state().num_joints);
   }
-  void ActionsChosen(const VecEnv& env, const ActionBatch&) override {
-    for (int slot = 0; slot < env.num_envs(); ++slot) action_ticks += env.state().running(slot) ? 1 : 0;
-  }
+  void ActionChosen(const VecEnv&, int, const kinematics::Action&) override { ++action_ticks; }
   bool EpisodeComplete(const VecEnv& env, int slot) const override {
     return stop_after_ticks_ >= 0 && env.state().control_step[slot] >= stop_after_ticks_;
   }
@@ -249,6 +248,152 @@ TEST(EpisodeDriver, ParallelResetsWithWarmUpGiveTheSameEpisodesForAnySlotsAndThr
   for (const auto& q : serial) ASSERT_FALSE(q.empty());
   EXPECT_EQ(WarmUpEndStates(4, 2), serial);
   EXPECT_EQ(WarmUpEndStates(5, 1), serial);
+}
+
+// What the per-slot schedule's sinks see: per-slot tick counts (touched only by their slot's
+// thread) and the ends, which come one at a time. Optionally stops each episode after a number
+// of ticks, or throws at an end.
+class PerSlotLog : public EpisodeSink {
+ public:
+  PerSlotLog(int slots, int stop_after_ticks, int throw_at_end = -1)
+      : ticks_(static_cast<std::size_t>(slots), 0), stop_after_ticks_(stop_after_ticks), throw_at_end_(throw_at_end) {}
+  void EpisodeStarted(const VecEnv&, int slot) override { ticks_[static_cast<std::size_t>(slot)] = 0; }
+  void ActionChosen(const VecEnv&, int slot, const kinematics::Action&) override { ++ticks_[static_cast<std::size_t>(slot)]; }
+  bool EpisodeComplete(const VecEnv& env, int slot) const override {
+    return stop_after_ticks_ >= 0 && env.state().control_step[slot] >= stop_after_ticks_;
+  }
+  void EpisodeEnded(const VecEnv& env, int slot) override {
+    if (static_cast<int>(ended.size()) == throw_at_end_) throw std::runtime_error("disk full");
+    ended.push_back({'E', slot, env.state().episode[slot], env.state().end[slot], env.state().control_step[slot]});
+    action_ticks += ticks_[static_cast<std::size_t>(slot)];
+  }
+  bool works_per_slot() const override { return true; }
+
+  std::vector<Event> ended;
+  int64_t action_ticks = 0;
+
+ private:
+  std::vector<int64_t> ticks_;
+  int stop_after_ticks_;
+  int throw_at_end_;
+};
+
+engine::WorldModel TaskModel(const std::string& task) {
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  return BuildWorldModel(robot, scenarios::FindScenario(task));
+}
+
+TEST(EpisodeDriver, RunsPerSlotOnlyWhenPolicyCamerasAndEverySinkAllowIt) {
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
+  PerSlotLog per_slot(2, -1);
+  EventLog lock_step;
+  {
+    EpisodeDriver driver(env, *hold, 1);
+    driver.AddSink(per_slot);
+    EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kPerSlot);
+    driver.AddSink(lock_step);
+    EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep) << "a sink that needs the common tick";
+  }
+  {
+    EpisodeDriver driver(env, *hold, 1);
+    driver.RequireLockStep();
+    EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep);
+  }
+  {
+    CheckingPolicy batched(env);
+    EpisodeDriver driver(env, batched, 1);
+    EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep) << "a policy answering the whole batch";
+  }
+  env.EnableCameras({{"head"}, 32, 24});
+  EpisodeDriver driver(env, *hold, 1);
+  EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep) << "rendering is batched over the envs";
+}
+
+TEST(EpisodeDriver, PerSlotScheduleRunsEveryEpisodeOnceAndStopsThoseASinkIsDoneWith) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
+  PerSlotLog log(3, /*stop_after_ticks=*/5);
+  EpisodeDriver driver(env, *hold, 7, /*first_episode=*/2);
+  driver.AddSink(log);
+  std::vector<int64_t> progress;
+  driver.SetProgress([&](int64_t finished, int64_t total) {
+    EXPECT_EQ(total, 7);
+    progress.push_back(finished);
+  });
+  ASSERT_EQ(driver.schedule(), EpisodeDriver::Schedule::kPerSlot);
+  driver.Run();
+  EXPECT_EQ(progress, (std::vector<int64_t>{1, 2, 3, 4, 5, 6, 7}));
+  std::vector<int64_t> episodes;
+  for (const Event& event : log.ended) {
+    episodes.push_back(event.episode);
+    EXPECT_EQ(event.end, engine::EpisodeEnd::kStopped);
+    EXPECT_EQ(event.control_step, 5);
+    EXPECT_LT(event.slot, 2) << "one slot per thread";
+  }
+  std::sort(episodes.begin(), episodes.end());
+  EXPECT_EQ(episodes, (std::vector<int64_t>{2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_EQ(driver.control_ticks(), 7 * 5);
+  EXPECT_EQ(log.action_ticks, 7 * 5);
+  for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(env.state().episode[slot], -1) << "slots are released at the end";
+}
+
+// The expert's records (outcome, length, GALT, every tick's action) of a few clutter-pick-cube
+// episodes, on either schedule and thread count.
+std::vector<EpisodeRecord> ExpertRecords(bool lock_step, std::size_t threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  VecEnv env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 5);
+  std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", env.scenario(), env.model(), 3);
+  RecordSettings settings;
+  settings.galt_stride = 1;
+  settings.galt_fps = env.model().physics.control_hz;
+  settings.keep_actions = true;
+  std::vector<EpisodeRecord> records;
+  EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), settings, 0,
+                           [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
+  EpisodeDriver driver(env, *expert, 5);
+  driver.AddSink(recorder);
+  if (lock_step) driver.RequireLockStep();
+  EXPECT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
+  driver.Run();
+  return records;
+}
+
+TEST(EpisodeDriver, PerSlotScheduleRecordsExactlyWhatLockStepRecords) {
+  const std::vector<EpisodeRecord> lock_step = ExpertRecords(true, 2);
+  ASSERT_EQ(lock_step.size(), 5u);
+  int successes = 0;
+  for (const EpisodeRecord& record : lock_step) successes += record.success ? 1 : 0;
+  EXPECT_GE(successes, 4) << "the expert solves the task";
+  for (std::size_t threads : {1, 2}) {
+    const std::vector<EpisodeRecord> per_slot = ExpertRecords(false, threads);
+    ASSERT_EQ(per_slot.size(), lock_step.size());
+    for (std::size_t i = 0; i < lock_step.size(); ++i) {
+      EXPECT_EQ(per_slot[i].episode, lock_step[i].episode) << "records in episode order";
+      EXPECT_EQ(per_slot[i].end, lock_step[i].end);
+      EXPECT_EQ(per_slot[i].length_control_ticks, lock_step[i].length_control_ticks);
+      EXPECT_EQ(per_slot[i].actions, lock_step[i].actions) << "episode " << i << " on " << threads << " threads";
+      ASSERT_EQ(per_slot[i].galt.has_value(), lock_step[i].galt.has_value());
+      if (per_slot[i].galt) {
+        EXPECT_EQ(per_slot[i].galt->galt_s, lock_step[i].galt->galt_s);
+      }
+    }
+  }
+}
+
+TEST(EpisodeDriver, ASinkFailingOnThePerSlotScheduleStopsTheRunEarly) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
+  PerSlotLog log(2, -1, /*throw_at_end=*/1);
+  EpisodeDriver driver(env, *hold, 40);
+  driver.AddSink(log);
+  int64_t finished = 0;
+  driver.SetProgress([&](int64_t done, int64_t) { finished = done; });
+  EXPECT_THROW(driver.Run(), std::runtime_error);
+  EXPECT_EQ(log.ended.size(), 1u);
+  EXPECT_LT(finished, 40) << "the other thread stops at its next deal";
 }
 
 }  // namespace
