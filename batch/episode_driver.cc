@@ -104,7 +104,7 @@ void EpisodeDriver::RunLockStep() {
   const int ticks_per_policy_step = env_.model().physics.controls_per_policy();
   const engine::BatchState& state = env_.state();
   const int slots = env_.num_envs();
-  while (true) {
+  for (lock_step_ticks_ = 0;; ++lock_step_ticks_) {
     CollectAndRefill();
     if (finished_ >= total_) break;
     recording_seconds_ += WallSeconds([&] {
@@ -248,11 +248,14 @@ void EpisodeDriver::CollectAndRefill() {
   const engine::BatchState& state = env_.state();
   const int slots = env_.num_envs();
   starts_.clear();
+  // With cameras, episodes start only on ticks where the running ones are at a policy tick, so
+  // that every render call draws all of them (rather than a third of them on every tick).
+  const bool deal_now = env_.cameras() == nullptr || lock_step_ticks_ % env_.model().physics.controls_per_policy() == 0;
   for (int slot = 0; slot < slots; ++slot) {
     started_[slot] = 0;
     if (state.episode[slot] < 0) {
-      // Idle: not dealt yet (a slot is released only once no episode is left).
-      if (next_episode_ < end_episode_) starts_.push_back({slot, next_episode_++});
+      // Idle: not dealt yet, or waiting for a policy tick to start on.
+      if (deal_now && next_episode_ < end_episode_) starts_.push_back({slot, next_episode_++});
       continue;
     }
     if (state.running(slot)) {
@@ -271,7 +274,7 @@ void EpisodeDriver::CollectAndRefill() {
     ++finished_;
     if (progress_) progress_(finished_, total_);
     prompts_[slot] = nullptr;
-    if (next_episode_ < end_episode_) {
+    if (deal_now && next_episode_ < end_episode_) {
       starts_.push_back({slot, next_episode_++});
     } else {
       env_.Release(slot);

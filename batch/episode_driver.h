@@ -108,8 +108,9 @@ class EpisodeDriver {
   Observation MakeObservation() const;
   void RunLockStep();
   // Lock-step: reports the slots whose episodes have ended (stopping those a sink is done
-  // with), deals the next episodes to them and to idle slots in slot order, resets those slots
-  // in parallel, then tells the policy and the sinks.
+  // with), deals the next episodes to them and to idle slots in slot order (with cameras, only on
+  // ticks that are policy ticks of the batch), resets those slots in parallel, then tells the
+  // policy and the sinks.
   void CollectAndRefill();
   void RunPerSlot(PerEnvPolicy& policy);
   // Per slot: `slot`'s episodes one after the other until none is left to deal.
@@ -135,6 +136,7 @@ class EpisodeDriver {
   int64_t next_episode_ = 0;  // the next episode index to deal
   int64_t finished_ = 0;
   int64_t control_ticks_ = 0;
+  int64_t lock_step_ticks_ = 0;  // ticks of the lock-step loop so far
   std::vector<EpisodeSink*> sinks_;
   ProgressCallback progress_;
   CameraProtocol protocol_ = CameraProtocol::kHead;

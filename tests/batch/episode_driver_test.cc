@@ -396,5 +396,43 @@ TEST(EpisodeDriver, ASinkFailingOnThePerSlotScheduleStopsTheRunEarly) {
   EXPECT_LT(finished, 40) << "the other thread stops at its next deal";
 }
 
+// With cameras, a lock-step batch stays in phase: episodes stopped after 4 to 6 ticks are
+// followed by episodes that start on the batch's next policy tick, so every render call draws
+// all running envs.
+class PhaseLog : public EpisodeSink {
+ public:
+  void TickStarting(const VecEnv& env) override {
+    const engine::BatchState& state = env.state();
+    int phase = -1;
+    for (int slot = 0; slot < state.num_envs; ++slot) {
+      if (!state.running(slot)) continue;
+      const int slot_phase = state.control_step[slot] % env.model().physics.controls_per_policy();
+      if (phase >= 0 && slot_phase != phase) ++out_of_phase_ticks;
+      phase = slot_phase;
+    }
+  }
+  // Episode i stops after 4 + i % 3 ticks: without alignment the slots would drift apart.
+  bool EpisodeComplete(const VecEnv& env, int slot) const override {
+    return env.state().control_step[slot] >= 4 + env.state().episode[slot] % 3;
+  }
+  void EpisodeEnded(const VecEnv&, int) override { ++ended; }
+
+  int out_of_phase_ticks = 0;
+  int ended = 0;
+};
+
+TEST(EpisodeDriver, WithCamerasEpisodesStartOnTheBatchsPolicyTicks) {
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+  env.EnableCameras({{"head"}, 32, 24});
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
+  PhaseLog log;
+  EpisodeDriver driver(env, *hold, 8);
+  driver.AddSink(log);
+  driver.Run();
+  EXPECT_EQ(log.ended, 8);
+  EXPECT_EQ(log.out_of_phase_ticks, 0);
+  EXPECT_EQ(driver.control_ticks(), 3 * 4 + 3 * 5 + 2 * 6);
+}
+
 }  // namespace
 }  // namespace tavis::batch
