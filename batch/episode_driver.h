@@ -99,8 +99,7 @@ class EpisodeDriver {
  private:
   // What a worker of the per-slot schedule has spent, added to the profile as each episode ends.
   struct SlotCosts {
-    double reset = 0.0;   // the env's part of resets
-    double policy = 0.0;  // the policy's resets and actions
+    double reset = 0.0;      // the env's part of resets
     double recording = 0.0;  // wall time in sinks
     int64_t control_ticks = 0;
   };
