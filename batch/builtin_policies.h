@@ -23,6 +23,7 @@ class ExpertPolicy : public PerEnvPolicy {
   ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs);
   std::string name() const override { return "expert"; }
   int control_ticks_per_action() const override { return 1; }
+  bool GaveUp(int env) const override { return expert_->gave_up(env); }
   const scenarios::Expert& expert() const { return *expert_; }
 
  private:

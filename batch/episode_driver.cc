@@ -132,6 +132,9 @@ void EpisodeDriver::RunLockStep() {
       }
     });
     parallel_seconds_ += WallSeconds([&] { env_.Step(actions_); });
+    for (int slot = 0; slot < slots; ++slot) {
+      if (state.running(slot) && policy_.GaveUp(slot)) env_.EndEarly(slot, engine::EpisodeEnd::kGaveUp);
+    }
     control_ticks_ += running;
     if (profiling_) EndSection(all_slots_);
     recording_seconds_ += WallSeconds([&] {
@@ -182,7 +185,7 @@ void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episo
     bool complete = false;
     for (const EpisodeSink* sink : sinks_) complete = complete || sink->EpisodeComplete(env_, slot);
     if (complete) {
-      env_.Stop(slot);
+      env_.EndEarly(slot, engine::EpisodeEnd::kStopped);
       break;
     }
     if (state.control_step[slot] % hold_ticks == 0) {
@@ -194,6 +197,7 @@ void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episo
       for (EpisodeSink* sink : sinks_) sink->ActionChosen(env_, slot, action);
     });
     env_.StepEnv(slot, actions_);
+    if (state.running(slot) && policy.GaveUp(slot)) env_.EndEarly(slot, engine::EpisodeEnd::kGaveUp);
     ++costs.control_ticks;
   }
   FinishSlotEpisode(slot, costs);
@@ -262,7 +266,7 @@ void EpisodeDriver::CollectAndRefill() {
       bool complete = false;
       for (const EpisodeSink* sink : sinks_) complete = complete || sink->EpisodeComplete(env_, slot);
       if (!complete) continue;
-      env_.Stop(slot);
+      env_.EndEarly(slot, engine::EpisodeEnd::kStopped);
     }
     if (profiling_) {
       profile_.episodes.push_back({state.episode[slot], slot, state.control_step[slot], episode_seconds_[slot]});

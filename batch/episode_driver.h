@@ -80,8 +80,9 @@ class EpisodeDriver {
   Schedule schedule() const;
 
   // Until every episode has ended or been stopped. An unusable action (VecEnv::Step's check) or
-  // a policy fault (Policy::TakeFaults) ends only its episode, as invalid_action, and sinks see it
-  // like any other end. At policy ticks the env renders the cameras it has enabled
+  // a policy fault (Policy::TakeFaults) ends only its episode, as invalid_action, and a policy
+  // that has given up (Policy::GaveUp) ends its episode as gave_up after the tick's step; sinks
+  // see these like any other end. At policy ticks the env renders the cameras it has enabled
   // (VecEnv::EnableCameras); the caller enables the policy's. Throws std::invalid_argument if a
   // policy with cameras does not act on policy ticks; whatever the policy or a sink throws (a
   // served policy's server failing) stops the run.

@@ -63,6 +63,10 @@ class Policy {
   // is well-formed have none; a non-finite or absurd action needs no fault (the step's own check
   // ends its episode).
   virtual void TakeFaults(std::vector<PolicyFault>& /*faults*/) {}
+  // True once the policy has nothing left to try in env's running episode (the scripted expert
+  // out of grasp attempts): the driver ends the episode as gave_up after the tick's step rather
+  // than hold it to the time-out. Asked after every step; false by default.
+  virtual bool GaveUp(int /*env*/) const { return false; }
 };
 
 // A policy that decides each env on its own (the built-in ones): the batch calls run the envs

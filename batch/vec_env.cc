@@ -162,9 +162,11 @@ void VecEnv::EndInvalid(int env, engine::InvalidAction fault) {
   state_.end[env] = engine::EpisodeEnd::kInvalidAction;
 }
 
-void VecEnv::Stop(int env) {
-  TAVIS_INVARIANT(state_.running(env), "only a running episode is stopped");
-  state_.end[env] = engine::EpisodeEnd::kStopped;
+void VecEnv::EndEarly(int env, engine::EpisodeEnd why) {
+  TAVIS_INVARIANT(state_.running(env), "only a running episode is ended early");
+  TAVIS_INVARIANT(why == engine::EpisodeEnd::kStopped || why == engine::EpisodeEnd::kGaveUp,
+                  "an episode ends early as stopped or gave_up");
+  state_.end[env] = why;
 }
 
 void VecEnv::Step(const std::vector<kinematics::Action>& actions) {

@@ -66,8 +66,9 @@ class VecEnv {
   void ResetEnv(int env, int64_t episode);
   // Marks a slot idle: it is skipped by Step until reset again.
   void Release(int env) { state_.episode[env] = -1; }
-  // Ends a running episode without an outcome (EpisodeEnd::kStopped).
-  void Stop(int env);
+  // Ends a running episode between ticks, for the driver: kStopped (a sink has what it needs;
+  // no outcome) or kGaveUp (the policy has nothing left to try; a failure).
+  void EndEarly(int env, engine::EpisodeEnd why);
   // Ends a running episode as invalid_action for `fault` (the step's own action check, or a
   // policy that could not produce an action for it, such as a malformed served reply).
   void EndInvalid(int env, engine::InvalidAction fault);

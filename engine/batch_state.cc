@@ -10,13 +10,14 @@ const char* ToString(EpisodeEnd end) {
     case EpisodeEnd::kPhysicsBlowUp: return "physics_blow_up";
     case EpisodeEnd::kInvalidAction: return "invalid_action";
     case EpisodeEnd::kStopped: return "stopped";
+    case EpisodeEnd::kGaveUp: return "gave_up";
   }
   return "unknown";
 }
 
 bool ParseEpisodeEnd(const std::string& text, EpisodeEnd* end) {
   for (EpisodeEnd candidate : {EpisodeEnd::kRunning, EpisodeEnd::kSuccess, EpisodeEnd::kTimeOut, EpisodeEnd::kPhysicsBlowUp,
-                               EpisodeEnd::kInvalidAction, EpisodeEnd::kStopped}) {
+                               EpisodeEnd::kInvalidAction, EpisodeEnd::kStopped, EpisodeEnd::kGaveUp}) {
     if (text == ToString(candidate)) {
       *end = candidate;
       return true;

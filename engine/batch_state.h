@@ -15,8 +15,9 @@
 namespace tavis::engine {
 
 // Why an episode ended. kStopped: the driver ended it early because its sinks had what they
-// needed (the visibility audit); such an episode has no outcome.
-enum class EpisodeEnd : uint8_t { kRunning = 0, kSuccess, kTimeOut, kPhysicsBlowUp, kInvalidAction, kStopped };
+// needed (the visibility audit); such an episode has no outcome. kGaveUp: the policy said it had
+// nothing left to try (the scripted expert out of grasp attempts), a failure like a time-out.
+enum class EpisodeEnd : uint8_t { kRunning = 0, kSuccess, kTimeOut, kPhysicsBlowUp, kInvalidAction, kStopped, kGaveUp };
 const char* ToString(EpisodeEnd end);
 // The end named `text` (as ToString writes it); false for another text.
 bool ParseEpisodeEnd(const std::string& text, EpisodeEnd* end);

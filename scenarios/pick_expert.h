@@ -30,6 +30,7 @@ class PickExpert : public Expert {
   void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
            kinematics::Action& action) override;
   Gaze gaze(const engine::BatchState& state, int env) const override;
+  bool gave_up(int env) const override { return memory_[env].phase == Phase::kGiveUp; }
 
   enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kRetreat, kGiveUp };
   Phase phase(int env) const { return memory_[env].phase; }

@@ -34,6 +34,8 @@ class Expert {
   virtual void Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
                    kinematics::Action& action) = 0;
   virtual Gaze gaze(const engine::BatchState& state, int env) const = 0;
+  // True once the expert has given up on env's episode: it holds still from then on.
+  virtual bool gave_up(int env) const = 0;
 };
 
 // The reference's success terms (reference 1.5): the episode's target lifted above a world

@@ -189,7 +189,11 @@ void PythonVecEnv::Step(const double* actions) {
       }
       env_.Step(actions_);
       control_ticks_ += running;
+      for (int env = 0; env < num_envs() && acted_ != nullptr; ++env) {
+        if (state.running(env) && acted_->GaveUp(env)) env_.EndEarly(env, engine::EpisodeEnd::kGaveUp);
+      }
     }
+    acted_ = nullptr;
     CollectEnded();
     if (config_.autoreset) {
       // Every ended episode's slot, including one whose episode ended in an earlier reset's
@@ -254,6 +258,7 @@ void PythonVecEnv::Act(Policy& policy, double* actions) {
   ActionBatch chosen(static_cast<std::size_t>(num_envs()), kinematics::Action{});
   for (int env = 0; env < num_envs(); ++env) acting[env] = env_.state().running(env) ? 1 : 0;
   arena_.execute([&] { policy.Act(MakeObservation(), acting, chosen); });
+  acted_ = &policy;
   for (int env = 0; env < num_envs(); ++env) {
     std::copy(chosen[env].begin(), chosen[env].end(), actions + static_cast<std::size_t>(env) * kinematics::action::kSize);
   }

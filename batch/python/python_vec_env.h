@@ -92,7 +92,9 @@ class PythonVecEnv {
   // std::invalid_argument if it acts at another rate than the env steps.
   std::shared_ptr<Policy> MakePolicy(const std::string& name, const std::string& actions_file);
   // The policy's actions for the running envs at the current state (num_envs x 19, row-major;
-  // the other rows are zero).
+  // the other rows are zero). An env's episode the policy has given up on (Policy::GaveUp: the
+  // expert out of grasp attempts) ends as gave_up after the next step's first tick, as the
+  // episode driver ends it.
   void Act(Policy& policy, double* actions);
 
   // The records of the episodes that have ended, by episode index (a restarted episode's latest).
@@ -129,6 +131,7 @@ class PythonVecEnv {
   std::vector<uint8_t> started_;
   std::vector<uint8_t> all_envs_;
   ActionBatch actions_;
+  const Policy* acted_ = nullptr;  // the policy whose actions were asked for since the last step
   std::vector<float> rewards_;
   std::vector<uint8_t> terminated_;
   std::vector<uint8_t> truncated_;

@@ -224,6 +224,58 @@ TEST(EpisodeDriver, APolicyFaultEndsOnlyItsEpisodeWithTheReason) {
   EXPECT_EQ(records[2].end, engine::EpisodeEnd::kTimeOut);
 }
 
+// The hold policy, except that in odd episodes it gives up when it acts at tick 6 (hold acts
+// every 3 ticks).
+class GivingUpHoldPolicy : public PerEnvPolicy {
+ public:
+  explicit GivingUpHoldPolicy(const VecEnv& env)
+      : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())),
+        gave_up_(static_cast<std::size_t>(env.num_envs()), 0) {}
+  std::string name() const override { return "giving-up"; }
+  int control_ticks_per_action() const override { return hold_->control_ticks_per_action(); }
+  bool GaveUp(int env) const override { return gave_up_[static_cast<std::size_t>(env)] != 0; }
+
+ private:
+  PerEnvPolicy& hold() const { return dynamic_cast<PerEnvPolicy&>(*hold_); }
+  void ResetEnv(const Observation& observation, int env) override {
+    hold().ResetOne(observation, env);
+    gave_up_[static_cast<std::size_t>(env)] = 0;
+  }
+  void ActEnv(const Observation& observation, int env, kinematics::Action& action) override {
+    hold().ActOne(observation, env, action);
+    const engine::BatchState& state = observation.state;
+    if (state.episode[env] % 2 == 1 && state.control_step[env] >= 6) gave_up_[static_cast<std::size_t>(env)] = 1;
+  }
+
+  std::unique_ptr<Policy> hold_;
+  std::vector<uint8_t> gave_up_;
+};
+
+TEST(EpisodeDriver, APolicyThatGivesUpEndsItsEpisodeAfterThatTicksStepOnEitherSchedule) {
+  for (const bool lock_step : {true, false}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+    GivingUpHoldPolicy policy(env);
+    std::vector<EpisodeRecord> records;
+    EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), RecordSettings(), 0,
+                             [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
+    EpisodeDriver driver(env, policy, 7);
+    driver.AddSink(recorder);
+    if (lock_step) driver.RequireLockStep();
+    ASSERT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
+    driver.Run();
+    ASSERT_EQ(records.size(), 7u);
+    for (const EpisodeRecord& record : records) {
+      const bool odd = record.episode % 2 == 1;
+      EXPECT_EQ(record.end, odd ? engine::EpisodeEnd::kGaveUp : engine::EpisodeEnd::kTimeOut)
+          << "episode " << record.episode << (lock_step ? " lock-step" : " per slot");
+      EXPECT_EQ(record.length_control_ticks, odd ? 7 : 15) << "episode " << record.episode;
+      EXPECT_FALSE(record.success);
+    }
+    EXPECT_EQ(driver.control_ticks(), 4 * 15 + 3 * 7);
+  }
+}
+
 // ood-init-pose resets (30 warm-up ticks each) run in parallel: the episodes' end states do not
 // depend on the number of slots or threads.
 std::vector<std::vector<double>> WarmUpEndStates(int slots, std::size_t threads) {

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
+
 namespace tavis::engine {
 namespace {
 
@@ -30,6 +33,24 @@ TEST(BatchState, TaskVariablesAreTypedAndStartUnset) {
   state.end[0] = EpisodeEnd::kStopped;
   EXPECT_FALSE(state.running(0));
   EXPECT_STREQ(ToString(EpisodeEnd::kStopped), "stopped");
+}
+
+// Records name their ends (episodes.jsonl) and resumed cells read them back: every end has its
+// own name and parses to itself.
+TEST(BatchState, EveryEpisodeEndsNameParsesBackToIt) {
+  std::set<std::string> names;
+  for (int i = 0; i <= static_cast<int>(EpisodeEnd::kGaveUp); ++i) {
+    const EpisodeEnd end = static_cast<EpisodeEnd>(i);
+    const std::string name = ToString(end);
+    EXPECT_NE(name, "unknown");
+    EXPECT_TRUE(names.insert(name).second) << name << " names two ends";
+    EpisodeEnd parsed = EpisodeEnd::kRunning;
+    EXPECT_TRUE(ParseEpisodeEnd(name, &parsed)) << name;
+    EXPECT_EQ(parsed, end) << name;
+  }
+  EXPECT_EQ(std::string(ToString(EpisodeEnd::kGaveUp)), "gave_up");
+  EpisodeEnd parsed = EpisodeEnd::kRunning;
+  EXPECT_FALSE(ParseEpisodeEnd("gave up", &parsed));
 }
 
 // The invariant tier aborts with a message naming the broken contract (internal bugs are not

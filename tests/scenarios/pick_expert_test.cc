@@ -104,6 +104,7 @@ TEST_F(PickExpertTest, RetriesWithAnotherHandOrientationWhenTheGripperClosesOnNo
   }
   EXPECT_EQ(dynamic_cast<const PickExpert&>(*expert_).attempts(0), 3);
   EXPECT_EQ(dynamic_cast<const PickExpert&>(*expert_).phase(0), PickExpert::Phase::kGiveUp);
+  EXPECT_TRUE(expert_->gave_up(0)) << "the episode driver ends the episode on it";
 }
 
 TEST_F(PickExpertTest, KeepsAndLiftsAGraspThatHoldsTheObject) {
@@ -116,6 +117,7 @@ TEST_F(PickExpertTest, KeepsAndLiftsAGraspThatHoldsTheObject) {
   const kinematics::Side side = ClosingSide(closings[0]);
   EXPECT_GT(CommandedPads(last, side).z() - CommandedPads(closings[0], side).z(), 0.15) << "the held cube is lifted";
   EXPECT_EQ(dynamic_cast<const PickExpert&>(*expert_).attempts(0), 1);
+  EXPECT_FALSE(expert_->gave_up(0));
 }
 
 TEST_F(PickExpertTest, PadsOverlapALowCanInsideTheBox) {
