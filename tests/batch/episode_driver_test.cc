@@ -28,6 +28,15 @@ engine::WorldModel Model(const std::string& task, double episode_length_s) {
   return model;
 }
 
+// An EpisodeRecorder sink that keeps the env's records, in episode order.
+struct RecordCollector {
+  explicit RecordCollector(const VecEnv& env, const RecordSettings& settings = RecordSettings())
+      : recorder(env.num_envs(), env.model().physics.max_control_steps(), settings, 0,
+                 [this](EpisodeRecord&& record) { records.push_back(std::move(record)); }) {}
+  std::vector<EpisodeRecord> records;
+  EpisodeRecorder recorder;
+};
+
 // What a sink saw: each episode's start slot and tick count, in the order of the callbacks.
 struct Event {
   char kind;  // 'S' started, 'E' ended
@@ -163,11 +172,10 @@ TEST(EpisodeDriver, ANonFiniteActionEndsOnlyItsEpisodeNamingTheEntry) {
       action[kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
     }
   });
-  std::vector<EpisodeRecord> records;
-  EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), RecordSettings(), 0,
-                           [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
+  RecordCollector collected(env);
+  std::vector<EpisodeRecord>& records = collected.records;
   EpisodeDriver driver(env, policy, 4);
-  driver.AddSink(recorder);
+  driver.AddSink(collected.recorder);
   driver.Run();
   ASSERT_EQ(records.size(), 4U);
   for (const EpisodeRecord& record : records) {
@@ -209,11 +217,10 @@ class FaultyHoldPolicy : public Policy {
 TEST(EpisodeDriver, APolicyFaultEndsOnlyItsEpisodeWithTheReason) {
   VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
   FaultyHoldPolicy policy(env);
-  std::vector<EpisodeRecord> records;
-  EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), RecordSettings(), 0,
-                           [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
+  RecordCollector collected(env);
+  std::vector<EpisodeRecord>& records = collected.records;
   EpisodeDriver driver(env, policy, 3);
-  driver.AddSink(recorder);
+  driver.AddSink(collected.recorder);
   driver.Run();
   ASSERT_EQ(records.size(), 3U);
   EXPECT_EQ(records[0].end, engine::EpisodeEnd::kTimeOut);
@@ -256,11 +263,10 @@ TEST(EpisodeDriver, APolicyThatGivesUpEndsItsEpisodeAfterThatTicksStepOnEitherSc
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
     VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
     GivingUpHoldPolicy policy(env);
-    std::vector<EpisodeRecord> records;
-    EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), RecordSettings(), 0,
-                             [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
+    RecordCollector collected(env);
+    std::vector<EpisodeRecord>& records = collected.records;
     EpisodeDriver driver(env, policy, 7);
-    driver.AddSink(recorder);
+    driver.AddSink(collected.recorder);
     if (lock_step) driver.RequireLockStep();
     ASSERT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
     driver.Run();
@@ -401,11 +407,10 @@ std::vector<EpisodeRecord> ExpertRecords(bool lock_step, std::size_t threads) {
   settings.galt_stride = 1;
   settings.galt_fps = env.model().physics.control_hz;
   settings.keep_actions = true;
-  std::vector<EpisodeRecord> records;
-  EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), settings, 0,
-                           [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
+  RecordCollector collected(env, settings);
+  std::vector<EpisodeRecord>& records = collected.records;
   EpisodeDriver driver(env, *expert, 5);
-  driver.AddSink(recorder);
+  driver.AddSink(collected.recorder);
   if (lock_step) driver.RequireLockStep();
   EXPECT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
   driver.Run();
