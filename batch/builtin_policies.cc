@@ -1,6 +1,7 @@
 #include "batch/builtin_policies.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 #include <vector>
 
@@ -39,22 +40,42 @@ class HoldPolicy : public PerEnvPolicy {
   std::vector<kinematics::Action> reset_action_;
 };
 
+// Plays one CSV in every episode, or, given a folder (a served cell's DIR/actions), episode i's
+// own DIR/episode_<i>.csv, read when the episode starts.
 class ReplayPolicy : public PerEnvPolicy {
  public:
-  explicit ReplayPolicy(const std::string& actions_file) : trajectory_(ReadActionCsv(actions_file)) {}
+  ReplayPolicy(const std::string& actions, int num_envs) : folder_(std::filesystem::is_directory(actions) ? actions : "") {
+    if (folder_.empty()) {
+      shared_ = ReadActionCsv(actions);
+    } else {
+      per_env_.resize(static_cast<std::size_t>(num_envs));
+    }
+  }
   std::string name() const override { return "replay"; }
   int control_ticks_per_action() const override { return kControlTicksPerRow; }
 
  private:
-  void ResetEnv(const Observation&, int) override {}
+  void ResetEnv(const Observation& observation, int env) override {
+    if (folder_.empty()) return;
+    const std::filesystem::path path =
+        std::filesystem::path(folder_) / ("episode_" + std::to_string(observation.state.episode[env]) + ".csv");
+    if (!std::filesystem::exists(path)) {
+      throw std::runtime_error("policy 'replay': " + path.string() + " does not exist (the folder has no actions for episode " +
+                               std::to_string(observation.state.episode[env]) + ")");
+    }
+    per_env_[static_cast<std::size_t>(env)] = ReadActionCsv(path);
+  }
   void ActEnv(const Observation& observation, int env, kinematics::Action& action) override {
-    const int row = std::min(observation.state.control_step[env] / kControlTicksPerRow, trajectory_.num_steps - 1);
-    std::copy_n(&trajectory_.values[static_cast<size_t>(row) * kinematics::action::kSize], kinematics::action::kSize,
+    const ActionTrajectory& trajectory = folder_.empty() ? shared_ : per_env_[static_cast<std::size_t>(env)];
+    const int row = std::min(observation.state.control_step[env] / kControlTicksPerRow, trajectory.num_steps - 1);
+    std::copy_n(&trajectory.values[static_cast<size_t>(row) * kinematics::action::kSize], kinematics::action::kSize,
                 action.begin());
   }
 
   static constexpr int kControlTicksPerRow = 3;  // rows are 20 Hz policy steps
-  ActionTrajectory trajectory_;
+  std::string folder_;
+  ActionTrajectory shared_;
+  std::vector<ActionTrajectory> per_env_;  // (num_envs) with a folder: the running episode's
 };
 
 std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model,
@@ -67,8 +88,11 @@ std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scen
 
 }  // namespace
 
-ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs)
-    : expert_(MakeExpert(scenario, model, num_envs)) {}
+ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
+                           int decide_every)
+    : expert_(MakeExpert(scenario, model, num_envs)), decide_every_(decide_every), held_(static_cast<std::size_t>(num_envs)) {
+  if (decide_every < 1) throw std::invalid_argument("the expert must decide every >= 1 control ticks, got " + std::to_string(decide_every));
+}
 
 void ExpertPolicy::ResetEnv(const Observation& observation, int env) {
   expert_->Reset(observation.model, observation.state, env);
@@ -76,6 +100,10 @@ void ExpertPolicy::ResetEnv(const Observation& observation, int env) {
 
 void ExpertPolicy::ActEnv(const Observation& observation, int env, kinematics::Action& action) {
   expert_->Act(observation.model, observation.state, env, action);
+  if (decide_every_ == 1) return;
+  kinematics::Action& held = held_[static_cast<std::size_t>(env)];
+  if (observation.state.control_step[env] % decide_every_ == 0) held = action;
+  action = held;
 }
 
 const char* BuiltinPolicyNames() { return "expert, hold, replay"; }
@@ -92,8 +120,10 @@ std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenari
   CheckBuiltinPolicyName(name);
   if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
   if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
-  if (actions_file.empty()) throw std::invalid_argument("policy 'replay' needs an actions file (--actions FILE.csv)");
-  return std::make_unique<ReplayPolicy>(actions_file);
+  if (actions_file.empty()) {
+    throw std::invalid_argument("policy 'replay' needs an actions file or folder (--actions FILE.csv | DIR/actions)");
+  }
+  return std::make_unique<ReplayPolicy>(actions_file, num_envs);
 }
 
 }  // namespace tavis::batch

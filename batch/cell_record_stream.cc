@@ -47,9 +47,11 @@ nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
           {"camera", ToString(config.camera)},
           {"policy", config.policy},
           {"actions_file", config.actions_file},
+          {"expert_hz", config.expert_hz},
           {"servers", config.servers},
           {"replan_steps", config.replan_steps},
           {"observation_keys", config.observation_keys},
+          {"observation_dataset", config.observation_dataset},
           {"episodes", config.episodes},
           {"seed", config.seed},
           {"render_cameras", config.render_cameras},
@@ -80,7 +82,7 @@ EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
 }
 
 CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume)
-    : dir_(std::move(dir)), seed_(config.seed), served_(config.policy == "openpi") {
+    : dir_(std::move(dir)), seed_(config.seed) {
   const fs::path cell_json = fs::path(dir_) / "cell.json";
   const nlohmann::json settings = CellSettingsJson(config);
   const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
@@ -128,7 +130,7 @@ CellRecordStream::~CellRecordStream() {
 }
 
 void CellRecordStream::Write(const EpisodeRecord& record) {
-  if (served_) WriteReplayCsv(record, dir_);
+  if (!record.replay_actions.empty()) WriteReplayCsv(record, dir_);
   const std::string line = EpisodeJsonLine(record, seed_) + "\n";
   if (std::fwrite(line.data(), 1, line.size(), episodes_) != line.size() || std::fflush(episodes_) != 0) {
     throw std::runtime_error("cannot write " + dir_ + "/episodes.jsonl: " + std::strerror(errno));

@@ -98,7 +98,7 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
   std::filesystem::create_directories(out_dir);
   std::string episodes_text;
   for (const EpisodeRecord& record : result.episodes) {
-    if (result.requests) WriteReplayCsv(record, out_dir);
+    if (!record.replay_actions.empty()) WriteReplayCsv(record, out_dir);
     episodes_text += EpisodeJsonLine(record, result.config.seed) + "\n";
   }
   WriteFileAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);
@@ -116,6 +116,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
       {"camera", ToString(config.camera)},
       {"policy", config.policy},
       {"actions_file", config.actions_file.empty() ? nlohmann::json() : nlohmann::json(config.actions_file)},
+      {"expert_hz", config.expert_hz},
       {"seed", config.seed},
       {"n_episodes", n},
       {"n_successful", result.successes},
@@ -148,9 +149,21 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
     for (const remote::Value& message : result.server_metadata) metadata.push_back(remote::ToJson(message));
     summary["server_metadata"] = metadata;
     summary["observation_keys"] = result.observation_keys_source;
+    summary["serving"] = remote::ToString(config.serving);
+    if (!config.observation_dataset.empty()) {
+      summary["observation_dataset"] = config.observation_dataset;
+      summary["layout_differences"] = result.layout_differences;
+    }
     summary["policy_image"] = {{"width", config.image_width}, {"height", config.image_height}};
     summary["replan_steps"] = config.replan_steps;
+    const std::vector<int>& batch_sizes = result.requests->envs_per_request;
+    int64_t env_requests = 0;
+    for (int envs : batch_sizes) env_requests += envs;
     summary["requests"] = {{"count", result.requests->round_trip_ms.size()},
+                           {"env_requests", env_requests},
+                           {"mean_batch_size", batch_sizes.empty() ? 0.0 : static_cast<double>(env_requests) / batch_sizes.size()},
+                           {"policy_ticks", result.requests->policy_ticks},
+                           {"wait_s", result.requests->wait_ms / 1000.0},
                            {"reconnects", result.requests->reconnects},
                            {"round_trip", MillisecondsJson(result.requests->round_trip_ms)},
                            {"server_infer", MillisecondsJson(result.requests->server_infer_ms)}};

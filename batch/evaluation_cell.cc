@@ -1,6 +1,7 @@
 #include "batch/evaluation_cell.h"
 
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <stdexcept>
 #include <tuple>
@@ -29,14 +30,26 @@ void ValidatePolicy(const EvaluationCellConfig& config) {
 }
 
 
-// The served policy's request layout, with an explicit image size taking the place of its own.
-remote::ObservationKeys ServedKeys(const EvaluationCellConfig& config) {
-  remote::ObservationKeys keys = remote::LoadObservationKeys(config.observation_keys, config.config_dir);
+struct ServedLayout {
+  remote::ObservationKeys keys;
+  std::vector<std::string> differences;  // from the dataset named alongside
+};
+
+// The served policy's request layout: the dataset's when one is named and no keys are, else the
+// keys' (preset or file), with an explicit image size taking the place of its own; a layout that
+// differs from a dataset named alongside is reported.
+ServedLayout ServedKeys(const EvaluationCellConfig& config, int state_size) {
+  ServedLayout layout;
+  std::optional<remote::ObservationKeys> dataset;
+  if (!config.observation_dataset.empty()) dataset = remote::LoadDatasetKeys(config.observation_dataset, state_size);
+  layout.keys = dataset && !config.observation_keys_given ? *dataset
+                                                          : remote::LoadObservationKeys(config.observation_keys, config.config_dir);
   if (config.image_width != 0) {
-    keys.image_width = config.image_width;
-    keys.image_height = config.image_height;
+    layout.keys.image_width = config.image_width;
+    layout.keys.image_height = config.image_height;
   }
-  return keys;
+  if (dataset) layout.differences = remote::LayoutDifferences(layout.keys, *dataset);
+  return layout;
 }
 
 // The policy's cameras under the camera protocol first (its images keep their order), then the
@@ -66,7 +79,10 @@ RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ti
       settings.policy_rate_fps = physics.control_hz / policy_stride;
     }
   }
-  settings.replay_stride = served ? hold_ticks : 0;
+  // A served policy's chunks, and a 20 Hz expert's held actions, are kept at the policy rate for
+  // --policy replay, which plays them back exactly.
+  const bool expert_at_policy_rate = config.policy == "expert" && config.expert_hz != 60;
+  settings.replay_stride = served ? hold_ticks : expert_at_policy_rate ? physics.controls_per_policy() : 0;
   settings.keep_actions = config.keep_actions;
   return settings;
 }
@@ -81,6 +97,12 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
                                 std::to_string(config.first_episode));
   }
   ValidatePolicy(config);
+  if (config.expert_hz != 60 && config.expert_hz != 20) {
+    throw std::invalid_argument("--expert-hz must be 60 or 20, got " + std::to_string(config.expert_hz));
+  }
+  if (config.expert_hz != 60 && config.policy != "expert") {
+    throw std::invalid_argument("--expert-hz applies to --policy expert only, got --policy " + config.policy);
+  }
   if ((config.image_width == 0) != (config.image_height == 0)) {
     throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) + "x" +
                                 std::to_string(config.image_height));
@@ -93,8 +115,19 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   }
   ValidateCameraSettings(cameras);
   scenarios::FindScenario(config.task);
-  configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
-  if (config.policy == kServedPolicy) remote::LoadObservationKeys(config.observation_keys, config.config_dir);
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  if (config.policy == kServedPolicy) {
+    ServedKeys(config, static_cast<int>(robot.observation_state.size()));
+  } else if (!config.observation_dataset.empty()) {
+    throw std::invalid_argument("--match-dataset '" + config.observation_dataset + "' applies to --policy openpi only, got --policy " +
+                                config.policy);
+  }
+}
+
+std::vector<std::string> ServedLayoutDifferences(const EvaluationCellConfig& config) {
+  if (config.policy != kServedPolicy || config.observation_dataset.empty()) return {};
+  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  return ServedKeys(config, static_cast<int>(robot.observation_state.size())).differences;
 }
 
 bool RunsPerSlot(const EvaluationCellConfig& config) {
@@ -118,7 +151,10 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     remote::RemotePolicyOptions options;
     options.servers = config.servers;
     options.replan_steps = config.replan_steps;
-    options.keys = ServedKeys(config);
+    options.mode = config.serving;
+    ServedLayout layout = ServedKeys(config, static_cast<int>(robot.observation_state.size()));
+    options.keys = std::move(layout.keys);
+    result.layout_differences = std::move(layout.differences);
     options.protocol = config.camera;
     options.ready_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.server_ready_timeout_s * 1000.0));
     result.config.image_width = options.keys.image_width;
@@ -136,7 +172,12 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     }
     result.render_width = result.config.image_width;
     result.render_height = result.config.image_height;
-    policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
+    if (config.policy == "expert" && config.expert_hz != 60) {
+      const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
+      policy = std::make_unique<ExpertPolicy>(scenario, env.model(), slots, control_hz / config.expert_hz);
+    } else {
+      policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
+    }
   }
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);
   if (!cameras.empty()) env.EnableCameras({cameras, result.render_width, result.render_height, false, false});

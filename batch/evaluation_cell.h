@@ -24,13 +24,23 @@ struct EvaluationCellConfig {
   scenarios::Split split = scenarios::Split::kId;
   CameraProtocol camera = CameraProtocol::kHead;
   std::string policy = "expert";
-  std::string actions_file;  // for the replay policy
+  std::string actions_file;  // for the replay policy: a CSV, or a folder of episode_<i>.csv
+  // For the expert: 60 (its action may change every control tick) or 20 (held for three ticks,
+  // as a 20 Hz policy acts; each episode's actions are then saved at 20 Hz for --policy replay).
+  int expert_hz = 60;
   // For the served policy "openpi": its policy servers (env slot i asks servers[i % size]) and
   // the chunk rows an env steps with before asking again (0: the whole chunk).
   std::vector<std::string> servers;
   int replan_steps = 0;
   // The request layout: a preset (remote::KeyPresetNames()) or a YAML file (observation_keys.h).
   std::string observation_keys = "tavis";
+  // A LeRobot dataset whose meta/info.json gives the layout (keys, cameras, image size) when
+  // observation_keys_given is false; when it is true (or an image size is given), a layout that
+  // differs from the dataset's is reported (CellResult::layout_differences), not refused.
+  std::string observation_dataset;
+  bool observation_keys_given = false;
+  // How requests travel (remote_policy.h); the records do not depend on it.
+  remote::ServingMode serving = remote::ServingMode::kSerial;
   double server_ready_timeout_s = 60.0;  // per server, for its /healthz to answer before the cell starts
   int episodes = 96;
   // Episodes before this one are not run (a resumed cell has their records already); at most
@@ -70,7 +80,9 @@ struct CellResult {
   // (EpisodeRecord::replay_actions).
   std::optional<remote::RequestTimings> requests;
   std::vector<remote::Value> server_metadata;  // each server's metadata message
-  std::string observation_keys_source;         // the request layout's preset or file
+  std::string observation_keys_source;         // the request layout's preset, file or dataset
+  // How the served layout differs from observation_dataset's (empty: it does not, or none given).
+  std::vector<std::string> layout_differences;
   std::optional<CellProfile> profile;          // with config.profile
   bool per_slot = false;  // run on the driver's per-slot schedule (RunsPerSlot)
 };
@@ -90,6 +102,10 @@ void CheckEvaluationCell(const EvaluationCellConfig& config);
 // policy's actions for replay, every action with config.keep_actions.
 RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks, const engine::PhysicsSettings& physics,
                                  bool served);
+
+// How a served cell's layout differs from its observation_dataset's, one line each (empty when it
+// does not or no dataset is named). Throws as CheckEvaluationCell does.
+std::vector<std::string> ServedLayoutDifferences(const EvaluationCellConfig& config);
 
 // True if the cell's episodes run on the episode driver's per-slot schedule: a built-in policy
 // (each env decided on its own) and no camera rendered. Such a cell keeps every thread busy until

@@ -77,6 +77,7 @@ nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const Demos
           {"seed", config.seed},
           {"episodes_per_task", config.episodes},
           {"fps", config.fps},
+          {"expert_hz", config.expert_hz},
           {"image_size", options.image_size},
           {"cameras", config.cameras},
           {"codec", options.codec},
@@ -173,6 +174,10 @@ void RegisterDemosCommand(CLI::App& app) {
       ->capture_default_str();
   AddSeedOption(*demos, options->config.seed, "Seed: episode i draws its randomness from (seed, i)");
   demos->add_option("--fps", options->config.fps, "Frame rate: 60 (the reference's datasets) or 20 (the policy rate)")
+      ->capture_default_str();
+  demos->add_option("--expert-hz", options->config.expert_hz,
+                    "How often the expert's action may change: 60 (every control tick) or 20 (held for three ticks,\n"
+                    "as a 20 Hz learned policy acts; its action rows served back at 20 Hz replay the episode exactly)")
       ->capture_default_str();
   demos->add_option("--image-size", options->image_size, "Camera image size WIDTHxHEIGHT (even)")->capture_default_str();
   demos->add_option("--cameras", options->cameras, "Comma-separated cameras (head, fixed, left_wrist, right_wrist)")

@@ -19,6 +19,7 @@
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
 #include "batch/remote/observation_keys.h"
+#include "batch/remote/remote_policy.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
@@ -35,6 +36,7 @@ struct EvalOptions {
   std::string render_cameras;
   std::string image_size;
   std::string suite;
+  std::string serving = "serial";
   bool task_given = false;
   bool image_size_given = false;
   int threads = 0;
@@ -63,6 +65,9 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
                           const std::string& out) {
   if (out.empty()) throw std::invalid_argument("--out must name a folder");
   batch::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
+  for (const std::string& difference : batch::ServedLayoutDifferences(cell)) {
+    std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": " << difference << "\n";
+  }
   if (options.overwrite && std::filesystem::exists(out)) std::filesystem::remove_all(out);
   const bool created = !std::filesystem::exists(out);
   batch::CellRecordStream stream(out, cell, options.resume);
@@ -186,14 +191,31 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--keys", options->cell.observation_keys,
                    "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() + ") or a\n"
                    "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
-                   "hwc/chw images, image size, letterbox)")
+                   "hwc/chw images, image size, letterbox). tavis: the dataset's keys (observation.images.OBS_HEAD,\n"
+                   "..., observation.state, prompt and task) at 320x240 (docs/observation.md)")
+      ->capture_default_str();
+  eval->add_option("--match-dataset", options->cell.observation_dataset,
+                   "For --policy openpi: serve the layout of the LeRobot dataset DIR the policy was trained on (its\n"
+                   "meta/info.json: image keys, cameras, image size); with --keys or --image-size as well, every way\n"
+                   "the served layout differs from the dataset's is printed and recorded in summary.json");
+  eval->add_option("--serving", options->serving,
+                   "For --policy openpi: serial (one connection per server, requests one at a time in env order),\n"
+                   "per-env (one connection per env slot, requests of a tick in flight together) or batched (one\n"
+                   "message per server per tick with every due env stacked; the server's metadata must declare\n"
+                   "batched_requests: true). Records do not depend on it")
       ->capture_default_str();
   eval->add_option("--server-timeout", options->cell.server_ready_timeout_s,
                    "For --policy openpi: seconds to wait for each server's /healthz before giving up")
       ->check(NumberIn(0.001, 86400))
       ->capture_default_str();
   eval->add_option("--actions", options->cell.actions_file,
-                   "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step");
+                   "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
+                   "episode; or a folder of episode_<i>.csv (a served cell's DIR/actions), episode i playing its own");
+  eval->add_option("--expert-hz", options->cell.expert_hz,
+                   "For --policy expert: 60 (its action may change every control tick) or 20 (held for three ticks, as\n"
+                   "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv, which\n"
+                   "--policy replay --actions DIR/actions plays back exactly)")
+      ->capture_default_str();
   eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")
       ->check(IntegerIn(1, 100000000))
       ->capture_default_str();
@@ -211,7 +233,8 @@ void RegisterEvalCommand(CLI::App& app) {
                    "images are discarded: for measuring throughput with rendering");
   eval->add_option("--image-size", options->image_size,
                    "Size of the policy's images, WIDTHxHEIGHT (default: the observation keys' size for --policy\n"
-                   "openpi, 224x224 in the presets; otherwise the reference's 640x480)");
+                   "openpi: 320x240 for tavis, 224x224 for libero and aloha, the dataset's with --match-dataset;\n"
+                   "otherwise the reference's 640x480)");
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet, "No progress bar");
@@ -231,6 +254,16 @@ void RegisterEvalCommand(CLI::App& app) {
       throw std::invalid_argument("--actions '" + options->cell.actions_file + "' applies to --policy replay only, got --policy " +
                                   options->cell.policy);
     }
+    if (options->cell.policy != "openpi") {
+      for (const char* served_only : {"--serving", "--keys", "--replan-steps", "--match-dataset"}) {
+        if (eval->count(served_only) > 0) {
+          throw std::invalid_argument(std::string(served_only) + " applies to --policy openpi only, got --policy " +
+                                      options->cell.policy);
+        }
+      }
+    }
+    options->cell.serving = remote::ParseServingMode(options->serving);
+    options->cell.observation_keys_given = eval->count("--keys") > 0;
     options->task_given = eval->count("--task") > 0;
     options->image_size_given = eval->count("--image-size") > 0;
     RunEval(*options);

@@ -44,6 +44,7 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
           {"max_attempts", config.max_attempts},
           {"seed", config.seed},
           {"fps", config.fps},
+          {"expert_hz", config.expert_hz},
           {"cameras", config.cameras},
           {"video", {{"width", config.video.width}, {"height", config.video.height}, {"codec", VideoCodecName(config.video.codec)},
                      {"crf", config.video.crf}, {"gop", config.video.gop}, {"h264_preset", config.video.h264_preset},
@@ -98,6 +99,9 @@ void ValidateDemoConfig(const DemoConfig& config) {
   }
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
   if (config.fps != 60 && config.fps != 20) throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
+  if (config.expert_hz != 60 && config.expert_hz != 20) {
+    throw std::invalid_argument("--expert-hz must be 60 or 20, got " + std::to_string(config.expert_hz));
+  }
   batch::CameraSettings cameras;
   cameras.cameras = config.cameras;
   cameras.width = config.video.width;
@@ -154,7 +158,8 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     task.attempts = next_episode[task_index];
     const int slots = std::min(config.envs, config.episodes);
     batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
-    const std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy("expert", scenario, env.model(), slots);
+    const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
+    const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, env.model(), slots, control_hz / config.expert_hz);
     DemoRecording recording;
     recording.cameras = config.cameras;
     recording.video = layout.video;

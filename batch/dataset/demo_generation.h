@@ -27,6 +27,10 @@ struct DemoConfig {
   uint64_t seed = 0;
   int envs = 8;            // parallel env slots
   int fps = 60;            // 60 (the reference's) or 20
+  // How often the expert's commanded action may change: 60 Hz (every control tick, the
+  // reference's teleoperation rate) or 20 Hz (held for three ticks, as a learned 20 Hz policy
+  // acts: served back at 20 Hz, the action rows reproduce the episode; batch::ExpertPolicy).
+  int expert_hz = 60;
   std::vector<std::string> cameras = {"head", "fixed", "left_wrist", "right_wrist"};
   VideoSettings video;     // size and codec; fps is set from `fps`
   DatasetVersion version = DatasetVersion::kV30;

@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "batch/observation_contract.h"
+
 namespace tavis::dataset {
 
 void WriteEpisodeRows(ParquetWriter& writer, const RecordedEpisode& episode, const DatasetLayout& layout,
@@ -10,7 +12,7 @@ void WriteEpisodeRows(ParquetWriter& writer, const RecordedEpisode& episode, con
   const std::size_t frames = static_cast<std::size_t>(episode.frames);
   RowGroupBuilder rows = writer.NewRowGroup(frames);
   rows.AddList("action", episode.action);
-  rows.AddList("observation.state", episode.state);
+  rows.AddList(batch::contract::kStateKey, episode.state);
   rows.AddList("observation.left_eef_pos", episode.left_eef_pos);
   rows.AddList("observation.left_eef_quat", episode.left_eef_quat);
   rows.AddList("observation.right_eef_pos", episode.right_eef_pos);

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "batch/observation_contract.h"
 #include "kinematics/action.h"
 
 namespace tavis::dataset {
@@ -19,17 +20,11 @@ DatasetVersion ParseDatasetVersion(const std::string& text) {
   throw std::invalid_argument("unknown dataset format '" + text + "' (known: v3.0, v2.1)");
 }
 
-std::string CameraVideoKey(const std::string& camera) {
-  if (camera == "head") return "observation.images.OBS_HEAD";
-  if (camera == "fixed") return "observation.images.OBS_FIXED";
-  if (camera == "left_wrist") return "observation.images.OBS_WRIST_LEFT";
-  if (camera == "right_wrist") return "observation.images.OBS_WRIST_RIGHT";
-  throw std::invalid_argument("no dataset key for camera '" + camera + "' (known: head, fixed, left_wrist, right_wrist)");
-}
+std::string CameraVideoKey(const std::string& camera) { return batch::contract::CameraImageKey(camera); }
 
 std::vector<VectorFeature> VectorFeatures(const DatasetLayout& layout) {
   return {{"action", kinematics::action::kSize},
-          {"observation.state", static_cast<int>(layout.state_names.size())},
+          {std::string(batch::contract::kStateKey), static_cast<int>(layout.state_names.size())},
           {"observation.left_eef_pos", 3},
           {"observation.left_eef_quat", 4},
           {"observation.right_eef_pos", 3},
@@ -45,7 +40,7 @@ nlohmann::json FeaturesJson(const DatasetLayout& layout) {
   const nlohmann::json xyz = {"x", "y", "z"}, wxyz = {"w", "x", "y", "z"};
   for (const VectorFeature& feature : VectorFeatures(layout)) {
     nlohmann::json names = feature.name == "action" ? action_names
-                           : feature.name == "observation.state" ? nlohmann::json(layout.state_names)
+                           : feature.name == std::string(batch::contract::kStateKey) ? nlohmann::json(layout.state_names)
                            : feature.size == 3 ? xyz : wxyz;
     features[feature.name] = {{"dtype", "float32"}, {"shape", {feature.size}}, {"names", names}};
     if (feature.name != "action") continue;

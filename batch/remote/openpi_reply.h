@@ -23,6 +23,11 @@ struct ActionChunk {
 // not an ndarray, not 2-D, or a dtype other than "<f4"/"<f8". Values are not checked (NaN passes).
 ActionChunk ReadActionChunk(const Value& reply);
 
+// reply["actions"] of a batched request for `envs` envs: an envs x H x dim array, one chunk per
+// env in the request's order. Throws std::invalid_argument naming the fault as ReadActionChunk
+// does, and when the leading axis is not `envs` long.
+std::vector<ActionChunk> ReadBatchedActionChunks(const Value& reply, int envs);
+
 struct ReplyTimings {
   std::optional<double> server_infer_ms;    // server_timing.infer_ms
   std::optional<double> server_prev_total_ms;  // server_timing.prev_total_ms, from the 2nd request on

@@ -1,8 +1,12 @@
 #include "batch/remote/remote_policy.h"
 
 #include <algorithm>
+#include <chrono>
+#include <iostream>
 #include <stdexcept>
+#include <thread>
 
+#include "batch/observation_contract.h"
 #include "batch/remote/health_probe.h"
 #include "batch/remote/openpi_reply.h"
 #include "batch/remote/websocket_url.h"
@@ -10,15 +14,23 @@
 namespace tavis::remote {
 namespace {
 
-std::string EnvContext(const batch::Observation& observation, int env, const std::string& server) {
-  return "env slot " + std::to_string(env) + " (episode " + std::to_string(observation.state.episode[env]) +
-         ", server " + server + ")";
+std::string EnvContext(const batch::Observation& observation, const std::vector<int>& envs, const std::string& server) {
+  std::string text = envs.size() == 1 ? "env slot " : "env slots ";
+  for (std::size_t i = 0; i < envs.size(); ++i) {
+    text += (i > 0 ? ", " : "") + std::to_string(envs[i]) + " (episode " +
+            std::to_string(observation.state.episode[envs[i]]) + ")";
+  }
+  return text + ", server " + server;
 }
 
-std::unique_ptr<OpenpiSession> OpenWhenReady(const std::string& server, const RemotePolicyOptions& options) {
+// Waits for the server (its /healthz, or its socket when it has none), then connects.
+std::unique_ptr<OpenpiSession> OpenWhenReady(const std::string& server, const RemotePolicyOptions& options,
+                                             bool announce_fallback) {
   const WebSocketUrl url = ParseWebSocketUrl(server);
   try {
-    WaitForHealthz(url, options.ready_timeout);
+    if (WaitForHealthz(url, options.ready_timeout) == Readiness::kNoHealthz && announce_fallback) {
+      std::cerr << "policy server " << server << " has no /healthz; connecting to it directly\n";
+    }
     OpenpiSessionOptions session;
     session.url = server;
     session.reply_timeout = options.reply_timeout;
@@ -28,7 +40,28 @@ std::unique_ptr<OpenpiSession> OpenWhenReady(const std::string& server, const Re
   }
 }
 
+bool DeclaresBatchedRequests(const Value& metadata) {
+  const Value* flag = metadata.Find(batch::contract::kBatchedRequestsMetadata);
+  return flag != nullptr && flag->is<bool>() && *flag->get_if<bool>();
+}
+
 }  // namespace
+
+const char* ToString(ServingMode mode) {
+  switch (mode) {
+    case ServingMode::kSerial: return "serial";
+    case ServingMode::kPerEnv: return "per-env";
+    case ServingMode::kBatched: return "batched";
+  }
+  return "?";
+}
+
+ServingMode ParseServingMode(const std::string& text) {
+  for (ServingMode mode : {ServingMode::kSerial, ServingMode::kPerEnv, ServingMode::kBatched}) {
+    if (text == ToString(mode)) return mode;
+  }
+  throw std::invalid_argument("unknown serving mode '" + text + "' (known: serial, per-env, batched)");
+}
 
 RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
     : options_(std::move(options)), queues_(static_cast<std::size_t>(num_envs)) {
@@ -36,7 +69,26 @@ RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
   if (options_.replan_steps < 0) {
     throw std::invalid_argument("--replan-steps must be >= 0 (0: the whole chunk), got " + std::to_string(options_.replan_steps));
   }
-  for (const std::string& server : options_.servers) sessions_.push_back(OpenWhenReady(server, options_));
+  const int sessions = options_.mode == ServingMode::kPerEnv ? num_envs : static_cast<int>(options_.servers.size());
+  for (int i = 0; i < sessions; ++i) {
+    const std::string& server = options_.servers[static_cast<std::size_t>(i) % options_.servers.size()];
+    sessions_.push_back(OpenWhenReady(server, options_, i < static_cast<int>(options_.servers.size())));
+  }
+  if (options_.mode == ServingMode::kBatched) {
+    for (std::size_t i = 0; i < sessions_.size(); ++i) {
+      if (!DeclaresBatchedRequests(sessions_[i]->metadata())) {
+        throw std::invalid_argument("policy server " + options_.servers[i] + " does not declare \"" +
+                                    batch::contract::kBatchedRequestsMetadata +
+                                    "\": true in its metadata, so it may not understand batched requests; serve it with "
+                                    "--serving serial or per-env");
+      }
+    }
+  }
+}
+
+OpenpiSession& RemotePolicy::SessionOf(int env) {
+  const int index = options_.mode == ServingMode::kPerEnv ? env : ServerIndexOf(env);
+  return *sessions_[static_cast<std::size_t>(index)];
 }
 
 void RemotePolicy::Reset(const batch::Observation&, const std::vector<uint8_t>& started) {
@@ -46,12 +98,85 @@ void RemotePolicy::Reset(const batch::Observation&, const std::vector<uint8_t>& 
   for (const std::unique_ptr<OpenpiSession>& session : sessions_) session->ServiceKeepalive();
 }
 
+std::vector<RemotePolicy::Exchange> RemotePolicy::PlanExchanges(const batch::Observation& observation,
+                                                                const std::vector<int>& due) {
+  const std::vector<std::string> sent = batch::ProtocolCameras(cameras(), options_.protocol);
+  std::vector<Exchange> exchanges;
+  if (options_.mode != ServingMode::kBatched) {
+    for (int env : due) {
+      Exchange exchange;
+      exchange.envs = {env};
+      exchange.session = &SessionOf(env);
+      exchange.server = &options_.servers[static_cast<std::size_t>(ServerIndexOf(env))];
+      exchange.request = BuildRequest(observation, options_.keys, sent, env);
+      exchanges.push_back(std::move(exchange));
+    }
+    return exchanges;
+  }
+  for (int server = 0; server < static_cast<int>(options_.servers.size()); ++server) {
+    Exchange exchange;
+    for (int env : due) {
+      if (ServerIndexOf(env) == server) exchange.envs.push_back(env);
+    }
+    if (exchange.envs.empty()) continue;
+    exchange.session = sessions_[static_cast<std::size_t>(server)].get();
+    exchange.server = &options_.servers[static_cast<std::size_t>(server)];
+    exchange.request = BuildBatchRequest(observation, options_.keys, sent, exchange.envs);
+    exchanges.push_back(std::move(exchange));
+  }
+  return exchanges;
+}
+
+void RemotePolicy::RunExchanges(std::vector<Exchange>& exchanges) const {
+  const auto run = [](Exchange& exchange) {
+    try {
+      exchange.result = exchange.session->Infer(exchange.request);
+    } catch (...) {
+      exchange.error = std::current_exception();
+    }
+  };
+  if (options_.mode == ServingMode::kSerial || exchanges.size() == 1) {
+    for (Exchange& exchange : exchanges) {
+      run(exchange);
+      if (exchange.error) return;  // stop at the first failure, as one request after the other would
+    }
+    return;
+  }
+  // Each exchange has a session of its own (per env, or per server when batched), so they can
+  // wait side by side; the replies are taken in env order afterwards.
+  std::vector<std::thread> threads;
+  threads.reserve(exchanges.size());
+  for (Exchange& exchange : exchanges) threads.emplace_back(run, std::ref(exchange));
+  for (std::thread& thread : threads) thread.join();
+}
+
 void RemotePolicy::Act(const batch::Observation& observation, const std::vector<uint8_t>& acting,
                        batch::ActionBatch& actions) {
+  std::vector<int> due;
   for (int env = 0; env < static_cast<int>(queues_.size()); ++env) {
-    if (!acting[static_cast<std::size_t>(env)]) continue;
+    if (acting[static_cast<std::size_t>(env)] && queues_[static_cast<std::size_t>(env)].empty()) due.push_back(env);
+  }
+  if (!due.empty()) {
+    std::vector<Exchange> exchanges = PlanExchanges(observation, due);
+    const auto start = std::chrono::steady_clock::now();
+    RunExchanges(exchanges);
+    timings_.wait_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    ++timings_.policy_ticks;
+    for (Exchange& exchange : exchanges) {
+      if (exchange.error) {
+        try {
+          std::rethrow_exception(exchange.error);
+        } catch (const std::exception& error) {
+          throw std::runtime_error("policy 'openpi', " + EnvContext(observation, exchange.envs, *exchange.server) + ": " +
+                                   error.what());
+        }
+      }
+      TakeReply(observation, exchange);
+    }
+  }
+  for (int env = 0; env < static_cast<int>(queues_.size()); ++env) {
     std::deque<kinematics::Action>& queue = queues_[static_cast<std::size_t>(env)];
-    if (queue.empty() && !Query(observation, env)) continue;
+    if (!acting[static_cast<std::size_t>(env)] || queue.empty()) continue;  // empty: its reply was a fault
     actions[static_cast<std::size_t>(env)] = queue.front();
     queue.pop_front();
   }
@@ -62,27 +187,31 @@ void RemotePolicy::TakeFaults(std::vector<batch::PolicyFault>& faults) {
   faults_.clear();
 }
 
-bool RemotePolicy::Query(const batch::Observation& observation, int env) {
-  InferResult result;
-  try {
-    const std::vector<std::string> sent = batch::ProtocolCameras(cameras(), options_.protocol);
-    result = SessionOf(env).Infer(BuildRequest(observation, options_.keys, sent, env));
-  } catch (const std::exception& error) {
-    throw std::runtime_error("policy 'openpi', " + EnvContext(observation, env, ServerOf(env)) + ": " + error.what());
-  }
+void RemotePolicy::TakeReply(const batch::Observation&, Exchange& exchange) {
+  const InferResult& result = exchange.result;
   timings_.round_trip_ms.push_back(result.round_trip_ms);
+  timings_.envs_per_request.push_back(static_cast<int>(exchange.envs.size()));
   if (const auto server_ms = ReadReplyTimings(result.reply).server_infer_ms) timings_.server_infer_ms.push_back(*server_ms);
-  ActionChunk chunk;
+  std::vector<ActionChunk> chunks;
   try {
-    chunk = ReadActionChunk(result.reply);
+    if (options_.mode == ServingMode::kBatched) {
+      chunks = ReadBatchedActionChunks(result.reply, static_cast<int>(exchange.envs.size()));
+    } else {
+      chunks.push_back(ReadActionChunk(result.reply));
+    }
+    const ActionChunk& chunk = chunks.front();
     if (chunk.dim != kinematics::action::kSize || chunk.horizon < 1) {
       throw std::invalid_argument("reply actions are " + std::to_string(chunk.horizon) + " x " + std::to_string(chunk.dim) +
                                   ", expected H x " + std::to_string(kinematics::action::kSize) + " with H >= 1");
     }
   } catch (const std::invalid_argument& error) {
-    faults_.push_back({env, "server " + ServerOf(env) + ": " + error.what()});
-    return false;
+    for (int env : exchange.envs) faults_.push_back({env, "server " + *exchange.server + ": " + error.what()});
+    return;
   }
+  for (std::size_t i = 0; i < exchange.envs.size(); ++i) QueueRows(exchange.envs[i], chunks[i]);
+}
+
+void RemotePolicy::QueueRows(int env, const ActionChunk& chunk) {
   const int rows = options_.replan_steps > 0 ? std::min(options_.replan_steps, chunk.horizon) : chunk.horizon;
   std::deque<kinematics::Action>& queue = queues_[static_cast<std::size_t>(env)];
   for (int row = 0; row < rows; ++row) {
@@ -90,12 +219,12 @@ bool RemotePolicy::Query(const batch::Observation& observation, int env) {
     for (int column = 0; column < chunk.dim; ++column) action[static_cast<std::size_t>(column)] = chunk.at(row, column);
     queue.push_back(action);
   }
-  return true;
 }
 
 std::vector<Value> RemotePolicy::server_metadata() const {
+  // Per-env mode opens several sessions to a server; the first of each stands for it.
   std::vector<Value> metadata;
-  for (const std::unique_ptr<OpenpiSession>& session : sessions_) metadata.push_back(session->metadata());
+  for (std::size_t i = 0; i < options_.servers.size(); ++i) metadata.push_back(sessions_[i]->metadata());
   return metadata;
 }
 

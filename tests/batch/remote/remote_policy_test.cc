@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -30,9 +31,9 @@ namespace {
 constexpr double kActionScale = 1e-3;  // arm targets within reach, quaternions of any norm
 
 // policy_server.py answering horizon x 19 chunks, scaled to plausible actions.
-testing::PolicyServerProcess ServeActions(int horizon, std::vector<std::string> extra = {}) {
+testing::PolicyServerProcess ServeActions(int horizon, std::vector<std::string> extra = {}, bool wait_ready = true) {
   extra.insert(extra.begin(), {"--horizon", std::to_string(horizon), "--action-dim", "19", "--action-scale", "0.001"});
-  return testing::PolicyServerProcess(extra);
+  return testing::PolicyServerProcess(extra, wait_ready);
 }
 
 // The tavis preset's keys, which the tests' requests are read with.
@@ -200,6 +201,118 @@ TEST(RemotePolicy, CellIsTheSameWithOneAndTwoThreadsAndItsSavedActionsReplayIt) 
   std::filesystem::remove_all(dir);
 }
 
+void ExpectContains(const std::string& text, const std::string& part) {
+  EXPECT_NE(text.find(part), std::string::npos) << "'" << part << "' not in: " << text;
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Acceptance of the serving modes: a server whose answer depends only on the request gives the
+// same records whichever way the requests travel, byte for byte in episodes.jsonl and the action
+// CSVs.
+TEST(RemotePolicy, RecordsAreByteIdenticalServedSeriallyPerEnvAndBatched) {
+  testing::PolicyServerProcess server = ServeActions(4, {"--batched"});
+  batch::EvaluationCellConfig config = ServedCell({server.address(), server.address()});
+  config.episodes = 6;
+  config.envs = 4;
+  std::map<std::string, std::filesystem::path> written;
+  std::map<std::string, batch::CellResult> results;
+  for (const ServingMode mode : {ServingMode::kSerial, ServingMode::kPerEnv, ServingMode::kBatched}) {
+    config.serving = mode;
+    results[ToString(mode)] = RunWithThreads(config, 2);
+    const std::filesystem::path dir = FreshDirectory(std::string("mode_") + ToString(mode));
+    batch::WriteCellReport(results[ToString(mode)], {2}, dir.string());
+    written[ToString(mode)] = dir;
+  }
+  const batch::CellResult& serial = results["serial"];
+  ASSERT_EQ(serial.episodes.size(), 6u);
+  for (const char* mode : {"per-env", "batched"}) {
+    for (std::size_t i = 0; i < serial.episodes.size(); ++i) {
+      ExpectSameEpisode(results[mode].episodes[i], serial.episodes[i], std::string(mode) + ", episode " + std::to_string(i));
+    }
+    EXPECT_EQ(ReadFile(written[mode] / "episodes.jsonl"), ReadFile(written["serial"] / "episodes.jsonl")) << mode;
+    for (int episode = 0; episode < config.episodes; ++episode) {
+      const std::string csv = "actions/episode_" + std::to_string(episode) + ".csv";
+      ASSERT_TRUE(std::filesystem::exists(written["serial"] / csv)) << csv;
+      EXPECT_EQ(ReadFile(written[mode] / csv), ReadFile(written["serial"] / csv)) << mode << " " << csv;
+    }
+  }
+  // Serial and per-env send one env per message; batched sends all envs due at a server together.
+  const auto mean_batch = [&](const char* mode) {
+    nlohmann::json summary;
+    std::ifstream(written[mode] / "summary.json") >> summary;
+    EXPECT_EQ(summary["serving"], mode);
+    return summary["requests"]["mean_batch_size"].get<double>();
+  };
+  EXPECT_EQ(mean_batch("serial"), 1.0);
+  EXPECT_EQ(mean_batch("per-env"), 1.0);
+  EXPECT_GT(mean_batch("batched"), 1.0) << "two envs per server at the same policy tick";
+  EXPECT_LT(results["batched"].requests->round_trip_ms.size(), serial.requests->round_trip_ms.size());
+  for (const auto& [mode, dir] : written) std::filesystem::remove_all(dir);
+}
+
+// A stateful server must see every episode's policy steps in order, the first flagged, however
+// many envs run at once; the records do not depend on the env count.
+TEST(RemotePolicy, AStatefulServerSeesEachEpisodesStepsInOrderWithSixteenEnvsAsWithOne) {
+  std::map<int, batch::CellResult> results;
+  for (const int envs : {16, 1}) {
+    const std::filesystem::path steps = FreshDirectory("steps_" + std::to_string(envs) + ".json");
+    batch::CellResult result;
+    {
+      testing::PolicyServerProcess server = ServeActions(1, {"--check-steps", "--steps-out", steps.string()});
+      batch::EvaluationCellConfig config = ServedCell({server.address()});
+      config.episodes = 16;
+      config.envs = envs;
+      config.serving = envs > 1 ? ServingMode::kPerEnv : ServingMode::kSerial;
+      result = RunWithThreads(config, 2);
+    }  // the server writes what it saw when it stops
+    nlohmann::json seen;
+    std::ifstream(steps) >> seen;
+    ASSERT_EQ(result.episodes.size(), 16u);
+    int listed = 0;
+    for (const auto& [key, entry] : seen.items()) {
+      const int64_t episode = std::stoll(key.substr(key.find('/') + 1));
+      EXPECT_EQ(entry["first_flags"], 1) << key;
+      // The episode asked at every policy step it acted on: its length in steps (the step that
+      // ended it acted too).
+      EXPECT_EQ(entry["steps"].get<int>(), result.episodes[static_cast<std::size_t>(episode)].length_steps) << key;
+      ++listed;
+    }
+    EXPECT_EQ(listed, 16) << "one (env, episode) entry per episode";
+    std::filesystem::remove(steps);
+    results[envs] = std::move(result);
+  }
+  for (std::size_t i = 0; i < 16; ++i) {
+    ExpectSameEpisode(results[16].episodes[i], results[1].episodes[i], "16 vs 1 envs, episode " + std::to_string(i));
+  }
+}
+
+TEST(RemotePolicy, AServerWithoutHealthzIsConnectedToDirectly) {
+  testing::PolicyServerProcess server = ServeActions(10, {"--no-healthz"}, /*wait_ready=*/false);
+  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  config.episodes = 1;
+  config.envs = 1;
+  const batch::CellResult result = RunWithThreads(config, 2);
+  ASSERT_EQ(result.episodes.size(), 1u);
+  EXPECT_GT(result.requests->round_trip_ms.size(), 0u);
+}
+
+TEST(RemotePolicy, BatchedServingNeedsAServerThatDeclaresIt) {
+  testing::PolicyServerProcess server = ServeActions(4);
+  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  config.serving = ServingMode::kBatched;
+  try {
+    batch::RunEvaluationCell(config);
+    ADD_FAILURE() << "batched requests sent to a server that does not declare them";
+  } catch (const std::invalid_argument& error) {
+    ExpectContains(error.what(), "does not declare \"batched_requests\": true");
+    ExpectContains(error.what(), server.address());
+  }
+}
+
 std::string FailureOf(const batch::EvaluationCellConfig& config) {
   try {
     batch::RunEvaluationCell(config);
@@ -208,10 +321,6 @@ std::string FailureOf(const batch::EvaluationCellConfig& config) {
   }
   ADD_FAILURE() << "the cell did not fail";
   return "";
-}
-
-void ExpectContains(const std::string& text, const std::string& part) {
-  EXPECT_NE(text.find(part), std::string::npos) << "'" << part << "' not in: " << text;
 }
 
 TEST(RemotePolicy, ServerErrorStopsTheCellWithTheTracebackNamingTheEnvAndEpisode) {

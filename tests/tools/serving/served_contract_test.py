@@ -1,0 +1,183 @@
+"""Acceptance of the observation contract (issue: serving a learned policy exactly as it was
+trained): a served policy receives, for the same (seed, episode, step), what `tavis demos` wrote
+into its dataset.
+
+A 2-episode dataset is recorded with the expert deciding at 20 Hz (--expert-hz 20), so its action
+rows, served back at 20 Hz, replay its episodes tick for tick. policy_server.py serves those rows
+by (episode_index, step) and saves every request; `tavis eval --match-dataset` runs the same
+episodes. Served step s (control tick 3s) must then equal dataset frame 3s - 1 (the observation
+after tick 3s - 1): keys, shapes, dtypes, the state vector and the prompt exactly, the images
+within codec loss (PSNR >= 30 dB against the mp4 frame decoded by PyAV). The Parquet columns are
+read by hyparquet (tests/js), a reader we did not write. With default options the keys and the
+state are the same and the images are 320x240.
+
+    /usr/bin/python3 served_contract_test.py TAVIS_BINARY SOURCE_DIR
+"""
+
+import glob
+import json
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+import av
+import numpy as np
+
+TAVIS, SOURCE = sys.argv[1], sys.argv[2]
+SERVER = os.path.join(SOURCE, "tests", "batch", "remote", "policy_server.py")
+READ_PARQUET = os.path.join(SOURCE, "tests", "js", "read_parquet.mjs")
+TASK, ROBOT, SEED, WIDTH, HEIGHT = "clutter-pick-cube", "gr1t2", "3", 64, 48
+CAMERAS = ["OBS_HEAD", "OBS_WRIST_LEFT", "OBS_WRIST_RIGHT"]
+failures = []
+passed = 0
+
+
+def check(condition, message):
+    global passed
+    passed += 1 if condition else 0
+    if not condition:
+        failures.append(message)
+        print("FAIL:", message, flush=True)
+
+
+def run(args, **kwargs):
+    result = subprocess.run(args, capture_output=True, text=True, timeout=600, **kwargs)
+    if result.returncode != 0:
+        sys.exit(f"{' '.join(args)} exited {result.returncode}:\n{result.stdout}\n{result.stderr}")
+    return result
+
+
+def free_port():
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def serve(replay, record_dir):
+    port = free_port()
+    process = subprocess.Popen(["/usr/bin/python3", SERVER, "--port", str(port), "--horizon", "1", "--action-dim", "19",
+                                "--replay-actions", replay, "--record-dir", record_dir, "--lifetime", "900"],
+                               cwd=os.path.dirname(SERVER))
+    deadline = time.time() + 30
+    while time.time() < deadline:
+        try:
+            urllib.request.urlopen(f"http://127.0.0.1:{port}/healthz", timeout=1)
+            return process, f"ws://127.0.0.1:{port}"
+        except OSError:
+            time.sleep(0.1)
+    process.kill()
+    sys.exit("policy_server.py did not become ready")
+
+
+def decoded_frames(path):
+    with av.open(path) as container:
+        return [frame.to_ndarray(format="rgb24") for frame in container.decode(video=0)]
+
+
+def psnr(a, b):
+    mse = np.mean((a.astype(np.float64) - b.astype(np.float64)) ** 2)
+    return float("inf") if mse == 0 else 10 * np.log10(255.0 ** 2 / mse)
+
+
+def served_cell(dataset, record_dir, replay, out, extra):
+    process, address = serve(replay, record_dir)
+    try:
+        run([TAVIS, "eval", "--task", TASK, "--robot", ROBOT, "--seed", SEED, "--episodes", "2", "--envs", "2",
+             "--policy", "openpi", "--server", address, "--out", out, "--quiet"] + extra)
+    finally:
+        process.terminate()
+        process.wait(timeout=10)
+    requests = {}
+    for path in glob.glob(os.path.join(record_dir, "*.npz")):
+        with np.load(path) as saved:
+            request = {key: saved[key] for key in saved.files}
+        requests[(int(request["episode_index"]), int(request["step"]))] = request
+    return requests
+
+
+def main():
+    work = tempfile.mkdtemp(prefix="tavis_served_contract_")
+    dataset = os.path.join(work, "dataset")
+    run([TAVIS, "demos", "--task", TASK, "--robot", ROBOT, "--seed", SEED, "--episodes", "2", "--envs", "2", "--fps", "60",
+         "--expert-hz", "20", "--image-size", f"{WIDTH}x{HEIGHT}", "--out", dataset])
+    with open(os.path.join(dataset, "tavis_demos.json")) as file:
+        report = json.load(file)
+    attempts = report["tasks"][0]["attempts"]
+    if attempts != 2:
+        sys.exit(f"seed {SEED}: the expert needed {attempts} attempts for 2 episodes; dataset episode i must be episode i")
+
+    parquet = json.loads(run(["node", READ_PARQUET, os.path.join(dataset, "data", "chunk-000", "file-000.parquet")],
+                             cwd=os.path.dirname(READ_PARQUET)).stdout)["hyparquet"]["rows"]
+    frames = {}  # (episode, frame) -> row
+    for row in parquet:
+        frames[(int(row["episode_index"]), int(row["frame_index"]))] = row
+    videos = {camera: decoded_frames(os.path.join(dataset, "videos", f"observation.images.{camera}", "chunk-000", "file-000.mp4"))
+              for camera in CAMERAS}
+
+    # The action rows at the 20 Hz decisions: frames 0, 3, 6, ... (each held for three frames).
+    replay = {}
+    for episode in (0, 1):
+        rows = [frames[(episode, f)]["action"] for f in range(0, 100000, 3) if (episode, f) in frames]
+        for f in range(0, 100000):
+            if (episode, f) not in frames:
+                break
+            check(frames[(episode, f)]["action"] == frames[(episode, f - f % 3)]["action"],
+                  f"episode {episode} frame {f}: --expert-hz 20 actions must change only every third frame")
+        replay[str(episode)] = rows
+    replay_path = os.path.join(work, "replay.json")
+    with open(replay_path, "w") as file:
+        json.dump(replay, file)
+
+    requests = served_cell(dataset, os.path.join(work, "matched"), replay_path, os.path.join(work, "cell_matched"),
+                           ["--match-dataset", dataset])
+    expected_keys = {f"observation.images.{camera}" for camera in CAMERAS} | {
+        "observation.state", "prompt", "task", "env_index", "episode_index", "step", "is_first"}
+    compared = 0
+    worst_psnr = float("inf")
+    for (episode, step), request in sorted(requests.items()):
+        check(set(request) == expected_keys, f"episode {episode} step {step}: keys {sorted(request)}")
+        check(bool(request["is_first"]) == (step == 0), f"episode {episode} step {step}: is_first {request['is_first']}")
+        frame = 3 * step - 1
+        if step == 0 or (episode, frame) not in frames:
+            continue
+        row = frames[(episode, frame)]
+        state = request["observation.state"]
+        check(state.dtype == np.float32 and state.shape == (34,), f"state {state.dtype} {state.shape}")
+        check(np.array_equal(state, np.array(row["observation.state"], dtype=np.float32)),
+              f"episode {episode} step {step}: served state differs from dataset frame {frame}")
+        check(str(request["prompt"]) == row["language_instruction"] and str(request["task"]) == row["language_instruction"],
+              f"episode {episode} step {step}: prompt {request['prompt']!r} vs {row['language_instruction']!r}")
+        for camera in CAMERAS:
+            image = request[f"observation.images.{camera}"]
+            check(image.dtype == np.uint8 and image.shape == (HEIGHT, WIDTH, 3), f"{camera}: {image.dtype} {image.shape}")
+            decoded = videos[camera][int(row["index"])]
+            worst_psnr = min(worst_psnr, psnr(image, decoded))
+        compared += 1
+    print(f"compared {compared} served observations with their dataset frames; worst image PSNR {worst_psnr:.1f} dB")
+    check(compared >= 20, f"only {compared} observations compared")
+    check(worst_psnr >= 30.0, f"worst PSNR {worst_psnr:.1f} dB < 30 dB")
+    with open(os.path.join(work, "cell_matched", "summary.json")) as file:
+        summary = json.load(file)
+    check(summary["layout_differences"] == [], f"layout differences {summary['layout_differences']}")
+    check(summary["n_successful"] == 2, f"the replayed demonstrations succeed: {summary['n_successful']}/2")
+
+    # Default options: the same keys and state, images at the reference's 320x240.
+    defaults = served_cell(dataset, os.path.join(work, "default"), replay_path, os.path.join(work, "cell_default"), [])
+    same = 0
+    for key, request in defaults.items():
+        check(set(request) == expected_keys, f"default keys {sorted(request)}")
+        check(request["observation.images.OBS_HEAD"].shape == (240, 320, 3), "default image size")
+        if key in requests:
+            check(np.array_equal(request["observation.state"], requests[key]["observation.state"]), f"default state at {key}")
+            same += 1
+    check(same >= 20, f"only {same} default requests compared")
+    print(f"{passed} passed, {len(failures)} failed")
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
