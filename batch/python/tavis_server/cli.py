@@ -1,0 +1,140 @@
+"""python3 -m tavis_server: serve a policy to `tavis eval --policy openpi --server ws://HOST:PORT`.
+
+  --policy echo | sleep | stateful          the built-in stand-ins (standins.py)
+  --policy MODULE:FACTORY [--policy-arg K=V ...]
+        FACTORY(**args) returns a LeRobot-interface policy, or (policy, preprocess, postprocess);
+        it also gets device=... when its signature takes `device`. V is read as JSON when it parses
+        (numbers, true/false, lists), else as a string.
+Prints one line "tavis_server: serving POLICY on ws://HOST:PORT" once it listens (--port 0 picks a
+free port, printed there); SIGTERM or SIGINT stops it (the stateful stand-in's record is final)."""
+
+import argparse
+import asyncio
+import importlib
+import inspect
+import json
+import signal
+import sys
+
+from .actions import NEUTRAL_ACTION, parse_action_row
+from .lerobot_policy import LeRobotServedPolicy
+from .policy_batch import import_torch
+from .server import PolicyServer
+from .standins import EchoPolicy, SleepPolicy, StatefulCheckPolicy
+
+STAND_INS = ("echo", "sleep", "stateful")
+
+
+def _policy_args(pairs):
+    args = {}
+    for pair in pairs:
+        key, separator, value = pair.partition("=")
+        if not separator or not key:
+            raise ValueError(f"--policy-arg {pair!r} is not KEY=VALUE")
+        try:
+            args[key] = json.loads(value)
+        except json.JSONDecodeError:
+            args[key] = value
+    return args
+
+
+def _factory(spec):
+    module_name, separator, attribute = spec.partition(":")
+    if not separator or not module_name or not attribute:
+        raise ValueError(f"--policy {spec!r} is neither a stand-in ({', '.join(STAND_INS)}) nor MODULE:FACTORY")
+    module = importlib.import_module(module_name)
+    factory = getattr(module, attribute, None)
+    if not callable(factory):
+        raise ValueError(f"--policy {spec!r}: module {module_name} has no callable {attribute}")
+    return factory
+
+
+def _takes_device(factory):
+    try:
+        parameters = inspect.signature(factory).parameters.values()
+    except (TypeError, ValueError):
+        return False
+    return any(p.name == "device" or p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters)
+
+
+def build_served_policy(options):
+    """The object PolicyServer serves, from the parsed command line."""
+    row = parse_action_row(options.action_row) if options.action_row else NEUTRAL_ACTION
+    if options.policy == "echo":
+        return EchoPolicy(chunk=options.chunk or 1)
+    if options.policy == "stateful":
+        return StatefulCheckPolicy(chunk=options.chunk or 1, history=options.history, record_path=options.record,
+                                   action_row=row)
+    if options.policy == "sleep":  # numpy inputs unless a --device asks for torch tensors like a checkpoint's
+        return LeRobotServedPolicy(SleepPolicy(options.sleep_ms, options.chunk or 10, row), name="sleep",
+                                   device=options.device, torch=import_torch() if options.device else None)
+    torch = import_torch()
+    device = options.device or "cpu"
+    factory = _factory(options.policy)
+    args = _policy_args(options.policy_arg)
+    if _takes_device(factory):
+        args.setdefault("device", device)
+    made = factory(**args)
+    if hasattr(made, "infer") and hasattr(made, "history_length"):  # already a served policy
+        return made
+    policy, preprocess, postprocess = made if isinstance(made, tuple) else (made, None, None)
+    if torch is not None and isinstance(policy, torch.nn.Module):
+        policy = policy.to(device).eval()
+    return LeRobotServedPolicy(policy, name=options.policy, device=device, preprocess=preprocess,
+                               postprocess=postprocess, torch=torch)
+
+
+def parser():
+    result = argparse.ArgumentParser(prog="python3 -m tavis_server", description=__doc__.splitlines()[0])
+    result.add_argument("--policy", required=True, help="echo, sleep, stateful, or MODULE:FACTORY")
+    result.add_argument("--policy-arg", action="append", default=[], metavar="K=V", help="FACTORY keyword argument")
+    result.add_argument("--host", default="127.0.0.1")
+    result.add_argument("--port", type=int, default=8000, help="0: a free port (printed)")
+    result.add_argument("--device", default=None,
+                        help="torch device of the policy and its inputs: cpu (default), cuda, cuda:1; the sleep "
+                             "stand-in builds numpy inputs unless given one")
+    result.add_argument("--seed", type=int, default=None, help="seeds torch's and numpy's global generators")
+    result.add_argument("--chunk", type=int, default=None, help="stand-ins: rows per reply (echo, stateful 1; sleep 10)")
+    result.add_argument("--sleep-ms", type=float, default=30.0, help="sleep stand-in: milliseconds per forward pass")
+    result.add_argument("--action-row", default="", metavar="CSV",
+                        help="sleep/stateful stand-ins: the 19 comma-separated values of their action")
+    result.add_argument("--history", type=int, default=1,
+                        help="stateful stand-in: observation history length (> 1: steps must be consecutive)")
+    result.add_argument("--record", default=None, metavar="JSON",
+                        help="stateful stand-in: file rewritten after every request with the steps received")
+    return result
+
+
+async def _run(server):
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for signum in (signal.SIGTERM, signal.SIGINT):
+        loop.add_signal_handler(signum, stop.set)
+
+    def ready(port):
+        print(f"tavis_server: serving {server.served.name} on ws://{server.host}:{port}", flush=True)
+
+    await server.serve(ready=ready, stop=stop)
+
+
+def main(argv=None):
+    options = parser().parse_args(argv)
+    try:
+        if options.seed is not None:
+            import numpy
+            numpy.random.seed(options.seed)
+            if options.policy not in STAND_INS and import_torch() is not None:
+                import_torch().manual_seed(options.seed)
+        served = build_served_policy(options)
+        server = PolicyServer(served, host=options.host, port=options.port)
+    except (ValueError, ImportError) as error:
+        print(f"tavis_server: {error}", file=sys.stderr)
+        return 2
+    try:
+        asyncio.run(_run(server))
+    except OSError as error:
+        print(f"tavis_server: cannot listen on {options.host}:{options.port}: {error}", file=sys.stderr)
+        return 1
+    finally:
+        server.close()
+    return 0

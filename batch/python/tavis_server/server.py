@@ -1,0 +1,95 @@
+"""The websocket server of serving protocol v1 over openpi's msgpack-numpy transport, on the
+legacy API of Debian's python3-websockets 10.4 (it also exists in newer releases).
+
+Each connection first gets the metadata map, then every request (per-env or batched) is answered
+with {"actions", "server_timing": {"infer_ms", "prev_total_ms"}}; an error sends its traceback as
+a text frame and closes with 1011, as openpi's server does. Inference runs in a worker thread
+under one lock, so a connection waiting on the policy does not stall the others' I/O."""
+
+import asyncio
+import concurrent.futures
+import http
+import threading
+import time
+import traceback
+
+import websockets
+
+from . import msgpack_numpy
+from .episodes import EpisodeTracker
+from .observations import split_request
+
+PROTOCOL_VERSION = 1
+
+
+class PolicyServer:
+    """served: an object with name, metadata (dict), history_length, infer(observations, starts)
+    -> (N, H, 19) float32, close(), and optionally reply_extras(observations, batched) -> dict."""
+
+    def __init__(self, served, host="127.0.0.1", port=8000, workers=4):
+        self.served = served
+        self.host = host
+        self.port = port
+        self.tracker = EpisodeTracker(consecutive_steps=served.history_length > 1)
+        self._lock = threading.Lock()
+        self._executor = concurrent.futures.ThreadPoolExecutor(max_workers=workers,
+                                                               thread_name_prefix="tavis-server-infer")
+        self.metadata = {**served.metadata, "policy": served.name, "batched_requests": True, "stateful": True,
+                         "action_dim": 19, "protocol": PROTOCOL_VERSION}
+        self.metadata.setdefault("action_horizon", 1)
+
+    def answer(self, request):
+        """The reply map to one decoded request (runs in a worker thread)."""
+        observations, batched = split_request(request)
+        with self._lock:
+            start = time.monotonic()
+            starts = self.tracker.check(observations)
+            actions = self.served.infer(observations, starts)
+            infer_ms = (time.monotonic() - start) * 1000.0
+            extras = (self.served.reply_extras(observations, batched)
+                      if hasattr(self.served, "reply_extras") else {})
+        reply = {"actions": actions if batched else actions[0], "server_timing": {"infer_ms": infer_ms}}
+        reply.update(extras)
+        return reply
+
+    async def _handle(self, websocket, path=None):
+        loop = asyncio.get_running_loop()
+        await websocket.send(msgpack_numpy.packb(self.metadata))
+        prev_total_ms = None
+        while True:
+            try:
+                message = await websocket.recv()
+                received = time.monotonic()
+                if isinstance(message, str):
+                    raise ValueError("requests are binary msgpack frames, got a text frame")
+                request = msgpack_numpy.unpackb(message)
+                reply = await loop.run_in_executor(self._executor, self.answer, request)
+                if prev_total_ms is not None:
+                    reply["server_timing"]["prev_total_ms"] = prev_total_ms
+                await websocket.send(msgpack_numpy.packb(reply))
+                prev_total_ms = (time.monotonic() - received) * 1000.0
+            except websockets.ConnectionClosed:
+                return
+            except Exception:
+                await websocket.send(traceback.format_exc())
+                await websocket.close(code=1011, reason="Internal server error. Traceback included in previous frame.")
+                return
+
+    @staticmethod
+    def _health(path, request_headers):
+        if path == "/healthz":
+            return http.HTTPStatus.OK, [], b"OK\n"
+        return None
+
+    async def serve(self, ready=None, stop=None):
+        """Serves until `stop` (an asyncio.Event) is set, or forever; calls ready(port) once listening."""
+        async with websockets.serve(self._handle, self.host, self.port, compression=None, max_size=None,
+                                    process_request=self._health) as server:
+            port = server.sockets[0].getsockname()[1]
+            if ready:
+                ready(port)
+            await (stop.wait() if stop else asyncio.Future())
+
+    def close(self):
+        self._executor.shutdown(wait=True)
+        self.served.close()
