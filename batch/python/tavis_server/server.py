@@ -76,7 +76,7 @@ class PolicyServer:
                 return
 
     @staticmethod
-    def _health(path, request_headers):
+    async def _health(path, request_headers):
         if path == "/healthz":
             return http.HTTPStatus.OK, [], b"OK\n"
         return None
