@@ -60,13 +60,14 @@ def _takes_device(factory):
 def build_served_policy(options):
     """The object PolicyServer serves, from the parsed command line."""
     row = parse_action_row(options.action_row) if options.action_row else NEUTRAL_ACTION
+    chunk = (10 if options.policy == "sleep" else 1) if options.chunk is None else options.chunk
     if options.policy == "echo":
-        return EchoPolicy(chunk=options.chunk or 1)
+        return EchoPolicy(chunk=chunk)
     if options.policy == "stateful":
-        return StatefulCheckPolicy(chunk=options.chunk or 1, history=options.history, record_path=options.record,
+        return StatefulCheckPolicy(chunk=chunk, history=options.history, record_path=options.record,
                                    action_row=row)
     if options.policy == "sleep":  # numpy inputs unless a --device asks for torch tensors like a checkpoint's
-        return LeRobotServedPolicy(SleepPolicy(options.sleep_ms, options.chunk or 10, row), name="sleep",
+        return LeRobotServedPolicy(SleepPolicy(options.sleep_ms, chunk, row), name="sleep",
                                    device=options.device, torch=import_torch() if options.device else None)
     torch = import_torch()
     device = options.device or "cpu"

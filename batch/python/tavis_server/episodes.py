@@ -28,12 +28,12 @@ class EpisodeTracker:
                 raise ValueError(f"{where}: the episode's first observation (step 0, is_first) never came; "
                                  f"this env slot is in {started}")
             previous = current[1]
-            if self.consecutive_steps and observation.step != previous + 1:
-                raise ValueError(f"{where}: skips from step {previous}; this policy keeps an observation history, "
-                                 f"so every step must be asked (run the client with --replan-steps 1 and a 1-row "
-                                 f"chunk, or serve a policy with n_obs_steps 1)")
             if observation.step <= previous:
                 raise ValueError(f"{where}: comes after step {previous}; steps must grow")
+            if self.consecutive_steps and observation.step != previous + 1:
+                raise ValueError(f"{where}: skips from step {previous}; this policy keeps an observation history, "
+                                 f"so every step must be asked (run the client with --replan-steps 1, or serve a "
+                                 f"policy with n_obs_steps 1)")
             starts.append(False)
         for observation in observations:
             self._slots[observation.env_index] = (observation.episode_index, observation.step)

@@ -137,10 +137,10 @@ def get(port, path):
 class CliServer:
     """python3 -m tavis_server ARGS on a free port, started and waited for by its ready line."""
 
-    def __init__(self, args):
+    def __init__(self, args, pythonpath=()):
+        environment = dict(os.environ, PYTHONPATH=os.pathsep.join([SERVER_PACKAGE_DIR, *pythonpath]))
         self.process = subprocess.Popen([sys.executable, "-m", "tavis_server", "--port", "0", *args],
-                                        cwd=SERVER_PACKAGE_DIR, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                        text=True)
+                                        env=environment, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.process.stdout.readline()
         if not line.startswith("tavis_server: serving "):
             self.process.kill()
@@ -158,8 +158,8 @@ class CliServer:
 def cli_server():
     servers = []
 
-    def start(*args):
-        servers.append(CliServer(args))
+    def start(*args, pythonpath=()):
+        servers.append(CliServer(args, pythonpath))
         return servers[-1]
 
     yield start
