@@ -66,9 +66,12 @@ def build_served_policy(options):
     if options.policy == "stateful":
         return StatefulCheckPolicy(chunk=chunk, history=options.history, record_path=options.record,
                                    action_row=row)
-    if options.policy == "sleep":  # numpy inputs unless a --device asks for torch tensors like a checkpoint's
-        return LeRobotServedPolicy(SleepPolicy(options.sleep_ms, chunk, row), name="sleep",
-                                   device=options.device, torch=import_torch() if options.device else None)
+    if options.policy == "sleep":
+        sleeper = SleepPolicy(options.sleep_ms, chunk, row)
+        if not options.device:
+            return sleeper  # nothing but the sleep
+        # Like a checkpoint: input tensors built on the device, then the sleep.
+        return LeRobotServedPolicy(sleeper, name="sleep", device=options.device, torch=import_torch())
     torch = import_torch()
     device = options.device or "cpu"
     factory = _factory(options.policy)
@@ -93,7 +96,7 @@ def parser():
     result.add_argument("--port", type=int, default=8000, help="0: a free port (printed)")
     result.add_argument("--device", default=None,
                         help="torch device of the policy and its inputs: cpu (default), cuda, cuda:1; the sleep "
-                             "stand-in builds numpy inputs unless given one")
+                             "stand-in builds no inputs unless given one")
     result.add_argument("--seed", type=int, default=None, help="seeds torch's and numpy's global generators")
     result.add_argument("--chunk", type=int, default=None, help="stand-ins: rows per reply (echo, stateful 1; sleep 10)")
     result.add_argument("--sleep-ms", type=float, default=30.0, help="sleep stand-in: milliseconds per forward pass")

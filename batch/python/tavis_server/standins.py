@@ -9,9 +9,10 @@ echo     (served directly) encodes what it received into each action, so a test 
            a[14] = t * 1e-3 (the row), a[15] = 1.0 if is_first else 0.0, a[16] = 0
            quaternions a[3:7] = a[10:14] = (1, 0, 0, 0), grippers a[17] = a[18] = -1 (open).
          Ids must be below 10000 (a 10 m arm target).
-sleep    (LeRobot interface, served through LeRobotServedPolicy like a real checkpoint, images
-         converted included) sleeps sleep_ms per forward pass whatever the batch size and answers
-         a fixed row (NEUTRAL_ACTION or a CSV row) repeated `chunk` times.
+sleep    sleeps sleep_ms per forward pass whatever the batch size and answers a fixed row
+         (NEUTRAL_ACTION or a CSV row) repeated `chunk` times. Served directly it costs nothing but
+         the sleep; it also has LeRobot's interface, so that LeRobotServedPolicy can serve it like a
+         checkpoint, input tensors built on a device included (the CLI does so under --device).
 stateful (served directly) records per (env, episode) the steps and is_first flags it received,
          answers them in each reply ("received") and rewrites a JSON file after every request."""
 
@@ -72,22 +73,34 @@ class SleepPolicyConfig:
 
 
 class SleepPolicy:
-    """LeRobot's interface; one forward pass costs sleep_ms whatever the batch size."""
+    """One forward pass costs sleep_ms whatever the batch size. Both a served policy (infer) and a
+    LeRobot-interface policy (reset, select_action, predict_action_chunk, config)."""
 
     def __init__(self, sleep_ms=30.0, chunk=10, action_row=NEUTRAL_ACTION):
         if sleep_ms < 0 or chunk < 1:
             raise ValueError(f"sleep: --sleep-ms {sleep_ms} must be >= 0 and --chunk {chunk} >= 1")
+        self.name = "sleep"
+        self.history_length = 1
         self.sleep_ms = sleep_ms
         self.config = SleepPolicyConfig(chunk)
         self.row = np.asarray(action_row, dtype=np.float32)
-        self.metadata = {"sleep_ms": sleep_ms}
+        self.metadata = {"sleep_ms": sleep_ms, "action_horizon": chunk}
+
+    def _forward(self, batch_size):
+        time.sleep(self.sleep_ms / 1000.0)
+        return np.tile(self.row, (batch_size, self.config.n_action_steps, 1))
+
+    def infer(self, observations, starts):
+        return self._forward(len(observations))
+
+    def close(self):
+        pass
 
     def reset(self):
         pass
 
     def predict_action_chunk(self, batch):
-        time.sleep(self.sleep_ms / 1000.0)
-        return np.tile(self.row, (len(batch["task"]), self.config.n_action_steps, 1))
+        return self._forward(len(batch["task"]))
 
     def select_action(self, batch):
         return self.predict_action_chunk(batch)[:, 0]

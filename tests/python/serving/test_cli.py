@@ -57,12 +57,14 @@ def test_echo_encodes_what_it_received(cli_server):
     assert server.stop() == 0
 
 
-def test_sleep_answers_its_row_once_per_forward_pass(cli_server):
+@pytest.mark.parametrize("device", [[], ["--device", "cpu"]], ids=["direct", "as-a-checkpoint"])
+def test_sleep_answers_its_row_once_per_forward_pass(cli_server, device):
     row = "0.3,0.1,0.9,0,1,0,0,0.3,-0.1,0.9,1,0,0,0,0,0.2,0,0.5,-0.5"
-    server = cli_server("--policy", "sleep", "--sleep-ms", "400", "--chunk", "4", "--action-row", row)
+    server = cli_server("--policy", "sleep", "--sleep-ms", "400", "--chunk", "4", "--action-row", row, *device)
     metadata, replies = ask_all(server.url, [observation(0, 0, 0), batched([observation(env, 0, 0) for env in
                                                                             range(1, 6)])])
     assert metadata["action_horizon"] == 4 and metadata["sleep_ms"] == 400
+    assert metadata.get("device") == ("cpu" if device else None)  # torch input tensors only under --device
     expected = np.array([float(value) for value in row.split(",")], dtype=np.float32)
     assert replies[0]["actions"].shape == (4, 19)
     assert (replies[0]["actions"] == expected).all()
