@@ -1,5 +1,6 @@
-"""The websocket server of serving protocol v1 over openpi's msgpack-numpy transport, on the
-legacy API of Debian's python3-websockets 10.4 (it also exists in newer releases).
+"""The websocket server of serving protocol v1 over openpi's msgpack-numpy transport: on
+websockets' new asyncio API where it exists (>= 13, what a LeRobot environment has; written from
+its documentation, not run here), else on the legacy API of Debian's python3-websockets 10.4.
 
 Each connection first gets the metadata map, then every request (per-env or batched) is answered
 with {"actions", "server_timing": {"infer_ms", "prev_total_ms"}}; an error sends its traceback as
@@ -14,6 +15,11 @@ import time
 import traceback
 
 import websockets
+
+try:  # websockets >= 13
+    from websockets.asyncio.server import serve as _serve_asyncio
+except ImportError:  # Debian's 10.4: only the legacy API
+    _serve_asyncio = None
 
 from . import msgpack_numpy
 from .episodes import EpisodeTracker
@@ -76,15 +82,27 @@ class PolicyServer:
                 return
 
     @staticmethod
-    async def _health(path, request_headers):
+    async def _health_legacy(path, request_headers):
         if path == "/healthz":
             return http.HTTPStatus.OK, [], b"OK\n"
         return None
 
+    @staticmethod
+    def _health_asyncio(connection, request):
+        if request.path == "/healthz":
+            return connection.respond(http.HTTPStatus.OK, "OK\n")
+        return None
+
+    def _listen(self):
+        if _serve_asyncio is not None:
+            return _serve_asyncio(self._handle, self.host, self.port, compression=None, max_size=None,
+                                  process_request=self._health_asyncio)
+        return websockets.serve(self._handle, self.host, self.port, compression=None, max_size=None,
+                                process_request=self._health_legacy)
+
     async def serve(self, ready=None, stop=None):
         """Serves until `stop` (an asyncio.Event) is set, or forever; calls ready(port) once listening."""
-        async with websockets.serve(self._handle, self.host, self.port, compression=None, max_size=None,
-                                    process_request=self._health) as server:
+        async with self._listen() as server:
             port = server.sockets[0].getsockname()[1]
             if ready:
                 ready(port)
