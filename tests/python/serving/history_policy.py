@@ -50,15 +50,17 @@ class HistoryPolicy(torch.nn.Module):
         state, head = self._features(batch)
         size = state.shape[0]
         self.batch_sizes.append(size)
-        actions = NEUTRAL.repeat(size, self.chunk, 1).clone()
+        device = state.device
+        actions = NEUTRAL.to(device).repeat(size, self.chunk, 1)
         newest = head[:, -1]
         actions[:, :, 0] = (state[:, 0, 0] * self.scale)[:, None]
         actions[:, :, 1] = (state[:, -1, 0] * self.scale)[:, None]
         actions[:, :, 2] = (state[:, -1, 1] * self.scale)[:, None]
         actions[:, :, 7] = newest.mean(dim=(1, 2, 3))[:, None]
         actions[:, :, 8] = newest[:, 2, 1, 3][:, None]
-        actions[:, :, 9] = torch.tensor([len(task.encode("utf-8")) for task in batch["task"]]) [:, None] * self.scale
-        actions[:, :, 14] = torch.arange(self.chunk) * self.scale
+        lengths = torch.tensor([len(task.encode("utf-8")) for task in batch["task"]], device=device)
+        actions[:, :, 9] = lengths[:, None] * self.scale
+        actions[:, :, 14] = torch.arange(self.chunk, device=device) * self.scale
         return actions
 
 
