@@ -23,7 +23,7 @@ import zlib
 
 import numpy as np
 
-from .actions import ACTION_DIM, NEUTRAL_ACTION
+from .actions import NEUTRAL_ACTION
 
 ECHO_SCALE = 1e-3
 ECHO_ID_LIMIT = 10000

@@ -4,12 +4,11 @@ request checks, and connections served concurrently."""
 import asyncio
 import threading
 
-import numpy as np
 import pytest
 import torch
 import websockets
 
-from conftest import batched, connect, get, observation, run
+from conftest import batched, connect, get, observation, packb, run, unpackb
 from history_policy import HistoryPolicy
 from tavis_server import EchoPolicy, LeRobotServedPolicy
 
@@ -36,7 +35,6 @@ def test_metadata_and_healthz(serve):
 async def expect_error(url, requests):
     """Sends requests until one is answered with a traceback; returns (traceback, close code)."""
     async with websockets.connect(url, compression=None, max_size=None) as websocket:
-        from conftest import packb, unpackb
         unpackb(await websocket.recv())
         for request in requests:
             await websocket.send(packb(request))
