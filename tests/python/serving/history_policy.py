@@ -32,6 +32,7 @@ class HistoryPolicy(torch.nn.Module):
         self.scale = torch.nn.Parameter(torch.tensor(1e-3), requires_grad=False)
         self.batch_sizes = []  # one entry per forward pass
         self.resets = 0
+        self.select_action_calls = 0  # the server must take predict_action_chunk when there is one
         self.seen = []  # per forward pass: the batch's keys -> (dtype, shape)
 
     def reset(self):
@@ -62,6 +63,12 @@ class HistoryPolicy(torch.nn.Module):
         actions[:, :, 9] = lengths[:, None] * self.scale
         actions[:, :, 14] = torch.arange(self.chunk, device=device) * self.scale
         return actions
+
+
+    def select_action(self, batch):
+        """LeRobot's per-step entry point: the first row of a fresh chunk."""
+        self.select_action_calls += 1
+        return self.predict_action_chunk(batch)[:, 0]
 
 
 class SelectOnlyPolicy(torch.nn.Module):

@@ -65,7 +65,7 @@ def test_one_forward_pass_per_batched_request(serve):
             return first, second
 
     first, second = run(session())
-    assert policy.batch_sizes == [3, 2]
+    assert policy.batch_sizes == [3, 2] and policy.select_action_calls == 0
     assert first["actions"].shape == (3, 3, 19)
     assert second["actions"].shape == (2, 3, 19)
     assert [ids(chunk) for chunk in second["actions"]] == [(0, 1, 10), (0, 1, 12)]
