@@ -5,6 +5,8 @@
         FACTORY(**args) returns a LeRobot-interface policy, or (policy, preprocess, postprocess);
         it also gets device=... when its signature takes `device`. V is read as JSON when it parses
         (numbers, true/false, lists), else as a string.
+  --action-queue auto|on|off, --n-action-steps N   LeRobot-interface policies: execute N rows of each
+        chunk one per step from a server-side queue (auto: when n_obs_steps > 1; docs/serving.md)
 Prints one line "tavis_server: serving POLICY on ws://HOST:PORT" once it listens (--port 0 picks a
 free port, printed there); SIGTERM or SIGINT stops it (the stateful stand-in's record is final)."""
 
@@ -17,7 +19,7 @@ import signal
 import sys
 
 from .actions import NEUTRAL_ACTION, parse_action_row
-from .lerobot_policy import LeRobotServedPolicy
+from .lerobot_policy import ACTION_QUEUE_MODES, LeRobotServedPolicy
 from .policy_batch import import_torch
 from .server import PolicyServer
 from .standins import EchoPolicy, SleepPolicy, StatefulCheckPolicy
@@ -57,9 +59,17 @@ def _takes_device(factory):
     return any(p.name == "device" or p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters)
 
 
+def _no_queue_options(options, what):
+    """ValueError when queue options are given for a policy the server serves directly."""
+    if options.action_queue != "auto" or options.n_action_steps is not None:
+        raise ValueError(f"--action-queue/--n-action-steps apply to LeRobot-interface policies, not to {what}")
+
+
 def build_served_policy(options):
     """The object PolicyServer serves, from the parsed command line."""
     row = parse_action_row(options.action_row) if options.action_row else NEUTRAL_ACTION
+    if options.policy in ("echo", "stateful") or (options.policy == "sleep" and not options.device):
+        _no_queue_options(options, f"the {options.policy} stand-in served directly")
     chunk = (10 if options.policy == "sleep" else 1) if options.chunk is None else options.chunk
     if options.policy == "echo":
         return EchoPolicy(chunk=chunk)
@@ -71,7 +81,8 @@ def build_served_policy(options):
         if not options.device:
             return sleeper  # nothing but the sleep
         # Like a checkpoint: input tensors built on the device, then the sleep.
-        return LeRobotServedPolicy(sleeper, name="sleep", device=options.device, torch=import_torch())
+        return LeRobotServedPolicy(sleeper, name="sleep", device=options.device, torch=import_torch(),
+                                   action_queue=options.action_queue, n_action_steps=options.n_action_steps)
     torch = import_torch()
     device = options.device or "cpu"
     factory = _factory(options.policy)
@@ -80,12 +91,14 @@ def build_served_policy(options):
         args.setdefault("device", device)
     made = factory(**args)
     if hasattr(made, "infer") and hasattr(made, "history_length"):  # already a served policy
+        _no_queue_options(options, f"{options.policy}, which returned a served policy")
         return made
     policy, preprocess, postprocess = made if isinstance(made, tuple) else (made, None, None)
     if torch is not None and isinstance(policy, torch.nn.Module):
         policy = policy.to(device).eval()
     return LeRobotServedPolicy(policy, name=options.policy, device=device, preprocess=preprocess,
-                               postprocess=postprocess, torch=torch)
+                               postprocess=postprocess, torch=torch, action_queue=options.action_queue,
+                               n_action_steps=options.n_action_steps)
 
 
 def parser():
@@ -97,6 +110,13 @@ def parser():
     result.add_argument("--device", default=None,
                         help="torch device of the policy and its inputs: cpu (default), cuda, cuda:1; the sleep "
                              "stand-in builds no inputs unless given one")
+    result.add_argument("--action-queue", choices=ACTION_QUEUE_MODES, default="auto",
+                        help="LeRobot-interface policies: answer each step from a per-env queue of n_action_steps "
+                             "rows, a forward pass only when it is used up, as select_action does (auto: on when "
+                             "n_obs_steps > 1; needs the client's --replan-steps 1)")
+    result.add_argument("--n-action-steps", type=int, default=None, metavar="N",
+                        help="LeRobot-interface policies: rows executed per chunk (sets config.n_action_steps; "
+                             "default the policy's)")
     result.add_argument("--seed", type=int, default=None, help="seeds torch's and numpy's global generators")
     result.add_argument("--chunk", type=int, default=None, help="stand-ins: rows per reply (echo, stateful 1; sleep 10)")
     result.add_argument("--sleep-ms", type=float, default=30.0, help="sleep stand-in: milliseconds per forward pass")

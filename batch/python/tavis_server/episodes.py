@@ -4,8 +4,9 @@ requests arrive as the protocol promises, before any policy state is touched."""
 
 class EpisodeTracker:
     """Per env slot: (episode_index, last step). `consecutive_steps` demands step == previous + 1
-    (a policy with an observation history needs every step); otherwise steps only have to grow,
-    since a client executing H-step chunks asks every H steps."""
+    (an observation history and a server-side action queue need every step: a skip means the
+    client executed rows the server did not plan for, an error rather than a silent replan);
+    otherwise steps only have to grow, since a client executing H-step chunks asks every H steps."""
 
     def __init__(self, consecutive_steps):
         self.consecutive_steps = consecutive_steps
@@ -31,9 +32,9 @@ class EpisodeTracker:
             if observation.step <= previous:
                 raise ValueError(f"{where}: comes after step {previous}; steps must grow")
             if self.consecutive_steps and observation.step != previous + 1:
-                raise ValueError(f"{where}: skips from step {previous}; this policy keeps an observation history, "
-                                 f"so every step must be asked (run the client with --replan-steps 1, or serve a "
-                                 f"policy with n_obs_steps 1)")
+                raise ValueError(f"{where}: skips from step {previous}; this policy keeps an observation history or "
+                                 f"an action queue, so every step must be asked (run the client with "
+                                 f"--replan-steps 1, or serve a policy with n_obs_steps 1 and --action-queue off)")
             starts.append(False)
         for observation in observations:
             self._slots[observation.env_index] = (observation.episode_index, observation.step)

@@ -30,13 +30,14 @@ PROTOCOL_VERSION = 1
 
 class PolicyServer:
     """served: an object with name, metadata (dict), history_length, infer(observations, starts)
-    -> (N, H, 19) float32, close(), and optionally reply_extras(observations, batched) -> dict."""
+    -> (N, H, 19) float32, close(), and optionally reply_extras(observations, batched) -> dict and
+    consecutive_steps (bool, default history_length > 1: whether every step must be asked)."""
 
     def __init__(self, served, host="127.0.0.1", port=8000, workers=4):
         self.served = served
         self.host = host
         self.port = port
-        self.tracker = EpisodeTracker(consecutive_steps=served.history_length > 1)
+        self.tracker = EpisodeTracker(consecutive_steps=getattr(served, "consecutive_steps", served.history_length > 1))
         self._lock = threading.Lock()
         self._executor = concurrent.futures.ThreadPoolExecutor(max_workers=workers,
                                                                thread_name_prefix="tavis-server-infer")

@@ -167,3 +167,17 @@ def cli_server():
         if server.process.poll() is None:
             server.process.kill()
             server.process.wait()
+
+
+async def expect_error(url, requests):
+    """Sends requests until one is answered with a traceback; returns (traceback, close code)."""
+    async with websockets.connect(url, compression=None, max_size=None) as websocket:
+        unpackb(await websocket.recv())
+        for request in requests:
+            await websocket.send(packb(request))
+            reply = await websocket.recv()
+            if isinstance(reply, str):
+                with pytest.raises(websockets.ConnectionClosed) as closed:
+                    await websocket.recv()
+                return reply, closed.value.code
+    raise AssertionError("every request was answered")

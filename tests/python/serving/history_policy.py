@@ -71,6 +71,30 @@ class HistoryPolicy(torch.nn.Module):
         return self.predict_action_chunk(batch)[:, 0]
 
 
+class DiffusionLikePolicy(HistoryPolicy):
+    """Shaped like LeRobot's Diffusion (n_obs_steps 2, horizon 16, n_action_steps 8): it predicts
+    `horizon` rows and predict_action_chunk returns rows [n_obs_steps - 1, n_obs_steps - 1 +
+    n_action_steps) of them. On top of HistoryPolicy's encoding, a[14] is the horizon index of the
+    row (1..8) and a[15] the number of this forward pass (1, 2, ...) times 1e-3. It records, per
+    forward pass, each env's (episode, [history steps, oldest first])."""
+
+    def __init__(self, n_obs_steps=2, horizon=16, n_action_steps=8):
+        super().__init__(n_obs_steps=n_obs_steps, chunk=horizon)
+        self.config.n_action_steps = n_action_steps
+        self.config.horizon = horizon
+        self.histories = []
+
+    def predict_action_chunk(self, batch):
+        state = batch["observation.state"]
+        state = state[:, None] if self.config.n_obs_steps == 1 else state
+        self.histories.append([(round(float(env[-1, 1])), [round(float(step)) for step in env[:, 0]])
+                               for env in state])
+        actions = super().predict_action_chunk(batch)
+        actions[:, :, 15] = len(self.batch_sizes) * 1e-3
+        start = self.config.n_obs_steps - 1
+        return actions[:, start:start + self.config.n_action_steps]
+
+
 class SelectOnlyPolicy(torch.nn.Module):
     """LeRobot's interface without predict_action_chunk: select_action keeps its own state (the
     number of calls since reset), which the server must keep apart per env slot."""

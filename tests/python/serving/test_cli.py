@@ -111,11 +111,21 @@ def test_stateful_check_with_a_history_demands_every_step(cli_server):
 
 def test_a_factory_policy_is_served(cli_server):
     server = cli_server("--policy", "history_policy:HistoryPolicy", "--policy-arg", "n_obs_steps=2",
-                        "--policy-arg", "chunk=3", pythonpath=[HERE])
+                        "--policy-arg", "chunk=3", "--action-queue", "off", pythonpath=[HERE])
     metadata, replies = ask_all(server.url, [observation(0, 3, 0), observation(0, 3, 1)])
     assert metadata["policy"] == "history_policy:HistoryPolicy"
     assert metadata["n_obs_steps"] == 2 and metadata["action_horizon"] == 3 and metadata["device"] == "cpu"
-    assert np.round(replies[1]["actions"][0, :3] * 1000).tolist() == [0, 1, 3]
+    assert metadata["action_queue"] is False
+    assert np.round(replies[1]["actions"][0, :3] * 1000).tolist() == [0, 1, 3]  # a forward pass at step 1
+
+
+def test_a_history_policy_queues_n_action_steps_by_default(cli_server):
+    server = cli_server("--policy", "history_policy:DiffusionLikePolicy", "--n-action-steps", "2", pythonpath=[HERE])
+    metadata, replies = ask_all(server.url, [observation(0, 3, step) for step in range(4)])
+    assert metadata["action_queue"] is True and metadata["n_action_steps"] == 2 and metadata["action_horizon"] == 1
+    # (newest history step, horizon row, forward pass) per step: passes at steps 0 and 2 only.
+    assert [tuple(np.round(reply["actions"][0, [1, 14, 15]] * 1000).astype(int).tolist()) for reply in replies] == [
+        (0, 1, 1), (0, 2, 1), (2, 1, 2), (2, 2, 2)]
 
 
 @pytest.mark.parametrize("args, message", [
@@ -126,6 +136,9 @@ def test_a_factory_policy_is_served(cli_server):
     (["--policy", "stateful", "--action-row", ",".join(["0"] * 19)], "an arm quaternion has norm 0"),
     (["--policy", "echo", "--chunk", "0"], "echo: --chunk 0 must be at least 1"),
     (["--policy", "history_policy:HistoryPolicy", "--policy-arg", "chunk"], "--policy-arg 'chunk' is not KEY=VALUE"),
+    (["--policy", "echo", "--action-queue", "on"],
+     "--action-queue/--n-action-steps apply to LeRobot-interface policies, not to the echo stand-in served directly"),
+    (["--policy", "history_policy:HistoryPolicy", "--n-action-steps", "0"], "n_action_steps 0 must be an integer"),
 ])
 def test_bad_command_lines_exit_2_naming_the_value(args, message):
     environment = dict(os.environ, PYTHONPATH=os.pathsep.join([SERVER_PACKAGE_DIR, HERE]))

@@ -19,9 +19,13 @@ def ids(actions):
     return tuple(int(round(value * 1000)) for value in actions[0, :3])
 
 
+# The history tests below turn the action queue off (it is on by default for n_obs_steps > 1,
+# test_action_queue.py) so that every request is a forward pass whose inputs they can read back.
+
+
 def test_history_is_kept_per_env_and_episode(serve):
     policy = HistoryPolicy(n_obs_steps=2, chunk=4)
-    server = serve(served(policy))
+    server = serve(served(policy, action_queue="off"))
 
     async def session():
         async with connect(server.url) as client:
@@ -56,7 +60,7 @@ def test_history_is_kept_per_env_and_episode(serve):
 
 def test_one_forward_pass_per_batched_request(serve):
     policy = HistoryPolicy(n_obs_steps=2, chunk=3)
-    server = serve(served(policy))
+    server = serve(served(policy, action_queue="off"))
 
     async def session():
         async with connect(server.url) as client:
@@ -75,9 +79,9 @@ def test_one_forward_pass_per_batched_request(serve):
 def test_batched_answers_equal_per_env_answers(serve):
     schedule = [[(0, 5, 0), (1, 6, 0), (2, 7, 0)], [(0, 5, 1), (1, 6, 1), (2, 7, 1)], [(0, 5, 2), (2, 7, 2)],
                 [(1, 8, 0), (2, 7, 3)]]
-    per_env_server = serve(served(HistoryPolicy()))
+    per_env_server = serve(served(HistoryPolicy(), action_queue="off"))
     batched_policy = HistoryPolicy()
-    batched_server = serve(served(batched_policy))
+    batched_server = serve(served(batched_policy, action_queue="off"))
 
     async def session():
         per_env, together = [], []

@@ -6,15 +6,15 @@ import threading
 
 import pytest
 import torch
-import websockets
 
-from conftest import batched, connect, get, observation, packb, run, unpackb
+from conftest import batched, connect, expect_error, get, observation, run
 from history_policy import HistoryPolicy
 from tavis_server import EchoPolicy, LeRobotServedPolicy
 
 
-def history_server(serve, **options):
-    return serve(LeRobotServedPolicy(HistoryPolicy(**options), name="history", device="cpu", torch=torch))
+def history_server(serve, action_queue="auto", **options):
+    return serve(LeRobotServedPolicy(HistoryPolicy(**options), name="history", device="cpu", torch=torch,
+                                     action_queue=action_queue))
 
 
 def test_metadata_and_healthz(serve):
@@ -28,22 +28,10 @@ def test_metadata_and_healthz(serve):
     metadata = run(session())
     assert metadata["batched_requests"] is True and metadata["stateful"] is True
     assert metadata["policy"] == "history"
-    assert metadata["action_horizon"] == 5 and metadata["action_dim"] == 19
+    # n_obs_steps 2 queues actions by default: one row per reply, 5 steps per chunk.
+    assert metadata["action_horizon"] == 1 and metadata["action_dim"] == 19
+    assert metadata["action_queue"] is True and metadata["n_action_steps"] == 5
     assert metadata["n_obs_steps"] == 2 and metadata["protocol"] == 1
-
-
-async def expect_error(url, requests):
-    """Sends requests until one is answered with a traceback; returns (traceback, close code)."""
-    async with websockets.connect(url, compression=None, max_size=None) as websocket:
-        unpackb(await websocket.recv())
-        for request in requests:
-            await websocket.send(packb(request))
-            reply = await websocket.recv()
-            if isinstance(reply, str):
-                with pytest.raises(websockets.ConnectionClosed) as closed:
-                    await websocket.recv()
-                return reply, closed.value.code
-    raise AssertionError("every request was answered")
 
 
 @pytest.mark.parametrize("requests, message", [
@@ -67,7 +55,7 @@ def test_bad_requests_get_a_traceback_and_close_1011(serve, requests, message):
 
 
 def test_a_rejected_request_leaves_the_episode_state_as_it_was(serve):
-    server = history_server(serve, n_obs_steps=2)
+    server = history_server(serve, n_obs_steps=2, action_queue="off")  # every request a forward pass
 
     async def session():
         await expect_error(server.url, [observation(0, 1, 0), observation(0, 1, 1),
