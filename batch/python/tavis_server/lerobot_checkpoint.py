@@ -6,7 +6,8 @@
 It loads the policy and the pre/post-processor pipelines saved next to it (normalisation,
 tokenizer, device moves) and hands them to the server, which calls
     postprocess(policy.predict_action_chunk(preprocess(batch)))
-once per request over all the envs it holds (docs/serving.md).
+once per request over the envs that need a forward pass (docs/serving.md: with
+n_obs_steps > 1 the server's action queue answers the steps between passes, as select_action does).
 
 NOT RUN: LeRobot cannot be installed in this project's environment (Debian's Python 3.11, no
 pyarrow); this follows LeRobot's documented API (PreTrainedConfig.from_pretrained,
