@@ -15,12 +15,13 @@ namespace tavis::remote {
 namespace {
 
 std::string EnvContext(const batch::Observation& observation, const std::vector<int>& envs, const std::string& server) {
-  std::string text = envs.size() == 1 ? "env slot " : "env slots ";
+  std::string slots, episodes;
   for (std::size_t i = 0; i < envs.size(); ++i) {
-    text += (i > 0 ? ", " : "") + std::to_string(envs[i]) + " (episode " +
-            std::to_string(observation.state.episode[envs[i]]) + ")";
+    slots += (i > 0 ? ", " : "") + std::to_string(envs[i]);
+    episodes += (i > 0 ? ", " : "") + std::to_string(observation.state.episode[envs[i]]);
   }
-  return text + ", server " + server;
+  return (envs.size() == 1 ? "env slot " : "env slots ") + slots + (envs.size() == 1 ? " (episode " : " (episodes ") +
+         episodes + ", server " + server + ")";
 }
 
 // Waits for the server (its /healthz, or its socket when it has none), then connects.

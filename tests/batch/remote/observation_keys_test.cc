@@ -178,7 +178,8 @@ TEST_F(RenderedObservation, ABatchedRequestStacksEachEnvsRequestOnALeadingAxis) 
     ASSERT_EQ(stacked.shape.front(), 2) << key;
     std::vector<std::uint8_t> concatenated;
     for (int env : {0, 1}) {
-      const NdArray& single = BuildRequest(observation, keys, cameras, env).Find(key)->as<NdArray>(key);
+      const Value request = BuildRequest(observation, keys, cameras, env);
+      const NdArray& single = request.Find(key)->as<NdArray>(key);
       EXPECT_EQ(std::vector<std::int64_t>(stacked.shape.begin() + 1, stacked.shape.end()), single.shape) << key;
       concatenated.insert(concatenated.end(), single.data.begin(), single.data.end());
     }
