@@ -90,6 +90,8 @@ def test_step_before_reset_and_policy_at_another_rate_raise_value_error():
     env = make_small(num_envs=1, cameras=[])
     with pytest.raises(ValueError, match="reset"):
         env.step(np.zeros((1, 19)))
+    with pytest.raises(ValueError, match="neutral actions before reset"):
+        env.neutral_actions()
     with pytest.raises(ValueError, match="control_ticks_per_step=1"):
         env.make_policy("expert")
 
