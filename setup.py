@@ -2,8 +2,8 @@
 (its extension, Python files and robot files) into the wheel's tree with `cmake --install
 --component python`; the build rules stay in batch/python/CMakeLists.txt. docs/python.md.
 
-Environment: TAVIS_PIP_BUILD_DIR, where setuptools and CMake build (default build-pip/ in the
-source tree); CMAKE_BUILD_PARALLEL_LEVEL, the build's jobs (default: all cores);
+Environment: TAVIS_PIP_BUILD_DIR, CMake's build folder (default build-pip/ in the source tree;
+setuptools' scratch goes in its setuptools/ subfolder); CMAKE_BUILD_PARALLEL_LEVEL, the build's jobs (default: all cores);
 CMAKE_CXX_COMPILER_LAUNCHER / CMAKE_C_COMPILER_LAUNCHER (e.g. ccache), read by CMake itself."""
 
 import os
@@ -15,11 +15,12 @@ from setuptools.command.build_ext import build_ext
 
 SOURCE_DIR = os.path.dirname(os.path.abspath(__file__))
 BUILD_DIR = os.path.abspath(os.environ.get("TAVIS_PIP_BUILD_DIR") or os.path.join(SOURCE_DIR, "build-pip"))
+SETUPTOOLS_DIR = os.path.join(BUILD_DIR, "setuptools")
 
 
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
-        cmake_dir = os.path.join(BUILD_DIR, "cmake")
+        cmake_dir = BUILD_DIR
         # The folder that holds the package in the wheel (the extension's path less "tavis/_tavis...").
         package_root = os.path.dirname(os.path.dirname(os.path.abspath(self.get_ext_fullpath(ext.name))))
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or str(os.cpu_count() or 1)
@@ -35,12 +36,12 @@ class CMakeBuild(build_ext):
         subprocess.run(command, check=True)
 
 
-os.makedirs(BUILD_DIR, exist_ok=True)
+os.makedirs(SETUPTOOLS_DIR, exist_ok=True)
 setup(
     ext_modules=[Extension("tavis._tavis", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
     options={
-        "build": {"build_base": BUILD_DIR},
-        "egg_info": {"egg_base": os.path.relpath(BUILD_DIR, SOURCE_DIR)},
+        "build": {"build_base": SETUPTOOLS_DIR},
+        "egg_info": {"egg_base": os.path.relpath(SETUPTOOLS_DIR, SOURCE_DIR)},
     },
 )
