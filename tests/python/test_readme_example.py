@@ -18,7 +18,11 @@ def readme_python_examples():
 
 
 def run(code, cwd):
-    result = subprocess.run([sys.executable, "-c", code], cwd=cwd, env=os.environ, capture_output=True, text=True,
+    # The examples run in a folder of their own: PYTHONPATH must not depend on this one.
+    environment = dict(os.environ)
+    paths = environment.get("PYTHONPATH", "").split(os.pathsep)
+    environment["PYTHONPATH"] = os.pathsep.join(os.path.abspath(path) for path in paths if path)
+    result = subprocess.run([sys.executable, "-c", code], cwd=cwd, env=environment, capture_output=True, text=True,
                             timeout=240)
     assert result.returncode == 0, result.stderr
     return result.stdout
