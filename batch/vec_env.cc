@@ -328,4 +328,13 @@ void VecEnv::RenderPolicyTick() {
   rendered_images_ += static_cast<int64_t>(rendered_envs) * cameras_->num_cameras();
 }
 
+void VecEnv::RenderFinal(const std::vector<uint8_t>& envs) {
+  if (!cameras_) return;
+  Timed(Stage::kRender, [&] { cameras_->Render(state_, envs.data()); });
+  int rendered_envs = 0;
+  for (int env = 0; env < num_envs(); ++env) rendered_envs += envs[env] != 0 ? 1 : 0;
+  std::fill(state_.images_current.begin(), state_.images_current.end(), 0);
+  rendered_images_ += static_cast<int64_t>(rendered_envs) * cameras_->num_cameras();
+}
+
 }  // namespace tavis::batch

@@ -95,6 +95,10 @@ class VecEnv {
   // controls_per_policy) if any of them has images older than its state; without cameras it does
   // nothing. Afterwards images() holds the current images of exactly those envs.
   void RenderPolicyTick();
+  // Renders exactly the envs flagged in `envs` (num_envs flags) at their current state, running or
+  // not: the final observation of an episode that has just ended, before its slot restarts. The
+  // other envs' images are cleared and marked stale, so the next RenderPolicyTick draws them.
+  void RenderFinal(const std::vector<uint8_t>& envs);
   // The enabled cameras' images, or null without cameras.
   const render::ImageBatch* images() const;
   // Env-camera images rendered so far, for throughput counters and tests.

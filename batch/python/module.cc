@@ -1,8 +1,10 @@
 // tavis._tavis: the pybind11 layer over PythonVecEnv (docs/python.md). Images and
 // observation.state are returned as numpy views of the simulator's buffers (no copy, read-only,
-// their base is the env, so the env outlives them); the GIL is released while the env resets,
-// steps, renders and while a built-in policy acts. Bad input raises ValueError, an unknown name
-// KeyError, before anything moves.
+// their base is the env, so the env outlives them; the package copies them unless asked not to);
+// the GIL is released while the env resets, steps, renders and while a built-in policy acts, and
+// every call holds the env (PythonVecEnv::Exclusive), so a second thread gets RuntimeError. Bad
+// input raises ValueError, an unknown name KeyError, before anything moves; memory the env cannot
+// have raises MemoryError.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -36,10 +38,9 @@ py::array View(const py::dtype& dtype, std::vector<py::ssize_t> shape, std::vect
 
 // The images of each camera as (num_envs, H, W, 3) uint8, keyed by camera name. The batch is
 // env-major (render::ImageBatch), so a camera's images are one view with the env stride.
-py::dict Pixels(const py::object& self) {
+py::dict Pixels(const py::object& self, const render::ImageBatch* images) {
   const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
   py::dict pixels;
-  const render::ImageBatch* images = env.images();
   if (images == nullptr) return pixels;
   const py::dtype u8 = py::dtype::of<uint8_t>();
   for (int camera = 0; camera < images->n_cameras(); ++camera) {
@@ -92,6 +93,8 @@ py::array_t<bool> Flags(const std::vector<uint8_t>& values) {
   return flags;
 }
 
+using Exclusive = PythonVecEnv::Exclusive;
+
 PythonVecEnv* MakeEnv(PythonVecEnvConfig config) {
   py::gil_scoped_release release;
   return new PythonVecEnv(config);
@@ -111,10 +114,15 @@ PYBIND11_MODULE(_tavis, m) {
       PyErr_SetString(PyExc_KeyError, error.what());
     } catch (const configs::ConfigError& error) {
       PyErr_SetString(PyExc_ValueError, error.what());
+    } catch (const OutOfMemory& error) {
+      PyErr_SetString(PyExc_MemoryError, error.what());
+    } catch (const EnvBusy& error) {
+      PyErr_SetString(PyExc_RuntimeError, error.what());
     }
   });
 
   m.attr("ACTION_SIZE") = kActionSize;
+  m.attr("MAX_ENVS") = kMaxPythonEnvs;
   m.attr("DEFAULT_CONFIG_DIR") = TAVIS_DEFAULT_CONFIG_DIR;
   m.def("camera_names", &SceneCameraNames, "The cameras: head, fixed, left_wrist, right_wrist");
   m.def("known_tasks", &scenarios::KnownTasks, "The tasks, comma-separated");
@@ -141,9 +149,11 @@ PYBIND11_MODULE(_tavis, m) {
       .def_property_readonly("control_ticks_per_step", &PythonVecEnv::control_ticks_per_step)
       .def_property_readonly("max_episode_steps", &PythonVecEnv::max_episode_steps)
       .def_property_readonly("camera_names", &PythonVecEnv::camera_names)
+      .def_property_readonly("busy", &PythonVecEnv::busy, "Whether a call holds the env now (another thread's)")
       .def(
           "reset",
           [](PythonVecEnv& env, const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes) {
+            const Exclusive use(env, "reset");
             py::gil_scoped_release release;
             env.Reset(mask, episodes);
           },
@@ -152,37 +162,84 @@ PYBIND11_MODULE(_tavis, m) {
           "step",
           [](PythonVecEnv& env, const py::handle& actions) {
             const std::vector<double> values = Actions(env, actions);
+            const Exclusive use(env, "step");
             py::gil_scoped_release release;
             env.Step(values.data());
           },
           py::arg("actions"))
-      .def("pixels", &Pixels, "Views of the current images, {camera: (N, H, W, 3) uint8}, valid until the next step")
-      .def("agent_pos", &AgentPos, "A view of observation.state, (N, D) float32, valid until the next step")
+      .def(
+          "pixels",
+          [](const py::object& self) {
+            const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+            const Exclusive use(env, "pixels");
+            return Pixels(self, env.images());
+          },
+          "Views of the current images, {camera: (N, H, W, 3) uint8}, valid until the next step")
+      .def(
+          "final_pixels",
+          [](const py::object& self) {
+            const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+            const Exclusive use(env, "final_pixels");
+            return Pixels(self, env.final_images());
+          },
+          "Views of the images of the envs whose episode ended in this step, at their final state "
+          "({} before any ended); other rows are stale")
+      .def(
+          "agent_pos",
+          [](const py::object& self) {
+            const Exclusive use(self.cast<const PythonVecEnv&>(), "agent_pos");
+            return AgentPos(self);
+          },
+          "A view of observation.state, (N, D) float32, valid until the next step")
       .def("prompts",
            [](const PythonVecEnv& env) {
+             const Exclusive use(env, "prompts");
              std::vector<std::string> prompts;
              for (int i = 0; i < env.num_envs(); ++i) prompts.emplace_back(env.prompt(i));
              return prompts;
            })
       .def("episodes",
            [](const PythonVecEnv& env) {
+             const Exclusive use(env, "episodes");
              std::vector<int64_t> episodes;
              for (int i = 0; i < env.num_envs(); ++i) episodes.push_back(env.episode(i));
              return Copy(episodes);
            })
-      .def("rewards", [](const PythonVecEnv& env) { return Copy(env.rewards()); })
-      .def("terminated", [](const PythonVecEnv& env) { return Flags(env.terminated()); })
-      .def("truncated", [](const PythonVecEnv& env) { return Flags(env.truncated()); })
-      .def("ended", [](const PythonVecEnv& env) { return Flags(env.ended()); })
-      .def("ended_episodes", [](const PythonVecEnv& env) { return Copy(env.ended_episode()); })
+      .def("rewards",
+           [](const PythonVecEnv& env) {
+             const Exclusive use(env, "rewards");
+             return Copy(env.rewards());
+           })
+      .def("terminated",
+           [](const PythonVecEnv& env) {
+             const Exclusive use(env, "terminated");
+             return Flags(env.terminated());
+           })
+      .def("truncated",
+           [](const PythonVecEnv& env) {
+             const Exclusive use(env, "truncated");
+             return Flags(env.truncated());
+           })
+      .def("ended",
+           [](const PythonVecEnv& env) {
+             const Exclusive use(env, "ended");
+             return Flags(env.ended());
+           })
+      .def("ended_episodes",
+           [](const PythonVecEnv& env) {
+             const Exclusive use(env, "ended_episodes");
+             return Copy(env.ended_episode());
+           })
       .def("ended_how",
            [](const PythonVecEnv& env) {
+             const Exclusive use(env, "ended_how");
              std::vector<std::string> ends;
              for (engine::EpisodeEnd end : env.ended_how()) ends.emplace_back(engine::ToString(end));
              return ends;
            })
       .def("final_agent_pos",
            [](const PythonVecEnv& env) {
+             const Exclusive use(env, "final_agent_pos");
              py::array_t<float> rows({env.num_envs(), env.state_size()});
              std::copy(env.final_state().begin(), env.final_state().end(), rows.mutable_data());
              return rows;
@@ -190,6 +247,7 @@ PYBIND11_MODULE(_tavis, m) {
       .def(
           "make_policy",
           [](PythonVecEnv& env, const std::string& name, const std::string& actions_file) {
+            const Exclusive use(env, "make_policy");
             py::gil_scoped_release release;
             return env.MakePolicy(name, actions_file);
           },
@@ -200,14 +258,30 @@ PYBIND11_MODULE(_tavis, m) {
             py::array_t<double> actions({env.num_envs(), kActionSize});
             double* data = actions.mutable_data();
             {
+              const Exclusive use(env, "act");
               py::gil_scoped_release release;
               env.Act(policy, data);
             }
             return actions;
           },
           py::arg("policy"))
+      .def(
+          "neutral_actions",
+          [](PythonVecEnv& env) {
+            py::array_t<double> actions({env.num_envs(), kActionSize});
+            double* data = actions.mutable_data();
+            {
+              const Exclusive use(env, "neutral_actions");
+              py::gil_scoped_release release;
+              env.NeutralActions(data);
+            }
+            return actions;
+          },
+          "The hold policy's actions for every env, (N, 19) float64: arms at their reset pose, head "
+          "still, grippers open")
       .def("episode_json_lines",
            [](const PythonVecEnv& env) {
+             const Exclusive use(env, "episode_json_lines");
              std::vector<std::string> lines;
              for (const auto& [episode, record] : env.records()) lines.push_back(EpisodeJsonLine(record, env.config().seed));
              return lines;
@@ -215,6 +289,7 @@ PYBIND11_MODULE(_tavis, m) {
       .def(
           "write_results",
           [](const PythonVecEnv& env, const std::string& out_dir, const std::string& policy, int64_t first, int64_t count) {
+            const Exclusive use(env, "write_results");
             py::gil_scoped_release release;
             env.WriteResults(out_dir, policy, first, count);
           },

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include "batch/builtin_policies.h"
 #include "batch/cell_report.h"
@@ -25,8 +28,35 @@ auto AsUnknownName(Body&& body) -> decltype(body()) {
   }
 }
 
+// The machine's physical memory in bytes (0 if unknown).
+double PhysicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0.0;
+}
+
+// Refuses images that could never fit rather than letting the allocation fail, or succeed
+// lazily under overcommit and take the process down when first touched.
+void CheckImageMemory(const PythonVecEnvConfig& config) {
+  const double bytes = static_cast<double>(config.num_envs) * static_cast<double>(config.cameras.size()) *
+                       static_cast<double>(config.image_width) * static_cast<double>(config.image_height) * 3.0;
+  const double memory = PhysicalMemoryBytes();
+  if (memory > 0.0 && bytes > memory) {
+    constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+    char sizes[96];
+    std::snprintf(sizes, sizeof(sizes), "need %.1f GiB; this machine has %.1f GiB", bytes / kGiB, memory / kGiB);
+    throw OutOfMemory("the images of " + std::to_string(config.num_envs) + " envs x " +
+                      std::to_string(config.cameras.size()) + " cameras at " + std::to_string(config.image_height) + "x" +
+                      std::to_string(config.image_width) + " " + sizes);
+  }
+}
+
 const PythonVecEnvConfig& Checked(const PythonVecEnvConfig& config) {
   if (config.num_envs < 1) throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(config.num_envs));
+  if (config.num_envs > kMaxPythonEnvs) {
+    throw std::invalid_argument("num_envs must be at most " + std::to_string(kMaxPythonEnvs) + " (as tavis eval --envs), got " +
+                                std::to_string(config.num_envs));
+  }
   if (config.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores), got " + std::to_string(config.threads));
   if (config.control_ticks_per_step < 0) {
     throw std::invalid_argument("control_ticks_per_step must be >= 1 (0: the policy rate's), got " +
@@ -41,6 +71,7 @@ const PythonVecEnvConfig& Checked(const PythonVecEnvConfig& config) {
     }
   }
   ValidateCameraSettings({config.cameras, config.image_width, config.image_height, false, false});
+  CheckImageMemory(config);
   return config;
 }
 
@@ -101,6 +132,14 @@ PythonVecEnv::PythonVecEnv(const PythonVecEnvConfig& config)
   ended_episode_.assign(n, -1);
   reported_episode_.assign(n, -1);
   final_state_.assign(n * static_cast<std::size_t>(state_size()), 0.0F);
+  hold_ = MakeBuiltinPolicy("hold", scenario_, env_.model(), num_envs(), "");
+  policies_.push_back(hold_);
+}
+
+PythonVecEnv::Exclusive::Exclusive(const PythonVecEnv& env, const char* what) : busy_(env.busy_) {
+  if (busy_.exchange(true)) {
+    throw EnvBusy(std::string(what) + ": the env is in use by another thread (one env is for one thread at a time)");
+  }
 }
 
 int PythonVecEnv::max_episode_steps() const {
@@ -196,6 +235,7 @@ void PythonVecEnv::Step(const double* actions) {
     acted_ = nullptr;
     CollectEnded();
     if (config_.autoreset) {
+      KeepFinalImages();
       // Every ended episode's slot, including one whose episode ended in an earlier reset's
       // warm-up (a warm-up that ends here reports in this step, over the previous episode's end).
       starts_.clear();
@@ -230,6 +270,21 @@ void PythonVecEnv::CollectEnded() {
   }
 }
 
+void PythonVecEnv::KeepFinalImages() {
+  if (env_.images() == nullptr || std::none_of(ended_.begin(), ended_.end(), [](uint8_t e) { return e != 0; })) return;
+  env_.RenderFinal(ended_);
+  const render::ImageBatch& images = *env_.images();
+  if (!final_images_) final_images_ = std::make_unique<render::ImageBatch>(images);
+  // An env's images are one block, its cameras one after the other (ImageBatch is env-major).
+  std::size_t env_bytes = 0;
+  for (int camera = 0; camera < images.n_cameras(); ++camera) {
+    env_bytes += 3 * static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera));
+  }
+  for (int env = 0; env < num_envs(); ++env) {
+    if (ended_[env] != 0) std::copy_n(images.rgb(env, 0), env_bytes, final_images_->rgb(env, 0));
+  }
+}
+
 std::shared_ptr<Policy> PythonVecEnv::MakePolicy(const std::string& name, const std::string& actions_file) {
   AsUnknownName([&] { CheckBuiltinPolicyName(name); });
   std::shared_ptr<Policy> policy = MakeBuiltinPolicy(name, scenario_, env_.model(), num_envs(), actions_file);
@@ -254,11 +309,20 @@ void PythonVecEnv::Act(Policy& policy, double* actions) {
   if (std::none_of(policies_.begin(), policies_.end(), is_this)) {
     throw std::invalid_argument("policy '" + policy.name() + "' was made by another env (make it with this env's make_policy)");
   }
+  ActInto(policy, actions);
+  acted_ = &policy;
+}
+
+void PythonVecEnv::NeutralActions(double* actions) {
+  if (!was_reset_) throw std::invalid_argument("neutral actions before reset: call reset() first");
+  ActInto(*hold_, actions);
+}
+
+void PythonVecEnv::ActInto(Policy& policy, double* actions) {
   std::vector<uint8_t> acting(static_cast<std::size_t>(num_envs()), 0);
   ActionBatch chosen(static_cast<std::size_t>(num_envs()), kinematics::Action{});
   for (int env = 0; env < num_envs(); ++env) acting[env] = env_.state().running(env) ? 1 : 0;
   arena_.execute([&] { policy.Act(MakeObservation(), acting, chosen); });
-  acted_ = &policy;
   for (int env = 0; env < num_envs(); ++env) {
     std::copy(chosen[env].begin(), chosen[env].end(), actions + static_cast<std::size_t>(env) * kinematics::action::kSize);
   }

@@ -7,6 +7,7 @@
 // Python: module.cc wraps the buffers as numpy views.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -24,6 +25,9 @@
 #include "batch/vec_env.h"
 
 namespace tavis::batch {
+
+// The most envs one PythonVecEnv runs, as `tavis eval --envs` allows.
+constexpr int kMaxPythonEnvs = 4096;
 
 struct PythonVecEnvConfig {
   std::string task;
@@ -48,11 +52,37 @@ struct UnknownName : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// The env's buffers would not fit in this machine's memory (MemoryError in Python).
+struct OutOfMemory : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The env is in use by another thread (RuntimeError in Python): Python releases the GIL while an
+// env works, and ODE aborts when one world is stepped from two threads at once.
+struct EnvBusy : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 class PythonVecEnv {
  public:
   // Throws UnknownName naming an unknown task, robot or camera, std::invalid_argument for a bad
-  // value (a size, a count, cameras with steps off the policy ticks).
+  // value (a size, a count above kMaxPythonEnvs, cameras with steps off the policy ticks),
+  // OutOfMemory if the images alone would exceed the machine's memory.
   explicit PythonVecEnv(const PythonVecEnvConfig& config);
+
+  // Holds the env for one caller until destroyed; throws EnvBusy naming `what` while another
+  // caller holds it. Every use from Python holds it, so a second thread gets an error, not a crash.
+  class Exclusive {
+   public:
+    Exclusive(const PythonVecEnv& env, const char* what);
+    ~Exclusive() { busy_.store(false); }
+    Exclusive(const Exclusive&) = delete;
+    Exclusive& operator=(const Exclusive&) = delete;
+
+   private:
+    std::atomic<bool>& busy_;
+  };
+  bool busy() const { return busy_.load(); }
 
   int num_envs() const { return env_.num_envs(); }
   int state_size() const { return proprioception_.state_size(); }
@@ -87,6 +117,10 @@ class PythonVecEnv {
   // Buffers the numpy views show; allocated once, overwritten by every step and reset.
   const float* agent_pos() const { return proprioception_.state(0); }
   const render::ImageBatch* images() const { return env_.images(); }
+  // With cameras and autoreset: the images of each env whose episode ended in this step, drawn at
+  // its final state before the slot restarted (other envs' entries are stale); null until an
+  // episode has ended.
+  const render::ImageBatch* final_images() const { return final_images_.get(); }
 
   // A built-in policy (MakeBuiltinPolicy) acting on this env, reset with its episodes. Throws
   // std::invalid_argument if it acts at another rate than the env steps.
@@ -96,6 +130,10 @@ class PythonVecEnv {
   // expert out of grasp attempts) ends as gave_up after the next step's first tick, as the
   // episode driver ends it.
   void Act(Policy& policy, double* actions);
+  // The hold policy's actions (num_envs x 19, row-major; zero rows for envs not running): each
+  // running env's arms at their pose when its episode started, head still, grippers open. A
+  // valid action to step with whatever the policy rate; it does not count as a policy acting.
+  void NeutralActions(double* actions);
 
   // The records of the episodes that have ended, by episode index (a restarted episode's latest).
   const std::map<int64_t, EpisodeRecord>& records() const { return records_; }
@@ -109,6 +147,9 @@ class PythonVecEnv {
   void StartEpisodes();
   void CollectEnded();
   void UpdateObservation();
+  // Renders the envs whose episode ended in this step into final_images_.
+  void KeepFinalImages();
+  void ActInto(Policy& policy, double* actions);
 
   PythonVecEnvConfig config_;
   const scenarios::ScenarioDef& scenario_;
@@ -121,6 +162,9 @@ class PythonVecEnv {
   std::unique_ptr<EpisodeRecorder> recorder_;
   std::map<int64_t, EpisodeRecord> records_;
   std::vector<std::shared_ptr<Policy>> policies_;
+  std::shared_ptr<Policy> hold_;  // NeutralActions' policy, reset with the episodes
+  mutable std::atomic<bool> busy_{false};
+  std::unique_ptr<render::ImageBatch> final_images_;
   int64_t next_episode_ = 0;
   bool was_reset_ = false;
   double busy_s_ = 0.0;         // time spent resetting and stepping, for the summary's wall_s

@@ -61,6 +61,10 @@ def test_unknown_policy_raises_key_error(env):
 
 @pytest.mark.parametrize("options, message", [
     ({"num_envs": 0}, "num_envs must be at least 1, got 0"),
+    ({"num_envs": 4097}, "num_envs must be at most 4096 .*, got 4097"),
+    ({"num_envs": 10**6}, "num_envs must be at most 4096 .*, got 1000000"),
+    ({"render_mode": "human"}, "render_mode must be one of .*'human'"),
+    ({"render_mode": "rgb_array"}, "at least one camera"),
     ({"image_size": (0, 10)}, "0"),
     ({"control_ticks_per_step": 1, "cameras": ["head"]}, "multiple of 3"),
 ])
@@ -86,6 +90,8 @@ def test_step_before_reset_and_policy_at_another_rate_raise_value_error():
     env = make_small(num_envs=1, cameras=[])
     with pytest.raises(ValueError, match="reset"):
         env.step(np.zeros((1, 19)))
+    with pytest.raises(ValueError, match="neutral actions before reset"):
+        env.neutral_actions()
     with pytest.raises(ValueError, match="control_ticks_per_step=1"):
         env.make_policy("expert")
 

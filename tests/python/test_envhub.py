@@ -16,7 +16,7 @@ def test_make_env_builds_the_configured_vector_env():
     # lerobot-eval's loop: 2-D actions, success from final_info, done latched.
     done = np.zeros(2, dtype=bool)
     for _ in range(3):
-        observation, rewards, terminated, truncated, infos = env.step(np.zeros((2, 19), dtype=np.float32))
+        observation, rewards, terminated, truncated, infos = env.step(env.neutral_actions().astype(np.float32))
         done |= terminated | truncated
         assert infos["final_info"]["is_success"].shape == (2,)
     assert rewards.dtype == np.float32

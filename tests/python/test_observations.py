@@ -1,4 +1,5 @@
-"""Observations: zero-copy views with LeRobot's raw keys; determinism; reset_mask."""
+"""Observations: LeRobot's raw keys, copies by default or zero-copy views; determinism; reset_mask;
+autoreset's final observations."""
 
 import numpy as np
 
@@ -30,7 +31,40 @@ def test_fixed_protocol_observes_the_fixed_camera():
     assert list(observation["pixels"]) == ["OBS_FIXED"]
 
 
-def test_views_do_not_copy_and_stay_at_one_address(small_env):
+def test_observations_are_copies_by_default(small_env):
+    observation, _ = small_env.reset(seed=0)
+    for array in [*observation["pixels"].values(), observation["agent_pos"]]:
+        assert array.flags.owndata and array.flags.writeable and array.flags.c_contiguous
+    # A replay buffer that keeps the observations as returned holds every state.
+    actions = hold_actions(small_env)
+    buffer = []
+    for step in range(30):
+        actions[:, 0] += 0.004  # the left hand moves on: every step is a new state
+        observation, *_ = small_env.step(actions)
+        buffer.append(observation)
+    states = {row.tobytes() for row in (obs["agent_pos"][0] for obs in buffer)}
+    images = {obs["pixels"]["OBS_WRIST_LEFT"][0].tobytes() for obs in buffer}
+    assert len(states) == 30 and len(images) > 1
+    np.testing.assert_array_equal(buffer[-1]["agent_pos"], small_env._core.agent_pos())
+    np.testing.assert_array_equal(buffer[-1]["pixels"]["OBS_HEAD"], small_env._core.pixels()["head"])
+
+
+def test_views_are_shared_when_asked_for():
+    env = make_small(copy=False)
+    env.reset(seed=0)
+    actions = hold_actions(env)
+    buffer = []
+    for step in range(30):
+        actions[:, 0] += 0.004
+        observation, *_ = env.step(actions)
+        buffer.append(observation)
+    # Every entry is the same buffer, showing the latest step.
+    assert len({obs["agent_pos"][0].tobytes() for obs in buffer}) == 1
+    assert len({address(obs["agent_pos"]) for obs in buffer}) == 1
+
+
+def test_views_do_not_copy_and_stay_at_one_address():
+    small_env = make_small(copy=False)
     observation, _ = small_env.reset(seed=0)
     views = [*observation["pixels"].values(), observation["agent_pos"]]
     addresses = [address(view) for view in views]
@@ -51,7 +85,7 @@ def test_views_do_not_copy_and_stay_at_one_address(small_env):
 
 
 def test_views_keep_the_env_alive():
-    observation, _ = make_small().reset(seed=0)
+    observation, _ = make_small(copy=False).reset(seed=0)
     head = observation["pixels"]["OBS_HEAD"]
     expected = head.copy()
     del observation
@@ -123,6 +157,7 @@ def test_ended_episode_autoresets_in_the_same_step(small_env):
     assert infos["final_info"]["end"][1] == "invalid_action"
     assert infos["final_info"]["episode"][1] == 1 and not infos["is_success"][1]
     assert infos["final_obs"][1]["agent_pos"].shape == (small_env._core.state_size,)
+    assert set(infos["final_obs"][1]["pixels"]) == {"OBS_HEAD", "OBS_WRIST_LEFT", "OBS_WRIST_RIGHT"}
     assert list(infos["episode"]) == [0, 3, 2], "env 1 runs the next episode"
     assert small_env.metadata["autoreset_mode"] in ("same_step", getattr(tavis.vector_env._AutoresetMode, "SAME_STEP", None))
 
@@ -140,3 +175,38 @@ def test_without_autoreset_an_ended_env_waits_for_reset():
     assert list(infos["episode"]) == [0, 1, 2]
     _, infos = env.reset(options={"reset_mask": np.array([False, True, False])})
     assert list(infos["episode"]) == [0, 3, 2]
+
+
+def test_final_observation_has_the_ended_episodes_images():
+    env = make_small(cameras=["fixed", "left_wrist"])
+    before, _ = env.reset(seed=0)
+    actions = hold_actions(env)
+    actions[1, 0] = 100.0  # env 1's action is refused before anything moves: its final state is its last
+    observation, _, terminated, _, infos = env.step(actions)
+    assert terminated.tolist() == [False, True, False]
+    final = infos["final_obs"][1]
+    np.testing.assert_array_equal(final["agent_pos"], before["agent_pos"][1])
+    for key in ("OBS_FIXED", "OBS_WRIST_LEFT"):
+        assert final["pixels"][key].shape == (*SMALL_IMAGES, 3) and final["pixels"][key].dtype == np.uint8
+        np.testing.assert_array_equal(final["pixels"][key], before["pixels"][key][1], err_msg=key)
+    # The observation itself is the next episode's (another layout in the fixed camera).
+    assert not np.array_equal(observation["pixels"]["OBS_FIXED"][1], before["pixels"]["OBS_FIXED"][1])
+    assert infos["final_obs"][0] is None and infos["final_obs"][2] is None
+
+
+def test_render_tiles_every_env_s_cameras():
+    env = make_small(num_envs=5, cameras=["fixed", "left_wrist"], render_mode="rgb_array")
+    observation, _ = env.reset(seed=0)
+    frame = env.render()
+    height, width = SMALL_IMAGES
+    # 5 envs: a 2 x 3 grid of tiles, each the env's two cameras side by side; the sixth is black.
+    assert frame.shape == (2 * height, 3 * 2 * width, 3) and frame.dtype == np.uint8
+    for env_index in range(5):
+        row, column = divmod(env_index, 3)
+        tile = frame[row * height:(row + 1) * height, column * 2 * width:(column + 1) * 2 * width]
+        np.testing.assert_array_equal(tile[:, :width], observation["pixels"]["OBS_FIXED"][env_index])
+        np.testing.assert_array_equal(tile[:, width:], observation["pixels"]["OBS_WRIST_LEFT"][env_index])
+    assert not frame[height:, 2 * 2 * width:].any()
+    observation, *_ = env.step(env.neutral_actions())
+    np.testing.assert_array_equal(env.render()[:height, :width], observation["pixels"]["OBS_FIXED"][0])
+    assert env.metadata["render_modes"] == ["rgb_array"]

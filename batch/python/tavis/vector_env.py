@@ -2,23 +2,26 @@
 
 Observations use LeRobot's raw keys: ``pixels`` = {OBS_HEAD | OBS_FIXED, OBS_WRIST_LEFT,
 OBS_WRIST_RIGHT: (N, H, W, 3) uint8}, ``agent_pos`` = (N, D) float32 (observation.state) and
-``task`` = the prompt per env. The arrays are read-only views of the simulator's buffers, not
-copies: they are overwritten by the next ``step``/``reset`` (copy them to keep them).
+``task`` = the prompt per env. The arrays are copies, as Gymnasium's vector envs return by default;
+with ``copy=False`` they are read-only views of the simulator's buffers, overwritten by the next
+``step``/``reset`` (copy them to keep them).
 
 Episodes: episode i of a cell has the randomness of (seed, i), whichever env runs it. A reset
 seed chooses episode indices, as Gymnasium's per-sub-env seeds: ``reset(seed=s)`` starts episodes
 s .. s+N-1, a list gives one per env, None continues with the next episodes not dealt yet; the
 cell seed is ``make_vec(seed=...)``. With ``autoreset=True`` (Gymnasium's SAME_STEP) an env whose
 episode ends starts the next episode in the same step, the ended one's observation.state going
-to ``infos["final_obs"]``; with ``autoreset=False`` (DISABLED) it stays ended, its actions are
+and images to ``infos["final_obs"]``; with ``autoreset=False`` (DISABLED) it stays ended, its actions are
 ignored, until ``reset(options={"reset_mask": ...})``.
 """
 
 import json
+import math
+import os
 
 import numpy as np
 
-from . import _tavis
+from . import _tavis, spaces
 
 try:  # Gymnasium is optional: subclass its VectorEnv when it is there.
     import gymnasium
@@ -40,6 +43,12 @@ PIXEL_KEYS = {
     "left_wrist": "OBS_WRIST_LEFT",
     "right_wrist": "OBS_WRIST_RIGHT",
 }
+
+
+def _default_config_dir():
+    """The robot files installed with the package, else those of the source tree it was built from."""
+    installed = os.path.join(os.path.dirname(os.path.abspath(__file__)), "configs")
+    return installed if os.path.isdir(installed) else _tavis.DEFAULT_CONFIG_DIR
 
 
 def _autoreset_mode(autoreset):
@@ -75,16 +84,20 @@ class TavisVectorEnv(_VectorEnvBase):
 
     def __init__(self, task, robot="gr1t2", split="id", num_envs=1, seed=0, camera="head",
                  cameras=("head", "left_wrist", "right_wrist"), image_size=(224, 224), threads=0,
-                 control_ticks_per_step=0, autoreset=True, config_dir=None):
+                 control_ticks_per_step=0, autoreset=True, config_dir=None, copy=True, render_mode=None):
         if isinstance(cameras, str):
             raise ValueError(f"cameras must be a list of camera names, got the string {cameras!r}")
         if len(tuple(image_size)) != 2:
             raise ValueError(f"image_size must be (height, width), got {image_size!r}")
+        if render_mode not in self.RENDER_MODES:
+            raise ValueError(f"render_mode must be one of {self.RENDER_MODES}, got {render_mode!r}")
+        if render_mode == "rgb_array" and len(cameras) == 0:
+            raise ValueError("render_mode 'rgb_array' tiles the cameras' images: give at least one camera")
         self._core = _tavis.VecEnvCore(
             task=task, robot=robot, split=split, num_envs=num_envs, seed=seed, camera=camera,
             cameras=list(cameras), image_size=tuple(int(v) for v in image_size), threads=threads,
             control_ticks_per_step=control_ticks_per_step, autoreset=bool(autoreset),
-            config_dir=config_dir if config_dir is not None else _tavis.DEFAULT_CONFIG_DIR)
+            config_dir=config_dir if config_dir is not None else _default_config_dir())
         self.num_envs = num_envs
         self.task = task
         self.seed = seed
@@ -93,27 +106,29 @@ class TavisVectorEnv(_VectorEnvBase):
         self.camera_names = list(self._core.camera_names)
         self.control_ticks_per_step = self._core.control_ticks_per_step
         self._max_episode_steps = self._core.max_episode_steps
-        self.render_mode = None
+        self.copy = bool(copy)
+        self.render_mode = render_mode
         self.metadata = {
+            "render_modes": [mode for mode in self.RENDER_MODES if mode is not None],
             "render_fps": 60 // self.control_ticks_per_step,
             "autoreset_mode": _autoreset_mode(autoreset),
         }
-        if gymnasium is not None:
-            self._define_spaces()
+        self._define_spaces()
+
+    RENDER_MODES = (None, "rgb_array")
 
     def _define_spaces(self):
-        from gymnasium import spaces
-        from gymnasium.vector.utils import batch_space
-
+        """Gymnasium's spaces when it is installed, else tavis.spaces' stand-ins. The prompts
+        (``obs["task"]``) are text and have no space."""
         height, width = self.image_size
-        pixels = {PIXEL_KEYS[name]: spaces.Box(0, 255, (height, width, 3), np.uint8) for name in self.camera_names}
-        single = {"agent_pos": spaces.Box(-np.inf, np.inf, (self._core.state_size,), np.float32)}
+        pixels = {PIXEL_KEYS[name]: spaces.box(0, 255, (height, width, 3), np.uint8) for name in self.camera_names}
+        single = {"agent_pos": spaces.box(-np.inf, np.inf, (self._core.state_size,), np.float32)}
         if pixels:
-            single["pixels"] = spaces.Dict(pixels)
-        self.single_observation_space = spaces.Dict(single)
-        self.single_action_space = spaces.Box(-np.inf, np.inf, (_tavis.ACTION_SIZE,), np.float64)
-        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
+            single["pixels"] = spaces.dict_space(pixels)
+        self.single_observation_space = spaces.dict_space(single)
+        self.single_action_space = spaces.box(-np.inf, np.inf, (_tavis.ACTION_SIZE,), np.float64)
+        self.observation_space = spaces.batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = spaces.batch_space(self.single_action_space, self.num_envs)
 
     # Gymnasium's API
 
@@ -143,6 +158,21 @@ class TavisVectorEnv(_VectorEnvBase):
     def get_attr(self, name):
         return self.call(name)
 
+    def render(self):
+        """With render_mode "rgb_array": the current images of every env as one (rows*H, cols*C*W, 3)
+        uint8 image, each env's cameras side by side (in camera_names order), the envs in a grid
+        of cols = ceil(sqrt(N)) columns, row by row (unused tiles black)."""
+        if self.render_mode is None:
+            raise ValueError("render() needs an env made with render_mode='rgb_array'")
+        pixels = self._core.pixels()
+        envs = np.concatenate([pixels[name] for name in self.camera_names], axis=2)  # (N, H, C*W, 3)
+        columns = math.ceil(math.sqrt(self.num_envs))
+        rows = math.ceil(self.num_envs / columns)
+        tiles = np.zeros((rows * columns, *envs.shape[1:]), dtype=np.uint8)
+        tiles[:self.num_envs] = envs
+        height, width = envs.shape[1:3]
+        return tiles.reshape(rows, columns, height, width, 3).swapaxes(1, 2).reshape(rows * height, columns * width, 3)
+
     def close(self, **kwargs):
         """Nothing to release early: the buffers live as long as the env or a view of them."""
 
@@ -151,6 +181,12 @@ class TavisVectorEnv(_VectorEnvBase):
     def make_policy(self, name, actions_file=""):
         """A built-in policy acting on this env (tavis.builtin_policy_names())."""
         return BuiltinPolicy(self, self._core.make_policy(name, actions_file))
+
+    def neutral_actions(self):
+        """A valid action for every env to step with, (N, 19) float64: the built-in hold policy's
+        (each arm at its pose when the episode started, head still, grippers open). Rows of envs
+        not running are zero (they are ignored). Works at any control_ticks_per_step."""
+        return self._core.neutral_actions()
 
     def episode_records(self):
         """The ended episodes' records, as `tavis eval` writes them in episodes.jsonl."""
@@ -180,9 +216,13 @@ class TavisVectorEnv(_VectorEnvBase):
 
     def _observation(self):
         pixels = self._core.pixels()
+        agent_pos = self._core.agent_pos()
+        if self.copy:
+            pixels = {name: np.array(view) for name, view in pixels.items()}
+            agent_pos = np.array(agent_pos)
         return {
-            "pixels": {PIXEL_KEYS[name]: view for name, view in pixels.items()},
-            "agent_pos": self._core.agent_pos(),
+            "pixels": {PIXEL_KEYS[name]: image for name, image in pixels.items()},
+            "agent_pos": agent_pos,
             "task": self._core.prompts(),
         }
 
@@ -202,9 +242,12 @@ class TavisVectorEnv(_VectorEnvBase):
         }
         if self.autoreset:
             final_state = self._core.final_agent_pos()
+            final_pixels = self._core.final_pixels() if ended.any() else {}
             final_obs = np.empty(self.num_envs, dtype=object)
             for env in np.flatnonzero(ended):
                 final_obs[env] = {"agent_pos": final_state[env]}
+                if final_pixels:
+                    final_obs[env]["pixels"] = {PIXEL_KEYS[name]: np.array(view[env]) for name, view in final_pixels.items()}
             infos["final_obs"] = final_obs
             infos["_final_obs"] = ended
         return infos
