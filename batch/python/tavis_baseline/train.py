@@ -77,13 +77,13 @@ def arguments(argv):
     return args
 
 
-def prepare_out(folder, overwrite):
+def check_out(folder, overwrite):
+    """Refuses an --out that would lose something, before the (long) dataset load."""
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
         raise ValueError(f"--out {folder} is a file, not a folder")
     if folder.is_dir() and any(folder.iterdir()) and not overwrite:
         raise ValueError(f"--out {folder} is not empty; give --overwrite to replace the checkpoint there")
-    folder.mkdir(parents=True, exist_ok=True)
 
 
 def build_policy(data, args):
@@ -144,7 +144,7 @@ def train(args):
         torch.set_num_threads(args.threads)
     torch.manual_seed(args.seed)
     np.random.seed(args.seed)
-    prepare_out(args.out, args.overwrite)
+    check_out(args.out, args.overwrite)
 
     keys = BaselineConfig(camera=args.camera, state_dim=34).image_keys
     episodes = range(args.episodes) if args.episodes else None
@@ -160,6 +160,7 @@ def train(args):
     print(f"loaded {len(episodes_loaded)} episodes, {len(data)} frames ({len(train_rows)} train, {len(val_rows)} validation), "
           f"{len(keys)} cameras at {data.image_size[1]}x{data.image_size[0]} in {load_s:.1f} s", flush=True)
     data.to(device)
+    Path(args.out).mkdir(parents=True, exist_ok=True)
 
     policy = build_policy(data, args).to(device).train()
     parameters = sum(p.numel() for p in policy.parameters())
