@@ -34,10 +34,11 @@ def _sorted_parquet(folder):
 
 
 class DemoDataset:
-    def __init__(self, root, camera_keys, image_size=None, episodes=None, decode_threads=None):
+    def __init__(self, root, camera_keys, image_size=None, episodes=None, decode_threads=None, video_backend=None):
         """root: the dataset folder; camera_keys: the video features to load, e.g.
         "observation.images.OBS_HEAD"; image_size: (height, width) to decode to (None: as stored);
-        episodes: the episode indices to keep (None: all)."""
+        episodes: the episode indices to keep (None: all); video_backend: "pyav", "opencv" or None
+        (PyAV if importable, else OpenCV)."""
         self.root = Path(root)
         info_path = self.root / "meta" / "info.json"
         if not info_path.is_file():
@@ -58,7 +59,7 @@ class DemoDataset:
 
         self._read_rows(features)
         self._read_episodes(episodes)
-        self.images = self._decode_videos(decode_threads)
+        self.images = self._decode_videos(decode_threads, video_backend)
 
     # -- Parquet ---------------------------------------------------------------------------------
     def _read_rows(self, features):
@@ -111,7 +112,7 @@ class DemoDataset:
         self.frame_index = self.frame_index[self.source_rows]
 
     # -- video -----------------------------------------------------------------------------------
-    def _decode_videos(self, threads):
+    def _decode_videos(self, threads, backend):
         table = self._episode_table
         height, width = self.image_size
         rows = len(self.source_rows)
@@ -136,7 +137,7 @@ class DemoDataset:
                     frame_rows[first:first + length] = np.arange(position, position + length)
                 jobs.append((path, frame_rows, out))
         with ThreadPoolExecutor(max_workers=threads or min(len(jobs), os.cpu_count() or 1) or 1) as pool:
-            list(pool.map(lambda job: video.decode_into(job[0], self.fps, job[1], job[2]), jobs))
+            list(pool.map(lambda job: video.decode_into(job[0], self.fps, job[1], job[2], backend), jobs))
         return {key: torch.from_numpy(frames).permute(0, 3, 1, 2).contiguous() for key, frames in images.items()}
 
     # -- windows ---------------------------------------------------------------------------------

@@ -5,19 +5,38 @@ both decode the H.264 that `tavis demos` writes by default. Frames are resized b
 scaler only when the requested size differs from the video's.
 """
 
-def decode_into(path, fps, frame_rows, out):
+
+def available_backends():
+    """The decoders importable here, in the order of preference."""
+    names = []
+    for name, module in (("pyav", "av"), ("opencv", "cv2")):
+        try:
+            __import__(module)
+        except ImportError:
+            continue
+        names.append(name)
+    return names
+
+
+def decode_into(path, fps, frame_rows, out, backend=None):
     """Decodes `path` and writes its frame k into out[frame_rows[k]] for every k with frame_rows[k] >= 0.
 
     frame_rows: int64 array over the file's frames (the dataset row of each, -1 for none);
-    out: the (rows, height, width, 3) uint8 array of every frame of the camera, filled in place.
+    out: the (rows, height, width, 3) uint8 array of every frame of the camera, filled in place;
+    backend: "pyav", "opencv" or None (the first of available_backends()).
     """
     size = out.shape[1:3]
-    try:
-        import av  # noqa: F401
-    except ImportError:
+    if backend is None:
+        backends = available_backends()
+        if not backends:
+            raise ValueError(f"{path}: no video decoder: install PyAV (python3-av) or OpenCV (python3-opencv)")
+        backend = backends[0]
+    if backend == "pyav":
+        count = _decode_pyav(path, fps, frame_rows, size, out)
+    elif backend == "opencv":
         count = _decode_opencv(path, frame_rows, size, out)
     else:
-        count = _decode_pyav(path, fps, frame_rows, size, out)
+        raise ValueError(f"unknown video backend {backend!r} (pyav or opencv)")
     if count < frame_rows.size:
         raise ValueError(f"{path}: holds {count} frames, the episodes table needs {frame_rows.size}")
 
@@ -53,7 +72,7 @@ def _decode_opencv(path, frame_rows, size, out):
     height, width = size
     capture = cv2.VideoCapture(str(path))
     if not capture.isOpened():
-        raise ValueError(f"{path}: OpenCV cannot open it (and PyAV is not installed)")
+        raise ValueError(f"{path}: OpenCV cannot open it")
     count = 0
     while True:
         ok, bgr = capture.read()

@@ -106,3 +106,12 @@ def test_unknown_camera_and_missing_dataset_are_named(demo_dataset, tmp_path):
         DemoDataset(tmp_path, [CAMERAS["head"]])
     with pytest.raises(ValueError, match=r"asked for \[7\]"):
         DemoDataset(demo_dataset, [CAMERAS["head"]], episodes=[7])
+
+
+def test_opencv_frames_equal_pyav_frames(demo_dataset, loaded):
+    # GPU machines often have OpenCV and no PyAV: both decoders must give the same frames.
+    import cv2  # noqa: F401  (python3-opencv, .ci/install-deps)
+    other = DemoDataset(demo_dataset, list(CAMERAS.values()), video_backend="opencv")
+    for key in CAMERAS.values():
+        assert other.images[key].shape == loaded.images[key].shape
+        assert psnr(other.images[key].numpy(), loaded.images[key].numpy()) >= 40
