@@ -174,7 +174,7 @@ def train(args):
                "load_s": round(load_s, 2), "device": str(device)}
 
     def save(step, loss, stopped):
-        extra = dict(summary, steps_done=step, last_loss=loss, stopped=stopped,
+        extra = dict(summary, steps_done=step, last_loss=None if math.isnan(loss) else loss, stopped=stopped,
                      wall_s=round(time.monotonic() - started, 2))
         if len(val_rows):
             extra["validation_l1"] = validation_loss(policy, data, val_rows.to(device), device, args.batch_size)
@@ -219,6 +219,8 @@ def train(args):
     log.close()
     rate = step / max(time.monotonic() - loop_start, 1e-9)
     validation = f", validation L1 {extra['validation_l1']:.4f}" if "validation_l1" in extra else ""
+    if step == 0:
+        print("no training step ran: --time-budget-s ran out while loading", file=sys.stderr)
     print(f"saved {args.out} after {step} steps ({stopped}; {rate:.1f} steps/s, {extra['wall_s']:.0f} s in all), "
           f"last loss {loss_value:.4f}{validation}", flush=True)
     return extra

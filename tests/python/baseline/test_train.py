@@ -9,7 +9,7 @@ import torch
 from tavis_baseline import checkpoint, train
 from tavis_baseline.config import NECK_ACTION_DIMS
 
-FAST = ["--batch-size", "16", "--threads", "2", "--warmup-steps", "10", "--log-every", "10",
+FAST = ["--batch-size", "16", "--image-size", "32x24", "--threads", "2", "--warmup-steps", "10", "--log-every", "10",
         "--chunk-size", "8", "--n-action-steps", "4", "--history-stride", "4"]
 
 
