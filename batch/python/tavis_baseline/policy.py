@@ -1,0 +1,148 @@
+"""The reference learned baseline: per-camera CNNs + state, over a short observation history, to an
+L1-trained chunk of future actions (docs/baselines.md says why this model).
+
+It exposes LeRobot's policy interface, so tavis_server serves it like a LeRobot policy:
+reset(), select_action(batch) (one action per call from a queue of n_action_steps),
+predict_action_chunk(batch) and config.n_obs_steps. Batches are LeRobot's: images float in [0, 1]
+as (B, n_obs_steps, 3, H, W) (or (B, 3, H, W) for one step) under the dataset keys,
+observation.state (B, n_obs_steps, D), the n_obs_steps consecutive policy steps up to now; the
+network looks at every history_stride-th of them (config.history_positions). Images of another
+size are resized to config.image_size.
+"""
+
+from collections import deque
+
+import torch
+import torch.nn.functional as F
+from torch import nn
+
+from .config import BaselineConfig
+
+STATE = "observation.state"
+ACTION = "action"
+
+
+class CameraEncoder(nn.Module):
+    """Stride-2 conv stages (GroupNorm, SiLU), flattened (keeps where things are), to a feature."""
+
+    def __init__(self, widths, image_size, feature_dim):
+        super().__init__()
+        layers = []
+        channels = 3
+        for width in widths:
+            layers += [nn.Conv2d(channels, width, 3, stride=2, padding=1), nn.GroupNorm(8, width), nn.SiLU()]
+            channels = width
+        self.conv = nn.Sequential(*layers)
+        height, width = image_size
+        for _ in widths:
+            height, width = (height + 1) // 2, (width + 1) // 2
+        self.project = nn.Sequential(nn.Flatten(), nn.Linear(channels * height * width, feature_dim), nn.LayerNorm(feature_dim))
+
+    def forward(self, images):
+        return self.project(self.conv(images - 0.5))
+
+
+class BaselinePolicy(nn.Module):
+    name = "tavis_baseline"
+
+    def __init__(self, config: BaselineConfig, state_mean, state_std, action_mean, action_std):
+        super().__init__()
+        self.config = config
+        self.register_buffer("state_mean", torch.as_tensor(state_mean, dtype=torch.float32))
+        self.register_buffer("state_std", torch.as_tensor(state_std, dtype=torch.float32))
+        self.register_buffer("action_mean", torch.as_tensor(action_mean, dtype=torch.float32))
+        self.register_buffer("action_std", torch.as_tensor(action_std, dtype=torch.float32))
+        state_keep = torch.ones(config.state_dim)
+        state_keep[config.neck_state_dims if config.camera == "fixed" else []] = 0
+        self.register_buffer("state_keep", state_keep)
+        self.encoders = nn.ModuleList(CameraEncoder(config.cnn_widths, config.image_size, config.feature_dim)
+                                      for _ in config.image_keys)
+        self.state_encoder = nn.Sequential(nn.Linear(config.state_dim, config.feature_dim), nn.LayerNorm(config.feature_dim))
+        tokens = (len(config.image_keys) + 1) * config.history_frames
+        self.head = nn.Sequential(
+            nn.Linear(tokens * config.feature_dim, config.hidden_dim), nn.SiLU(),
+            nn.Linear(config.hidden_dim, config.hidden_dim), nn.SiLU(),
+            nn.Linear(config.hidden_dim, config.chunk_size * config.action_dim))
+        self._queue = deque()
+
+    @property
+    def metadata(self):
+        """What tavis_server adds to its handshake: how this policy wants to be driven."""
+        c = self.config
+        return {"policy_class": self.name, "camera": c.camera, "image_size_hw": list(c.image_size),
+                "history_frames": c.history_frames, "history_stride": c.history_stride,
+                "chunk_size": c.chunk_size, "client_replan_steps": 1}
+
+    # -- the network -----------------------------------------------------------------------------
+    def normalized_chunk(self, images, state):
+        """images: list of (B, T, 3, H, W) float in [0, 1], one per config.image_keys; state: (B, T, D).
+        Returns the normalised action chunk (B, chunk_size, action_dim)."""
+        batch, steps = state.shape[:2]
+        features = [encoder(frames.flatten(0, 1)).view(batch, steps, -1) for encoder, frames in zip(self.encoders, images)]
+        state = (state * self.state_keep - self.state_mean) / self.state_std
+        features.append(self.state_encoder(state))
+        out = self.head(torch.cat(features, dim=-1).flatten(1))
+        return out.view(batch, self.config.chunk_size, self.config.action_dim)
+
+    def normalize_action(self, action):
+        if self.config.camera == "fixed":  # the env zeroes the neck actions: learn to output zero
+            action = action.clone()
+            action[..., self.config.neck_action_dims] = 0
+        return (action - self.action_mean) / self.action_std
+
+    def loss(self, images, state, action, action_is_pad):
+        """Mean L1 between the predicted and target normalised chunks over the non-padded targets."""
+        error = (self.normalized_chunk(images, state).float() - self.normalize_action(action)).abs()
+        valid = (~action_is_pad).unsqueeze(-1).to(error.dtype)
+        return (error * valid).sum() / (valid.sum() * error.shape[-1]).clamp(min=1)
+
+    # -- LeRobot's interface -----------------------------------------------------------------------
+    def reset(self):
+        self._queue.clear()
+
+    def _inputs(self, batch):
+        """The network's inputs from a LeRobot batch of n_obs_steps consecutive observations."""
+        steps = self.config.n_obs_steps
+        positions = self.config.history_positions
+        state = batch[STATE].to(self.state_mean.device, torch.float32)
+        if state.dim() == 2:
+            state = state.unsqueeze(1)
+        if state.shape[1] != steps or state.shape[2] != self.config.state_dim:
+            raise ValueError(f"{STATE} has shape {tuple(state.shape)}, expected (B, {steps}, {self.config.state_dim})")
+        state = state[:, positions]
+        images = []
+        height, width = self.config.image_size
+        for key in self.config.image_keys:
+            if key not in batch:
+                raise KeyError(f"the batch has no {key!r} (keys: {', '.join(sorted(batch))})")
+            frames = batch[key].to(self.state_mean.device, torch.float32)
+            if frames.dim() == 4:
+                frames = frames.unsqueeze(1)
+            if frames.shape[1] != steps or frames.shape[2] != 3:
+                raise ValueError(f"{key} has shape {tuple(frames.shape)}, expected (B, {steps}, 3, H, W)")
+            frames = frames[:, positions]
+            if frames.shape[-2:] != (height, width):
+                flat = F.interpolate(frames.flatten(0, 1), size=(height, width), mode="bilinear", align_corners=False,
+                                     antialias=True)
+                frames = flat.view(*frames.shape[:3], height, width)
+            images.append(frames)
+        return images, state
+
+    @torch.no_grad()
+    def predict_action_chunk(self, batch):
+        """The next n_action_steps actions for each env: (B, n_action_steps, action_dim) float32."""
+        was_training = self.training
+        self.eval()
+        images, state = self._inputs(batch)
+        chunk = self.normalized_chunk(images, state).float() * self.action_std + self.action_mean
+        if self.config.camera == "fixed":
+            chunk[..., self.config.neck_action_dims] = 0
+        self.train(was_training)
+        return chunk[:, :self.config.n_action_steps]
+
+    @torch.no_grad()
+    def select_action(self, batch):
+        """One action per env (B, action_dim), from a queue refilled with a new chunk when empty."""
+        if not self._queue:
+            self._queue.extend(self.predict_action_chunk(batch).transpose(0, 1))
+        return self._queue.popleft()

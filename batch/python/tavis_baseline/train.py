@@ -1,0 +1,240 @@
+"""Trains the baseline policy on a `tavis demos` dataset (docs/baselines.md).
+
+    python3 -m tavis_baseline.train --dataset DIR --camera head|fixed --out CKPT_DIR --steps N --seed S \
+        [--device cuda] [--image-size 96x96] [--time-budget-s 540] ...
+
+All frames are decoded into memory once (uint8, moved to the device); each step gathers its batch
+by indexing and augments on the device. On CUDA the forward pass runs under bf16 autocast. On the
+CPU a seed gives the same weights run after run. The checkpoint (config.json, stats.json, model.pt,
+training.json) is saved every --save-every steps and at the end, including when --time-budget-s
+runs out (training then stops cleanly after the step in progress).
+"""
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from . import checkpoint
+from .augment import random_shift
+from .config import BaselineConfig
+from .dataset import ACTION, STATE, DemoDataset
+from .normalization import QUATERNION_ACTION_DIMS, mean_std
+from .policy import BaselinePolicy
+
+
+def parse_size(text):
+    """'WIDTHxHEIGHT' (as `tavis demos --image-size`) -> [height, width]."""
+    try:
+        width, height = (int(part) for part in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--image-size {text!r} must be WIDTHxHEIGHT, e.g. 96x96") from None
+    if width < 16 or height < 16:
+        raise argparse.ArgumentTypeError(f"--image-size {text!r}: each side must be >= 16")
+    return [height, width]
+
+
+def arguments(argv):
+    parser = argparse.ArgumentParser(prog="python3 -m tavis_baseline.train", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--dataset", required=True, help="a LeRobot v3.0 dataset written by `tavis demos`")
+    parser.add_argument("--camera", choices=("head", "fixed"), default="head", help="protocol: OBS_HEAD or OBS_FIXED + wrists")
+    parser.add_argument("--out", required=True, help="checkpoint folder (must be new or empty unless --overwrite)")
+    parser.add_argument("--overwrite", action="store_true")
+    parser.add_argument("--steps", type=int, default=20000)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--device", default="cpu", help="cpu, cuda, cuda:1 ...")
+    parser.add_argument("--image-size", type=parse_size, default=None, help="WIDTHxHEIGHT the CNN sees (default: the videos')")
+    parser.add_argument("--batch-size", type=int, default=256)
+    parser.add_argument("--lr", type=float, default=3e-4)
+    parser.add_argument("--weight-decay", type=float, default=1e-4)
+    parser.add_argument("--warmup-steps", type=int, default=500)
+    parser.add_argument("--history-frames", type=int, default=2, help="frames the network sees (1: no history)")
+    parser.add_argument("--history-stride", type=int, default=10, help="frames between them (10 at 20 fps: 0.5 s)")
+    parser.add_argument("--chunk-size", type=int, default=20)
+    parser.add_argument("--n-action-steps", type=int, default=10)
+    parser.add_argument("--shift-px", type=int, default=4)
+    parser.add_argument("--episodes", type=int, default=None, help="use only the first N episodes")
+    parser.add_argument("--val-episodes", type=int, default=0, help="hold out the last K episodes and report their L1")
+    parser.add_argument("--time-budget-s", type=float, default=None,
+                        help="stop after this many seconds (loading included) and save the checkpoint")
+    parser.add_argument("--log-every", type=int, default=100)
+    parser.add_argument("--save-every", type=int, default=2000)
+    parser.add_argument("--threads", type=int, default=None, help="torch CPU threads")
+    args = parser.parse_args(argv)
+    for name in ("steps", "batch_size", "history_frames", "history_stride", "chunk_size", "n_action_steps", "log_every", "save_every"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name.replace('_', '-')} must be >= 1, got {getattr(args, name)}")
+    if args.time_budget_s is not None and args.time_budget_s <= 0:
+        parser.error(f"--time-budget-s must be > 0, got {args.time_budget_s}")
+    if args.val_episodes < 0:
+        parser.error(f"--val-episodes must be >= 0, got {args.val_episodes}")
+    return args
+
+
+def check_out(folder, overwrite):
+    """Refuses an --out that would lose something, before the (long) dataset load."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise ValueError(f"--out {folder} is a file, not a folder")
+    if folder.is_dir() and any(folder.iterdir()) and not overwrite:
+        raise ValueError(f"--out {folder} is not empty; give --overwrite to replace the checkpoint there")
+
+
+def build_policy(data, args):
+    state_dim, action_dim = data.state.shape[1], data.action.shape[1]
+    config = BaselineConfig(camera=args.camera, image_size=list(data.image_size), state_dim=state_dim,
+                            action_dim=action_dim, history_frames=args.history_frames,
+                            history_stride=args.history_stride, chunk_size=args.chunk_size,
+                            n_action_steps=args.n_action_steps, shift_px=args.shift_px)
+    quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
+    state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std)
+    action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions)
+    return BaselinePolicy(config, state_mean, state_std, action_mean, action_std)
+
+
+def learning_rate(step, args):
+    if step < args.warmup_steps:
+        return args.lr * (step + 1) / args.warmup_steps
+    progress = (step - args.warmup_steps) / max(1, args.steps - args.warmup_steps)
+    return args.lr * (0.1 + 0.9 * 0.5 * (1 + math.cos(math.pi * min(1.0, progress))))
+
+
+def batch_loss(policy, data, rows, generator, augment):
+    config = policy.config
+    batch = data.sample(rows, config.obs_offsets, config.action_offsets)
+    images = []
+    for key in config.image_keys:
+        frames = batch[key].float().div_(255)
+        images.append(random_shift(frames, config.shift_px, generator) if augment else frames)
+    return policy.loss(images, batch[STATE], batch[ACTION], batch[f"{ACTION}_is_pad"])
+
+
+@torch.no_grad()
+def validation_loss(policy, data, rows, device, batch_size):
+    policy.eval()
+    total, count = 0.0, 0
+    for start in range(0, len(rows), batch_size):
+        chunk = rows[start:start + batch_size]
+        with autocast(device):
+            total += float(batch_loss(policy, data, chunk, None, augment=False)) * len(chunk)
+        count += len(chunk)
+    policy.train()
+    return total / max(count, 1)
+
+
+def autocast(device):
+    if device.type == "cuda":
+        return torch.autocast("cuda", dtype=torch.bfloat16)
+    return torch.autocast("cpu", enabled=False)
+
+
+def train(args):
+    started = time.monotonic()
+    deadline = started + args.time_budget_s if args.time_budget_s else None
+    device = torch.device(args.device)
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise ValueError(f"--device {args.device}: this PyTorch sees no CUDA device")
+    if args.threads:
+        torch.set_num_threads(args.threads)
+    torch.manual_seed(args.seed)
+    np.random.seed(args.seed)
+    check_out(args.out, args.overwrite)
+
+    keys = BaselineConfig(camera=args.camera, state_dim=34).image_keys
+    episodes = range(args.episodes) if args.episodes else None
+    data = DemoDataset(args.dataset, keys, image_size=args.image_size, episodes=episodes)
+    episodes_loaded = data.episodes
+    if args.val_episodes >= len(episodes_loaded):
+        raise ValueError(f"--val-episodes {args.val_episodes} leaves no training episode of {len(episodes_loaded)}")
+    val_set = set(episodes_loaded[len(episodes_loaded) - args.val_episodes:].tolist()) if args.val_episodes else set()
+    is_val = np.isin(data.row_episode, list(val_set))
+    train_rows = torch.from_numpy(np.flatnonzero(~is_val))
+    val_rows = torch.from_numpy(np.flatnonzero(is_val))
+    load_s = time.monotonic() - started
+    print(f"loaded {len(episodes_loaded)} episodes, {len(data)} frames ({len(train_rows)} train, {len(val_rows)} validation), "
+          f"{len(keys)} cameras at {data.image_size[1]}x{data.image_size[0]} in {load_s:.1f} s", flush=True)
+    data.to(device)
+    Path(args.out).mkdir(parents=True, exist_ok=True)
+
+    policy = build_policy(data, args).to(device).train()
+    parameters = sum(p.numel() for p in policy.parameters())
+    print(f"policy: {parameters / 1e6:.2f} M parameters, camera {args.camera}, history {policy.config.obs_offsets} frames, "
+          f"chunk {policy.config.chunk_size} (execute {policy.config.n_action_steps}), device {device}", flush=True)
+    optimizer = torch.optim.AdamW(policy.parameters(), lr=args.lr, weight_decay=args.weight_decay)
+    generator = torch.Generator().manual_seed(args.seed)
+    log = open(Path(args.out) / "train_log.jsonl", "w")
+    summary = {"dataset": str(args.dataset), "seed": args.seed, "steps_requested": args.steps, "parameters": parameters,
+               "frames": len(data), "episodes": len(episodes_loaded), "validation_episodes": sorted(val_set),
+               "load_s": round(load_s, 2), "device": str(device)}
+
+    def save(step, loss, stopped):
+        extra = dict(summary, steps_done=step, last_loss=None if math.isnan(loss) else loss, stopped=stopped,
+                     wall_s=round(time.monotonic() - started, 2))
+        if len(val_rows):
+            extra["validation_l1"] = validation_loss(policy, data, val_rows.to(device), device, args.batch_size)
+        checkpoint.save(policy, args.out, extra)
+        return extra
+
+    loop_start = time.monotonic()
+    window_start, window_loss, window_steps = loop_start, 0.0, 0
+    step, loss_value, stopped = 0, float("nan"), "steps"
+    while step < args.steps:
+        if deadline is not None and time.monotonic() >= deadline:
+            stopped = "time_budget"
+            break
+        for group in optimizer.param_groups:
+            group["lr"] = learning_rate(step, args)
+        rows = train_rows[torch.randint(len(train_rows), (args.batch_size,), generator=generator)].to(device)
+        with autocast(device):
+            loss = batch_loss(policy, data, rows, generator, augment=True)
+        optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(policy.parameters(), 1.0)
+        optimizer.step()
+        step += 1
+        window_loss += loss.detach()
+        window_steps += 1
+        if step % args.log_every == 0 or step == args.steps:
+            loss_value = float(window_loss) / window_steps
+            now = time.monotonic()
+            rate = window_steps / max(now - window_start, 1e-9)
+            eta = (args.steps - step) / rate
+            if deadline is not None:
+                eta = min(eta, max(0.0, deadline - now))
+            print(f"step {step}/{args.steps} loss {loss_value:.4f} {rate:.1f} steps/s ETA {eta:.0f} s", flush=True)
+            log.write(json.dumps({"step": step, "loss": loss_value, "steps_per_s": rate, "lr": learning_rate(step - 1, args)}) + "\n")
+            log.flush()
+            window_start, window_loss, window_steps = now, 0.0, 0
+        if step % args.save_every == 0 and step < args.steps:
+            save(step, loss_value, "running")
+    if window_steps:
+        loss_value = float(window_loss) / window_steps
+    extra = save(step, loss_value, stopped)
+    log.close()
+    rate = step / max(time.monotonic() - loop_start, 1e-9)
+    validation = f", validation L1 {extra['validation_l1']:.4f}" if "validation_l1" in extra else ""
+    if step == 0:
+        print("no training step ran: --time-budget-s ran out while loading", file=sys.stderr)
+    print(f"saved {args.out} after {step} steps ({stopped}; {rate:.1f} steps/s, {extra['wall_s']:.0f} s in all), "
+          f"last loss {loss_value:.4f}{validation}", flush=True)
+    return extra
+
+
+def main(argv=None):
+    args = arguments(argv)
+    try:
+        train(args)
+    except (ValueError, KeyError) as error:
+        print(f"tavis_baseline.train: {error}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

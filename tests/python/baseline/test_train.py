@@ -1,0 +1,82 @@
+"""The trainer and the trained policy's LeRobot interface, on the CPU."""
+
+import json
+
+import numpy as np
+import pytest
+import torch
+
+from tavis_baseline import checkpoint, train
+from tavis_baseline.config import NECK_ACTION_DIMS
+
+FAST = ["--batch-size", "16", "--image-size", "32x24", "--threads", "2", "--warmup-steps", "10", "--log-every", "10",
+        "--chunk-size", "8", "--n-action-steps", "4", "--history-stride", "4"]
+
+
+def run(dataset, out, *extra):
+    return train.main(["--dataset", str(dataset), "--out", str(out), *FAST, *extra])
+
+
+def log_losses(folder):
+    return [json.loads(line)["loss"] for line in (folder / "train_log.jsonl").read_text().splitlines()]
+
+
+def test_loss_falls_in_100_steps(demo_dataset, tmp_path):
+    out = tmp_path / "head"
+    assert run(demo_dataset, out, "--steps", "100", "--seed", "1", "--lr", "1e-3") == 0
+    losses = log_losses(out)
+    assert len(losses) == 10
+    assert np.mean(losses[-2:]) < 0.7 * losses[0], losses
+    summary = json.loads((out / "training.json").read_text())
+    assert summary["steps_done"] == 100 and summary["stopped"] == "steps"
+
+
+def test_same_seed_same_weights_on_cpu(demo_dataset, tmp_path):
+    weights = []
+    for name, seed in (("a", 4), ("b", 4), ("c", 5)):
+        assert run(demo_dataset, tmp_path / name, "--steps", "3", "--seed", str(seed)) == 0
+        weights.append(torch.load(tmp_path / name / "model.pt"))
+    assert all(torch.equal(weights[0][key], weights[1][key]) for key in weights[0])
+    assert not all(torch.equal(weights[0][key], weights[2][key]) for key in weights[0])
+
+
+def test_time_budget_stops_cleanly_with_a_checkpoint(demo_dataset, tmp_path):
+    out = tmp_path / "budget"
+    assert run(demo_dataset, out, "--steps", "100000", "--time-budget-s", "0.01") == 0
+    summary = json.loads((out / "training.json").read_text())
+    assert summary["stopped"] == "time_budget" and summary["steps_done"] < 100000
+    checkpoint.load(out)  # loads
+
+
+def test_fixed_checkpoint_serves_through_lerobots_interface(demo_dataset, tmp_path):
+    out = tmp_path / "fixed"
+    assert run(demo_dataset, out, "--camera", "fixed", "--steps", "2", "--val-episodes", "1") == 0
+    assert "validation_l1" in json.loads((out / "training.json").read_text())
+    policy = checkpoint.load(out)
+    config = policy.config
+    assert config.image_keys[0] == "observation.images.OBS_FIXED"
+    assert config.n_obs_steps == 5 and config.history_positions == [0, 4]
+    # What tavis_server sends: n_obs_steps stacked observations, images float CHW at the client's size.
+    batch = {key: torch.rand(3, config.n_obs_steps, 3, 240, 320) for key in config.image_keys}
+    batch["observation.state"] = torch.rand(3, config.n_obs_steps, config.state_dim)
+    chunk = policy.predict_action_chunk(batch)
+    assert chunk.shape == (3, config.n_action_steps, 19)
+    assert torch.all(chunk[..., NECK_ACTION_DIMS] == 0)
+    policy.reset()
+    actions = [policy.select_action(batch) for _ in range(config.n_action_steps)]
+    assert torch.equal(torch.stack(actions, 1), chunk)  # the queue hands out the chunk row by row
+    with pytest.raises(KeyError, match="OBS_FIXED"):
+        policy.predict_action_chunk({"observation.state": batch["observation.state"]})
+
+
+def test_bad_arguments_fail_before_anything_is_lost(demo_dataset, tmp_path, capsys):
+    out = tmp_path / "kept"
+    out.mkdir()
+    (out / "model.pt").write_text("earlier")
+    assert run(demo_dataset, out, "--steps", "1") == 2
+    assert "not empty" in capsys.readouterr().err
+    assert (out / "model.pt").read_text() == "earlier"
+    assert run(tmp_path / "nothing", tmp_path / "x", "--steps", "1") == 2
+    assert "nothing" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        run(demo_dataset, tmp_path / "y", "--image-size", "96")
