@@ -5,6 +5,7 @@
 
 #include "batch/remote/health_probe.h"
 #include "batch/remote/openpi_reply.h"
+#include "batch/remote/remote_error.h"
 #include "batch/remote/websocket_url.h"
 
 namespace tavis::remote {
@@ -22,6 +23,7 @@ std::unique_ptr<OpenpiSession> OpenWhenReady(const std::string& server, const Re
     OpenpiSessionOptions session;
     session.url = server;
     session.reply_timeout = options.reply_timeout;
+    session.max_reply_bytes = options.max_reply_bytes;
     return std::make_unique<OpenpiSession>(session);
   } catch (const std::runtime_error& error) {
     throw std::runtime_error("policy server " + server + " is not reachable: " + error.what());
@@ -67,6 +69,9 @@ bool RemotePolicy::Query(const batch::Observation& observation, int env) {
   try {
     const std::vector<std::string> sent = batch::ProtocolCameras(cameras(), options_.protocol);
     result = SessionOf(env).Infer(BuildRequest(observation, options_.keys, sent, env));
+  } catch (const MalformedReply& error) {
+    faults_.push_back({env, "server " + ServerOf(env) + ": " + error.what()});  // ends only this episode
+    return false;
   } catch (const std::exception& error) {
     throw std::runtime_error("policy 'openpi', " + EnvContext(observation, env, ServerOf(env)) + ": " + error.what());
   }
