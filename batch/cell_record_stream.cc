@@ -10,6 +10,8 @@
 
 #include "batch/atomic_file.h"
 #include "batch/cell_report.h"
+#include "batch/config_identity.h"
+#include "batch/output_folder.h"
 #include "batch/settings_difference.h"
 #include "scenarios/split.h"
 
@@ -56,7 +58,8 @@ nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
           {"seed", config.seed},
           {"render_cameras", config.render_cameras},
           {"image_width", config.image_width},
-          {"image_height", config.image_height}};
+          {"image_height", config.image_height},
+          {"identity", ConfigIdentityJson(config.config_dir, config.robot, config.policy == "openpi" ? config.observation_keys : "")}};
 }
 
 EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
@@ -114,11 +117,12 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
     }
     if (fs::exists(episodes_path)) fs::resize_file(episodes_path, kept_bytes);
   } else {
-    if (fs::exists(dir_) && !(fs::is_directory(dir_) && fs::is_empty(dir_))) {
+    if (!HoldsNoResults(dir_)) {
       throw std::invalid_argument(dir_ + " already holds results; give --overwrite to replace them or --resume to finish "
                                   "an interrupted cell");
     }
     fs::create_directories(dir_);
+    WriteOutputMarker(dir_, OutputKind::kEvalCell);
     WriteFileAtomically(cell_json, settings.dump(2) + "\n");
   }
   episodes_ = std::fopen(episodes_path.c_str(), resume ? "ab" : "wb");
@@ -128,6 +132,8 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
 CellRecordStream::~CellRecordStream() {
   if (episodes_ != nullptr) std::fclose(episodes_);
 }
+
+void CellRecordStream::MovedTo(std::string dir) { dir_ = std::move(dir); }
 
 void CellRecordStream::Write(const EpisodeRecord& record) {
   if (!record.replay_actions.empty()) WriteReplayCsv(record, dir_);

@@ -20,7 +20,8 @@ namespace tavis::batch {
 
 class CellRecordStream {
  public:
-  // Fresh: DIR must be absent or empty. Resumed: DIR must hold this cell's cell.json (the same
+  // Fresh: DIR must be absent or hold no results (HoldsNoResults); it gets tavis's marker.
+  // Resumed: DIR must hold this cell's cell.json (the same
   // settings) and no summary.json; its complete lines are read back and a torn last line is cut.
   // Throws std::invalid_argument naming DIR and what is wrong, std::runtime_error when it cannot
   // be written.
@@ -36,6 +37,9 @@ class CellRecordStream {
 
   // Appends the record (the next episode) and flushes it.
   void Write(const EpisodeRecord& record);
+  // The folder was renamed to DIR (an --overwrite swapping its new cell in); the open
+  // episodes.jsonl goes on, later files are written under DIR.
+  void MovedTo(std::string dir);
   // Records written by this stream (not counting the resumed ones).
   int64_t written() const { return written_; }
 

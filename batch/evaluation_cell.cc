@@ -157,6 +157,8 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     result.layout_differences = std::move(layout.differences);
     options.protocol = config.camera;
     options.ready_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.server_ready_timeout_s * 1000.0));
+    options.reply_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.reply_timeout_s * 1000.0));
+    options.max_reply_bytes = static_cast<std::uint64_t>(config.max_reply_mb * 1024.0 * 1024.0);
     result.config.image_width = options.keys.image_width;
     result.config.image_height = options.keys.image_height;
     std::tie(result.render_width, result.render_height) = remote::RenderSize(options.keys);

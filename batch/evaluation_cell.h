@@ -42,6 +42,8 @@ struct EvaluationCellConfig {
   // How requests travel (remote_policy.h); the records do not depend on it.
   remote::ServingMode serving = remote::ServingMode::kSerial;
   double server_ready_timeout_s = 60.0;  // per server, for its /healthz to answer before the cell starts
+  double reply_timeout_s = 300.0;  // per request, for the reply (a server's first inference may compile its model)
+  double max_reply_mb = 16.0;      // a longer reply ends its episode (remote::kDefaultMaxReplyBytes)
   int episodes = 96;
   // Episodes before this one are not run (a resumed cell has their records already); at most
   // `episodes` (then nothing runs).

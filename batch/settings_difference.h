@@ -9,7 +9,8 @@
 namespace tavis::batch {
 
 // "seed 0 -> 9, fps 60 -> 20" for every key of `now` whose value differs in `was` (or is missing
-// there: "unset"); empty when they agree.
+// there: "unset"); empty when they agree. Objects on both sides are compared key by key and named
+// by their path ("robot_config.arm.velocity_limit \"5.0\" -> \"4.0\"").
 std::string SettingsDifference(const nlohmann::json& was, const nlohmann::json& now);
 
 }  // namespace tavis::batch

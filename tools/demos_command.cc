@@ -15,6 +15,7 @@
 #include "batch/atomic_file.h"
 #include "batch/dataset/demo_generation.h"
 #include "batch/dataset/video/video_log.h"
+#include "batch/output_folder.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
@@ -39,27 +40,32 @@ struct DemosOptions {
 
 constexpr const char* kIncompleteMarker = "INCOMPLETE";
 
-// The dataset's folder must not hold anything yet, unless the user asked to replace it or to
-// resume the interrupted recording it holds.
-void PrepareOutput(const std::string& out, bool overwrite, bool resume) {
+// The dataset's folder must hold no results yet, unless the user asked to replace the dataset
+// tavis wrote there (built beside it and swapped in once complete) or to resume the interrupted
+// recording it holds. Returns the lock on --out, held until the program ends.
+batch::OutputLock PrepareOutput(const std::string& out, bool overwrite, bool resume,
+                                std::unique_ptr<batch::OutputReplacement>* replacement) {
   namespace fs = std::filesystem;
-  if (out.empty()) throw std::invalid_argument("--out must name a folder");
+  batch::RequireUsableOutputPath(out);
   if (overwrite && resume) throw std::invalid_argument("give --overwrite or --resume, not both");
-  if (fs::exists(out) && !fs::is_directory(out)) throw std::invalid_argument("--out " + out + " is a file, not a folder");
   if (resume) {
     if (!fs::exists(fs::path(out) / kIncompleteMarker)) {
       throw std::invalid_argument("--resume: " + out + " holds no interrupted recording (no " + kIncompleteMarker + " marker)");
     }
-    return;
+    return batch::OutputLock(out, "demos");
   }
-  if (fs::exists(out) && !fs::is_empty(out)) {
+  if (!batch::HoldsNoResults(out)) {
     if (!overwrite) {
-      throw std::invalid_argument("--out " + out + " is not empty; give --overwrite to replace what is there, or --resume to "
-                                  "finish an interrupted recording");
+      throw std::invalid_argument("--out " + out + " is not empty; give --overwrite to replace the dataset tavis wrote there, or "
+                                  "--resume to finish an interrupted recording");
     }
-    fs::remove_all(out);
+    batch::RequireEmptyOrOwn(out, batch::OutputKind::kDataset,
+                             "--overwrite replaces only a dataset tavis wrote: move those files away or give another --out");
   }
-  fs::create_directories(out);
+  batch::OutputLock lock = batch::CreateAndLockOutput(out, "demos");
+  if (!batch::HoldsNoResults(out)) *replacement = std::make_unique<batch::OutputReplacement>(out, "demos");
+  batch::WriteOutputMarker(*replacement ? (*replacement)->staging() : fs::path(out), batch::OutputKind::kDataset);
+  return lock;
 }
 
 nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const DemosOptions& options) {
@@ -121,7 +127,10 @@ void RunDemos(DemosOptions options) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   // Every value is checked before --out is touched: a bad one must not remove what --overwrite would.
   dataset::ValidateDemoConfig(config);
-  PrepareOutput(config.out, options.overwrite, config.resume);
+  std::unique_ptr<batch::OutputReplacement> replacement;
+  const batch::OutputLock lock = PrepareOutput(config.out, options.overwrite, config.resume, &replacement);
+  const std::string out = config.out;
+  if (replacement) config.out = replacement->staging().string();
   dataset::ShowOnlyVideoErrors();
   // Until the dataset is finished the folder says so: its files are still FILE.partial and it has
   // no meta/info.json, so no loader takes it for a dataset.
@@ -138,6 +147,10 @@ void RunDemos(DemosOptions options) {
   const dataset::DemoReport report = dataset::GenerateDemos(config, progress);
   batch::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json", ReportJson(report, options).dump(2) + "\n");
   std::filesystem::remove(marker);
+  if (replacement) {
+    replacement->SwapIn();
+    config.out = out;
+  }
   for (const dataset::DemoTaskReport& task : report.tasks) {
     int64_t failed = 0;
     for (const auto& [end, count] : task.failures) failed += count;
@@ -193,13 +206,20 @@ void RegisterDemosCommand(CLI::App& app) {
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   demos->add_option("--out", options->config.out, "Dataset folder (default datasets/tavis-<task|suite>-<robot>); must be empty");
-  demos->add_flag("--overwrite", options->overwrite, "Replace what the --out folder holds");
+  demos->add_flag("--overwrite", options->overwrite,
+                  "Replace the dataset in --out (only a folder tavis wrote as a dataset; the new one is built\n"
+                  "beside it and replaces it once complete)");
   demos->add_flag("--resume", options->config.resume,
                   "Finish an interrupted recording in --out (same settings): the episodes it had kept are\n"
                   "reused, the rest is recorded again");
   AddConfigDirOption(*demos, options->config.config_dir);
   demos->add_flag("--quiet", options->quiet, "No progress line");
-  demos->callback([options] { RunDemos(*options); });
+  demos->callback([options, demos] {
+    if (demos->count("--out") > 0 && options->config.out.empty()) {
+      throw std::invalid_argument("--out must name a folder, got an empty string");
+    }
+    RunDemos(*options);
+  });
 }
 
 }  // namespace tavis::tools

@@ -18,6 +18,7 @@
 #include "batch/cell_record_stream.h"
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
+#include "batch/output_folder.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
 #include "batch/scene_render.h"
@@ -63,25 +64,55 @@ std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const st
 // --resume continues after them), the summary written last.
 batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
                           const std::string& out) {
-  if (out.empty()) throw std::invalid_argument("--out must name a folder");
+  batch::RequireUsableOutputPath(out);
   batch::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
   for (const std::string& difference : batch::ServedLayoutDifferences(cell)) {
     std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": " << difference << "\n";
   }
-  if (options.overwrite && std::filesystem::exists(out)) std::filesystem::remove_all(out);
-  const bool created = !std::filesystem::exists(out);
-  batch::CellRecordStream stream(out, cell, options.resume);
+  namespace fs = std::filesystem;
+  if (options.resume && !fs::is_directory(out)) throw std::invalid_argument("--resume: " + out + " does not exist: there is no cell to finish");
+  // --overwrite replaces only a cell tavis wrote, and builds the new one beside it: the old one
+  // goes only once the new one has recorded an episode, so a run that fails before (an
+  // unreachable server, a missing file, too little memory) leaves it as it was.
+  const bool replace = options.overwrite && !batch::HoldsNoResults(out);
+  if (replace) {
+    batch::RequireEmptyOrOwn(out, batch::OutputKind::kEvalCell,
+                             "--overwrite replaces only a cell tavis wrote: move those files away or give another --out");
+  }
+  const bool created = !fs::exists(out);
+  batch::OutputLock lock = batch::CreateAndLockOutput(out, "eval");
+  std::unique_ptr<batch::OutputReplacement> replacement;
+  if (replace) replacement = std::make_unique<batch::OutputReplacement>(out, "eval");
+  const std::string dir = replacement ? replacement->staging().string() : out;
+  std::unique_ptr<batch::CellRecordStream> stream_owner;
+  try {
+    stream_owner = std::make_unique<batch::CellRecordStream>(dir, cell, options.resume);
+  } catch (...) {
+    if (created) fs::remove_all(out);
+    throw;
+  }
+  batch::CellRecordStream& stream = *stream_owner;
   batch::EvaluationCellConfig config = cell;
   config.first_episode = stream.next_episode();
   batch::CellResult result;
+  const auto record = [&stream, &replacement, &out](const batch::EpisodeRecord& episode) {
+    stream.Write(episode);
+    if (replacement && !replacement->swapped()) {
+      replacement->SwapIn();
+      stream.MovedTo(out);
+    }
+  };
   try {
-    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress),
-                                      [&stream](const batch::EpisodeRecord& record) { stream.Write(record); });
+    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress), record);
   } catch (...) {
-    // A cell that failed before its first episode leaves nothing behind; one that recorded
-    // episodes keeps them for --resume.
-    if (created && stream.written() == 0) std::filesystem::remove_all(out);
+    // A cell that failed before its first episode leaves nothing behind (and an --overwrite the
+    // old cell); one that recorded episodes keeps them for --resume.
+    if (created && stream.written() == 0) fs::remove_all(out);
     throw;
+  }
+  if (replacement && !replacement->swapped()) {
+    replacement->SwapIn();  // a cell with nothing left to run
+    stream.MovedTo(out);
   }
   // The summary covers the whole cell: the resumed records first.
   std::vector<batch::EpisodeRecord> episodes = stream.resumed();
@@ -208,6 +239,16 @@ void RegisterEvalCommand(CLI::App& app) {
                    "For --policy openpi: seconds to wait for each server's /healthz before giving up")
       ->check(NumberIn(0.001, 86400))
       ->capture_default_str();
+  eval->add_option("--reply-timeout", options->cell.reply_timeout_s,
+                   "For --policy openpi: seconds to wait for each reply before the cell stops (a server's first\n"
+                   "inference may compile its model)")
+      ->check(NumberIn(0.001, 86400))
+      ->capture_default_str();
+  eval->add_option("--max-reply-mb", options->cell.max_reply_mb,
+                   "For --policy openpi: the largest reply accepted, in MiB; a longer one ends its episode as\n"
+                   "invalid_action, read no further (the default holds a 100,000-row float64 chunk)")
+      ->check(NumberIn(0.001, 4096))
+      ->capture_default_str();
   eval->add_option("--actions", options->cell.actions_file,
                    "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
                    "episode; or a folder of episode_<i>.csv (a served cell's DIR/actions), episode i playing its own");
@@ -242,7 +283,9 @@ void RegisterEvalCommand(CLI::App& app) {
                  "Time every stage (actions/IK, physics, neck, task, reset, render, policy, recording) and\n"
                  "episode; print the shares, the critical path (unlimited threads) and thread-count\n"
                  "estimates, and write DIR/profile.json");
-  eval->add_flag("--overwrite", options->overwrite, "Replace the results already in --out");
+  eval->add_flag("--overwrite", options->overwrite,
+                 "Replace the cell already in --out (only a folder tavis wrote as a cell; the old cell stays\n"
+                 "until the new one has recorded its first episode)");
   eval->add_flag("--resume", options->resume,
                  "Finish an interrupted cell in --out (same settings): its complete episodes are kept, the rest run");
   eval->callback([options, eval] {

@@ -14,6 +14,7 @@
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/episode_driver.h"
 #include "batch/scene_render.h"
+#include "batch/config_identity.h"
 #include "batch/settings_difference.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -49,7 +50,8 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
           {"video", {{"width", config.video.width}, {"height", config.video.height}, {"codec", VideoCodecName(config.video.codec)},
                      {"crf", config.video.crf}, {"gop", config.video.gop}, {"h264_preset", config.video.h264_preset},
                      {"av1_preset", config.video.av1_preset}}},
-          {"format", ToString(config.version)}};
+          {"format", ToString(config.version)},
+          {"identity", batch::ConfigIdentityJson(config.config_dir, config.robot)}};
 }
 
 // A resumed recording must be the one that was interrupted.
@@ -58,8 +60,12 @@ void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   if (progress.is_null()) {
     throw std::invalid_argument("--resume: " + config.out + " holds no interrupted recording (no " + spool.dir() + "/progress.json)");
   }
-  const nlohmann::json was = progress.at("settings");
-  const nlohmann::json now = Fingerprint(config);
+  nlohmann::json was = progress.at("settings");
+  nlohmann::json now = Fingerprint(config);
+  // More attempts finish a recording that ran out of them: the episodes already kept stay valid,
+  // since episode i draws only on (seed, i).
+  was.erase("max_attempts");
+  now.erase("max_attempts");
   const std::string differences = batch::SettingsDifference(was, now);
   if (!differences.empty()) throw std::invalid_argument("--resume with other settings than the interrupted recording: " + differences);
 }
@@ -194,7 +200,8 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     if (task.written < config.episodes) {
       throw std::runtime_error("task " + task.task + ": only " + std::to_string(task.written) + " of " +
                                std::to_string(config.episodes) + " episodes succeeded in " + std::to_string(task.attempts) +
-                               " attempts (--max-attempts); nothing was finished");
+                               " attempts (--max-attempts); the episodes recorded so far are kept: --resume with a larger "
+                               "--max-attempts finishes the dataset");
     }
   }
   const Clock::time_point finish_start = Clock::now();

@@ -29,7 +29,7 @@ void OpenpiSession::Connect() {
   std::vector<std::string> headers;
   if (options_.api_key) headers.push_back("Authorization: Api-Key " + *options_.api_key);
   const Deadline deadline = Clock::now() + options_.connect_timeout;
-  client_ = std::make_unique<WebSocketClient>(url_, deadline, headers);
+  client_ = std::make_unique<WebSocketClient>(url_, deadline, headers, options_.max_reply_bytes);
   metadata_ = DecodeMsgpack(ReceiveBinary(deadline));
 }
 
@@ -64,9 +64,20 @@ InferResult OpenpiSession::Infer(const Value& observation) {
       client_->SendBinary(request, deadline);
       std::vector<std::uint8_t> reply_bytes = ReceiveBinary(deadline);
       const Clock::time_point end = Clock::now();
-      Value reply = DecodeMsgpack(reply_bytes);
-      if (!reply.is<Value::Map>()) throw std::invalid_argument("openpi reply must be a map, got " + reply.TypeName());
+      Value reply;
+      try {
+        reply = DecodeMsgpack(reply_bytes);
+      } catch (const MsgpackError& error) {
+        throw MalformedReply(std::string("malformed reply: ") + error.what());
+      } catch (const std::invalid_argument& error) {
+        throw MalformedReply(std::string("malformed reply: ") + error.what());
+      }
+      if (!reply.is<Value::Map>()) throw MalformedReply("openpi reply must be a map, got " + reply.TypeName());
       return {std::move(reply), MillisecondsBetween(start, end), reconnected};
+    } catch (const MessageTooLarge& error) {
+      client_.reset();  // the rest of the oversize reply is still on the wire: the next request reconnects
+      throw MalformedReply("reply over the limit of " + std::to_string(options_.max_reply_bytes) + " bytes (--max-reply-mb): " +
+                           error.what());
     } catch (const ConnectionLost&) {
       if (reconnected) throw;
     } catch (const RemoteTimeout&) {

@@ -16,12 +16,19 @@
 
 namespace tavis::remote {
 
+// The largest reply accepted by default: a chunk of 100,000 rows of 19 float64 (15.2 MB) with
+// room for the server's timing fields. openpi's chunks are tens of rows.
+inline constexpr std::uint64_t kDefaultMaxReplyBytes = std::uint64_t{16} << 20;
+
 struct OpenpiSessionOptions {
   std::string url;                     // ws://HOST:PORT
   std::optional<std::string> api_key;  // sent as "Authorization: Api-Key <key>", as openpi's client does
   std::chrono::milliseconds connect_timeout{10'000};  // TCP connect, handshake and metadata
   // Send plus reply; generous because a server's first inference may compile its model.
   std::chrono::milliseconds reply_timeout{300'000};
+  // A reply (or metadata message) over this many bytes is refused from its frame header, before
+  // its bytes are read, so a runaway server cannot exhaust memory (`tavis eval --max-reply-mb`).
+  std::uint64_t max_reply_bytes = kDefaultMaxReplyBytes;
 };
 
 struct InferResult {
@@ -44,7 +51,9 @@ class OpenpiSession {
   // the request sent again. Throws PolicyServerError with the server's traceback (text frame,
   // then close 1011), RemoteTimeout (after which the next request uses a new connection, so a
   // late reply is never taken for its answer), ConnectFailed when re-opening fails, MsgpackError or
-  // WebSocketProtocolError for bad bytes, std::invalid_argument when the reply is not a map.
+  // WebSocketProtocolError for bad frames, MalformedReply (a std::invalid_argument) for a reply
+  // that is not msgpack(-numpy), not a map, or over max_reply_bytes: the caller may end only the
+  // episode that asked, and the next request works (on a new connection after an oversize reply).
   InferResult Infer(const Value& observation);
 
   // Answers pings that arrived since the last call, without waiting; call it during long pauses

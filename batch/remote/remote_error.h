@@ -28,6 +28,22 @@ class WebSocketProtocolError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A message longer than the client accepts (OpenpiSessionOptions::max_reply_bytes), refused from
+// its frame header before its bytes are read; the connection is unusable afterwards.
+class MessageTooLarge : public WebSocketProtocolError {
+ public:
+  using WebSocketProtocolError::WebSocketProtocolError;
+};
+
+// A reply that arrived whole but is not a usable openpi reply: bytes that are not msgpack or
+// msgpack-numpy (an ndarray whose data does not fill its shape, an absurd shape, an unknown
+// dtype), not a map, or over the size limit. It ends only the episode that asked (the policy
+// turns it into that env's fault); the session stays usable (after a reconnect if needed).
+class MalformedReply : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 // A deadline passed: connecting, waiting for a reply, or waiting for /healthz.
 class RemoteTimeout : public std::runtime_error {
  public:

@@ -9,6 +9,7 @@
 #include "batch/observation_contract.h"
 #include "batch/remote/health_probe.h"
 #include "batch/remote/openpi_reply.h"
+#include "batch/remote/remote_error.h"
 #include "batch/remote/websocket_url.h"
 
 namespace tavis::remote {
@@ -35,6 +36,7 @@ std::unique_ptr<OpenpiSession> OpenWhenReady(const std::string& server, const Re
     OpenpiSessionOptions session;
     session.url = server;
     session.reply_timeout = options.reply_timeout;
+    session.max_reply_bytes = options.max_reply_bytes;
     return std::make_unique<OpenpiSession>(session);
   } catch (const std::runtime_error& error) {
     throw std::runtime_error("policy server " + server + " is not reachable: " + error.what());
@@ -167,6 +169,10 @@ void RemotePolicy::Act(const batch::Observation& observation, const std::vector<
       if (exchange.error) {
         try {
           std::rethrow_exception(exchange.error);
+        } catch (const MalformedReply& error) {
+          // A reply that is not a well-formed map ends only the episodes it answers.
+          for (int env : exchange.envs) faults_.push_back({env, "server " + *exchange.server + ": " + error.what()});
+          continue;
         } catch (const std::exception& error) {
           throw std::runtime_error("policy 'openpi', " + EnvContext(observation, exchange.envs, *exchange.server) + ": " +
                                    error.what());

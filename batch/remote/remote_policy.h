@@ -53,6 +53,7 @@ struct RemotePolicyOptions {
   batch::CameraProtocol protocol = batch::CameraProtocol::kHead;  // which of head/fixed is sent
   std::chrono::milliseconds ready_timeout{60'000};  // per server, for /healthz to answer
   std::chrono::milliseconds reply_timeout{300'000};
+  std::uint64_t max_reply_bytes = kDefaultMaxReplyBytes;  // OpenpiSessionOptions::max_reply_bytes
 };
 
 // What the requests of a run took, one entry per request message, in request order.

@@ -82,9 +82,8 @@ std::size_t ParseServerFrame(const std::uint8_t* data, std::size_t size, std::ui
     throw FrameError("control frame payload of " + std::to_string(length) + " bytes (limit 125)", stream_offset);
   }
   if (length > max_payload) {
-    throw FrameError("payload of " + std::to_string(length) + " bytes over the limit of " +
-                         std::to_string(max_payload),
-                     stream_offset);
+    throw MessageTooLarge("websocket frame at stream byte " + std::to_string(stream_offset) + ": payload of " +
+                          std::to_string(length) + " bytes over the limit of " + std::to_string(max_payload));
   }
   if (size - header < length) return 0;
   frame.fin = fin;

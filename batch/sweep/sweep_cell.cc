@@ -6,6 +6,7 @@
 
 #include "batch/cell_record_stream.h"
 #include "batch/cell_report.h"
+#include "batch/output_folder.h"
 
 namespace tavis::batch::sweep {
 namespace {
@@ -52,6 +53,8 @@ CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, 
   // settings, or one whose summary does not match its records) starts over.
   const bool resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
   if (!resume) fs::remove_all(dir);
+  // The sweep's lock keeps other sweeps out; this one keeps out an `eval --resume` of the cell.
+  const OutputLock lock = CreateAndLockOutput(dir, "sweep");
   CellRecordStream stream(dir.string(), config, resume);
   EvaluationCellConfig remaining = config;
   remaining.first_episode = stream.next_episode();

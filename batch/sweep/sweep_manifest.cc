@@ -10,11 +10,8 @@
 #include <thread>
 
 #include "batch/atomic_file.h"
+#include "batch/program_version.h"
 #include "batch/settings_difference.h"
-
-#ifndef TAVIS_VERSION
-#define TAVIS_VERSION "unknown"
-#endif
 
 namespace tavis::batch::sweep {
 namespace {
@@ -30,7 +27,7 @@ std::string UtcNow() {
 
 }  // namespace
 
-std::string ProgramVersion() { return TAVIS_VERSION; }
+std::string ProgramVersion() { return batch::ProgramVersion(); }
 
 nlohmann::ordered_json MachineJson() {
   char host[256] = {};

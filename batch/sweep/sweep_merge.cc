@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "batch/atomic_file.h"
+#include "batch/output_folder.h"
 #include "batch/settings_difference.h"
 #include "batch/sweep/sweep_cell.h"
 #include "batch/sweep/sweep_manifest.h"
@@ -26,6 +27,7 @@ nlohmann::json SweepIdentity(const Json& manifest) {
 
 void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir, const std::string& config_dir) {
   if (shard_dirs.empty()) throw std::invalid_argument("merge needs the shards' output folders");
+  RequireUsableOutputPath(out_dir);
   std::vector<Json> manifests;
   for (const std::string& dir : shard_dirs) manifests.push_back(SweepManifest::Read(dir));
   const Json& first = manifests.front();
@@ -52,9 +54,10 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   const SweepSpec spec = ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir);
   const std::vector<SweepCell> cells = ExpandCells(spec, config_dir);
   const fs::path out = out_dir;
-  if (fs::exists(out) && !(fs::is_directory(out) && fs::is_empty(out))) {
-    throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
-  }
+  if (!HoldsNoResults(out)) throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
+  const OutputLock lock = CreateAndLockOutput(out, "sweep merge");
+  if (!HoldsNoResults(out)) throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
+  WriteOutputMarker(out, OutputKind::kSweep);
   fs::create_directories(out / "cells");
   SweepManifest manifest(spec, first["spec_yaml"].get<std::string>(), Shard{0, 1}, {});
   Json merged = manifest.Json();

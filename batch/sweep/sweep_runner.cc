@@ -13,6 +13,7 @@
 #include <tbb/global_control.h>
 
 #include "batch/cell_report.h"
+#include "batch/output_folder.h"
 #include "batch/sweep/sweep_cell.h"
 #include "batch/sweep/sweep_manifest.h"
 #include "batch/sweep/sweep_progress.h"
@@ -45,7 +46,13 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   for (const SweepCell& cell : mine) CheckEvaluationCell(cell.config);  // bad settings fail before any work
 
   SweepManifest manifest(spec, options.spec_yaml, options.shard, ids);
+  // A sweep writes only into a new folder or its own: never beside a user's files or into an
+  // eval cell, and never while another process writes the same sweep.
+  RequireUsableOutputPath(out);
+  RequireEmptyOrOwn(out, OutputKind::kSweep, "give a new --out for the sweep, or this sweep's own folder to finish it");
+  const OutputLock lock = CreateAndLockOutput(out, "sweep");
   if (fs::exists(out / "manifest.json")) manifest.RequireSameSweep(SweepManifest::Read(out), out);
+  WriteOutputMarker(out, OutputKind::kSweep);
   fs::create_directories(out / "cells");
 
   std::vector<const SweepCell*> to_run;

@@ -35,11 +35,20 @@ TEST_F(DemosCommand, NonEmptyOutIsRefusedAndOverwriteReplacesIt) {
   EXPECT_EQ(ReadText(out / "keep.txt"), "mine");
   EXPECT_EQ(Snapshot(out).size(), 1u) << "nothing added beside the user's file";
 
-  const RunResult replaced = Run(Demos() + " --overwrite --out " + Quote(out.string()));
+  // --overwrite replaces only a dataset tavis wrote: the user's file is named and kept.
+  const RunResult foreign = Run(Demos() + " --overwrite --out " + Quote(out.string()));
+  EXPECT_EQ(foreign.exit_code, 1) << foreign.err;
+  EXPECT_NE(foreign.err.find("keep.txt"), std::string::npos) << foreign.err;
+  EXPECT_EQ(ReadText(out / "keep.txt"), "mine");
+
+  const fs::path dataset = root_ / "tavis-dataset";
+  ASSERT_EQ(Run(Demos("--seed 1") + " --out " + Quote(dataset.string())).exit_code, 0);
+  const std::string first = ReadText(dataset / "tavis_demos.json");
+  const RunResult replaced = Run(Demos("--seed 2") + " --overwrite --out " + Quote(dataset.string()));
   ASSERT_EQ(replaced.exit_code, 0) << replaced.err;
-  EXPECT_FALSE(fs::exists(out / "keep.txt"));
-  EXPECT_TRUE(fs::exists(out / "meta/info.json"));
-  EXPECT_TRUE(fs::exists(out / "tavis_demos.json"));
+  EXPECT_TRUE(fs::exists(dataset / "meta/info.json"));
+  EXPECT_NE(ReadText(dataset / "tavis_demos.json").find("\"seed\": 2"), std::string::npos);
+  EXPECT_EQ(first.find("\"seed\": 2"), std::string::npos);
 }
 
 struct BadValue {

@@ -175,6 +175,53 @@ TEST(OpenpiSession, ServerErrorSurfacesTheTracebackAndTheSessionRecovers) {
   EXPECT_EQ(ReadActionChunk(result.reply).values, observation.ExpectedActions());
 }
 
+// A runaway reply is refused from its frame header (nothing of it is buffered), as a malformed
+// reply that ends only its episode; the session reconnects for the next request.
+TEST(OpenpiSession, ReplyOverTheSizeLimitIsMalformedAndTheNextRequestWorks) {
+  PolicyServer server;
+  OpenpiSessionOptions options;
+  options.url = server.address();
+  options.reply_timeout = milliseconds(30'000);
+  options.max_reply_bytes = 1 << 20;
+  OpenpiSession session(options);
+  const TestObservation observation = LiberoLikeObservation(1, 8, 8, 0);
+  try {
+    session.Infer(observation.ToValue({{"test/pad_bytes", std::int64_t{4} << 20}}));
+    FAIL() << "a 4 MiB reply passed a 1 MiB limit";
+  } catch (const MalformedReply& error) {
+    EXPECT_NE(std::string(error.what()).find("over the limit of 1048576 bytes"), std::string::npos) << error.what();
+  }
+  const InferResult result = session.Infer(observation.ToValue());
+  EXPECT_TRUE(result.reconnected);
+  EXPECT_EQ(ReadActionChunk(result.reply).values, observation.ExpectedActions());
+}
+
+TEST(OpenpiSession, DefaultReplyLimitHoldsTheLargestLegalChunk) {
+  EXPECT_GE(kDefaultMaxReplyBytes, 100'000u * 19u * 8u + 4096u);
+  EXPECT_LE(kDefaultMaxReplyBytes, std::uint64_t{64} << 20) << "a limit that lets a runaway server fill memory";
+}
+
+// Broken msgpack-numpy arrays are the reply's fault, not the connection's: each is a
+// MalformedReply naming the defect, and the same connection answers the next request.
+TEST(OpenpiSession, BrokenNdarrayRepliesAreMalformedAndTheSessionGoesOn) {
+  PolicyServer server;
+  OpenpiSession session = Connect(server);
+  const TestObservation observation = LiberoLikeObservation(1, 8, 8, 0);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"short_data", "has 8"}, {"huge_shape", "2^62"}, {"bad_dtype", "zz9"}};
+  for (const auto& [broken, named] : cases) {
+    try {
+      session.Infer(observation.ToValue({{"test/broken_actions", broken}}));
+      ADD_FAILURE() << broken << " passed";
+    } catch (const MalformedReply& error) {
+      EXPECT_NE(std::string(error.what()).find(named), std::string::npos) << broken << ": " << error.what();
+    }
+    const InferResult result = session.Infer(observation.ToValue());
+    EXPECT_FALSE(result.reconnected) << broken;
+    EXPECT_EQ(ReadActionChunk(result.reply).values, observation.ExpectedActions()) << broken;
+  }
+}
+
 TEST(OpenpiSession, ReconnectsAfterTheServerClosesAndReadsTheMetadataAgain) {
   PolicyServer server;
   OpenpiSession session = Connect(server);

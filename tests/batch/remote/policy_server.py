@@ -16,7 +16,9 @@ Server-wide faults for the tests of a whole cell: --fail-at-request N (the polic
 the server's N-th request, counting from 0 over all connections), --nan-entry D (actions[0, D]
 is NaN) and --actions-dtype DTYPE (actions sent with that numpy dtype, e.g. "<i8"). Test-only observation keys: "test/actions_dtype" ("<f4" or "<f8", default "<f8"), "test/raise"
 (the policy raises), "test/close_after_reply" (the server closes the connection with 1000 after
-replying), "test/delay_s" (the reply is sent that many seconds late).
+replying), "test/delay_s" (the reply is sent that many seconds late), "test/pad_bytes" (the reply
+carries that many more bytes), "test/broken_actions" ("short_data": fewer bytes than the shape
+needs, "huge_shape": a 2^40 x 2^40 shape, "bad_dtype": the dtype "zz9").
 
 Serving modes (remote_policy.h): with --batched the metadata declares batched_requests and a
 request carrying batch_size N is split into its N per-env requests (row i of every stacked value),
@@ -179,7 +181,15 @@ class TestPolicy:
             rows = self.replay[str(obs["episode_index"])]
             actions = np.array([rows[min(obs["step"] + t, len(rows) - 1)] for t in range(self.horizon)], dtype=np.float64)
         dtype = self.actions_dtype or obs.get("test/actions_dtype", "<f8")
-        return {"actions": actions.astype(np.dtype(dtype)), "image_sum": image_sum, "received": structure(obs)}
+        reply = {"actions": actions.astype(np.dtype(dtype)), "image_sum": image_sum, "received": structure(obs)}
+        if "test/pad_bytes" in obs:
+            reply["padding"] = bytes(int(obs["test/pad_bytes"]))
+        broken = {"short_data": (b"\0" * 8, "<f8", [self.horizon, self.action_dim]),
+                  "huge_shape": (b"\0" * 8, "<f8", [2 ** 40, 2 ** 40]),
+                  "bad_dtype": (b"\0" * 8, "zz9", [1])}.get(obs.get("test/broken_actions"))
+        if broken is not None:  # msgpack-numpy's map, written by hand: numpy would not build it
+            reply["actions"] = {b"__ndarray__": True, b"data": broken[0], b"dtype": broken[1], b"shape": broken[2]}
+        return reply
 
 
 def serve(args):
