@@ -58,17 +58,18 @@ class ReplayPolicy : public PerEnvPolicy {
 };
 
 std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model,
-                                              int num_envs) {
+                                              int num_envs, scenarios::ExpertMode mode) {
   if (scenario.make_expert == nullptr) {
     throw std::invalid_argument("task '" + scenario.name + "' has no scripted expert yet");
   }
-  return scenario.make_expert(model, num_envs);
+  return scenario.make_expert(model, num_envs, mode);
 }
 
 }  // namespace
 
-ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs)
-    : expert_(MakeExpert(scenario, model, num_envs)) {}
+ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
+                           scenarios::ExpertMode mode)
+    : expert_(MakeExpert(scenario, model, num_envs, mode)) {}
 
 void ExpertPolicy::ResetEnv(const Observation& observation, int env) {
   expert_->Reset(observation.model, observation.state, env);
@@ -88,9 +89,9 @@ void CheckBuiltinPolicyName(const std::string& name) {
 
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
                                           const engine::WorldModel& model, int num_envs,
-                                          const std::string& actions_file) {
+                                          const std::string& actions_file, scenarios::ExpertMode expert_mode) {
   CheckBuiltinPolicyName(name);
-  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
+  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);
   if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
   if (actions_file.empty()) throw std::invalid_argument("policy 'replay' needs an actions file (--actions FILE.csv)");
   return std::make_unique<ReplayPolicy>(actions_file);

@@ -28,6 +28,13 @@ void ValidatePolicy(const EvaluationCellConfig& config) {
   if (!config.servers.empty()) throw std::invalid_argument("--server is for --policy openpi, not '" + config.policy + "'");
 }
 
+void ValidateExpertMode(const EvaluationCellConfig& config) {
+  if (config.expert_mode != scenarios::ExpertMode::kGazeFirst && config.policy != "expert") {
+    throw std::invalid_argument(std::string("--expert-mode ") + scenarios::ToString(config.expert_mode) +
+                                " is for --policy expert, not '" + config.policy + "'");
+  }
+}
+
 
 // The served policy's request layout, with an explicit image size taking the place of its own.
 remote::ObservationKeys ServedKeys(const EvaluationCellConfig& config) {
@@ -81,6 +88,7 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
                                 std::to_string(config.first_episode));
   }
   ValidatePolicy(config);
+  ValidateExpertMode(config);
   if ((config.image_width == 0) != (config.image_height == 0)) {
     throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) + "x" +
                                 std::to_string(config.image_height));
@@ -136,7 +144,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     }
     result.render_width = result.config.image_width;
     result.render_height = result.config.image_height;
-    policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
+    policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file, config.expert_mode);
   }
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);
   if (!cameras.empty()) env.EnableCameras({cameras, result.render_width, result.render_height, false, false});

@@ -14,6 +14,7 @@
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
 #include "batch/remote/remote_policy.h"
+#include "scenarios/expert_mode.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {
@@ -24,6 +25,9 @@ struct EvaluationCellConfig {
   scenarios::Split split = scenarios::Split::kId;
   CameraProtocol camera = CameraProtocol::kHead;
   std::string policy = "expert";
+  // For the scripted expert: how its head leads (gaze-first, or head-still for the fixed-camera
+  // bias ablation); another policy must leave it gaze-first.
+  scenarios::ExpertMode expert_mode = scenarios::ExpertMode::kGazeFirst;
   std::string actions_file;  // for the replay policy
   // For the served policy "openpi": its policy servers (env slot i asks servers[i % size]) and
   // the chunk rows an env steps with before asking again (0: the whole chunk).

@@ -40,6 +40,7 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
   return {{"tasks", config.tasks},
           {"robot", config.robot},
           {"split", scenarios::ToString(config.split)},
+          {"expert_mode", scenarios::ToString(config.expert_mode)},
           {"episodes", config.episodes},
           {"max_attempts", config.max_attempts},
           {"seed", config.seed},
@@ -154,7 +155,7 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     task.attempts = next_episode[task_index];
     const int slots = std::min(config.envs, config.episodes);
     batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
-    const std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy("expert", scenario, env.model(), slots);
+    const std::unique_ptr<batch::Policy> expert = batch::MakeBuiltinPolicy("expert", scenario, env.model(), slots, "", config.expert_mode);
     DemoRecording recording;
     recording.cameras = config.cameras;
     recording.video = layout.video;
