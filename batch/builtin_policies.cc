@@ -79,18 +79,18 @@ class ReplayPolicy : public PerEnvPolicy {
 };
 
 std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model,
-                                              int num_envs) {
+                                              int num_envs, scenarios::ExpertMode mode) {
   if (scenario.make_expert == nullptr) {
     throw std::invalid_argument("task '" + scenario.name + "' has no scripted expert yet");
   }
-  return scenario.make_expert(model, num_envs);
+  return scenario.make_expert(model, num_envs, mode);
 }
 
 }  // namespace
 
 ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
-                           int decide_every)
-    : expert_(MakeExpert(scenario, model, num_envs)), decide_every_(decide_every), held_(static_cast<std::size_t>(num_envs)) {
+                           scenarios::ExpertMode mode, int decide_every)
+    : expert_(MakeExpert(scenario, model, num_envs, mode)), decide_every_(decide_every), held_(static_cast<std::size_t>(num_envs)) {
   if (decide_every < 1) throw std::invalid_argument("the expert must decide every >= 1 control ticks, got " + std::to_string(decide_every));
 }
 
@@ -116,9 +116,9 @@ void CheckBuiltinPolicyName(const std::string& name) {
 
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
                                           const engine::WorldModel& model, int num_envs,
-                                          const std::string& actions_file) {
+                                          const std::string& actions_file, scenarios::ExpertMode expert_mode) {
   CheckBuiltinPolicyName(name);
-  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs);
+  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);
   if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
   if (actions_file.empty()) {
     throw std::invalid_argument("policy 'replay' needs an actions file or folder (--actions FILE.csv | DIR/actions)");

@@ -26,7 +26,8 @@ void CheckBuiltinPolicyName(const std::string& name);
 class ExpertPolicy : public PerEnvPolicy {
  public:
   // Throws std::invalid_argument if the task has no scripted expert or decide_every < 1.
-  ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs, int decide_every = 1);
+  ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
+               scenarios::ExpertMode mode = scenarios::ExpertMode::kGazeFirst, int decide_every = 1);
   std::string name() const override { return "expert"; }
   int control_ticks_per_action() const override { return 1; }
   bool GaveUp(int env) const override { return expert_->gave_up(env); }
@@ -41,7 +42,7 @@ class ExpertPolicy : public PerEnvPolicy {
   std::vector<kinematics::Action> held_;  // (num_envs) the action commanded since the last decision
 };
 
-// "expert": ExpertPolicy.
+// "expert": ExpertPolicy, its head leading as `expert_mode` says.
 // "hold": keeps the arms at their reset pose, head still, grippers open (a lower reference).
 // "replay": plays the rows of `actions_file` (T x 19 CSV, one row per 20 Hz policy step, as
 // `tavis galt` reads them) in every episode, holding the last row; given a folder (a served
@@ -51,6 +52,7 @@ class ExpertPolicy : public PerEnvPolicy {
 // line of a malformed or non-finite action.
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
                                           const engine::WorldModel& model, int num_envs,
-                                          const std::string& actions_file = "");
+                                          const std::string& actions_file = "",
+                                          scenarios::ExpertMode expert_mode = scenarios::ExpertMode::kGazeFirst);
 
 }  // namespace tavis::batch

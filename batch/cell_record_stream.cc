@@ -43,23 +43,27 @@ double ParseActionValue(const nlohmann::json& value) {
 }  // namespace
 
 nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
-  return {{"task", config.task},
-          {"robot", config.robot},
-          {"split", scenarios::ToString(config.split)},
-          {"camera", ToString(config.camera)},
-          {"policy", config.policy},
-          {"actions_file", config.actions_file},
-          {"expert_hz", config.expert_hz},
-          {"servers", config.servers},
-          {"replan_steps", config.replan_steps},
-          {"observation_keys", config.observation_keys},
-          {"observation_dataset", config.observation_dataset},
-          {"episodes", config.episodes},
-          {"seed", config.seed},
-          {"render_cameras", config.render_cameras},
-          {"image_width", config.image_width},
-          {"image_height", config.image_height},
-          {"identity", ConfigIdentityJson(config.config_dir, config.robot, config.policy == "openpi" ? config.observation_keys : "")}};
+  nlohmann::json settings = {{"task", config.task},
+                             {"robot", config.robot},
+                             {"split", scenarios::ToString(config.split)},
+                             {"camera", ToString(config.camera)},
+                             {"policy", config.policy},
+                             {"actions_file", config.actions_file},
+                             {"expert_hz", config.expert_hz},
+                             {"servers", config.servers},
+                             {"replan_steps", config.replan_steps},
+                             {"observation_keys", config.observation_keys},
+                             {"observation_dataset", config.observation_dataset},
+                             {"episodes", config.episodes},
+                             {"seed", config.seed},
+                             {"render_cameras", config.render_cameras},
+                             {"image_width", config.image_width},
+                             {"image_height", config.image_height},
+                             {"identity", ConfigIdentityJson(config.config_dir, config.robot,
+                                                             config.policy == "openpi" ? config.observation_keys : "")}};
+  // Only the expert has a mode; it decides the expert's records, so a resume must keep it.
+  if (config.policy == "expert") settings["expert_mode"] = scenarios::ToString(config.expert_mode);
+  return settings;
 }
 
 EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {

@@ -137,6 +137,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
         {"height", result.render_height},
         {"images", result.rendered_images}}},
   };
+  if (config.policy == "expert") summary["expert_mode"] = scenarios::ToString(config.expert_mode);
   // null under the fixed protocol, where no GALT is computed (as in the reference).
   summary["galt"] = config.camera == CameraProtocol::kHead ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
                                                           : nlohmann::json();

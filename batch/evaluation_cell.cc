@@ -29,6 +29,13 @@ void ValidatePolicy(const EvaluationCellConfig& config) {
   if (!config.servers.empty()) throw std::invalid_argument("--server is for --policy openpi, not '" + config.policy + "'");
 }
 
+void ValidateExpertMode(const EvaluationCellConfig& config) {
+  if (config.expert_mode != scenarios::ExpertMode::kGazeFirst && config.policy != "expert") {
+    throw std::invalid_argument(std::string("--expert-mode ") + scenarios::ToString(config.expert_mode) +
+                                " is for --policy expert, not '" + config.policy + "'");
+  }
+}
+
 
 struct ServedLayout {
   remote::ObservationKeys keys;
@@ -103,6 +110,7 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   if (config.expert_hz != 60 && config.policy != "expert") {
     throw std::invalid_argument("--expert-hz applies to --policy expert only, got --policy " + config.policy);
   }
+  ValidateExpertMode(config);
   if ((config.image_width == 0) != (config.image_height == 0)) {
     throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) + "x" +
                                 std::to_string(config.image_height));
@@ -174,11 +182,11 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     }
     result.render_width = result.config.image_width;
     result.render_height = result.config.image_height;
-    if (config.policy == "expert" && config.expert_hz != 60) {
+    if (config.policy == "expert") {
       const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
-      policy = std::make_unique<ExpertPolicy>(scenario, env.model(), slots, control_hz / config.expert_hz);
+      policy = std::make_unique<ExpertPolicy>(scenario, env.model(), slots, config.expert_mode, control_hz / config.expert_hz);
     } else {
-      policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file);
+      policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file, config.expert_mode);
     }
   }
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);

@@ -14,6 +14,7 @@
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
 #include "batch/remote/remote_policy.h"
+#include "scenarios/expert_mode.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {
@@ -24,6 +25,9 @@ struct EvaluationCellConfig {
   scenarios::Split split = scenarios::Split::kId;
   CameraProtocol camera = CameraProtocol::kHead;
   std::string policy = "expert";
+  // For the scripted expert: how its head leads (gaze-first, or head-still for the fixed-camera
+  // bias ablation); another policy must leave it gaze-first.
+  scenarios::ExpertMode expert_mode = scenarios::ExpertMode::kGazeFirst;
   std::string actions_file;  // for the replay policy: a CSV, or a folder of episode_<i>.csv
   // For the expert: 60 (its action may change every control tick) or 20 (held for three ticks,
   // as a 20 Hz policy acts; each episode's actions are then saved at 20 Hz for --policy replay).

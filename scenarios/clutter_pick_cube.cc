@@ -53,8 +53,9 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 
 const char* Prompt(const engine::BatchState&, int) { return "Find the red cube and pick it up."; }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
+  settings.mode = mode;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 
@@ -90,8 +91,9 @@ std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, co
   return poses;
 }
 
-std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int num_envs) {
+std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
+  settings.mode = mode;
   settings.peek_poses = &WristLookPoses;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }

@@ -47,8 +47,9 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 
 const char* Prompt(const engine::BatchState& state, int env) { return TargetPrompt(kPrompts, state, env); }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
+  settings.mode = mode;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }
 

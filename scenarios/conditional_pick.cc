@@ -67,8 +67,9 @@ const char* Prompt(const engine::BatchState&, int) {
   return "Look at the card. If it is red, pick the object on the left. If it is green, pick the object on the right.";
 }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
+  settings.mode = mode;
   settings.cue_object = kCard;
   return std::make_unique<PickExpert>(model, num_envs, settings);
 }

@@ -101,8 +101,9 @@ const char* Prompt(const engine::BatchState& state, int env) { return TargetProm
 
 // Scans the three rows bottom to top, then reaches level into the target's slot from the front
 // and pulls it straight out past the success line.
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
+  settings.mode = mode;
   for (const double shelf_z : kShelfZ) settings.scan_points.push_back(Vec3(kCentreX, 0.0, shelf_z + 0.05));
   settings.approach_distance = 0.15;
   settings.lift_to_z = std::nullopt;  // withdrawing 15 cm takes the object past the success line

@@ -45,8 +45,9 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 
 const char* Prompt(const engine::BatchState&, int) { return "Reach around the screen and pick up the object behind it."; }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
+  settings.mode = mode;
   settings.lift_to_z = kHandsLiftSuccessZ + kExpertLiftPastSuccess;
   settings.grasp_height = 0.012;
   // Coming down from above where the arm clears the screen, else reaching in along the hand from

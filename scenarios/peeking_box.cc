@@ -119,8 +119,9 @@ std::array<RigidTransform, 2> PeekPoses(const engine::WorldModel& model, const e
 
 // Looks at the box, peeks into both sides with the wrist cameras, then reaches in level through
 // the open side with the arm on that side, closes, withdraws the way it came and lifts.
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs) {
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
+  settings.mode = mode;
   settings.peek_poses = &PeekPoses;
   settings.reach_side = [](const engine::BatchState& state, int env) {
     return OpenSide(state, env) > 0.0 ? kinematics::Side::kLeft : kinematics::Side::kRight;

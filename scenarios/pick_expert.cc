@@ -16,6 +16,14 @@ namespace {
 // m: a gripper this close to its fully shut gap holds nothing (the thinnest object is 21 mm).
 constexpr double kEmptyGripMargin = 0.005;
 
+// Head-still: the objects are dropped onto their supports at the episode's start (reference 2)
+// and a grasp is planned from where they lie, so the hands wait until every object has been
+// still this long (a bounce's apex is still for under a tick), or at most kMaxSceneWaitS.
+constexpr double kRestS = 0.1;
+constexpr double kMaxSceneWaitS = 1.0;
+constexpr double kRestLinearSpeed = 0.02;   // m/s
+constexpr double kRestAngularSpeed = 0.2;  // rad/s
+
 using kinematics::Side;
 
 void WriteArm(kinematics::Action& action, Side side, const RigidTransform& X_CanonicalHand) {
@@ -48,12 +56,17 @@ void PickExpert::Reset(const engine::WorldModel& model, const engine::BatchState
   m.neck_goal = m.neck_command;
   m.fixated_point = Vec3::Constant(1e9);
   m.failed_candidates.assign(settings_.grasp_candidates.size(), false);
-  m.phase = settings_.cue_object >= 0 || !settings_.scan_points.empty() ? Phase::kWatchCue : Phase::kLook;
+  if (head_still()) {
+    m.phase = Phase::kWaitToAct;
+  } else {
+    m.phase = settings_.cue_object >= 0 || !settings_.scan_points.empty() ? Phase::kWatchCue : Phase::kLook;
+  }
 }
 
 Expert::Gaze PickExpert::gaze(const engine::BatchState& state, int env) const {
   const EnvMemory& m = memory_[env];
   Gaze gaze;
+  if (head_still()) return gaze;  // the head fixates nothing
   if (m.phase == Phase::kWatchCue) {
     if (m.scan_index < settings_.scan_points.size()) return gaze;
     gaze.object = settings_.cue_object;
@@ -95,6 +108,29 @@ void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::Batch
                                    -settings_.neck_max_speed, settings_.neck_max_speed);
     m.neck_command[i] += rate * dt;
   }
+}
+
+bool PickExpert::SceneAtRest(const engine::WorldModel& model, const engine::BatchState& state, int env) {
+  for (int object = 0; object < model.num_objects(); ++object) {
+    if (!state.object_enabled_at(env, object)) continue;
+    if (model.objects[static_cast<std::size_t>(object)].motion == engine::ObjectMotion::kKinematic) continue;
+    const double* v = state.object_velocity_row(env, object);
+    if (Vec3(v[0], v[1], v[2]).norm() >= kRestLinearSpeed || Vec3(v[3], v[4], v[5]).norm() >= kRestAngularSpeed) return false;
+  }
+  return true;
+}
+
+void PickExpert::StartHands(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
+                            int step) const {
+  if (settings_.peek_poses && !m.peeked) {
+    m.peeked = true;
+    if (StartPeek(model, state, env, m)) {
+      Enter(m, Phase::kPeek, step);
+      return;
+    }
+    m.peek_done = true;
+  }
+  StartReach(model, state, env, m, step);
 }
 
 bool PickExpert::StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env,
@@ -163,7 +199,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
   EnvMemory& m = memory_[env];
   const int step = state.control_step[env];
   const double elapsed = (step - m.phase_start_step) / model.physics.control_hz;
-  UpdateNeck(model, state, env, m);
+  if (!head_still()) UpdateNeck(model, state, env, m);
 
   switch (m.phase) {
     case Phase::kWatchCue: {
@@ -185,16 +221,17 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
     }
     case Phase::kSettle:
       if (elapsed < settings_.settle_s) break;
-      if (settings_.peek_poses && !m.peeked) {
-        m.peeked = true;
-        if (StartPeek(model, state, env, m)) {
-          Enter(m, Phase::kPeek, step);
-          break;
-        }
-        m.peek_done = true;
-      }
-      StartReach(model, state, env, m, step);
+      StartHands(model, state, env, m, step);
       break;
+    case Phase::kWaitToAct: {
+      // The clock counts the scene's still time; the go signal is the task's own wait.
+      if (!SceneAtRest(model, state, env)) m.phase_start_step = step;
+      const double still_s = (step - m.phase_start_step) / model.physics.control_hz;
+      const bool scene_ready = still_s >= kRestS || step >= kMaxSceneWaitS * model.physics.control_hz;
+      const bool go = !settings_.wait_for_go || state.task[env].go;
+      if (scene_ready && go) StartHands(model, state, env, m, step);
+      break;
+    }
     case Phase::kPeek: {
       // Both hands go to their peek poses; the clock for peek_s starts when both have arrived.
       bool arrived = true;

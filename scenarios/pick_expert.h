@@ -9,6 +9,8 @@
 // A grasp that closes on nothing, or loses the object on the way out, is retried as a
 // teleoperator would: open, back out to the pre-grasp, plan again from what is there now with
 // another hand orientation.
+// In head-still mode (pick_expert_settings.h) the neck never moves and the hands start as soon as
+// the task allows: no cue look, fixation or settling.
 // This file is the phase machine and the gaze; grasp_planner.h plans the grasps, hand_motion.h
 // moves the hands along the plan.
 #pragma once
@@ -32,7 +34,9 @@ class PickExpert : public Expert {
   Gaze gaze(const engine::BatchState& state, int env) const override;
   bool gave_up(int env) const override { return memory_[env].phase == Phase::kGiveUp; }
 
-  enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kRetreat, kGiveUp };
+  // kWaitToAct: head-still only, the hands wait for the scene to rest and for the go signal.
+  enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kRetreat, kGiveUp,
+                     kWaitToAct };
   Phase phase(int env) const { return memory_[env].phase; }
   // Grasps started in the env's episode so far (retries after a miss count).
   int attempts(int env) const { return memory_[env].attempts; }
@@ -67,6 +71,12 @@ class PickExpert : public Expert {
   // Plans both arms' joint-space paths to their peek poses (an arm that cannot reach its pose
   // keeps still); false if neither can peek.
   bool StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
+  // The hands' first move once nothing else holds them: the wrist peeks if the task has them,
+  // else the reach.
+  void StartHands(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m, int step) const;
+  // True while every enabled dynamic object is still (the dropped objects have landed).
+  static bool SceneAtRest(const engine::WorldModel& model, const engine::BatchState& state, int env);
+  bool head_still() const { return settings_.mode == ExpertMode::kHeadStill; }
   // Plans the grasp from the current state and starts the approach (or gives up).
   void StartReach(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
                   int step) const;

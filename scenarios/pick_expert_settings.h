@@ -9,11 +9,17 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/robot_model.h"
+#include "scenarios/expert_mode.h"
 #include "scenarios/grasp_candidates.h"
 
 namespace tavis::scenarios {
 
 struct PickExpertSettings {
+  // Gaze-first: the head reads the cue and fixates the target before the hands move (the
+  // settings below). Head-still: the neck command stays at its reset pose, the scan points, cue
+  // looks and head settling are skipped; the hands wait only for the scene to come to rest and,
+  // with wait_for_go, for the go signal (wrist peeks are hand motions and are kept).
+  ExpertMode mode = ExpertMode::kGazeFirst;
   // The expert picks the episode's target (TaskVars::target). A cue to read before looking at
   // it (cue card, signal light), or -1: the expert fixates it for cue_look_s once the neck has
   // settled, and with wait_for_go keeps watching until the task says go (the light turns green).

@@ -12,6 +12,7 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/action.h"
+#include "scenarios/expert_mode.h"
 #include "scenarios/split.h"
 #include "scenarios/suite.h"
 
@@ -67,8 +68,8 @@ struct ScenarioDef {
   void (*update)(const engine::WorldModel& model, engine::BatchState& state, int env) = nullptr;
   // The instruction the policy receives for the env's episode (fixed at reset).
   const char* (*prompt)(const engine::BatchState& state, int env) = nullptr;
-  // Null for a task without a scripted expert.
-  std::unique_ptr<Expert> (*make_expert)(const engine::WorldModel& model, int num_envs) = nullptr;
+  // Null for a task without a scripted expert; `mode`: how its head leads (expert_mode.h).
+  std::unique_ptr<Expert> (*make_expert)(const engine::WorldModel& model, int num_envs, ExpertMode mode) = nullptr;
   // Objects besides the target whose sight decides the episode, by model name (the cue card, the
   // signal light): the visibility audit measures them with the target.
   std::vector<std::string> cue_objects;

@@ -29,6 +29,7 @@ struct DemosOptions {
   std::string task;
   std::string suite;
   std::string split = "id";
+  std::string expert_mode = "gaze-first";
   std::string image_size = "640x480";
   std::string cameras = "head,fixed,left_wrist,right_wrist";
   std::string codec = "h264";
@@ -80,6 +81,7 @@ nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const Demos
   const dataset::DemoConfig& config = options.config;
   return {{"robot", config.robot},
           {"split", options.split},
+          {"expert_mode", options.expert_mode},
           {"seed", config.seed},
           {"episodes_per_task", config.episodes},
           {"fps", config.fps},
@@ -116,6 +118,7 @@ void RunDemos(DemosOptions options) {
     scenarios::FindScenario(config.tasks.front());
   }
   config.split = scenarios::ParseSplit(options.split);
+  config.expert_mode = scenarios::ParseExpertMode(options.expert_mode);
   std::tie(config.video.width, config.video.height) = ParseImageSize(options.image_size);
   config.cameras = options.cameras.empty() ? std::vector<std::string>{} : batch::ParseCameraList(options.cameras);
   config.video.codec = dataset::ParseVideoCodec(options.codec);
@@ -178,6 +181,10 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_option("--suite", options->suite, "Every task of a suite in one dataset: " + scenarios::KnownSuites());
   demos->add_option("--robot", options->config.robot, "Robot: gr1t2 or reachy2")->capture_default_str();
   demos->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
+  demos->add_option("--expert-mode", options->expert_mode,
+                    "How the scripted expert's head leads: gaze-first (looks at the cue and the target, then acts)\n"
+                    "or head-still (neck still at its reset pose, hands act as soon as the task allows)")
+      ->capture_default_str();
   demos->add_option("--episodes", options->config.episodes, "Episodes written per task")
       ->check(IntegerIn(1, 10000000))
       ->capture_default_str();

@@ -33,6 +33,7 @@ struct EvalOptions {
   batch::EvaluationCellConfig cell;
   std::string split = "id";
   std::string camera = "head";
+  std::string expert_mode = "gaze-first";
   std::string out;
   std::string render_cameras;
   std::string image_size;
@@ -56,7 +57,10 @@ void PrintProgress(int64_t finished, int64_t total) {
 }
 
 std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split) {
-  return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + "_s" +
+  // A head-still expert's cell must not take the place of the gaze-first one.
+  const std::string mode =
+      cell.expert_mode == scenarios::ExpertMode::kGazeFirst ? "" : std::string("-") + scenarios::ToString(cell.expert_mode);
+  return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + mode + "_s" +
          std::to_string(cell.seed);
 }
 
@@ -171,6 +175,7 @@ void RunEval(const EvalOptions& options) {
   batch::EvaluationCellConfig cell = options.cell;
   cell.split = scenarios::ParseSplit(options.split);
   cell.camera = batch::ParseCameraProtocol(options.camera);
+  cell.expert_mode = scenarios::ParseExpertMode(options.expert_mode);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
   if (options.image_size_given) std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
@@ -209,6 +214,11 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--policy", options->cell.policy,
                    "Policy (" + batch::CellPolicyNames() + "); openpi: a policy served over openpi's websocket\n"
                    "protocol (--server), acting at 20 Hz on the cameras its --keys name")
+      ->capture_default_str();
+  eval->add_option("--expert-mode", options->expert_mode,
+                   "For --policy expert: gaze-first (looks at the cue and the target, then acts) or head-still\n"
+                   "(neck still at its reset pose, hands act as soon as the task allows; its cells are named\n"
+                   "..._expert-head-still_s<seed>)")
       ->capture_default_str();
   eval->add_option("--server", options->cell.servers,
                    "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"

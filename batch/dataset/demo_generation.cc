@@ -41,6 +41,7 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
   return {{"tasks", config.tasks},
           {"robot", config.robot},
           {"split", scenarios::ToString(config.split)},
+          {"expert_mode", scenarios::ToString(config.expert_mode)},
           {"episodes", config.episodes},
           {"max_attempts", config.max_attempts},
           {"seed", config.seed},
@@ -165,7 +166,8 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     const int slots = std::min(config.envs, config.episodes);
     batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
     const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
-    const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, env.model(), slots, control_hz / config.expert_hz);
+    const auto expert =
+        std::make_unique<batch::ExpertPolicy>(scenario, env.model(), slots, config.expert_mode, control_hz / config.expert_hz);
     DemoRecording recording;
     recording.cameras = config.cameras;
     recording.video = layout.video;

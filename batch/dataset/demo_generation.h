@@ -14,6 +14,7 @@
 
 #include "batch/dataset/lerobot_features.h"
 #include "batch/dataset/video/video_settings.h"
+#include "scenarios/expert_mode.h"
 #include "scenarios/split.h"
 
 namespace tavis::dataset {
@@ -22,6 +23,8 @@ struct DemoConfig {
   std::vector<std::string> tasks;  // one dataset holds every task's episodes, tasks in this order
   std::string robot = "gr1t2";
   scenarios::Split split = scenarios::Split::kId;
+  // How the expert's head leads: gaze-first (the reference's teleoperators), or head-still.
+  scenarios::ExpertMode expert_mode = scenarios::ExpertMode::kGazeFirst;
   int episodes = 100;      // written per task
   int max_attempts = 0;    // per task; 0: 2 * episodes + 20
   uint64_t seed = 0;

@@ -19,7 +19,7 @@ TEST(PeekingBoxExpert, PeeksIntoBothSidesThenLiftsTheObjectOut) {
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario("peeking-box");
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
   VecEnv env(BuildWorldModel(robot, scenario), scenario, scenarios::Split::kId, 1, 0);
-  std::unique_ptr<scenarios::Expert> expert = scenario.make_expert(env.model(), 1);
+  std::unique_ptr<scenarios::Expert> expert = scenario.make_expert(env.model(), 1, scenarios::ExpertMode::kGazeFirst);
   constexpr int kEpisode = 1;  // an episode the expert solves
   env.ResetEnv(0, kEpisode);
   expert->Reset(env.model(), env.state(), 0);

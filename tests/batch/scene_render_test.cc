@@ -192,7 +192,7 @@ TEST(VecEnvCameras, NothingIsRenderedWithoutCamerasAndOnlyPolicyTicksWithThem) {
   env.ResetEnv(1, 1);
   const int per_policy = env.model().physics.controls_per_policy();
   ASSERT_EQ(per_policy, 3);
-  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), 2);
+  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
   for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
 
   // Slot 1 is one tick behind slot 0, so their policy ticks differ.
@@ -284,7 +284,7 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
     VecEnv env(Model(robot), scenarios::FindScenario(kTask), scenarios::Split::kId, n, 0);
     env.EnableCameras(Cameras({"head"}, kWidth, kHeight, /*with_object_id=*/true));
     const int cube = env.model().ObjectIndex("red_cube");
-    std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), n);
+    std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), n, scenarios::ExpertMode::kGazeFirst);
     GazeSettling gaze(n);
     for (int slot = 0; slot < n; ++slot) {
       env.ResetEnv(slot, episodes[static_cast<std::size_t>(slot)]);
@@ -356,7 +356,7 @@ TEST(VecEnvCameras, BlockedHeadImageIsAllZero) {
   env.ResetEnv(0, 0);
   env.ResetEnv(1, 0);  // the same episode in both slots
   env.SetCameraBlocked(0, env.cameras()->CameraIndex("head"), true);
-  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), 2);
+  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
   for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
   RunExpert(env, *expert, 60);  // the head has turned to the table by now
 
@@ -400,7 +400,7 @@ std::vector<std::vector<uint8_t>> RecordImages(int threads, int slots) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   VecEnv env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, slots, 9);
   env.EnableCameras(Cameras(SceneCameraNames(), 40, 30));
-  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), slots);
+  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), slots, scenarios::ExpertMode::kGazeFirst);
   std::vector<std::vector<uint8_t>> frames;
   std::vector<kinematics::Action> actions(static_cast<std::size_t>(slots));
   // Episodes 0, 1, 2 start one tick apart in slots 0, 1, 2 (or share slot 0 with one slot).

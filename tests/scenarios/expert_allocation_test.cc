@@ -88,7 +88,7 @@ ActAllocations RunEpisode(const std::string& task, const std::string& robot_name
   const ScenarioDef& scenario = FindScenario(task);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, robot_name));
   batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, Split::kId, 1, 0);
-  const std::unique_ptr<Expert> made = scenario.make_expert(env.model(), 1);
+  const std::unique_ptr<Expert> made = scenario.make_expert(env.model(), 1, ExpertMode::kGazeFirst);
   PickExpert& expert = dynamic_cast<PickExpert&>(*made);
   env.ResetEnv(0, episode);
   expert.Reset(env.model(), env.state(), 0);

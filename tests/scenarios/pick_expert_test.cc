@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,7 @@ namespace {
 class PickExpertTest : public ::testing::Test {
  protected:
   // One env of `task` on GR1T2 at the reset of `episode`, its objects resting on the table.
-  void ResetTask(const std::string& task, uint64_t episode) {
+  void ResetTask(const std::string& task, uint64_t episode, ExpertMode mode = ExpertMode::kGazeFirst) {
     scenario_ = &FindScenario(task);
     model_ = engine::WorldModel();
     model_.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
@@ -38,7 +39,7 @@ class PickExpertTest : public ::testing::Test {
       const double half_height = BoundingHalfSize(model_.objects[static_cast<std::size_t>(object)].shape).z();
       state_.object_pose_row(0, object)[2] = engine::kTableHeight + half_height;
     }
-    expert_ = scenario_->make_expert(model_, 1);
+    expert_ = scenario_->make_expert(model_, 1, mode);
     expert_->Reset(model_, state_, 0);
   }
 
@@ -46,13 +47,15 @@ class PickExpertTest : public ::testing::Test {
 
   // Steps the expert `ticks` control ticks. A closed gripper reads `held_gap` (the object's
   // width when it holds it, the shut gap when it closed on nothing); an open one, its open gap.
-  // Returns the commanded action at each tick on which a gripper command turned to closed.
-  std::vector<kinematics::Action> Run(int ticks, double held_gap) {
+  // Returns the commanded action at each tick on which a gripper command turned to closed;
+  // `every` (if given) receives every tick's action.
+  std::vector<kinematics::Action> Run(int ticks, double held_gap, std::vector<kinematics::Action>* every = nullptr) {
     std::vector<kinematics::Action> closings;
     kinematics::Action action{};
     std::array<bool, 2> closed{false, false};
     for (int tick = 0; tick < ticks; ++tick) {
       expert_->Act(model_, state_, 0, action);
+      if (every) every->push_back(action);
       for (const kinematics::Side side : kinematics::kSides) {
         const int i = kinematics::Index(side);
         const bool now_closed = action[kinematics::action::kGripper[i]] > 0.0;
@@ -73,6 +76,13 @@ class PickExpertTest : public ::testing::Test {
     if (R) *R = R_hand;
     const Vec3 ik = model_.robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])) + model_.robot.root_world;
     return ik + R_hand * model_.robot.gripper.pad_center;
+  }
+
+  // The neck joints' positions at the reset, as the robot holds them.
+  std::array<double, 3> ResetNeck() const {
+    std::array<double, 3> neck{};
+    for (int i = 0; i < kinematics::kNeckDof; ++i) neck[static_cast<std::size_t>(i)] = state_.q_row(0)[model_.robot.neck_joints[i]];
+    return neck;
   }
 
   static kinematics::Side ClosingSide(const kinematics::Action& action) {
@@ -142,6 +152,109 @@ TEST_F(PickExpertTest, PadsOverlapALowCanInsideTheBox) {
     EXPECT_GE(overlap, 0.6 * 2.0 * can_half_height) << "episode " << episode << ": pads at z " << pads.z();
   }
   EXPECT_GE(tuna_episodes, 4);
+}
+
+// The first tick whose commanded arms or grippers differ from tick 0's (the hands' first move),
+// or actions.size() if they never do.
+std::size_t FirstHandMove(const std::vector<kinematics::Action>& actions) {
+  for (std::size_t tick = 1; tick < actions.size(); ++tick) {
+    for (int entry = 0; entry < kinematics::action::kSize; ++entry) {
+      const bool neck = entry == kinematics::action::kNeckRoll || entry == kinematics::action::kNeckPitch ||
+                        entry == kinematics::action::kNeckYaw;
+      if (!neck && actions[tick][static_cast<std::size_t>(entry)] != actions[0][static_cast<std::size_t>(entry)]) return tick;
+    }
+  }
+  return actions.size();
+}
+
+TEST(ExpertMode, ParsesItsNamesAndRefusesOthersNamingThem) {
+  EXPECT_EQ(ParseExpertMode("gaze-first"), ExpertMode::kGazeFirst);
+  EXPECT_EQ(ParseExpertMode("head-still"), ExpertMode::kHeadStill);
+  EXPECT_STREQ(ToString(ParseExpertMode(ToString(ExpertMode::kHeadStill))), "head-still");
+  try {
+    ParseExpertMode("head_still");
+    FAIL() << "an unknown mode must be refused";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("'head_still'"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("gaze-first, head-still"), std::string::npos) << error.what();
+  }
+}
+
+TEST_F(PickExpertTest, HeadStillKeepsTheNeckAtItsResetPoseInEveryTickOfEveryTask) {
+  for (const ScenarioDef& scenario : AllScenarios()) {
+    if (scenario.make_expert == nullptr) continue;
+    ResetTask(scenario.name, 1, ExpertMode::kHeadStill);
+    const std::array<double, 3> neck = ResetNeck();
+    std::vector<kinematics::Action> actions;
+    Run(kTwentySeconds, 0.05, &actions);
+    for (std::size_t tick = 0; tick < actions.size(); ++tick) {
+      ASSERT_EQ(actions[tick][kinematics::action::kNeckRoll], neck[0]) << scenario.name << " tick " << tick;
+      ASSERT_EQ(actions[tick][kinematics::action::kNeckPitch], neck[1]) << scenario.name << " tick " << tick;
+      ASSERT_EQ(actions[tick][kinematics::action::kNeckYaw], neck[2]) << scenario.name << " tick " << tick;
+    }
+    EXPECT_EQ(expert_->gaze(state_, 0).object, -1) << scenario.name << ": the head fixates nothing";
+    // The hands did work meanwhile (wait-then-act's light never turns green here: no task update).
+    const bool waits_for_go = scenario.name == "wait-then-act";
+    EXPECT_EQ(FirstHandMove(actions) < actions.size(), !waits_for_go) << scenario.name;
+  }
+}
+
+TEST_F(PickExpertTest, GazeFirstTurnsTheHeadWhereHeadStillDoesNot) {
+  ResetTask("conditional-pick", 0, ExpertMode::kGazeFirst);
+  const std::array<double, 3> neck = ResetNeck();
+  std::vector<kinematics::Action> actions;
+  Run(120, 0.05, &actions);
+  double turned = 0.0;
+  for (const kinematics::Action& action : actions) {
+    turned = std::max({turned, std::abs(action[kinematics::action::kNeckPitch] - neck[1]),
+                       std::abs(action[kinematics::action::kNeckYaw] - neck[2])});
+  }
+  EXPECT_GT(turned, 0.2) << "the gaze-first expert looks down at the card and the target";
+}
+
+TEST_F(PickExpertTest, HeadStillReachesForTheCardsObjectAtOnceWhereGazeFirstLooksFirst) {
+  const int rest_ticks = 6;  // the scene still for 0.1 s (the objects here lie still from the start)
+  for (uint64_t episode = 0; episode < 4; ++episode) {
+    ResetTask("conditional-pick", episode, ExpertMode::kGazeFirst);
+    std::vector<kinematics::Action> gaze_first;
+    Run(kTwentySeconds, 0.05, &gaze_first);
+    ResetTask("conditional-pick", episode, ExpertMode::kHeadStill);
+    std::vector<kinematics::Action> head_still;
+    const std::vector<kinematics::Action> closings = Run(kTwentySeconds, 0.05, &head_still);
+    EXPECT_LE(FirstHandMove(head_still), static_cast<std::size_t>(rest_ticks + 2)) << "episode " << episode;
+    EXPECT_GE(FirstHandMove(gaze_first), 60u) << "episode " << episode << ": the card and the target are looked at first";
+    // The privileged expert picks the object the card names without reading it.
+    ASSERT_EQ(closings.size(), 1u) << "episode " << episode;
+    EXPECT_LT((CommandedPads(closings[0], ClosingSide(closings[0])) - state_.ObjectPosition(0, Target())).norm(), 0.03)
+        << "episode " << episode;
+  }
+}
+
+TEST_F(PickExpertTest, HeadStillHandsWaitForTheDroppedObjectsToComeToRest) {
+  ResetTask("clutter-pick-cube", 0, ExpertMode::kHeadStill);
+  const int falling_ticks = 30;
+  double* v = state_.object_velocity_row(0, Target());
+  std::vector<kinematics::Action> actions;
+  v[2] = -0.5;  // the cube still falling
+  Run(falling_ticks, 0.05, &actions);
+  v[2] = 0.0;
+  Run(60, 0.05, &actions);
+  const std::size_t first_move = FirstHandMove(actions);
+  EXPECT_GT(first_move, static_cast<std::size_t>(falling_ticks)) << "no grasp is planned on a falling object";
+  EXPECT_LE(first_move, static_cast<std::size_t>(falling_ticks + 8));
+}
+
+TEST_F(PickExpertTest, HeadStillWaitThenActWaitsForTheGreenLightThenActsAtOnce) {
+  ResetTask("wait-then-act", 0, ExpertMode::kHeadStill);
+  std::vector<kinematics::Action> actions;
+  const int red_ticks = 240;
+  Run(red_ticks, 0.05, &actions);
+  EXPECT_EQ(FirstHandMove(actions), actions.size()) << "the hands wait while the light is red";
+  state_.task[0].go = true;
+  const std::vector<kinematics::Action> closings = Run(kTwentySeconds - red_ticks, 0.05, &actions);
+  EXPECT_LE(FirstHandMove(actions), static_cast<std::size_t>(red_ticks + 2)) << "the hands start on the green light";
+  ASSERT_EQ(closings.size(), 1u);
+  EXPECT_LT((CommandedPads(closings[0], ClosingSide(closings[0])) - state_.ObjectPosition(0, Target())).norm(), 0.03);
 }
 
 }  // namespace
