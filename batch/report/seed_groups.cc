@@ -24,19 +24,22 @@ struct ValuesByKey {
     values[text][label] = value;
   }
 
-  // Only keys every label evaluated: a checkpoint missing a cell would bias the mean.
+  // Per key the checkpoints that evaluated it (e.g. a group of per-robot checkpoints: each
+  // robot's), named in "labels".
   Json Rows(const std::vector<std::string>& labels) const {
     Json rows = Json::array();
     for (const Json& key : order) {
       const auto& by_label = values.at(key.dump());
       std::vector<double> across;
+      std::vector<std::string> which;
       for (const std::string& label : labels) {
         const auto it = by_label.find(label);
-        if (it == by_label.end()) break;
+        if (it == by_label.end()) continue;
         across.push_back(it->second);
+        which.push_back(label);
       }
-      if (across.size() != labels.size()) continue;
       Json row = key;
+      row["labels"] = which;
       row.update(AcrossCheckpoints(across));
       rows.push_back(row);
     }
