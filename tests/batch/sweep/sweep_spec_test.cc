@@ -123,7 +123,7 @@ TEST(SweepSpec, LabelledPoliciesServeTheirCells) {
 TEST(SweepSpec, LabelledPolicyMistakesAreNamed) {
   const auto error = [](const std::string& from, const std::string& to) { return ErrorOf(Replace(kLabelled, from, to)); };
   EXPECT_NE(error("label: expert-b", "label: expert-a").find("policies[1].label: 'expert-a' is used twice"), std::string::npos);
-  EXPECT_NE(error("  - label: still\n", "  - ").find("policies[2]: needs label"), std::string::npos);
+  EXPECT_NE(error("  - label: still\n    name: hold\n", "  - name: hold\n").find("policies[2]: needs label"), std::string::npos);
   EXPECT_NE(error("label: still", "label: still/1").find("still/1"), std::string::npos);
   EXPECT_NE(error("[still, recipe]", "[still, nobody]").find("figures.single_vs_multi[1]: no policy has the label or seed group 'nobody'"),
             std::string::npos);
