@@ -89,6 +89,13 @@ std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<std::pair<std::
   return kept;
 }
 
+void WriteFile(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  out.close();
+  if (!out) throw std::runtime_error(path + ": cannot write file");
+}
+
 void RunTable(const TableOptions& options) {
   if (!options.label.empty() && options.pool_labels) throw std::invalid_argument("--label and --pool-labels exclude each other");
   const batch::ResultsTable table = batch::BuildResultsTable(
