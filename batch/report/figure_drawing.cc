@@ -46,7 +46,7 @@ Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups
   double width = gap;
   for (const BarGroup& group : groups) width += bar_width * static_cast<double>(group.bars.size()) + gap;
   width = std::max(width, 200.0);
-  Canvas canvas(static_cast<int>(left + width + 170), static_cast<int>(top + height + 60));
+  Canvas canvas(std::max(640, static_cast<int>(left + width + 170)), static_cast<int>(top + height + 60));
   canvas.Text(left, 18, title, 13);
   RateAxis(canvas, left, top, width, height);
   double x = left + gap;
@@ -93,7 +93,8 @@ Figure HeadVsFixed(const Json& figure) {
     if (std::find(robots.begin(), robots.end(), point["robot"]) == robots.end()) robots.push_back(point["robot"]);
   }
   const double panel = 260, left = 50, top = 40, height = 240;
-  Canvas canvas(static_cast<int>(left + panel * static_cast<double>(robots.size()) + 20), static_cast<int>(top + height + 50));
+  // Wide enough for the title in the PNG's Hershey font too.
+  Canvas canvas(std::max(640, static_cast<int>(left + panel * static_cast<double>(robots.size()) + 20)), static_cast<int>(top + height + 50));
   canvas.Text(left, 18, "Fig. 3a: head vs fixed camera, id split, per task (" + figure["policy"].get<std::string>() + ")", 13);
   for (std::size_t r = 0; r < robots.size(); ++r) {
     const double x0 = left + panel * static_cast<double>(r);
@@ -212,7 +213,7 @@ Figure GaltFigure(const Json& figure) {
   const double low = figure["bins"]["low"], high = figure["bins"]["high"];
   const Json& tasks = figure["tasks"];
   const double panel_width = 300, panel_height = 130, left = 40, top = 50, pitch = panel_height + 70;
-  Canvas canvas(static_cast<int>(left + panel_width + 200), static_cast<int>(top + pitch * static_cast<double>(tasks.size())));
+  Canvas canvas(static_cast<int>(left + panel_width + 420), static_cast<int>(top + pitch * static_cast<double>(tasks.size())));
   const std::string reference = figure["reference"].is_null() ? "no reference" : figure["reference"].get<std::string>();
   char window[32];
   std::snprintf(window, sizeof(window), "%.1f", figure["window_s"].get<double>());
