@@ -1,9 +1,15 @@
 // `tavis table`: success-rate tables in the paper's layout from a folder of cell results.
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "batch/results_table.h"
 #include "configs/robot_config.h"
@@ -19,7 +25,69 @@ struct TableOptions {
   std::string suite;
   std::string out_prefix;
   bool no_intervals = false;
+  std::string label;         // keep only the cells of this policy label
+  bool pool_labels = false;  // declared: pool cells of different labels
 };
+
+// A cell's policy label: its folder's policy.json (written by `tavis sweep`), else its policy's
+// name (summary.json's "policy"), else "unlabelled".
+std::string CellLabel(const batch::CellCounts& cell) {
+  const std::filesystem::path policy_file = std::filesystem::path(cell.source).parent_path() / "policy.json";
+  std::ifstream in(policy_file);
+  if (in) {
+    const nlohmann::json policy = nlohmann::json::parse(in, nullptr, false);
+    if (policy.is_object() && policy.contains("label") && policy["label"].is_string()) return policy["label"];
+    throw std::runtime_error(policy_file.string() + ": needs a string \"label\"");
+  }
+  return cell.policy.empty() ? "unlabelled" : cell.policy;
+}
+
+// Every summary.json under the folder with its label, as LoadCellResults reads them, but with the
+// label in the duplicate check: two labels may evaluate the same cell and seed (two checkpoints).
+std::vector<std::pair<std::string, batch::CellCounts>> LoadLabelledCells(const std::string& folder) {
+  if (!std::filesystem::is_directory(folder)) throw std::runtime_error(folder + ": not a directory");
+  std::vector<std::filesystem::path> paths;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
+    if (entry.is_regular_file() && entry.path().filename() == "summary.json") paths.push_back(entry.path());
+  }
+  std::sort(paths.begin(), paths.end());
+  const std::vector<std::string> robots = configs::KnownRobots(DefaultConfigDir());
+  std::vector<std::pair<std::string, batch::CellCounts>> cells;
+  std::map<std::string, std::string> seen;  // cell key -> file
+  for (const std::filesystem::path& path : paths) {
+    batch::CellCounts cell = batch::ReadCellResult(path, robots);
+    const std::string label = CellLabel(cell);
+    const std::string key = cell.task + "|" + cell.robot + "|" + cell.split + "|" + cell.camera + "|" + cell.seed + "|" + label;
+    const auto [it, inserted] = seen.emplace(key, cell.source);
+    if (!cell.seed.empty() && !inserted) {
+      throw std::runtime_error("duplicate cell (same task, robot, split, camera, seed and label): " + it->second + " and " + cell.source);
+    }
+    cells.emplace_back(label, std::move(cell));
+  }
+  return cells;
+}
+
+// The cells the table pools: those of --label, or all of them when they share one label or
+// --pool-labels declares the pooling; anything else is refused, naming the labels.
+std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<std::pair<std::string, batch::CellCounts>>& cells,
+                                               const TableOptions& options) {
+  std::map<std::string, int> counts;
+  std::vector<batch::CellCounts> kept;
+  for (const auto& [label, cell] : cells) {
+    ++counts[label];
+    if (options.label.empty() || label == options.label) kept.push_back(cell);
+  }
+  std::string labels;
+  for (const auto& [label, n] : counts) labels += (labels.empty() ? "" : ", ") + label + " (" + std::to_string(n) + " cells)";
+  if (!options.label.empty() && kept.empty()) {
+    throw std::invalid_argument("--label " + options.label + ": no cell has this label (labels: " + labels + ")");
+  }
+  if (options.label.empty() && counts.size() > 1 && !options.pool_labels) {
+    throw std::invalid_argument("the cells under " + options.in_dir + " come from " + std::to_string(counts.size()) +
+                                " policy labels: " + labels + "; choose one with --label L, or pass --pool-labels to pool them");
+  }
+  return kept;
+}
 
 void WriteFile(const std::string& path, const std::string& text) {
   std::ofstream out(path);
@@ -29,8 +97,9 @@ void WriteFile(const std::string& path, const std::string& text) {
 }
 
 void RunTable(const TableOptions& options) {
-  const batch::ResultsTable table =
-      batch::BuildResultsTable(batch::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir())), options.suite);
+  if (!options.label.empty() && options.pool_labels) throw std::invalid_argument("--label and --pool-labels exclude each other");
+  const batch::ResultsTable table = batch::BuildResultsTable(
+      CellsOfOneLabel(LoadLabelledCells(options.in_dir), options), options.suite);
   const bool with_intervals = !options.no_intervals;
   WriteFile(options.out_prefix + ".md", batch::FormatMarkdown(table, with_intervals));
   WriteFile(options.out_prefix + ".csv", batch::FormatCsv(table, with_intervals));
@@ -51,10 +120,13 @@ void RegisterTableCommand(CLI::App& app) {
   command->add_option("--out", options->out_prefix, "Output prefix: writes PREFIX.md, PREFIX.csv")
       ->required();
   command->add_flag("--no-ci", options->no_intervals, "Omit the 95% Wilson intervals");
+  command->add_option("--label", options->label, "Only the cells of this policy label (a sweep cell's policy.json)");
+  command->add_flag("--pool-labels", options->pool_labels, "Pool the cells of different policy labels (refused otherwise)");
   command->footer(
       "Each summary.json needs task, robot, split, n_episodes and n_successful; camera (head or\n"
       "fixed, default head) and policy are optional. Cells sharing task, robot, split and camera\n"
-      "(e.g. several seeds) are pooled. Rows: the suite's tasks, then the suite mean as the task\n"
+      "(e.g. several seeds) are pooled; cells of different policy labels (policy.json next to the\n"
+      "summary, else the policy's name) are refused unless --label picks one or --pool-labels. Rows: the suite's tasks, then the suite mean as the task\n"
       "average and pooled over episodes (with the Wilson interval of the pooled counts).");
   command->callback([options] { RunTable(*options); });
 }

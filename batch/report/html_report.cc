@@ -7,6 +7,8 @@
 #include <sstream>
 #include <vector>
 
+#include "batch/report/figure_drawing.h"
+#include "batch/report/paper_figures.h"
 #include "batch/report/sweep_summary.h"
 #include "batch/report/sweep_tables.h"
 
@@ -15,25 +17,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string Escape(const std::string& text) {
-  std::string escaped;
-  for (const char c : text) {
-    switch (c) {
-      case '&': escaped += "&amp;"; break;
-      case '<': escaped += "&lt;"; break;
-      case '>': escaped += "&gt;"; break;
-      case '"': escaped += "&quot;"; break;
-      default: escaped += c;
-    }
-  }
-  return escaped;
-}
-
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.2f", value);
-  return text;
-}
+std::string Escape(const std::string& text) { return EscapeXml(text); }
 
 const char* SplitColour(const std::string& split) {
   if (split == "id") return "#1f77b4";
@@ -44,6 +28,7 @@ const char* SplitColour(const std::string& split) {
 // Success rate and Wilson interval of every pooled cell of one suite and robot: a row per task,
 // split and camera; a filled dot for head, a hollow one for fixed.
 std::string SuccessPlot(const Json& suite, const std::string& robot) {
+  const std::string policy = suite["label"];
   struct Row {
     std::string label, split, camera;
     Json rate;
@@ -62,7 +47,7 @@ std::string SuccessPlot(const Json& suite, const std::string& robot) {
   const int left = 330, width = 300, row_height = 16, top = 24;
   const int height = top + row_height * static_cast<int>(rows.size()) + 10;
   std::ostringstream svg;
-  svg << "<figure><figcaption>" << Escape(suite["title"].get<std::string>() + ", " + robot)
+  svg << "<figure><figcaption>" << Escape(policy + ": " + suite["title"].get<std::string>() + ", " + robot)
       << ": success rate with 95% Wilson interval (filled: head, hollow: fixed)</figcaption>\n"
       << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << left + width + 20 << "\" height=\"" << height << "\">\n";
   for (int percent = 0; percent <= 100; percent += 25) {
@@ -80,62 +65,9 @@ std::string SuccessPlot(const Json& suite, const std::string& robot) {
     const char* colour = SplitColour(row.split);
     svg << "<text x=\"" << left - 6 << "\" y=\"" << y + 3 << "\" font-size=\"10\" text-anchor=\"end\">" << Escape(row.label)
         << "</text><line x1=\"" << low << "\" y1=\"" << y << "\" x2=\"" << high << "\" y2=\"" << y << "\" stroke=\"" << colour
-        << "\" stroke-width=\"2\"/><circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"4\" stroke=\"" << colour << "\" fill=\""
+        << "\" stroke-width=\"2\"/><circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"4\" class=\"success-point\" stroke=\"" << colour << "\" fill=\""
         << (row.camera == "head" ? colour : "white") << "\"><title>" << Escape(row.label) << ": "
         << Percent(row.rate["success_rate"]) << "% " << PercentInterval(row.rate["ci_low"], row.rate["ci_high"]) << "</title></circle>\n";
-  }
-  svg << "</svg></figure>\n";
-  return svg.str();
-}
-
-// Histograms of `series` (name -> values) over [0, upper) in `bins` bins, as outlined steps, with
-// an optional dashed reference line.
-std::string Histogram(const std::string& caption, const std::vector<std::pair<std::string, std::vector<double>>>& series,
-                      const std::string& unit, double reference, const std::string& reference_label) {
-  double upper = reference > 0 ? reference * 1.5 : 1.0;
-  for (const auto& [name, values] : series) {
-    for (const double value : values) upper = std::max(upper, value * 1.05);
-  }
-  const int bins = 24, left = 40, width = 480, plot_height = 140, top = 20;
-  std::vector<std::vector<int>> counts;
-  int most = 1;
-  for (const auto& [name, values] : series) {
-    std::vector<int> bin_counts(bins, 0);
-    for (const double value : values) ++bin_counts[std::min(bins - 1, static_cast<int>(value / upper * bins))];
-    most = std::max(most, *std::max_element(bin_counts.begin(), bin_counts.end()));
-    counts.push_back(bin_counts);
-  }
-  static const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728"};
-  std::ostringstream svg;
-  svg << "<figure><figcaption>" << Escape(caption) << "</figcaption>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\""
-      << left + width + 160 << "\" height=\"" << top + plot_height + 30 << "\">\n";
-  const double bottom = top + plot_height;
-  svg << "<line x1=\"" << left << "\" y1=\"" << bottom << "\" x2=\"" << left + width << "\" y2=\"" << bottom << "\" stroke=\"#333\"/>\n";
-  for (int tick = 0; tick <= 4; ++tick) {
-    const double x = left + width * tick / 4.0;
-    svg << "<text x=\"" << x << "\" y=\"" << bottom + 14 << "\" font-size=\"10\" text-anchor=\"middle\">" << Number(upper * tick / 4.0)
-        << " " << unit << "</text>\n";
-  }
-  svg << "<text x=\"" << left - 4 << "\" y=\"" << top + 4 << "\" font-size=\"10\" text-anchor=\"end\">" << most << "</text>\n";
-  for (std::size_t s = 0; s < series.size(); ++s) {
-    std::ostringstream path;
-    path << "M" << left << "," << bottom;
-    for (int b = 0; b < bins; ++b) {
-      const double y = bottom - plot_height * counts[s][b] / static_cast<double>(most);
-      path << " L" << left + width * b / static_cast<double>(bins) << "," << y << " L" << left + width * (b + 1) / static_cast<double>(bins)
-           << "," << y;
-    }
-    path << " L" << left + width << "," << bottom;
-    const char* colour = colours[s % 4];
-    svg << "<path d=\"" << path.str() << "\" fill=\"" << colour << "\" fill-opacity=\"0.25\" stroke=\"" << colour << "\"/>\n"
-        << "<text x=\"" << left + width + 10 << "\" y=\"" << top + 12 + 14 * s << "\" font-size=\"11\" fill=\"" << colour << "\">"
-        << Escape(series[s].first) << " (n = " << series[s].second.size() << ")</text>\n";
-  }
-  if (reference > 0) {
-    const double x = left + width * reference / upper;
-    svg << "<line x1=\"" << x << "\" y1=\"" << top << "\" x2=\"" << x << "\" y2=\"" << bottom
-        << "\" stroke=\"#d62728\" stroke-dasharray=\"4,3\" stroke-width=\"2\"/><text x=\"" << x + 4 << "\" y=\"" << top + 10
-        << "\" font-size=\"10\" fill=\"#d62728\">" << Escape(reference_label) << "</text>\n";
   }
   svg << "</svg></figure>\n";
   return svg.str();
@@ -171,6 +103,10 @@ std::string HtmlTable(const TextTable& table) {
   return html.str();
 }
 
+std::string FigureHtml(const Figure& figure) {
+  return "<figure><figcaption>" + Escape(figure.caption) + "</figcaption>\n" + figure.canvas.Svg(figure.name) + "</figure>\n";
+}
+
 std::string Field(const std::string& cell, const std::string& field, const std::string& text) {
   return "<td data-cell=\"" + Escape(cell) + "\" data-field=\"" + field + "\">" + Escape(text) + "</td>";
 }
@@ -183,7 +119,7 @@ std::string CellTable(const Json& summary) {
           "<th>ci low %</th><th>ci high %</th><th>successful length mean s</th><th>GALT mean s</th></tr>\n";
   for (const Json& cell : summary["cells"]) {
     const std::string id = cell["id"];
-    html << "<tr><td>" << Escape(id) << "</td>" << Field(id, "n_episodes", std::to_string(cell["n_episodes"].get<int64_t>()))
+    html << "<tr><td>" << Escape(id) << "</td>" << Field(id, "label", cell["label"].get<std::string>()) << Field(id, "n_episodes", std::to_string(cell["n_episodes"].get<int64_t>()))
          << Field(id, "n_successful", std::to_string(cell["n_successful"].get<int64_t>()))
          << Field(id, "success_rate", Percent(cell["success_rate"])) << Field(id, "ci_low", Percent(cell["ci_low"]))
          << Field(id, "ci_high", Percent(cell["ci_high"]))
@@ -191,6 +127,25 @@ std::string CellTable(const Json& summary) {
          << Field(id, "galt_mean_s", cell["galt"].is_null() ? "-" : Seconds(cell["galt"]["mean_s"])) << "</tr>\n";
   }
   html << "</table>\n";
+  return html.str();
+}
+
+// The policies, with what their servers reported.
+std::string PolicyList(const Json& summary) {
+  std::ostringstream html;
+  html << "<ul id=\"policies\">\n";
+  for (const Json& label : summary["labels"]) {
+    html << "<li><b>" << Escape(label["label"].get<std::string>()) << "</b>: policy " << Escape(label["policy"].get<std::string>());
+    if (!label["seed_group"].get<std::string>().empty()) html << ", seed group " << Escape(label["seed_group"].get<std::string>());
+    for (const Json& cell : summary["cells"]) {
+      if (cell["label"] == label["label"] && !cell["server_metadata"].empty()) {
+        html << ", server metadata <code>" << Escape(cell["server_metadata"].dump()) << "</code>";
+        break;
+      }
+    }
+    html << "</li>\n";
+  }
+  html << "</ul>\n";
   return html.str();
 }
 
@@ -203,36 +158,55 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
           "td,th{border:1px solid #ccc;padding:2px 6px;font-size:12px;text-align:right}td:first-child{text-align:left}"
           "figure{margin:1em 0}figcaption{font-weight:bold;font-size:13px}.note{font-size:12px;color:#555}"
           "pre{background:#f6f6f6;padding:0.5em;font-size:11px;overflow:auto}\n</style></head><body>\n"
-       << "<h1>TAVIS sweep report</h1>\n<p>" << summary["cells"].size() << " cells, policy "
-       << Escape(summary["spec"]["policy"]["name"].get<std::string>()) << ", " << summary["spec"]["episodes"] << " episodes per cell; program "
-       << Escape(manifest.value("version", "")) << ".</p>\n<h2>Success rates</h2>\n";
+       << "<h1>TAVIS sweep report</h1>\n<p>" << summary["cells"].size() << " cells of " << summary["labels"].size()
+       << " policies, " << summary["spec"]["episodes"] << " episodes per cell; program " << Escape(manifest.value("version", ""))
+       << ". Cells of different policies are never pooled.</p>\n"
+       << PolicyList(summary) << "<h2>Success rates</h2>\n";
   const std::vector<std::string> robots = Robots(summary);
   for (const Json& suite : summary["success"]) {
     for (const std::string& robot : robots) html << SuccessPlot(suite, robot);
   }
-  html << "<h2>GALT distributions (head camera, successful episodes)</h2>\n";
-  for (const std::string& robot : robots) {
-    std::vector<double> values;
-    for (const Json& cell : summary["cells"]) {
-      if (cell["robot"] != robot || cell["galt"].is_null()) continue;
-      for (const Json& value : cell["galt"]["values_s"]) values.push_back(value);
-    }
-    char label[64];
-    std::snprintf(label, sizeof(label), "human %.2f s", HumanGalt(robot));
-    html << Histogram(robot + ": GALT (s)", {{robot + " head", values}}, "s", HumanGalt(robot), label);
-  }
-  html << "<h2>Successful-episode length distributions</h2>\n";
-  for (const std::string& robot : robots) {
-    std::vector<std::pair<std::string, std::vector<double>>> series;
-    for (const char* camera : {"head", "fixed"}) {
+  html << "<h2>The paper's figures</h2>\n";
+  for (const Figure& figure : DrawPaperFigures(summary["figures"])) html << FigureHtml(figure);
+  html << "<h2>GALT distributions per policy and robot (id split, head camera, successful episodes, the detector's window "
+          "[-0.5, 4.0] s)</h2>\n";
+  for (const Json& label : summary["labels"]) {
+    for (const std::string& robot : robots) {
       std::vector<double> values;
       for (const Json& cell : summary["cells"]) {
-        if (cell["robot"] != robot || cell["camera"] != camera) continue;
-        for (const Json& value : cell["successful_length_s"]["values"]) values.push_back(value);
+        if (cell["label"] != label["label"] || cell["robot"] != robot || cell["split"] != "id" || cell["galt"].is_null()) continue;
+        for (const Json& value : cell["galt"]["values_s"]) values.push_back(value);
       }
-      if (!values.empty()) series.emplace_back(camera, values);
+      if (values.empty()) continue;
+      char marker[64];
+      std::snprintf(marker, sizeof(marker), "human %.2f s", HumanGalt(robot));
+      const std::string name = label["label"].get<std::string>() + " " + robot;
+      html << FigureHtml(DrawHistogram("galt_" + label["label"].get<std::string>() + "_" + robot, name + ": GALT (s)",
+                                       {{name + " head", values}}, kGaltFigureLow, 4.0, 18, "s",
+                                       HumanGalt(robot) > 0 ? std::make_optional(std::make_pair(HumanGalt(robot), std::string(marker)))
+                                                            : std::nullopt));
     }
-    if (!series.empty()) html << Histogram(robot + ": length of successful episodes (s)", series, "s", 0.0, "");
+  }
+  html << "<h2>Successful-episode length distributions</h2>\n";
+  for (const Json& label : summary["labels"]) {
+    for (const std::string& robot : robots) {
+      std::vector<std::pair<std::string, std::vector<double>>> series;
+      double upper = 1.0;
+      for (const char* camera : {"head", "fixed"}) {
+        std::vector<double> values;
+        for (const Json& cell : summary["cells"]) {
+          if (cell["label"] != label["label"] || cell["robot"] != robot || cell["camera"] != camera) continue;
+          for (const Json& value : cell["successful_length_s"]["values"]) values.push_back(value);
+        }
+        for (const double value : values) upper = std::max(upper, value * 1.05);
+        if (!values.empty()) series.emplace_back(camera, values);
+      }
+      const std::string name = label["label"].get<std::string>() + " " + robot;
+      if (!series.empty()) {
+        html << FigureHtml(DrawHistogram("length_" + label["label"].get<std::string>() + "_" + robot,
+                                         name + ": length of successful episodes (s)", series, 0.0, upper, 24, "s", std::nullopt));
+      }
+    }
   }
   html << "<h2>Tables</h2>\n";
   for (const TextTable& table : SweepTables(summary)) html << HtmlTable(table);

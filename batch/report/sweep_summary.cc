@@ -9,6 +9,8 @@
 #include "batch/galt_summary.h"
 #include "batch/galt_validation.h"
 #include "batch/report/paired_statistics.h"
+#include "batch/report/paper_figures.h"
+#include "batch/report/seed_groups.h"
 #include "batch/results_table.h"
 #include "batch/statistics.h"
 #include "scenarios/registry.h"
@@ -81,8 +83,11 @@ Json CellJson(const CellEpisodes& cell) {
                {"robot", cell.config.robot},
                {"split", scenarios::ToString(cell.config.split)},
                {"camera", ToString(cell.config.camera)},
+               {"label", cell.label.empty() ? cell.config.policy : cell.label},
+               {"seed_group", cell.seed_group},
                {"policy", cell.config.policy},
                {"seed", cell.config.seed}};
+  json["server_metadata"] = cell.server_metadata;
   json.update(RateJson(successes, static_cast<int64_t>(cell.episodes.size())));
   Json length_values = Json::array();
   for (const double length : lengths) length_values.push_back(length);
@@ -153,18 +158,15 @@ Json SuccessJson(const std::string& suite, const std::vector<CellEpisodes>& cell
           {"id_minus_ood", differences}};
 }
 
-}  // namespace
-
-Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells) {
-  Json summary = {{"spec", spec}};
-  Json cell_list = Json::array();
+// The sections of one label's cells: success, successful_length, id_minus_ood, paired, galt.
+Json LabelSections(const std::vector<CellEpisodes>& cells) {
+  Json summary = Json::object();
   std::vector<GroupKey> order;
   std::map<GroupKey, Group> groups;
   // Matched episodes: (task, robot, split, seed) -> episode -> success under head / fixed.
   std::map<std::tuple<std::string, std::string, std::string, uint64_t>, std::map<std::string, std::vector<bool>>> pairs;
   std::vector<std::string> suites;
   for (const CellEpisodes& cell : cells) {
-    cell_list.push_back(CellJson(cell));
     const GroupKey key = KeyOf(cell);
     if (!groups.count(key)) order.push_back(key);
     Group& group = groups[key];
@@ -181,8 +183,6 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells) 
     const std::string suite = SuiteOf(cell.config.task);
     if (std::find(suites.begin(), suites.end(), suite) == suites.end()) suites.push_back(suite);
   }
-  summary["cells"] = cell_list;
-
   Json success = Json::array();
   for (const scenarios::Suite suite : scenarios::kAllSuites) {
     if (std::find(suites.begin(), suites.end(), scenarios::ToString(suite)) != suites.end()) {
@@ -261,6 +261,50 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells) 
   }
   std::stable_sort(galt.begin(), galt.end(), [](const Json& a, const Json& b) { return a["robot"] < b["robot"]; });
   summary["galt"] = galt;
+  return summary;
+}
+
+std::string LabelOf(const CellEpisodes& cell) { return cell.label.empty() ? cell.config.policy : cell.label; }
+
+// `row` with "label" first.
+Json Labelled(const std::string& label, const Json& row) {
+  Json labelled = {{"label", label}};
+  labelled.update(row);
+  return labelled;
+}
+
+}  // namespace
+
+Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, const Json& galt_reference) {
+  Json summary = {{"spec", spec}};
+  std::vector<std::string> labels;
+  Json label_list = Json::array();
+  Json cell_list = Json::array();
+  for (const CellEpisodes& cell : cells) {
+    cell_list.push_back(CellJson(cell));
+    const std::string label = LabelOf(cell);
+    if (std::find(labels.begin(), labels.end(), label) != labels.end()) continue;
+    labels.push_back(label);
+    label_list.push_back({{"label", label}, {"policy", cell.config.policy}, {"seed_group", cell.seed_group}});
+  }
+  summary["labels"] = label_list;
+  summary["cells"] = cell_list;
+  const char* sections[] = {"success", "successful_length", "id_minus_ood", "paired", "galt"};
+  for (const char* section : sections) summary[section] = Json::array();
+  for (const std::string& label : labels) {
+    std::vector<CellEpisodes> mine;
+    for (const CellEpisodes& cell : cells) {
+      if (LabelOf(cell) == label) mine.push_back(cell);
+    }
+    const Json label_sections = LabelSections(mine);
+    for (const char* section : sections) {
+      for (const Json& row : label_sections[section]) summary[section].push_back(Labelled(label, row));
+    }
+  }
+  summary["seed_groups"] = SeedGroupsJson(summary);
+  const Json choices = spec.contains("figures") ? spec["figures"] : Json::object();
+  summary["figures"] = PaperFiguresJson(summary, choices, galt_reference);
+  summary["headline"] = HeadlineJson(summary["figures"]);
   return summary;
 }
 

@@ -16,6 +16,9 @@ struct CellEpisodes {
   std::string id;
   EvaluationCellConfig config;
   std::vector<EpisodeRecord> episodes;  // in episode order
+  std::string label;       // the policy's label (empty: its policy name)
+  std::string seed_group;  // empty: none
+  nlohmann::ordered_json server_metadata = nlohmann::ordered_json::array();  // what its servers reported
 };
 
 // The human teleoperators' mean GALT per robot (reference 11.3), marked on the GALT plots.
@@ -29,7 +32,14 @@ inline constexpr double kHumanGaltReachy2 = 2.10;
 // "id_minus_ood" (per task, robot, camera and ood split, in points), "paired" (head vs fixed per
 // task, robot and split over matched episodes, McNemar's exact p), "galt" (per robot, task and
 // split over the head cells). Cells of several seeds are pooled in everything but "cells".
+// Every section but "cells" is computed per policy label and each of its rows names its "label":
+// cells of different labels are never pooled. "labels" lists them; "seed_groups" gives, for each
+// group of checkpoints, every rate's mean and spread across them (evaluation seeds pool within a
+// checkpoint); "figures" and "headline" hold the paper's Figure 3, Figure 4 and headline numbers
+// (paper_figures.h) for the choices in spec["figures"]. `galt_reference` holds per task a
+// reference's GALT values for Figure 4 (e.g. a dataset's), used when the spec names no label.
 // No timing: the same episodes give the same bytes.
-nlohmann::ordered_json SweepSummaryJson(const nlohmann::ordered_json& spec, const std::vector<CellEpisodes>& cells);
+nlohmann::ordered_json SweepSummaryJson(const nlohmann::ordered_json& spec, const std::vector<CellEpisodes>& cells,
+                                        const nlohmann::ordered_json& galt_reference = nullptr);
 
 }  // namespace tavis::batch::report

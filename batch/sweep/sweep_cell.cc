@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/atomic_file.h"
 #include "batch/cell_record_stream.h"
 #include "batch/cell_report.h"
 #include "batch/output_folder.h"
@@ -48,7 +49,8 @@ std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const fs::path& dir, 
   return records;
 }
 
-CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, int threads, const ProgressCallback& progress) {
+CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, int threads, const ProgressCallback& progress,
+                       const std::string& label, const std::string& seed_group) {
   // A folder with settings continues; anything else there (a cell that failed before writing its
   // settings, or one whose summary does not match its records) starts over.
   const bool resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
@@ -56,6 +58,7 @@ CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, 
   // The sweep's lock keeps other sweeps out; this one keeps out an `eval --resume` of the cell.
   const OutputLock lock = CreateAndLockOutput(dir, "sweep");
   CellRecordStream stream(dir.string(), config, resume);
+  WriteFileAtomically(dir / "policy.json", nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
   EvaluationCellConfig remaining = config;
   remaining.first_episode = stream.next_episode();
   CellResult result = RunEvaluationCell(remaining, progress, [&stream](const EpisodeRecord& record) { stream.Write(record); });

@@ -19,8 +19,9 @@ namespace tavis::batch::sweep {
 std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir, const EvaluationCellConfig& config);
 
 // Runs the cell into DIR (continuing an interrupted one), writes its summary.json last and
-// returns the whole cell's result (the kept records first).
+// returns the whole cell's result (the kept records first). DIR/policy.json names the policy's
+// label and seed group, so that tools reading the folder (`tavis table`) keep labels apart.
 CellResult RunCellInto(const EvaluationCellConfig& config, const std::filesystem::path& dir, int threads,
-                       const ProgressCallback& progress);
+                       const ProgressCallback& progress, const std::string& label, const std::string& seed_group);
 
 }  // namespace tavis::batch::sweep

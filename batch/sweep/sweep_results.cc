@@ -1,22 +1,37 @@
 #include "batch/sweep/sweep_results.h"
 
+#include <fstream>
 #include <stdexcept>
 
 #include "batch/atomic_file.h"
+#include "batch/report/figure_drawing.h"
 #include "batch/report/html_report.h"
+#include "batch/report/paper_table.h"
 #include "batch/report/sweep_summary.h"
 #include "batch/report/sweep_tables.h"
 #include "batch/sweep/sweep_cell.h"
 
 namespace tavis::batch::sweep {
+namespace {
+
+// What the cell's servers reported (summary.json's server_metadata; empty for built-in policies).
+nlohmann::ordered_json ServerMetadata(const std::filesystem::path& cell_dir) {
+  std::ifstream in(cell_dir / "summary.json");
+  const nlohmann::ordered_json summary = nlohmann::ordered_json::parse(in, nullptr, false);
+  if (summary.is_object() && summary.contains("server_metadata")) return summary["server_metadata"];
+  return nlohmann::ordered_json::array();
+}
+
+}  // namespace
 
 void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered_json& spec_json,
                        const std::vector<SweepCell>& cells, const nlohmann::ordered_json& manifest) {
   std::vector<report::CellEpisodes> episodes;
   for (const SweepCell& cell : cells) {
-    std::optional<std::vector<EpisodeRecord>> records = ReadCompleteCell(dir / "cells" / cell.id, cell.config);
-    if (!records) throw std::runtime_error((dir / "cells" / cell.id).string() + " is not a complete cell of this sweep");
-    episodes.push_back({cell.id, cell.config, std::move(*records)});
+    const std::filesystem::path cell_dir = dir / "cells" / cell.id;
+    std::optional<std::vector<EpisodeRecord>> records = ReadCompleteCell(cell_dir, cell.config);
+    if (!records) throw std::runtime_error(cell_dir.string() + " is not a complete cell of this sweep");
+    episodes.push_back({cell.id, cell.config, std::move(*records), cell.label, cell.seed_group, ServerMetadata(cell_dir)});
   }
   const nlohmann::ordered_json summary = report::SweepSummaryJson(spec_json, episodes);
   WriteFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
@@ -25,6 +40,15 @@ void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered
     WriteFileAtomically(dir / "tables" / (table.name + ".md"), report::ToMarkdown(table));
     WriteFileAtomically(dir / "tables" / (table.name + ".csv"), report::ToCsv(table));
     WriteFileAtomically(dir / "tables" / (table.name + ".tex"), report::ToLatex(table));
+  }
+  for (const nlohmann::ordered_json& label : summary["labels"]) {
+    const std::string name = label["label"];
+    WriteFileAtomically(dir / "tables" / ("table1_" + name + ".tex"), report::PaperTable1Latex(summary, name));
+  }
+  std::filesystem::create_directories(dir / "figures");
+  for (const report::Figure& figure : report::DrawPaperFigures(summary["figures"])) {
+    WriteFileAtomically(dir / "figures" / (figure.name + ".svg"), figure.canvas.Svg(figure.name));
+    WriteFileAtomically(dir / "figures" / (figure.name + ".png"), figure.canvas.Png());
   }
   WriteFileAtomically(dir / "report.html", report::SweepHtmlReport(summary, manifest));
 }

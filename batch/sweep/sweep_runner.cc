@@ -101,7 +101,8 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
                                               [&progress, &reported](int64_t finished, int64_t) {
                                                 progress.AddEpisodes(finished - reported);
                                                 reported = finished;
-                                              });
+                                              },
+                                              cell.label, cell.seed_group);
         manifest.SetState(cell.id, "complete");
         manifest.Write(out);
         progress.CellFinished(CellSummaryLine(result));

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "batch/builtin_policies.h"
+#include "batch/sweep/spec_lists.h"
 #include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
 #include "scenarios/registry.h"
@@ -14,45 +14,6 @@ namespace tavis::batch::sweep {
 namespace {
 
 using configs::YamlValue;
-
-std::string Join(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
-// A non-empty list of strings without repeats; each passed to `check`, which throws
-// std::invalid_argument for a bad one (its message becomes the error's).
-template <typename Check>
-std::vector<std::string> ReadNames(const YamlValue& list, Check check) {
-  const std::vector<YamlValue> elements = list.Elements();
-  if (elements.empty()) list.Fail("must name at least one, got []");
-  std::vector<std::string> names;
-  for (const YamlValue& element : elements) {
-    const std::string name = element.AsString();
-    try {
-      check(name);
-    } catch (const std::invalid_argument& error) {
-      element.Fail(error.what());
-    }
-    if (std::find(names.begin(), names.end(), name) != names.end()) element.Fail("'" + name + "' is listed twice");
-    names.push_back(name);
-  }
-  return names;
-}
-
-int ReadCount(const YamlValue& value, int low, int high) {
-  int count = 0;
-  try {
-    count = value.AsInt();
-  } catch (const configs::ConfigError&) {
-    value.Fail("must be an integer from " + std::to_string(low) + " to " + std::to_string(high) + ", got " + value.Text());
-  }
-  if (count < low || count > high) {
-    value.Fail("must be an integer from " + std::to_string(low) + " to " + std::to_string(high) + ", got " + value.Text());
-  }
-  return count;
-}
 
 uint64_t ReadSeed(const YamlValue& value) {
   const std::string text = value.AsString();
@@ -64,34 +25,78 @@ uint64_t ReadSeed(const YamlValue& value) {
   return std::stoull(text);
 }
 
-void ReadPolicy(const YamlValue& policy, SweepSpec& spec) {
-  spec.policy = policy.String("name");
-  if (const auto actions = policy.Optional("actions")) spec.actions_file = actions->AsString();
-  if (const auto servers = policy.Optional("servers")) spec.servers = servers->AsStrings();
-  if (const auto keys = policy.Optional("keys")) spec.observation_keys = keys->AsString();
-  if (const auto replan = policy.Optional("replan_steps")) spec.replan_steps = ReadCount(*replan, 0, 1000000);
-  if (const auto timeout = policy.Optional("server_timeout_s")) {
-    spec.server_timeout_s = timeout->AsDouble({0.001, 86400.0, false, "s"});
+void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_robots, SweepSpec& spec) {
+  const auto single = root.Optional("policy");
+  const auto several = root.Optional("policies");
+  if (single.has_value() == several.has_value()) root.Fail("needs exactly one of policy: {...} and policies: [...]");
+  if (single) {
+    spec.policies.push_back(ReadPolicySpec(*single, false, known_robots));
+    return;
   }
-  policy.ExpectNoOtherKeys();
-  const bool served = spec.policy == "openpi";
-  if (!served) {
-    try {
-      CheckBuiltinPolicyName(spec.policy);
-    } catch (const std::invalid_argument&) {
-      policy.Required("name").Fail("unknown policy '" + spec.policy + "' (known: " + CellPolicyNames() + ")");
+  const std::vector<YamlValue> entries = several->Elements();
+  if (entries.empty()) several->Fail("must name at least one policy, got []");
+  for (const YamlValue& entry : entries) {
+    PolicySpec policy = ReadPolicySpec(entry, true, known_robots);
+    for (const PolicySpec& other : spec.policies) {
+      if (other.label == policy.label) entry.Required("label").Fail("'" + policy.label + "' is used twice");
+      if (other.label == policy.seed_group || other.seed_group == policy.label) {
+        entry.Fail("a label and a seed group share the name '" + (other.label == policy.seed_group ? other.label : policy.label) + "'");
+      }
     }
-  }
-  if (spec.policy == "replay" && spec.actions_file.empty()) policy.Fail("policy 'replay' needs actions: FILE.csv");
-  if (spec.policy != "replay" && !spec.actions_file.empty()) {
-    policy.Required("actions").Fail("applies to policy 'replay' only, got policy '" + spec.policy + "'");
-  }
-  if (served && spec.servers.empty()) policy.Fail("policy 'openpi' needs servers: [ws://HOST:PORT, ...]");
-  if (!served && !spec.servers.empty()) policy.Required("servers").Fail("applies to policy 'openpi' only, got policy '" + spec.policy + "'");
-  for (const char* key : {"keys", "replan_steps", "server_timeout_s"}) {
-    if (!served && policy.Optional(key)) policy.Required(key).Fail("applies to policy 'openpi' only, got policy '" + spec.policy + "'");
+    spec.policies.push_back(std::move(policy));
   }
 }
+
+// figures: names labels (or seed groups) for the paper's figures; checked against the policies.
+void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
+  const auto known = [&spec](const YamlValue& value) {
+    const std::string name = value.AsString();
+    for (const PolicySpec& policy : spec.policies) {
+      if (policy.label == name || policy.seed_group == name) return name;
+    }
+    std::string labels;
+    for (const PolicySpec& policy : spec.policies) labels += (labels.empty() ? "" : ", ") + policy.label;
+    value.Fail("no policy has the label or seed group '" + name + "' (labels: " + labels + ")");
+    return name;
+  };
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  for (const char* key : {"policy", "head_vs_fixed", "splits", "galt", "galt_reference"}) {
+    if (const auto value = figures.Optional(key)) json[key] = known(*value);
+  }
+  if (const auto pair = figures.Optional("single_vs_multi")) {
+    const std::vector<YamlValue> names = pair->Elements();
+    if (names.size() != 2) pair->Fail("must name two labels or seed groups (single-task, multi-task), got " + pair->Text());
+    json["single_vs_multi"] = {known(names[0]), known(names[1])};
+  }
+  if (const auto ablation = figures.Optional("ablation")) {
+    for (const char* arm : {"no_av", "full_av", "wrist_only"}) {
+      const YamlValue entry = ablation->Required(arm);
+      nlohmann::ordered_json arm_json = {{"label", known(entry.Required("label"))}};
+      arm_json["task"] = entry.String("task");
+      try {
+        scenarios::FindScenario(arm_json["task"]);
+      } catch (const std::invalid_argument& error) {
+        entry.Required("task").Fail(error.what());
+      }
+      const std::string camera = entry.String("camera");
+      try {
+        ParseCameraProtocol(camera);
+      } catch (const std::invalid_argument& error) {
+        entry.Required("camera").Fail(error.what());
+      }
+      arm_json["camera"] = camera;
+      entry.ExpectNoOtherKeys();
+      json["ablation"][arm] = arm_json;
+    }
+    ablation->ExpectNoOtherKeys();
+  }
+  if (const auto window = figures.Optional("galt_window_s")) {
+    json["galt_window_s"] = window->AsDouble({0.5, 4.0, false, "s", " (the detector keeps GALT in [-0.5, 4.0] s)"});
+  }
+  figures.ExpectNoOtherKeys();
+  spec.figures = json;
+}
+
 
 SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::string& config_dir) {
   SweepSpec spec;
@@ -99,31 +104,11 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   const auto suites = root.Optional("suites");
   const auto tasks = root.Optional("tasks");
   if (!suites && !tasks) root.Fail("needs suites: [...] or tasks: [...] (or both)");
-  if (suites) {
-    spec.suites = ReadNames(*suites, [](const std::string& name) { scenarios::ParseSuite(name); });
-    for (const std::string& suite : spec.suites) {
-      for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(suite))) {
-        spec.tasks.push_back(scenario->name);
-      }
-    }
-  }
-  if (tasks) {
-    for (const std::string& task : ReadNames(*tasks, [](const std::string& name) { scenarios::FindScenario(name); })) {
-      if (std::find(spec.tasks.begin(), spec.tasks.end(), task) == spec.tasks.end()) spec.tasks.push_back(task);
-    }
-  }
+  spec.tasks = ReadTasks(suites, tasks, &spec.suites);
   const std::vector<std::string> known_robots = configs::KnownRobots(config_dir);
-  spec.robots = ReadNames(root.Required("robots"), [&known_robots](const std::string& name) {
-    if (std::find(known_robots.begin(), known_robots.end(), name) == known_robots.end()) {
-      throw std::invalid_argument("unknown robot '" + name + "' (known: " + Join(known_robots) + ")");
-    }
-  });
-  for (const std::string& split : ReadNames(root.Required("splits"), [](const std::string& name) { scenarios::ParseSplit(name); })) {
-    spec.splits.push_back(scenarios::ParseSplit(split));
-  }
-  for (const std::string& camera : ReadNames(root.Required("cameras"), [](const std::string& name) { ParseCameraProtocol(name); })) {
-    spec.cameras.push_back(ParseCameraProtocol(camera));
-  }
+  spec.robots = ReadRobots(root.Required("robots"), known_robots);
+  spec.splits = ReadSplits(root.Required("splits"));
+  spec.cameras = ReadCameras(root.Required("cameras"));
   const YamlValue seeds = root.Required("seeds");
   if (seeds.Elements().empty()) seeds.Fail("must name at least one, got []");
   for (const YamlValue& seed : seeds.Elements()) {
@@ -133,7 +118,8 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   }
   spec.episodes = ReadCount(root.Required("episodes"), 1, 100000000);
   if (const auto envs = root.Optional("envs")) spec.envs = ReadCount(*envs, 1, 4096);
-  ReadPolicy(root.Required("policy"), spec);
+  ReadPolicies(root, known_robots, spec);
+  if (const auto figures = root.Optional("figures")) ReadFigures(*figures, spec);
   root.ExpectNoOtherKeys();
   return spec;
 }
@@ -153,19 +139,11 @@ nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec) {
   for (const scenarios::Split split : spec.splits) splits.push_back(scenarios::ToString(split));
   nlohmann::ordered_json cameras = nlohmann::ordered_json::array();
   for (const CameraProtocol camera : spec.cameras) cameras.push_back(ToString(camera));
-  return {{"suites", spec.suites},
-          {"tasks", spec.tasks},
-          {"robots", spec.robots},
-          {"splits", splits},
-          {"cameras", cameras},
-          {"seeds", spec.seeds},
-          {"episodes", spec.episodes},
-          {"policy",
-           {{"name", spec.policy},
-            {"actions", spec.actions_file},
-            {"servers", spec.servers},
-            {"keys", spec.observation_keys},
-            {"replan_steps", spec.replan_steps}}}};
+  nlohmann::ordered_json policies = nlohmann::ordered_json::array();
+  for (const PolicySpec& policy : spec.policies) policies.push_back(PolicySpecJson(policy));
+  return {{"suites", spec.suites}, {"tasks", spec.tasks},       {"robots", spec.robots},     {"splits", splits},
+          {"cameras", cameras},    {"seeds", spec.seeds},       {"episodes", spec.episodes}, {"policies", policies},
+          {"figures", spec.figures}};
 }
 
 std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& config_dir) {
@@ -174,26 +152,26 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
     for (const std::string& robot : spec.robots) {
       for (const scenarios::Split split : spec.splits) {
         for (const CameraProtocol camera : spec.cameras) {
-          for (const uint64_t seed : spec.seeds) {
-            SweepCell cell;
-            EvaluationCellConfig& config = cell.config;
-            config.task = task;
-            config.robot = robot;
-            config.split = split;
-            config.camera = camera;
-            config.seed = seed;
-            config.policy = spec.policy;
-            config.actions_file = spec.actions_file;
-            config.servers = spec.servers;
-            config.replan_steps = spec.replan_steps;
-            config.observation_keys = spec.observation_keys;
-            config.server_ready_timeout_s = spec.server_timeout_s;
-            config.episodes = spec.episodes;
-            config.envs = spec.envs;
-            config.config_dir = config_dir;
-            cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + spec.policy +
-                      "_s" + std::to_string(seed);
-            cells.push_back(std::move(cell));
+          for (const PolicySpec& policy : spec.policies) {
+            for (const uint64_t seed : spec.seeds) {
+              SweepCell cell;
+              EvaluationCellConfig& config = cell.config;
+              config.task = task;
+              config.robot = robot;
+              config.split = split;
+              config.camera = camera;
+              config.seed = seed;
+              config.episodes = spec.episodes;
+              config.envs = spec.envs;
+              config.config_dir = config_dir;
+              if (!policy.Serves(config)) continue;
+              policy.ApplyTo(config);
+              cell.label = policy.label;
+              cell.seed_group = policy.seed_group;
+              cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + policy.label + "_s" +
+                        std::to_string(seed);
+              cells.push_back(std::move(cell));
+            }
           }
         }
       }

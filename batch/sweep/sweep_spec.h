@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/evaluation_cell.h"
+#include "batch/sweep/policy_spec.h"
 
 namespace tavis::batch::sweep {
 
@@ -24,18 +25,19 @@ struct SweepSpec {
   std::vector<uint64_t> seeds;
   int episodes = 96;
   int envs = 32;  // env slots per cell (results do not depend on it)
-  // The policy and its settings, as an evaluation cell takes them.
-  std::string policy = "expert";
-  std::string actions_file;
-  std::vector<std::string> servers;
-  int replan_steps = 0;
-  std::string observation_keys = "tavis";
-  double server_timeout_s = 60.0;
+  // The labelled policies (a spec's single `policy:` is one, labelled by its name), each serving
+  // the cells its filter allows; two labels may serve the same cell (they are separate cells).
+  std::vector<PolicySpec> policies;
+  // Which labels the paper's figures and headline numbers take (figures:); empty: the defaults
+  // of report::FigureChoices.
+  nlohmann::ordered_json figures = nlohmann::ordered_json::object();
 };
 
 struct SweepCell {
-  std::string id;  // <task>_<robot>_<split>_<camera>_<policy>_s<seed>, its folder under cells/
+  std::string id;  // <task>_<robot>_<split>_<camera>_<label>_s<seed>, its folder under cells/
   EvaluationCellConfig config;
+  std::string label;
+  std::string seed_group;
 };
 
 // Throws configs::ConfigError ("FILE: key: message, got VALUE") for any mistake; robots must be
@@ -46,7 +48,8 @@ SweepSpec ParseSweepSpec(const std::string& yaml_text, const std::string& source
 // The spec's settings as JSON (what the manifest records and merge compares; not the file name).
 nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec);
 
-// Every cell, ordered task, robot, split, camera, seed (the spec's orders).
+// Every cell, ordered task, robot, split, camera, policy, seed (the spec's orders); a policy
+// only where its cells: filter allows.
 std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& config_dir);
 
 struct Shard {

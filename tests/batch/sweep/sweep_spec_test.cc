@@ -69,6 +69,71 @@ TEST(SweepSpec, ShardsPartitionTheCells) {
   }
 }
 
+// Two labelled policies: expert on every cell, hold only on reachy2's head cells; three
+// checkpoints of one recipe.
+const char* kLabelled =
+    "tasks: [clutter-pick-cube, wait-then-act]\n"
+    "robots: [gr1t2, reachy2]\n"
+    "splits: [id]\n"
+    "cameras: [head, fixed]\n"
+    "seeds: [0]\n"
+    "episodes: 3\n"
+    "policies:\n"
+    "  - label: expert-a\n"
+    "    name: expert\n"
+    "    seed_group: recipe\n"
+    "  - label: expert-b\n"
+    "    name: expert\n"
+    "    seed_group: recipe\n"
+    "  - label: still\n"
+    "    name: hold\n"
+    "    cells: {robots: [reachy2], cameras: [head]}\n"
+    "figures:\n"
+    "  single_vs_multi: [still, recipe]\n"
+    "  galt_window_s: 4.0\n";
+
+TEST(SweepSpec, LabelledPoliciesServeTheirCells) {
+  const SweepSpec spec = Parse(kLabelled);
+  ASSERT_EQ(spec.policies.size(), 3U);
+  EXPECT_EQ(spec.policies[2].label, "still");
+  const std::vector<SweepCell> cells = ExpandCells(spec, TAVIS_CONFIG_DIR);
+  // 2 tasks x 2 robots x 2 cameras for each expert label, 2 tasks x reachy2 head for hold.
+  ASSERT_EQ(cells.size(), 8U * 2U + 2U);
+  int still = 0;
+  for (const SweepCell& cell : cells) {
+    EXPECT_NE(cell.id.find("_" + cell.label + "_s0"), std::string::npos) << cell.id;
+    if (cell.label != "still") {
+      EXPECT_EQ(cell.seed_group, "recipe");
+      EXPECT_EQ(cell.config.policy, "expert");
+      continue;
+    }
+    ++still;
+    EXPECT_EQ(cell.config.policy, "hold");
+    EXPECT_EQ(cell.config.robot, "reachy2");
+    EXPECT_EQ(cell.config.camera, CameraProtocol::kHead);
+  }
+  EXPECT_EQ(still, 2);
+  EXPECT_EQ(cells[0].id, "clutter-pick-cube_gr1t2_id_head_expert-a_s0");
+  EXPECT_EQ(cells[1].id, "clutter-pick-cube_gr1t2_id_head_expert-b_s0");
+  EXPECT_EQ(spec.figures["single_vs_multi"][1], "recipe");
+  EXPECT_DOUBLE_EQ(spec.figures["galt_window_s"].get<double>(), 4.0);
+  EXPECT_EQ(SweepSpecJson(spec)["policies"][2]["cells"]["robots"][0], "reachy2");
+}
+
+TEST(SweepSpec, LabelledPolicyMistakesAreNamed) {
+  const auto error = [](const std::string& from, const std::string& to) { return ErrorOf(Replace(kLabelled, from, to)); };
+  EXPECT_NE(error("label: expert-b", "label: expert-a").find("policies[1].label: 'expert-a' is used twice"), std::string::npos);
+  EXPECT_NE(error("  - label: still\n    name: hold\n", "  - name: hold\n").find("policies[2]: needs label"), std::string::npos);
+  EXPECT_NE(error("label: still", "label: still/1").find("still/1"), std::string::npos);
+  EXPECT_NE(error("[still, recipe]", "[still, nobody]").find("figures.single_vs_multi[1]: no policy has the label or seed group 'nobody'"),
+            std::string::npos);
+  EXPECT_NE(error("[still, recipe]", "[still]").find("figures.single_vs_multi"), std::string::npos);
+  EXPECT_NE(error("galt_window_s: 4.0", "galt_window_s: 5").find("figures.galt_window_s"), std::string::npos);
+  EXPECT_NE(error("robots: [reachy2]", "robots: [atlas]").find("policies[2].cells.robots[0]: unknown robot 'atlas'"), std::string::npos);
+  EXPECT_NE(error("cameras: [head]}", "camera: [head]}").find("camera"), std::string::npos);
+  EXPECT_NE(error("policies:\n", "policy:\n  name: expert\npolicies:\n").find("exactly one of policy"), std::string::npos);
+}
+
 struct BadSpec {
   const char* name;
   const char* from;

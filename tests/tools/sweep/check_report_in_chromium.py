@@ -26,7 +26,7 @@ def chromium(work, *args):
 
 
 class CellNumbers(HTMLParser):
-    """The text of every <td data-cell data-field>, the <circle>s and any external reference."""
+    """The text of every <td data-cell data-field>, the success plots' points and any external reference."""
 
     def __init__(self):
         super().__init__()
@@ -41,7 +41,7 @@ class CellNumbers(HTMLParser):
         for key in ("src", "href"):
             if key in attrs:
                 self.external.append(attrs[key])
-        if tag == "circle":
+        if tag == "circle" and attrs.get("class") == "success-point":
             self.circles += 1
         if tag == "svg":
             self.svgs += 1

@@ -1,0 +1,46 @@
+// One labelled policy of a sweep spec: the policy and its serving options, the cells it serves
+// (a filter over the spec's suites, tasks, robots, splits and cameras) and, optionally, the seed
+// group it belongs to (checkpoints that are training seeds of one recipe). Every policy option is
+// read here and forwarded to the evaluation cell here, so a new serving option is added in one place.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/evaluation_cell.h"
+#include "configs/yaml_reader.h"
+
+namespace tavis::batch::sweep {
+
+struct PolicySpec {
+  std::string label;       // names the policy in cell ids, tables and figures; never pooled with another
+  std::string seed_group;  // empty: none; else the recipe whose training seeds this checkpoint is one of
+  std::string name = "expert";
+  std::string actions_file;
+  std::vector<std::string> servers;
+  int replan_steps = 0;
+  std::string observation_keys = "tavis";
+  double server_timeout_s = 60.0;
+  // The cells it serves: empty lists mean every one of the spec's.
+  std::vector<std::string> tasks;  // the filter's suites expanded, then its tasks
+  std::vector<std::string> robots;
+  std::vector<scenarios::Split> splits;
+  std::vector<CameraProtocol> cameras;
+
+  bool Serves(const EvaluationCellConfig& cell) const;
+  // Copies the policy and its options into a cell's settings.
+  void ApplyTo(EvaluationCellConfig& cell) const;
+};
+
+// `policy:` (one policy, labelled by its name unless it has a label) or one entry of `policies:`.
+// Throws configs::ConfigError naming the key and the value.
+PolicySpec ReadPolicySpec(const configs::YamlValue& policy, bool label_required, const std::vector<std::string>& known_robots);
+
+nlohmann::ordered_json PolicySpecJson(const PolicySpec& policy);
+
+// A label is a cell-id part and a file-name part: letters, digits, '-', '.'; 1..64 characters.
+bool IsValidLabel(const std::string& label);
+
+}  // namespace tavis::batch::sweep

@@ -1,0 +1,25 @@
+// The lists a sweep spec names cells by (tasks by suite or name, robots, splits, cameras), read
+// strictly: both the spec's top level and each labelled policy's `cells:` filter read them here.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "batch/camera_protocol.h"
+#include "configs/yaml_reader.h"
+#include "scenarios/registry.h"
+
+namespace tavis::batch::sweep {
+
+// An integer in [low, high]; the error names the range and the value.
+int ReadCount(const configs::YamlValue& value, int low, int high);
+
+// `suites` (all their tasks, suite order) then `tasks`, no repeats; either may be absent.
+// Writes the suites as given to *suite_names when it is not null.
+std::vector<std::string> ReadTasks(const std::optional<configs::YamlValue>& suites, const std::optional<configs::YamlValue>& tasks,
+                                   std::vector<std::string>* suite_names = nullptr);
+std::vector<std::string> ReadRobots(const configs::YamlValue& list, const std::vector<std::string>& known_robots);
+std::vector<scenarios::Split> ReadSplits(const configs::YamlValue& list);
+std::vector<CameraProtocol> ReadCameras(const configs::YamlValue& list);
+
+}  // namespace tavis::batch::sweep
