@@ -19,6 +19,7 @@ import json
 import numpy as np
 
 from . import _tavis
+from ._config_dir import default_config_dir
 
 try:  # Gymnasium is optional: subclass its VectorEnv when it is there.
     import gymnasium
@@ -84,7 +85,7 @@ class TavisVectorEnv(_VectorEnvBase):
             task=task, robot=robot, split=split, num_envs=num_envs, seed=seed, camera=camera,
             cameras=list(cameras), image_size=tuple(int(v) for v in image_size), threads=threads,
             control_ticks_per_step=control_ticks_per_step, autoreset=bool(autoreset),
-            config_dir=config_dir if config_dir is not None else _tavis.DEFAULT_CONFIG_DIR)
+            config_dir=config_dir if config_dir is not None else default_config_dir())
         self.num_envs = num_envs
         self.task = task
         self.seed = seed
