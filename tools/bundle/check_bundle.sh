@@ -7,7 +7,7 @@
 #  - every library the program and the Python module load resolves into the bundle's lib/, except
 #    glibc's own (ldd, inside ROOT with --root);
 #  - with --root: none of the project's libraries (ODE, Embree, TBB, yaml-cpp, OpenCV, FFmpeg,
-#    Snappy, OpenSSL) exists in ROOT (a root without the project's Debian packages: docs/bundle.md);
+#    Snappy) exists in ROOT (a root without the project's Debian packages: docs/bundle.md);
 #  - `tavis eval` runs a cell (the default cell of 96 episodes unless --episodes N) from the
 #    bundle, run inside ROOT with chroot (needs root), writing N records and summary.json;
 #  - with --reference TAVIS: that program writes byte-identical episodes.jsonl for the same cell;
@@ -71,7 +71,7 @@ module=$(cd "$host/$name" && ls lib/python/tavis/_tavis*.so 2>/dev/null || true)
 if [ -n "$root" ]; then
   # The project's own dependencies must be missing from ROOT; a base system may have a few
   # general ones (zstd, zlib), which ldd above showed are taken from the bundle all the same.
-  project_libraries='^lib(ode|embree|tbb|yaml-cpp|opencv|avcodec|avformat|avutil|swscale|snappy|ssl|crypto)'
+  project_libraries='^lib(ode|embree|tbb|yaml-cpp|opencv|avcodec|avformat|avutil|swscale|snappy)'
   present=() project_present=()
   needed=$(objdump -p "$host/$name/bin/tavis" | awk '$1 == "NEEDED" {print $2}')
   for library in $needed; do
