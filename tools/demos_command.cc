@@ -20,6 +20,7 @@
 #include "scenarios/registry.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
+#include "tools/progress_reporter.h"
 
 namespace tavis::tools {
 namespace {
@@ -141,11 +142,9 @@ void RunDemos(DemosOptions options) {
   batch::WriteFileAtomically(marker, "tavis demos is writing this dataset, or was interrupted: it is complete once "
                                      "meta/info.json exists and this file is gone.\n");
 
-  const dataset::DemoProgress progress = [&options](const std::string& task, int64_t written, int64_t wanted) {
-    if (options.quiet) return;
-    std::fprintf(stderr, "\r  %s: %lld/%lld episodes written", task.c_str(), static_cast<long long>(written),
-                 static_cast<long long>(wanted));
-    if (written == wanted) std::fprintf(stderr, "\n");
+  ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
+  const dataset::DemoProgress progress = [&options, &reporter](const std::string& task, int64_t written, int64_t wanted) {
+    if (!options.quiet) reporter.Update(task + " (written)", written, wanted);
   };
   const dataset::DemoReport report = dataset::GenerateDemos(config, progress);
   batch::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json", ReportJson(report, options).dump(2) + "\n");
@@ -220,7 +219,7 @@ void RegisterDemosCommand(CLI::App& app) {
                   "Finish an interrupted recording in --out (same settings): the episodes it had kept are\n"
                   "reused, the rest is recorded again");
   AddConfigDirOption(*demos, options->config.config_dir);
-  demos->add_flag("--quiet", options->quiet, "No progress line");
+  demos->add_flag("--quiet", options->quiet, "No progress (episodes written, rate, ETA; a status line on a terminal, else a line per tenth)");
   demos->callback([options, demos] {
     if (demos->count("--out") > 0 && options->config.out.empty()) {
       throw std::invalid_argument("--out must name a folder, got an empty string");

@@ -25,6 +25,7 @@
 #include "scenarios/registry.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
+#include "tools/progress_reporter.h"
 
 namespace tavis::tools {
 namespace {
@@ -46,15 +47,6 @@ struct EvalOptions {
   bool overwrite = false;
   bool resume = false;
 };
-
-void PrintProgress(int64_t finished, int64_t total) {
-  const int width = 30;
-  const int filled = static_cast<int>(width * finished / total);
-  std::fprintf(stderr, "\r  [%s%s] %lld/%lld episodes", std::string(filled, '#').c_str(),
-               std::string(width - filled, '.').c_str(), static_cast<long long>(finished),
-               static_cast<long long>(total));
-  if (finished == total) std::fprintf(stderr, "\n");
-}
 
 std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split) {
   // A head-still expert's cell must not take the place of the gaze-first one.
@@ -106,8 +98,10 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
       stream.MovedTo(out);
     }
   };
+  ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
+  const batch::ProgressCallback progress = [&reporter](int64_t done, int64_t total) { reporter.Update("", done, total); };
   try {
-    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : batch::ProgressCallback(PrintProgress), record);
+    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record);
   } catch (...) {
     // A cell that failed before its first episode leaves nothing behind (and an --overwrite the
     // old cell); one that recorded episodes keeps them for --resume.
@@ -288,7 +282,7 @@ void RegisterEvalCommand(CLI::App& app) {
                    "otherwise the reference's 640x480)");
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   AddConfigDirOption(*eval, options->cell.config_dir);
-  eval->add_flag("--quiet", options->quiet, "No progress bar");
+  eval->add_flag("--quiet", options->quiet, "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
   eval->add_flag("--profile", options->cell.profile,
                  "Time every stage (actions/IK, physics, neck, task, reset, render, policy, recording) and\n"
                  "episode; print the shares, the critical path (unlimited threads) and thread-count\n"

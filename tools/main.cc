@@ -4,6 +4,7 @@
 #include <new>
 #include <string>
 
+#include "tools/build_version.h"
 #include "tools/commands.h"
 
 namespace {
@@ -26,6 +27,7 @@ std::string SubcommandNames(const CLI::App& app) {
 int main(int argc, char** argv) {
   CLI::App app{"tavis: batched CPU simulator and evaluation harness for the TAVIS benchmark"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("tavis ") + tavis::tools::BuildVersion());
   tavis::tools::RegisterEvalCommand(app);
   tavis::tools::RegisterDemosCommand(app);
   tavis::tools::RegisterGaltCommand(app);

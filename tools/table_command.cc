@@ -101,6 +101,13 @@ void RunTable(const TableOptions& options) {
   const batch::ResultsTable table = batch::BuildResultsTable(
       CellsOfOneLabel(LoadLabelledCells(options.in_dir), options), options.suite);
   const bool with_intervals = !options.no_intervals;
+  // --out results/tables/acceptance: the folder part is made if it is missing.
+  const std::filesystem::path folder = std::filesystem::path(options.out_prefix).parent_path();
+  std::error_code error;
+  if (!folder.empty() && !std::filesystem::create_directories(folder, error) && error) {
+    throw std::runtime_error("--out " + options.out_prefix + ": cannot create the folder " + folder.string() + ": " +
+                             error.message());
+  }
   WriteFile(options.out_prefix + ".md", batch::FormatMarkdown(table, with_intervals));
   WriteFile(options.out_prefix + ".csv", batch::FormatCsv(table, with_intervals));
   std::cout << "wrote " << options.out_prefix << ".md and " << options.out_prefix << ".csv ("
@@ -117,7 +124,7 @@ void RegisterTableCommand(CLI::App& app) {
       ->required();
   command->add_option("--suite", options->suite, "Suite whose tasks form the rows: " + scenarios::KnownSuites())
       ->required();
-  command->add_option("--out", options->out_prefix, "Output prefix: writes PREFIX.md, PREFIX.csv")
+  command->add_option("--out", options->out_prefix, "Output prefix: writes PREFIX.md, PREFIX.csv (its folder is created if missing)")
       ->required();
   command->add_flag("--no-ci", options->no_intervals, "Omit the 95% Wilson intervals");
   command->add_option("--label", options->label, "Only the cells of this policy label (a sweep cell's policy.json)");

@@ -1,5 +1,5 @@
 // `tavis demos`: scripted-expert demonstrations of one task or a whole suite written as one
-// LeRobot dataset (DESIGN 10). Each task runs its expert batched over env slots; successful
+// LeRobot dataset (docs/architecture.md, Design 10). Each task runs its expert batched over env slots; successful
 // episodes are kept in episode order until the task has its N episodes, failures are counted and
 // never written, and a task that cannot reach N within its attempt cap is an error naming it.
 // Episode i of a task draws its randomness from (seed, i), so the same command writes the same

@@ -1,4 +1,4 @@
-// The sink that turns scripted-expert episodes into dataset episodes (DESIGN 10): on every
+// The sink that turns scripted-expert episodes into dataset episodes (docs/architecture.md, Design 10): on every
 // recorded control tick it takes the action the env stepped with and the observation after the
 // step (the reference records frame t as o_{t+1} with a_t, and not the step that ends the
 // episode), renders the dataset's cameras with its own renderer, and encodes each camera's frames

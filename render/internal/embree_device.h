@@ -1,5 +1,5 @@
 // The process-wide Embree device and owning handles for Embree objects. One device, created
-// with the default config (DESIGN.md §6): a "threads=N" config string would cap TBB
+// with the default config (docs/architecture.md, Design 6): a "threads=N" config string would cap TBB
 // parallelism for the whole process.
 #pragma once
 

@@ -17,11 +17,11 @@ ignored, until ``reset(options={"reset_mask": ...})``.
 
 import json
 import math
-import os
 
 import numpy as np
 
 from . import _tavis, spaces
+from ._config_dir import default_config_dir
 
 try:  # Gymnasium is optional: subclass its VectorEnv when it is there.
     import gymnasium
@@ -43,12 +43,6 @@ PIXEL_KEYS = {
     "left_wrist": "OBS_WRIST_LEFT",
     "right_wrist": "OBS_WRIST_RIGHT",
 }
-
-
-def _default_config_dir():
-    """The robot files installed with the package, else those of the source tree it was built from."""
-    installed = os.path.join(os.path.dirname(os.path.abspath(__file__)), "configs")
-    return installed if os.path.isdir(installed) else _tavis.DEFAULT_CONFIG_DIR
 
 
 def _autoreset_mode(autoreset):
@@ -97,7 +91,7 @@ class TavisVectorEnv(_VectorEnvBase):
             task=task, robot=robot, split=split, num_envs=num_envs, seed=seed, camera=camera,
             cameras=list(cameras), image_size=tuple(int(v) for v in image_size), threads=threads,
             control_ticks_per_step=control_ticks_per_step, autoreset=bool(autoreset),
-            config_dir=config_dir if config_dir is not None else _default_config_dir())
+            config_dir=config_dir if config_dir is not None else default_config_dir())
         self.num_envs = num_envs
         self.task = task
         self.seed = seed

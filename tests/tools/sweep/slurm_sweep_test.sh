@@ -1,8 +1,10 @@
 #!/bin/bash
 # A real single-node Slurm (Debian's slurm-wlm and munge, daemons on localhost, private ports,
 # sockets and state under a temporary folder) runs tools/slurm/sweep_array.sbatch as a 3-task job
-# array over a small sweep; `tavis sweep merge` combines the shards, and the merged result must
-# equal the same sweep run locally in one piece (apart from the timing fields).
+# array over a small sweep. Then the documented recovery: one task's shard is lost, merge refuses
+# the rest, the task is resubmitted alone (`--array=1 ... N`; without N that is refused with a
+# message saying how), and `tavis sweep merge` combines the shards: the merged result must equal
+# the same sweep run locally in one piece (apart from the timing fields).
 #
 # usage: slurm_sweep_test.sh TAVIS_BINARY SOURCE_DIR      (needs root, or sudo without a password,
 # for slurmd; about 20-40 s)
@@ -101,11 +103,28 @@ policy:
 SPEC
 cd "$work/out"
 TAVIS=$tavis timeout 300 sbatch --wait --array=0-2 --cpus-per-task=1 --chdir="$work/out" \
-  "$source_dir/tools/slurm/sweep_array.sbatch" "$work/out/spec.yaml" "$work/out/shards" >"$work/sbatch.out" 2>&1 ||
+  "$source_dir/tools/slurm/sweep_array.sbatch" "$work/out/spec.yaml" "$work/out/shards" 3 >"$work/sbatch.out" 2>&1 ||
   fail "the job array failed: $(cat "$work/sbatch.out")"
 for index in 0 1 2; do
   [ -f "$work/out/shards/shard_$index/manifest.json" ] || fail "array task $index left no shard"
 done
+
+# Recovery (README, docs/sweeps.md): task 1's shard is lost, as when its node died.
+rm -rf "$work/out/shards/shard_1"
+if "$tavis" sweep merge --out "$work/out/merged_partial" "$work/out/shards"/shard_* >"$work/merge_partial.log" 2>&1; then
+  fail "merge accepted shards 0 and 2 of 3"
+fi
+# Without N, a resubmitted task cannot know the shard count: it must say so, not guess.
+TAVIS=$tavis timeout 120 sbatch --wait --array=1 --cpus-per-task=1 --chdir="$work/out" \
+  "$source_dir/tools/slurm/sweep_array.sbatch" "$work/out/spec.yaml" "$work/out/shards" >"$work/sbatch_no_n.out" 2>&1 &&
+  fail "a resubmitted task without N ran"
+grep -q "give N" "$work/out"/tavis-sweep-*_1.log || fail "a resubmitted task without N did not say how: $(cat "$work/out"/tavis-sweep-*_1.log)"
+[ ! -e "$work/out/shards/shard_1" ] || fail "a refused task wrote a shard"
+# The documented recovery: the task alone, with N.
+TAVIS=$tavis timeout 300 sbatch --wait --array=1 --cpus-per-task=1 --chdir="$work/out" \
+  "$source_dir/tools/slurm/sweep_array.sbatch" "$work/out/spec.yaml" "$work/out/shards" 3 >"$work/sbatch_recovery.out" 2>&1 ||
+  fail "the resubmitted task failed: $(cat "$work/sbatch_recovery.out")"
+[ -f "$work/out/shards/shard_1/manifest.json" ] || fail "the resubmitted task left no shard"
 "$tavis" sweep merge --out "$work/out/merged" "$work/out/shards"/shard_* >/dev/null || fail "merge failed"
 "$tavis" sweep "$work/out/spec.yaml" --out "$work/out/local" --quiet >/dev/null || fail "the local run failed"
 
@@ -133,6 +152,6 @@ local, merged = results(sys.argv[1]), results(sys.argv[2])
 if local != merged:
     print("differ:", sorted(k for k in set(local) | set(merged) if local.get(k) != merged.get(k)))
     sys.exit(1)
-print("slurm ok: a 3-task job array's shards merged equal the local run (%d files, %d cells)"
+print("slurm ok: a 3-task job array with task 1 rerun alone: shards merged equal the local run (%d files, %d cells)"
       % (len(local), sum(1 for k in local if k.endswith("episodes.jsonl"))))
 PY
