@@ -53,7 +53,18 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
   if (const auto cells = node.Optional("cells")) ReadCellFilter(*cells, known_robots, policy);
   if (const auto actions = node.Optional("actions")) policy.actions_file = actions->AsString();
   if (const auto servers = node.Optional("servers")) policy.servers = servers->AsStrings();
-  if (const auto keys = node.Optional("keys")) policy.observation_keys = keys->AsString();
+  if (const auto keys = node.Optional("keys")) {
+    policy.observation_keys = keys->AsString();
+    policy.observation_keys_given = true;
+  }
+  if (const auto dataset = node.Optional("match_dataset")) policy.match_dataset = dataset->AsString();
+  if (const auto serving = node.Optional("serving")) {
+    try {
+      policy.serving = remote::ParseServingMode(serving->AsString());
+    } catch (const std::invalid_argument& error) {
+      serving->Fail(error.what());
+    }
+  }
   if (const auto replan = node.Optional("replan_steps")) policy.replan_steps = ReadCount(*replan, 0, 1000000);
   if (const auto timeout = node.Optional("server_timeout_s")) {
     policy.server_timeout_s = timeout->AsDouble({0.001, 86400.0, false, "s"});
@@ -73,7 +84,7 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
   }
   if (served && policy.servers.empty()) node.Fail("policy 'openpi' needs servers: [ws://HOST:PORT, ...]");
   if (!served && !policy.servers.empty()) node.Required("servers").Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
-  for (const char* key : {"keys", "replan_steps", "server_timeout_s"}) {
+  for (const char* key : {"keys", "replan_steps", "server_timeout_s", "match_dataset", "serving"}) {
     if (!served && node.Optional(key)) node.Required(key).Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
   }
   return policy;
@@ -89,6 +100,9 @@ void PolicySpec::ApplyTo(EvaluationCellConfig& cell) const {
   cell.servers = servers;
   cell.replan_steps = replan_steps;
   cell.observation_keys = observation_keys;
+  cell.observation_keys_given = observation_keys_given;
+  cell.observation_dataset = match_dataset;
+  cell.serving = serving;
   cell.server_ready_timeout_s = server_timeout_s;
 }
 
@@ -104,6 +118,8 @@ nlohmann::ordered_json PolicySpecJson(const PolicySpec& policy) {
           {"servers", policy.servers},
           {"keys", policy.observation_keys},
           {"replan_steps", policy.replan_steps},
+          {"match_dataset", policy.match_dataset},
+          {"serving", remote::ToString(policy.serving)},
           {"cells", {{"tasks", policy.tasks}, {"robots", policy.robots}, {"splits", splits}, {"cameras", cameras}}}};
 }
 

@@ -22,6 +22,9 @@ struct PolicySpec {
   std::vector<std::string> servers;
   int replan_steps = 0;
   std::string observation_keys = "tavis";
+  bool observation_keys_given = false;
+  std::string match_dataset;  // the training dataset whose layout is served (--match-dataset)
+  remote::ServingMode serving = remote::ServingMode::kSerial;
   double server_timeout_s = 60.0;
   // The cells it serves: empty lists mean every one of the spec's.
   std::vector<std::string> tasks;  // the filter's suites expanded, then its tasks
