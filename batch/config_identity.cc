@@ -1,6 +1,8 @@
 #include "batch/config_identity.h"
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
@@ -44,8 +46,9 @@ nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::stri
                              {"robot_config", YamlFileAsJson(configs::RobotConfigPath(config_dir, robot))}};
   if (!observation_keys.empty()) {
     const bool is_file = std::filesystem::is_regular_file(observation_keys);
-    identity["observation_keys_config"] =
-        YamlFileAsJson(is_file ? observation_keys : config_dir + "/policy_keys/" + observation_keys + ".yaml");
+    // The key file's text: its escapes are read by the strict reader (observation_keys.cc), not here.
+    std::ifstream in(is_file ? observation_keys : config_dir + "/policy_keys/" + observation_keys + ".yaml", std::ios::binary);
+    identity["observation_keys_config"] = std::string(std::istreambuf_iterator<char>(in), {});
   }
   return identity;
 }

@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "batch/output_folder.h"
 #include "tool_runner.h"
@@ -88,8 +89,8 @@ TEST_F(OutputSafety, OverwriteRefusesTheWorkingDirectoryItsParentsAndTheHomeFold
   std::ofstream(root_ / "scratch" / "b.txt") << "b";
   const auto files = Snapshot(root_);
   const auto paths = Paths();
-  for (const std::string& command : {kCell, kDemos}) {
-    for (const std::string& out : {".", "..", "../..", "/", work.string()}) {
+  for (const std::string& command : std::vector<std::string>{kCell, kDemos}) {
+    for (const std::string& out : std::vector<std::string>{".", "..", "../..", "/", work.string()}) {
       ExpectRefusedKeepingEverything(RunIn(work, command + " --overwrite --out " + Quote(out)), "working directory", files, paths,
                                      command + " --out " + out);
     }
@@ -153,7 +154,7 @@ TEST_F(OutputSafety, SecondWriterOfARunningCellIsRefusedAndTheFirstCompletesWhol
   const std::vector<std::string> lines = Lines(ReadText(cell / "episodes.jsonl"));
   ASSERT_EQ(lines.size(), 40u);
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    EXPECT_EQ(lines[i].rfind("{\"episode\":" + std::to_string(i) + ",", 0), 0u) << "line " << i << ": " << lines[i];
+    EXPECT_NE(lines[i].find("\"episode\":" + std::to_string(i) + ","), std::string::npos) << "line " << i << ": " << lines[i];
   }
 }
 
