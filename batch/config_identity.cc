@@ -1,5 +1,7 @@
 #include "batch/config_identity.h"
 
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -39,16 +41,31 @@ nlohmann::json YamlFileAsJson(const std::string& path) {
   }
 }
 
+// FNV-1a over the file's bytes, as 16 hex digits: enough to tell an edited file from the one a
+// cell started with, whatever its encoding ("" for a file that cannot be read).
+std::string FileHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  std::uint64_t hash = 14695981039346656037ull;
+  for (std::istreambuf_iterator<char> it(in), end; it != end; ++it) {
+    hash = (hash ^ static_cast<unsigned char>(*it)) * 1099511628211ull;
+  }
+  char text[17];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
 }  // namespace
 
 nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::string& robot, const std::string& observation_keys) {
   nlohmann::json identity = {{"program_version", ProgramVersion()},
                              {"robot_config", YamlFileAsJson(configs::RobotConfigPath(config_dir, robot))}};
   if (!observation_keys.empty()) {
+    // A key file or a shipped preset's file by the hash of its bytes; the built-in contract
+    // preset (observation_contract.h) is part of the program, whose version is recorded above.
     const bool is_file = std::filesystem::is_regular_file(observation_keys);
-    // The key file's text: its escapes are read by the strict reader (observation_keys.cc), not here.
-    std::ifstream in(is_file ? observation_keys : config_dir + "/policy_keys/" + observation_keys + ".yaml", std::ios::binary);
-    identity["observation_keys_config"] = std::string(std::istreambuf_iterator<char>(in), {});
+    const std::string path = is_file ? observation_keys : config_dir + "/policy_keys/" + observation_keys + ".yaml";
+    identity["observation_keys_config"] = std::filesystem::is_regular_file(path) ? "fnv1a:" + FileHash(path) : "built-in";
   }
   return identity;
 }
