@@ -302,7 +302,8 @@ void RegisterEvalCommand(CLI::App& app) {
                                   options->cell.policy);
     }
     if (options->cell.policy != "openpi") {
-      for (const char* served_only : {"--serving", "--keys", "--replan-steps", "--match-dataset"}) {
+      for (const char* served_only : {"--serving", "--keys", "--replan-steps", "--match-dataset", "--server-timeout",
+                                      "--reply-timeout", "--max-reply-mb"}) {
         if (eval->count(served_only) > 0) {
           throw std::invalid_argument(std::string(served_only) + " applies to --policy openpi only, got --policy " +
                                       options->cell.policy);
