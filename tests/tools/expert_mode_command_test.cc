@@ -63,8 +63,9 @@ TEST_F(ExpertModeCommand, HeadStillDemosHoldTheNeckAtItsResetPoseInEveryFrameAnd
             << "episode " << e << " frame " << frame << " neck entry " << neck[i];
       }
     }
-    // 60 fps: the hands move within a quarter second, where the gaze-first expert first looks.
-    EXPECT_LE(StillFramesAtStart(episode), 15) << "episode " << e;
+    // 60 fps: the hands move once the dropped objects rest (about 0.3 s), within half a second,
+    // where the gaze-first expert first looks for over a second.
+    EXPECT_LE(StillFramesAtStart(episode), 30) << "episode " << e;
     EXPECT_GE(StillFramesAtStart(gaze_first.episodes[e]), 60) << "episode " << e;
     EXPECT_LT(episode.num_steps, gaze_first.episodes[e].num_steps) << "episode " << e;
   }
