@@ -4,15 +4,10 @@
 
 is the same as
 
-    python3 -m tavis_server --policy tavis_baseline.serve:make_policy --policy-arg checkpoint=CKPT_DIR --port 8000
+    python3 -m tavis_server --policy tavis_baseline.serve:make_policy --policy-arg checkpoint_dir=CKPT_DIR --port 8000
 
 The policy keeps an observation history (config.n_obs_steps consecutive steps), so tavis_server
 wants every policy step asked: run the client with `--replan-steps 1` (docs/baselines.md).
-
-NOTE for the lead: written against tavis_server's command line (`--policy MODULE:FACTORY
---policy-arg K=V --device --port --host`, FACTORY(device=...) returning a LeRobot-interface
-policy) as it stood on the `server` branch before it was merged; if that changes, only main()
-below needs rewiring.
 """
 
 import argparse
