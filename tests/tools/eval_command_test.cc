@@ -66,10 +66,11 @@ TEST_F(EvalCommand, SmallCellWritesEpisodesSummaryAndOneLine) {
   EXPECT_LT(summary.at("ci_high").get<double>() - summary.at("ci_low").get<double>(), 1.0);
   EXPECT_GT(summary.at("wall_s").get<double>(), 0.0);
 
-  // No temporary files are left next to the results.
+  // No temporary files are left next to the results: only them, the marker that says the folder is
+  // a tavis cell and the (released) lock file.
   std::set<std::string> names;
   for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
-  EXPECT_EQ(names, (std::set<std::string>{"cell.json", "episodes.jsonl", "summary.json"}));
+  EXPECT_EQ(names, (std::set<std::string>{".tavis_lock", ".tavis_output", "cell.json", "episodes.jsonl", "summary.json"}));
 }
 
 TEST_F(EvalCommand, ProfilePrintsSharesAndWritesProfileJsonWithoutChangingTheRecords) {
