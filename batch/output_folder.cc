@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 const std::set<std::string>& OwnEntries(OutputKind kind) {
   static const std::set<std::string> cell = {"cell.json", "episodes.jsonl", "summary.json", "profile.json", "actions"};
   static const std::set<std::string> dataset = {"meta", "data", "videos", ".tavis_spool", "INCOMPLETE", "tavis_demos.json"};
-  static const std::set<std::string> sweep = {"manifest.json", "cells", "summary.json", "tables", "report.html"};
+  static const std::set<std::string> sweep = {"manifest.json", "cells", "summary.json", "tables", "figures", "report.html"};
   switch (kind) {
     case OutputKind::kEvalCell: return cell;
     case OutputKind::kDataset: return dataset;
