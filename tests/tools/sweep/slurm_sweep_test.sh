@@ -138,6 +138,9 @@ def results(root):
             rel = os.path.relpath(path, root)
             if rel == "manifest.json":
                 continue
+            if not name.endswith((".json", ".jsonl", ".md", ".csv", ".tex", ".html", ".svg")):
+                files[rel] = open(path, "rb").read()  # figures' PNGs and the like: compared as bytes
+                continue
             text = open(path, encoding="utf-8").read()
             if rel.startswith("cells/") and name == "summary.json":
                 summary = json.loads(text)
