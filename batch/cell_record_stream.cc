@@ -61,6 +61,9 @@ nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
                              {"image_height", config.image_height},
                              {"identity", ConfigIdentityJson(config.config_dir, config.robot,
                                                              config.policy == "openpi" ? config.observation_keys : "")}};
+  // Only a cell that does not start at episode 0 names its start, so cells written before it
+  // existed still resume.
+  if (config.episode_start != 0) settings["episode_start"] = config.episode_start;
   // Only the expert has a mode; it decides the expert's records, so a resume must keep it.
   if (config.policy == "expert") settings["expert_mode"] = scenarios::ToString(config.expert_mode);
   return settings;
@@ -89,7 +92,7 @@ EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
 }
 
 CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume)
-    : dir_(std::move(dir)), seed_(config.seed) {
+    : dir_(std::move(dir)), seed_(config.seed), episode_start_(config.episode_start) {
   const fs::path cell_json = fs::path(dir_) / "cell.json";
   const nlohmann::json settings = CellSettingsJson(config);
   const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
@@ -115,7 +118,7 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
       } catch (const std::exception&) {
         break;
       }
-      if (record.episode != static_cast<int64_t>(resumed_.size())) break;
+      if (record.episode != next_episode()) break;
       resumed_.push_back(std::move(record));
       kept_bytes += line.size() + 1;
     }

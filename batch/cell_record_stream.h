@@ -33,7 +33,7 @@ class CellRecordStream {
   // The records read back when resuming, in episode order (without actions).
   const std::vector<EpisodeRecord>& resumed() const { return resumed_; }
   // The first episode still to run.
-  int64_t next_episode() const { return static_cast<int64_t>(resumed_.size()); }
+  int64_t next_episode() const { return episode_start_ + static_cast<int64_t>(resumed_.size()); }
 
   // Appends the record (the next episode) and flushes it.
   void Write(const EpisodeRecord& record);
@@ -46,6 +46,7 @@ class CellRecordStream {
  private:
   std::string dir_;
   uint64_t seed_;
+  int64_t episode_start_;
   std::vector<EpisodeRecord> resumed_;
   std::FILE* episodes_ = nullptr;
   int64_t written_ = 0;

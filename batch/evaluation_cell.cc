@@ -99,9 +99,13 @@ std::string CellPolicyNames() { return std::string(BuiltinPolicyNames()) + ", " 
 void CheckEvaluationCell(const EvaluationCellConfig& config) {
   if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
-  if (config.first_episode < 0 || config.first_episode > config.episodes) {
-    throw std::invalid_argument("the first episode to run must be in [0, " + std::to_string(config.episodes) + "], got " +
-                                std::to_string(config.first_episode));
+  if (config.episode_start < 0) {
+    throw std::invalid_argument("--episode must be at least 0, got " + std::to_string(config.episode_start));
+  }
+  const int64_t end = config.episode_start + config.episodes;
+  if (config.first_episode < config.episode_start || config.first_episode > end) {
+    throw std::invalid_argument("the first episode to run must be in [" + std::to_string(config.episode_start) + ", " +
+                                std::to_string(end) + "], got " + std::to_string(config.first_episode));
   }
   ValidatePolicy(config);
   if (config.expert_hz != 60 && config.expert_hz != 20) {
@@ -149,7 +153,8 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   const auto start = std::chrono::steady_clock::now();
 
-  const int slots = static_cast<int>(std::clamp<int64_t>(config.episodes - config.first_episode, 1, config.envs));
+  const int64_t end_episode = config.episode_start + config.episodes;
+  const int slots = static_cast<int>(std::clamp<int64_t>(end_episode - config.first_episode, 1, config.envs));
   VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
   CellResult result;
   result.config = config;
@@ -202,8 +207,8 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
                              result.successes += record.success ? 1 : 0;
                              result.episodes.push_back(std::move(record));
                            });
-  if (config.first_episode < config.episodes) {
-    EpisodeDriver driver(env, *policy, config.episodes - config.first_episode, config.first_episode);
+  if (config.first_episode < end_episode) {
+    EpisodeDriver driver(env, *policy, end_episode - config.first_episode, config.first_episode);
     driver.AddSink(recorder);
     driver.SetProgress(progress);
     driver.SetCameraProtocol(config.camera);

@@ -49,8 +49,11 @@ struct EvaluationCellConfig {
   double reply_timeout_s = 300.0;  // per request, for the reply (a server's first inference may compile its model)
   double max_reply_mb = 16.0;      // a longer reply ends its episode (remote::kDefaultMaxReplyBytes)
   int episodes = 96;
-  // Episodes before this one are not run (a resumed cell has their records already); at most
-  // `episodes` (then nothing runs).
+  // The cell's first episode index: it holds episodes episode_start .. episode_start + episodes - 1
+  // (`tavis eval --episode I` runs episode I of the seed alone, the scene it has in a full cell).
+  int64_t episode_start = 0;
+  // Episodes before this one are not run (a resumed cell has their records already); in
+  // [episode_start, episode_start + episodes] (at the end, nothing runs).
   int64_t first_episode = 0;
   int envs = 32;  // parallel env slots
   uint64_t seed = 0;

@@ -90,6 +90,7 @@ nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const Demos
           {"image_size", options.image_size},
           {"cameras", config.cameras},
           {"codec", options.codec},
+          {"crf", config.video.crf},
           {"format", options.format},
           {"envs", config.envs},
           {"tasks", tasks},
@@ -202,6 +203,11 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_option("--cameras", options->cameras, "Comma-separated cameras (head, fixed, left_wrist, right_wrist)")
       ->capture_default_str();
   demos->add_option("--codec", options->codec, "Video codec: h264 (decodes everywhere) or av1 (LeRobot's default, libsvtav1)")
+      ->capture_default_str();
+  demos->add_option("--crf", options->config.video.crf,
+                    "Video quality: the encoder's constant rate factor, lower is closer to the rendered images\n"
+                    "(-1: the codec's default, h264 23, av1 30; up to 51 for h264, 63 for av1)")
+      ->check(IntegerIn(-1, 63))
       ->capture_default_str();
   demos->add_option("--format", options->format, "Dataset format: v3.0 or v2.1 (one file per episode, for openpi)")
       ->capture_default_str();

@@ -46,14 +46,17 @@ struct EvalOptions {
   bool quiet = false;
   bool overwrite = false;
   bool resume = false;
+  bool one_episode = false;  // --episode I
 };
 
-std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split) {
+std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split, bool one_episode) {
   // A head-still expert's cell must not take the place of the gaze-first one.
   const std::string mode =
       cell.expert_mode == scenarios::ExpertMode::kGazeFirst ? "" : std::string("-") + scenarios::ToString(cell.expert_mode);
+  // One chosen episode (--episode I) must not take the place of its full cell either.
+  const std::string only = one_episode ? "_ep" + std::to_string(cell.episode_start) : "";
   return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + mode + "_s" +
-         std::to_string(cell.seed);
+         std::to_string(cell.seed) + only;
 }
 
 // One cell into `out`: its records streamed as episodes end (an interrupted cell keeps them and
@@ -118,7 +121,7 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   result.episodes = std::move(episodes);
   result.successes = 0;
   for (const batch::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
-  batch::WriteCellSummary(result, {threads, stream.next_episode()}, out);
+  batch::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
   if (result.profile) {
     std::cout << batch::FormatCellProfile(*result.profile);
@@ -142,7 +145,7 @@ void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int 
   for (const std::string& task : tasks) {
     cell.task = task;
     try {
-      const batch::CellResult result = RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, options.split));
+      const batch::CellResult result = RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, options.split, false));
       rate_sum += static_cast<double>(result.successes) / static_cast<double>(result.episodes.size());
       successes += result.successes;
       episodes += static_cast<int>(result.episodes.size());
@@ -181,7 +184,7 @@ void RunEval(const EvalOptions& options) {
     return;
   }
   scenarios::FindScenario(cell.task);  // fail fast on an unknown task, before any work
-  RunCell(cell, options, threads, options.out.empty() ? "results/" + DefaultCellDirName(cell, options.split) : options.out);
+  RunCell(cell, options, threads, options.out.empty() ? "results/" + DefaultCellDirName(cell, options.split, options.one_episode) : options.out);
 }
 
 }  // namespace
@@ -264,6 +267,11 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")
       ->check(IntegerIn(1, 100000000))
       ->capture_default_str();
+  eval->add_option("--episode", options->cell.episode_start,
+                   "Run only episode I of the seed: the scene, and with a folder of --actions the actions, it has in\n"
+                   "the full cell (replaces --episodes; the cell's one record is episode I)")
+      ->check(IntegerIn(0, 100000000))
+      ->excludes("--episodes");
   AddSeedOption(*eval, options->cell.seed, "Seed: episode i draws its randomness from (seed, i)");
   eval->add_option("--envs", options->cell.envs, "Parallel env slots stepped lock-step, for a served policy or rendering; a built-in policy\n"
                    "without rendering runs one slot per thread instead (results do not depend on it)")
@@ -309,6 +317,12 @@ void RegisterEvalCommand(CLI::App& app) {
                                       options->cell.policy);
         }
       }
+    }
+    if (eval->count("--episode") > 0) {
+      if (!options->suite.empty()) throw std::invalid_argument("--episode runs one cell's episode, not a --suite");
+      options->cell.episodes = 1;
+      options->cell.first_episode = options->cell.episode_start;
+      options->one_episode = true;
     }
     options->cell.serving = remote::ParseServingMode(options->serving);
     options->cell.observation_keys_given = eval->count("--keys") > 0;

@@ -117,7 +117,7 @@ void ValidateDemoConfig(const DemoConfig& config) {
   for (const std::string& camera : config.cameras) CameraVideoKey(camera);
   VideoSettings video = config.video;
   video.fps = config.fps;
-  ValidateVideoSettings(video, "--image-size/--codec");
+  ValidateVideoSettings(video, "--image-size/--codec/--crf");
 }
 
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {

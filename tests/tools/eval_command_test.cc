@@ -265,6 +265,12 @@ TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeave
   ASSERT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_EQ(Lines(ReadText(replay_dir / "episodes.jsonl")), std::vector<std::string>{served[0]});
   EXPECT_TRUE(fs::exists(dir / "actions" / "episode_1.csv"));
+  // Episode 1 alone, from the whole cell's actions folder: the same record, without running episode 0.
+  const fs::path one_dir = root_ / "episode_1";
+  const RunResult one = Run("eval --episode 1 --envs 1 --seed 6 --quiet --policy replay --actions " +
+                            Quote((dir / "actions").string()) + " --out " + Quote(one_dir.string()));
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(Lines(ReadText(one_dir / "episodes.jsonl")), std::vector<std::string>{served[1]});
 
   remote::testing::PolicyServerProcess failing(
       {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001", "--fail-at-request", "3"});
@@ -273,6 +279,36 @@ TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeave
   EXPECT_NE(failed.exit_code, 0);
   EXPECT_NE(failed.err.find("RuntimeError: test policy asked to fail at request 3"), std::string::npos) << failed.err;
   EXPECT_FALSE(fs::exists(failed_dir / "summary.json"));
+}
+
+// `--episode I` runs episode I of the seed alone: its record equals line I of the full cell, in a
+// folder named for it by default; a resume keeps the episode, and it does not combine with --episodes.
+TEST_F(EvalCommand, OneChosenEpisodeEqualsItsLineInTheFullCell) {
+  const fs::path full = root_ / "full";
+  ASSERT_EQ(Run("eval --episodes 3 --envs 3 --seed 8 --quiet --out " + Quote(full.string())).exit_code, 0);
+  const std::vector<std::string> lines = Lines(ReadText(full / "episodes.jsonl"));
+  ASSERT_EQ(lines.size(), 3u);
+  const fs::path one = root_ / "one";
+  const RunResult run = Run("eval --episode 2 --seed 8 --quiet --out " + Quote(one.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Lines(ReadText(one / "episodes.jsonl")), std::vector<std::string>{lines[2]});
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(one / "summary.json"));
+  EXPECT_EQ(summary.at("n_episodes").get<int>(), 1);
+  EXPECT_EQ(nlohmann::json::parse(ReadText(one / "cell.json")).at("episode_start").get<int>(), 2);
+  EXPECT_FALSE(nlohmann::json::parse(ReadText(full / "cell.json")).contains("episode_start"));
+
+  // The default folder names the episode, so it never takes the full cell's place.
+  const RunResult named = RunIn(root_, "eval --episode 1 --seed 8 --quiet");
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_TRUE(fs::exists(root_ / "results" / "clutter-pick-cube_gr1t2_id_head_expert_s8_ep1" / "summary.json")) << named.out;
+
+  const RunResult both = Run("eval --episode 1 --episodes 4 --quiet --out " + Quote((root_ / "both").string()));
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.err.find("--episodes"), std::string::npos) << both.err;
+  EXPECT_FALSE(fs::exists(root_ / "both"));
+  const RunResult negative = Run("eval --episode -1 --quiet --out " + Quote((root_ / "negative").string()));
+  EXPECT_NE(negative.exit_code, 0);
+  EXPECT_NE(negative.err.find("-1"), std::string::npos) << negative.err;
 }
 
 using GaltCommand = EvalCommand;

@@ -85,11 +85,14 @@ class TavisCommandTest : public ::testing::Test {
   }
 
   // Runs `tavis ARGS`, capturing stdout and stderr separately.
-  RunResult Run(const std::string& args) const {
+  RunResult Run(const std::string& args) const { return RunIn(fs::path(), args); }
+
+  // The same in the working directory `cwd` (empty: the test's own), for default output folders.
+  RunResult RunIn(const fs::path& cwd, const std::string& args) const {
     const fs::path out = root_ / "stdout.txt";
     const fs::path err = root_ / "stderr.txt";
-    const std::string command =
-        Quote(TAVIS_BINARY) + " " + args + " >" + Quote(out.string()) + " 2>" + Quote(err.string());
+    const std::string command = (cwd.empty() ? "" : "cd " + Quote(cwd.string()) + " && ") + Quote(TAVIS_BINARY) + " " + args +
+                                " >" + Quote(out.string()) + " 2>" + Quote(err.string());
     const int status = std::system(command.c_str());
     RunResult result;
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -33,7 +33,12 @@ import numpy as np
 TAVIS, SOURCE = sys.argv[1], sys.argv[2]
 SERVER = os.path.join(SOURCE, "tests", "batch", "remote", "policy_server.py")
 READ_PARQUET = os.path.join(SOURCE, "tests", "js", "read_parquet.mjs")
-TASK, ROBOT, SEED, WIDTH, HEIGHT = "clutter-pick-cube", "gr1t2", "3", 160, 120
+TASK, ROBOT, SEED, WIDTH, HEIGHT = "clutter-pick-cube", "gr1t2", "3", 320, 240
+# The served size, 320x240. H.264 keeps every frame >= 30 dB here (worst 30.4 dB at its default
+# crf 23, 31.7 dB at crf 17, measured), while a frame off by one tick scores 13-26 dB where a
+# camera moves. At 160x120 the worst wrist frame stays under 30 dB down to crf 12: its colour,
+# subsampled 2x2 by yuv420p, is what the codec loses there, not the quantiser.
+CRF = "17"
 CAMERAS = ["OBS_HEAD", "OBS_WRIST_LEFT", "OBS_WRIST_RIGHT"]
 failures = []
 passed = 0
@@ -106,7 +111,7 @@ def main():
     work = tempfile.mkdtemp(prefix="tavis_served_contract_")
     dataset = os.path.join(work, "dataset")
     run([TAVIS, "demos", "--task", TASK, "--robot", ROBOT, "--seed", SEED, "--episodes", "2", "--envs", "2", "--fps", "60",
-         "--expert-hz", "20", "--image-size", f"{WIDTH}x{HEIGHT}", "--out", dataset])
+         "--expert-hz", "20", "--image-size", f"{WIDTH}x{HEIGHT}", "--crf", CRF, "--out", dataset])
     with open(os.path.join(dataset, "tavis_demos.json")) as file:
         report = json.load(file)
     attempts = report["tasks"][0]["attempts"]
@@ -165,13 +170,9 @@ def main():
     print(f"compared {compared} served observations with their dataset frames")
     check(compared >= 20, f"only {compared} observations compared")
     for camera, values in psnrs.items():
-        # H.264 at crf 23 with a keyframe every second frame loses most while the head turns fast:
-        # the mean is held to 30 dB, every single frame to 25 dB (a frame off by one tick scores
-        # 17-23 dB while the head moves).
         mean, worst = float(np.mean(values)), float(np.min(values))
         print(f"{camera}: PSNR mean {mean:.1f} dB, worst {worst:.1f} dB over {len(values)} frames")
-        check(mean >= 30.0, f"{camera}: mean PSNR {mean:.1f} dB < 30 dB")
-        check(worst >= 25.0, f"{camera}: worst PSNR {worst:.1f} dB < 25 dB")
+        check(worst >= 30.0, f"{camera}: worst PSNR {worst:.1f} dB < 30 dB (mean {mean:.1f} dB)")
     with open(os.path.join(work, "cell_matched", "summary.json")) as file:
         summary = json.load(file)
     check(summary["layout_differences"] == [], f"layout differences {summary['layout_differences']}")
