@@ -154,6 +154,7 @@ void VecEnv::ResetOne(const EpisodeStart& start) {
     const int ticks = kInitPoseWarmupPolicySteps * model_.physics.controls_per_policy();
     for (int tick = 0; tick < ticks && state_.running(env); ++tick) ControlTick({env, env + 1}, warmup_actions_);
   }
+  state_.policy_start_tick[env] = state_.control_step[env];
 }
 
 void VecEnv::EndInvalid(int env, engine::InvalidAction fault) {

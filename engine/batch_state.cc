@@ -41,6 +41,7 @@ void BatchState::Allocate(int envs, int joints, int objects) {
   object_rgb.assign(n * objects * 3, -1.0f);
   task.assign(n, TaskVars());
   control_step.assign(n, 0);
+  policy_start_tick.assign(n, 0);
   episode.assign(n, -1);
   end.assign(n, EpisodeEnd::kRunning);
   invalid_action.assign(n, InvalidAction());

@@ -62,6 +62,9 @@ struct BatchState {
   std::vector<float> object_rgb;
   std::vector<TaskVars> task;           // (num_envs) the task's variables
   std::vector<int> control_step;        // (num_envs) control ticks since the episode's reset
+  // (num_envs) control_step at the policy's first observation: the ticks the reset's warm-up
+  // held (ood-init-pose), 0 otherwise. A served request counts its `step` from here.
+  std::vector<int> policy_start_tick;
   std::vector<int64_t> episode;         // (num_envs) episode index in the slot, -1 when idle
   std::vector<EpisodeEnd> end;          // (num_envs) kRunning until the episode ends
   std::vector<InvalidAction> invalid_action;  // (num_envs) set when end is kInvalidAction

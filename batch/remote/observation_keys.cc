@@ -201,7 +201,9 @@ std::vector<std::pair<KeyPath, Value>> RequestEntries(const batch::Observation& 
   for (int env : envs) {
     env_index.push_back(env);
     episode_index.push_back(observation.state.episode[env]);
-    step.push_back(observation.state.control_step[env] / ticks_per_step);
+    // Counted from the policy's first observation: under ood-init-pose the reset's warm-up
+    // steps come before step 0, so a stateful server sees every episode start at step 0.
+    step.push_back((observation.state.control_step[env] - observation.state.policy_start_tick[env]) / ticks_per_step);
     is_first.push_back(step.back() == 0 ? 1 : 0);
     prompts.emplace_back(PromptOf(observation, env));
   }

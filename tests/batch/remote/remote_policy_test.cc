@@ -20,6 +20,7 @@
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
 #include "batch/episode_driver.h"
+#include "batch/init_pose_warmup.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
 #include "tests/batch/remote/policy_server_process.h"
@@ -288,6 +289,34 @@ TEST(RemotePolicy, AStatefulServerSeesEachEpisodesStepsInOrderWithSixteenEnvsAsW
   for (std::size_t i = 0; i < 16; ++i) {
     ExpectSameEpisode(results[16].episodes[i], results[1].episodes[i], "16 vs 1 envs, episode " + std::to_string(i));
   }
+}
+
+// Under ood-init-pose the reset holds a warm-up action for 10 policy steps before the policy's
+// first observation: that observation is still step 0 and flagged first, so a stateful server
+// sees every episode start (the episode's length counts the warm-up).
+TEST(RemotePolicy, AStatefulServerSeesStepZeroFirstAfterTheInitPoseWarmUp) {
+  const std::filesystem::path steps = FreshDirectory("steps_init_pose.json");
+  batch::CellResult result;
+  {
+    testing::PolicyServerProcess server = ServeActions(1, {"--check-steps", "--steps-out", steps.string()});
+    batch::EvaluationCellConfig config = ServedCell({server.address()});
+    config.split = scenarios::Split::kOodInitPose;
+    config.episodes = 4;
+    config.envs = 4;
+    config.serving = ServingMode::kPerEnv;
+    result = RunWithThreads(config, 2);
+  }
+  nlohmann::json seen;
+  std::ifstream(steps) >> seen;
+  ASSERT_EQ(result.episodes.size(), 4u);
+  ASSERT_EQ(seen.size(), 4u) << seen.dump();
+  for (const auto& [key, entry] : seen.items()) {
+    const int64_t episode = std::stoll(key.substr(key.find('/') + 1));
+    EXPECT_EQ(entry["first_flags"], 1) << key;
+    EXPECT_EQ(entry["steps"].get<int>(), result.episodes[static_cast<std::size_t>(episode)].length_steps - batch::kInitPoseWarmupPolicySteps)
+        << key;
+  }
+  std::filesystem::remove(steps);
 }
 
 TEST(RemotePolicy, AServerWithoutHealthzIsConnectedToDirectly) {
