@@ -98,7 +98,15 @@ void RemotePolicy::Reset(const batch::Observation&, const std::vector<uint8_t>& 
   for (std::size_t env = 0; env < queues_.size(); ++env) {
     if (started[env]) queues_[env].clear();
   }
-  for (const std::unique_ptr<OpenpiSession>& session : sessions_) session->ServiceKeepalive();
+  // Keeping a connection alive may have to reconnect to a server that died between requests:
+  // the error names the server, as a failed request's does.
+  for (std::size_t i = 0; i < sessions_.size(); ++i) {
+    try {
+      sessions_[i]->ServiceKeepalive();
+    } catch (const std::runtime_error& error) {
+      throw std::runtime_error("policy 'openpi', server " + options_.servers[i % options_.servers.size()] + ": " + error.what());
+    }
+  }
 }
 
 std::vector<RemotePolicy::Exchange> RemotePolicy::PlanExchanges(const batch::Observation& observation,
