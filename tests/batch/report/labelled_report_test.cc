@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <regex>
 #include <string>
 
 #include "batch/report/figure_drawing.h"
+#include "batch/report/html_report.h"
 #include "batch/report/paper_figures.h"
 #include "batch/report/paper_table.h"
 #include "batch/report/sweep_summary.h"
@@ -257,6 +259,57 @@ TEST(PaperFigures, GaltAtTheWindowsEndsLandInTheirBins) {
   EXPECT_NE(narrow.canvas.Svg("n").find("2 outside"), std::string::npos);
   EXPECT_EQ(HistogramCounts({-0.5, 3.5, -0.51, 3.51}, -0.5, 3.5, 20), (std::vector<int>{1, 0, 0, 0, 0, 0, 0, 0, 0, 0,
                                                                                         0, 0, 0, 0, 0, 0, 0, 0, 0, 1}));
+}
+
+// The SVG with id `id` inside an HTML page (empty when absent).
+std::string SvgById(const std::string& html, const std::string& id) {
+  const std::size_t start = html.find("<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" + id + "\"");
+  if (start == std::string::npos) return "";
+  return html.substr(start, html.find("</svg>", start) + 6 - start);
+}
+
+// Every histogram of the report page, end to end from the summary: Figure 4 (3.0 s window) and
+// the per-label, per-robot GALT histograms on the detector's [-0.5, 4.0] s. -0.45 s and +3.9 s
+// land in the first and last bins, or are counted outside; nothing is drawn off its axis. This
+// runs in the sanitizer job (.ci/sanitize, tavis_report_tests), where the old histogram's write
+// before its first bin was a heap-buffer-overflow.
+TEST(PaperFigures, ReportHistogramsDrawGaltAtBothEnds) {
+  const std::vector<double> values = {-0.45, 1.0, 1.2, 3.9};
+  const std::vector<CellEpisodes> cells = {Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 4, 4, values),
+                                           Cell("ref", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 2, 2, {-0.45, 3.9})};
+  const Json summary = SweepSummaryJson({{"episodes", 4}, {"figures", {{"galt_reference", "ref"}}}}, cells);
+  const std::string html = SweepHtmlReport(summary, Json::object());
+  // The per-robot histogram of the expert: 18 bins of 0.25 s from -0.5 s.
+  const std::string robot = SvgById(html, "galt_expert_gr1t2");
+  ASSERT_FALSE(robot.empty()) << html;
+  std::vector<int> counts;
+  for (const auto& bin : Marks(robot, "count")) counts.push_back(std::stoi(bin.at("count")));
+  ASSERT_EQ(counts.size(), 18U);
+  EXPECT_EQ(counts[0], 1) << "-0.45 s";
+  EXPECT_EQ(counts[17], 1) << "3.9 s";
+  EXPECT_EQ(counts[6], 2) << "1.0 s and 1.2 s";
+  const auto first = Marks(robot, "count").front();
+  EXPECT_DOUBLE_EQ(std::stod(first.at("low")), -0.5);
+  // Figure 4 in the page: 3.9 s lies beyond the 3.0 s window (counted, not drawn) for both series.
+  const std::string figure = SvgById(html, "fig4_galt");
+  ASSERT_FALSE(figure.empty());
+  std::map<std::string, std::vector<int>> series;
+  for (const auto& bin : Marks(figure, "count")) series[bin.at("series")].push_back(std::stoi(bin.at("count")));
+  ASSERT_EQ(series["policy"].size(), 20U);
+  ASSERT_EQ(series["reference"].size(), 20U);
+  EXPECT_EQ(series["policy"][0], 1);
+  EXPECT_EQ(series["reference"][0], 1);
+  EXPECT_EQ(series["policy"][19] + series["reference"][19], 0);
+  EXPECT_EQ(summary["figures"]["fig4"]["tasks"][0]["reference"]["n_outside_window"], 1);
+  // Every drawn bin lies within its panel: no rectangle of negative size or left of the axis.
+  const std::regex rect("<rect x=\"([-0-9.e]+)\" y=\"([-0-9.e]+)\" width=\"([-0-9.e]+)\" height=\"([-0-9.e]+)\"");
+  for (const std::string& svg : {robot, figure}) {
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), rect); it != std::sregex_iterator(); ++it) {
+      EXPECT_GE(std::stod((*it)[1]), 0.0) << it->str();
+      EXPECT_GE(std::stod((*it)[3]), 0.0) << it->str();
+      EXPECT_GE(std::stod((*it)[4]), 0.0) << it->str();
+    }
+  }
 }
 
 }  // namespace
