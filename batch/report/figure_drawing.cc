@@ -242,22 +242,38 @@ Figure Ablation(const Json& figure) {
           GroupedBars("Fig. 3d: no-AV / full-AV / wrist-only", groups, series)};
 }
 
-// One step outline per series over the bins, each bin a data-carrying rectangle; axes with
-// `intervals` labelled ticks (numbers only: `axis_title` names the unit below them) and the count
-// scale (0 and the tallest bin).
+// Tick positions on [low, high]: the multiples of the smallest step of 1, 2 or 5 x 10^k that gives
+// at most about eight intervals (0.5 s on Figure 4's 4 s), so the labels are round numbers.
+std::vector<double> RoundTicks(double low, double high) {
+  const double raw = (high - low) / 8.0;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = 10.0 * decade;
+  for (const double factor : {1.0, 2.0, 5.0}) {
+    if (factor * decade >= raw * (1 - 1e-9)) {
+      step = factor * decade;
+      break;
+    }
+  }
+  std::vector<double> ticks;
+  for (double k = std::ceil(low / step - 1e-9); k * step <= high + step * 1e-9; k += 1.0) ticks.push_back(k * step + 0.0);  // + 0.0: no "-0"
+  return ticks;
+}
+
+// One step outline per series over the bins, each bin a data-carrying rectangle; axes with round
+// labelled ticks (numbers only: `axis_title` names the unit below them) and the count scale (0 and
+// the tallest bin).
 void HistogramPanel(Canvas& canvas, double left, double top, double width, double height, double low, double high,
-                    const std::vector<std::pair<std::string, std::vector<int>>>& series, const std::string& axis_title, int intervals) {
+                    const std::vector<std::pair<std::string, std::vector<int>>>& series, const std::string& axis_title) {
   const int bins = series.empty() ? 1 : static_cast<int>(series[0].second.size());
   int most = 1;
   for (const auto& [name, counts] : series) most = std::max(most, *std::max_element(counts.begin(), counts.end()));
   const double bottom = top + height;
   canvas.Line(left, bottom, left + width, bottom, "#333333");
   canvas.Line(left, top, left, bottom, "#333333");
-  for (int tick = 0; tick <= intervals; ++tick) {
-    const double x = left + width * tick / intervals;
-    const double value = low + (high - low) * tick / intervals;
+  for (const double value : RoundTicks(low, high)) {
+    const double x = left + width * (value - low) / (high - low);
     canvas.Line(x, bottom, x, bottom + 3, "#333333");
-    canvas.Text(x, bottom + 13, Num(std::round(value * 100) / 100), 9, Canvas::Anchor::kMiddle);
+    canvas.Text(x, bottom + 13, Num(std::round(value * 1000) / 1000), 9, Canvas::Anchor::kMiddle);
   }
   canvas.Text(left + width / 2, bottom + 26, axis_title, 9, Canvas::Anchor::kMiddle);
   canvas.Line(left - 3, top, left, top, "#333333");
@@ -345,8 +361,7 @@ Figure GaltFigure(const Json& figure) {
       panel_title += text;
     }
     canvas.Text(left, y0 - 8, panel_title, kPanelTitleSize);
-    HistogramPanel(canvas, left, y0, panel_width, panel_height, low, high, series, "GALT (s), " + Num(kGaltFigureBins) + " bins",
-                   static_cast<int>(std::lround((high - low) / 0.5)));
+    HistogramPanel(canvas, left, y0, panel_width, panel_height, low, high, series, "GALT (s), " + Num(kGaltFigureBins) + " bins");
     int s = 0;
     for (const char* which : {"policy", "reference"}) {
       const Json& part = row[which];
@@ -397,7 +412,7 @@ Figure DrawHistogram(const std::string& name, const std::string& caption,
     legend_width = std::max(legend_width, Canvas::TextWidth(legends.back(), kLegendSize));
   }
   Canvas canvas(static_cast<int>(std::ceil(left + width + 14 + legend_width + 10)), static_cast<int>(top + height + 36));
-  HistogramPanel(canvas, left, top, width, height, low, high, counts, axis_title, 4);
+  HistogramPanel(canvas, left, top, width, height, low, high, counts, axis_title);
   for (std::size_t s = 0; s < legends.size(); ++s) {
     canvas.Text(left + width + 14, top + 12 + 14 * static_cast<double>(s), legends[s], kLegendSize, Canvas::Anchor::kStart, Colour(s));
   }
