@@ -261,6 +261,57 @@ TEST(PaperFigures, GaltAtTheWindowsEndsLandInTheirBins) {
                                                                                         0, 0, 0, 0, 0, 0, 0, 0, 0, 1}));
 }
 
+struct TextBox {
+  std::string text;
+  double left, right, top, bottom;
+};
+
+// Every <text> of `svg` with the box it is drawn in: as wide as Canvas::TextWidth measures it (the
+// PNG's font or a browser's sans-serif, the wider), from the baseline up by its font size.
+std::vector<TextBox> TextBoxes(const std::string& svg) {
+  std::vector<TextBox> boxes;
+  const std::regex text("<text x=\"([-0-9.e]+)\" y=\"([-0-9.e]+)\" font-size=\"([0-9.e]+)\" text-anchor=\"([a-z]+)\"[^>]*>([^<]*)</text>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator(); ++it) {
+    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]), size = std::stod((*it)[3]);
+    const std::string content = std::regex_replace((*it)[5].str(), std::regex("&amp;"), "&");
+    const double width = Canvas::TextWidth(content, size);
+    const double left = (*it)[4] == "start" ? x : (*it)[4] == "middle" ? x - width / 2 : x - width;
+    boxes.push_back({content, left, left + width, y - size, y});
+  }
+  return boxes;
+}
+
+// The figures' labels stay on their canvas and never overlap: bar values over narrow bars, group
+// names, Fig. 3a's task labels of equal rates (both tasks at 75 % / 25 % here), legends, titles.
+TEST(PaperFigures, LabelsNeitherOverlapNorLeaveTheCanvas) {
+  std::vector<CellEpisodes> cells = TwoLabels();
+  cells.push_back(Cell("expert", "blocked-clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 7, 8));
+  for (CellEpisodes cell : TwoLabels()) {  // a second robot, for more groups and panels
+    cell.config.robot = "reachy2";
+    cell.id += "_reachy2";
+    cells.push_back(cell);
+  }
+  const Json spec = {{"episodes", 8}, {"figures", {{"single_vs_multi", {"still", "expert"}}, {"galt_reference", "still"}}}};
+  const std::vector<Figure> figures = DrawPaperFigures(SweepSummaryJson(spec, cells)["figures"]);
+  ASSERT_EQ(figures.size(), 5U);
+  for (const Figure& figure : figures) {
+    const std::vector<TextBox> boxes = TextBoxes(figure.canvas.Svg(figure.name));
+    ASSERT_GT(boxes.size(), 5U) << figure.name;
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const TextBox& a = boxes[i];
+      EXPECT_GE(a.left, 0.0) << figure.name << ": '" << a.text << "'";
+      EXPECT_LE(a.right, figure.canvas.width()) << figure.name << ": '" << a.text << "'";
+      EXPECT_GE(a.top, 0.0) << figure.name << ": '" << a.text << "'";
+      EXPECT_LE(a.bottom, figure.canvas.height()) << figure.name << ": '" << a.text << "'";
+      for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+        const TextBox& b = boxes[j];
+        const bool overlap = a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
+        EXPECT_FALSE(overlap) << figure.name << ": '" << a.text << "' and '" << b.text << "'";
+      }
+    }
+  }
+}
+
 // The SVG with id `id` inside an HTML page (empty when absent).
 std::string SvgById(const std::string& html, const std::string& id) {
   const std::size_t start = html.find("<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" + id + "\"");
