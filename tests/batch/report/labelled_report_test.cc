@@ -312,6 +312,25 @@ TEST(PaperFigures, LabelsNeitherOverlapNorLeaveTheCanvas) {
   }
 }
 
+// Fig. 3d of a sweep without fixed-camera cells: no no-AV arm, yet every robot's other arms drawn.
+TEST(PaperFigures, AblationDrawsEveryRobotOfTheArmsPresent) {
+  const std::vector<CellEpisodes> cells = {Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 3, 4),
+                                           Cell("expert", "clutter-pick-cube", "reachy2", CameraProtocol::kHead, 1, 4)};
+  const Json figures = SweepSummaryJson({{"episodes", 4}}, cells)["figures"];
+  ASSERT_FALSE(figures["fig3d"].is_null());
+  const Json only = {{"fig3a", nullptr}, {"fig3b", nullptr}, {"fig3c", nullptr}, {"fig3d", figures["fig3d"]}, {"fig4", nullptr}};
+  const auto bars = Marks(DrawPaperFigures(only).at(0).canvas.Svg("fig3d"), "arm");
+  std::map<std::string, double> full_av;
+  for (const auto& bar : bars) {
+    EXPECT_EQ(bar.at("arm"), "full_av") << "only the full-AV arm has cells";
+    full_av[bar.at("robot")] = std::stod(bar.at("value"));
+  }
+  EXPECT_EQ(full_av.size(), 3U);  // the mean over robots, gr1t2, reachy2
+  EXPECT_DOUBLE_EQ(full_av["gr1t2"], 0.75);
+  EXPECT_DOUBLE_EQ(full_av["reachy2"], 0.25);
+  EXPECT_DOUBLE_EQ(full_av["mean"], 0.5);
+}
+
 // The SVG with id `id` inside an HTML page (empty when absent).
 std::string SvgById(const std::string& html, const std::string& id) {
   const std::size_t start = html.find("<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" + id + "\"");
