@@ -5,12 +5,14 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "batch/action_csv.h"
 #include "batch/dataset/dataset_actions.h"
+#include "batch/dataset/dataset_galt.h"
 #include "batch/galt_validation.h"
 #include "kinematics/galt.h"
 #include "tools/commands.h"
@@ -142,18 +144,15 @@ void WriteTableJson(const std::string& path, const dataset::DatasetInfo& info, c
 }
 
 void RunGaltOnDataset(const GaltOptions& options) {
-  const dataset::DatasetActions actions = dataset::ReadDatasetActions(options.dataset);
-  const double fps = DatasetRate(actions.info, options);
+  dataset::DatasetActions read = dataset::ReadDatasetActions(options.dataset);
+  const double fps = DatasetRate(read.info, options);
   batch::PolicyRateStride(fps);  // refuse before any output
 
-  std::vector<kinematics::TrajectoryView> views;
-  views.reserve(actions.episodes.size());
-  for (const dataset::EpisodeActions& episode : actions.episodes) {
-    views.push_back({episode.values.data(), episode.num_steps, dataset::kDatasetActionWidth});
-  }
-  const std::vector<kinematics::GaltResult> results = kinematics::ComputeGaltBatch(views, fps);
+  const dataset::DatasetGalt galt = dataset::ComputeDatasetGalt(std::move(read), fps);
+  const dataset::DatasetActions& actions = galt.actions;
+  const std::vector<kinematics::GaltResult>& results = galt.results;
   const std::vector<batch::GaltValidationRow> rows =
-      batch::GaltValidationRows(actions.info.robot_type.value_or("unknown"), views, fps, results);
+      batch::GaltValidationRows(actions.info.robot_type.value_or("unknown"), galt.views, fps, results);
 
   if (!options.table_only) {
     for (std::size_t i = 0; i < results.size(); ++i) {

@@ -25,10 +25,10 @@ struct Figure {
 std::vector<Figure> DrawPaperFigures(const nlohmann::ordered_json& figures);
 
 // Histograms of `series` (name, values) in `bins` equal bins on [low, high] as outlined steps, with
-// an optional dashed vertical marker (position, label). Values outside [low, high] are not drawn;
-// the legend counts them.
+// an optional dashed vertical marker (position, label); `axis_title` names the values' axis (e.g.
+// "GALT (s)"). Values outside [low, high] are not drawn; the legend counts them.
 Figure DrawHistogram(const std::string& name, const std::string& caption,
                      const std::vector<std::pair<std::string, std::vector<double>>>& series, double low, double high, int bins,
-                     const std::string& unit, const std::optional<std::pair<double, std::string>>& marker);
+                     const std::string& axis_title, const std::optional<std::pair<double, std::string>>& marker);
 
 }  // namespace tavis::batch::report

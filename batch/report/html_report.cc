@@ -182,7 +182,7 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
       std::snprintf(marker, sizeof(marker), "human %.2f s", HumanGalt(robot));
       const std::string name = label["label"].get<std::string>() + " " + robot;
       html << FigureHtml(DrawHistogram("galt_" + label["label"].get<std::string>() + "_" + robot, name + ": GALT (s)",
-                                       {{name + " head", values}}, kGaltFigureLow, 4.0, 18, "s",
+                                       {{name + " head", values}}, kGaltFigureLow, 4.0, 18, "GALT (s)",
                                        HumanGalt(robot) > 0 ? std::make_optional(std::make_pair(HumanGalt(robot), std::string(marker)))
                                                             : std::nullopt));
     }
@@ -204,7 +204,7 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
       const std::string name = label["label"].get<std::string>() + " " + robot;
       if (!series.empty()) {
         html << FigureHtml(DrawHistogram("length_" + label["label"].get<std::string>() + "_" + robot,
-                                         name + ": length of successful episodes (s)", series, 0.0, upper, 24, "s", std::nullopt));
+                                         name + ": length of successful episodes (s)", series, 0.0, upper, 24, "length (s)", std::nullopt));
       }
     }
   }

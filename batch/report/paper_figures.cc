@@ -202,6 +202,14 @@ Json HistogramJson(const std::vector<double>& all, double window, double high) {
   return json;
 }
 
+// What a task's reference values come from: the label, the task's dataset folder, or null.
+Json ReferenceSource(const Json& choices, const Json& reference, const std::string& task) {
+  if (choices.contains("galt_reference")) return choices["galt_reference"];
+  if (reference.is_null() || !reference["tasks"].contains(task)) return nullptr;
+  if (reference.contains("datasets") && reference["datasets"].contains(task)) return reference["datasets"][task];
+  return reference["source"];
+}
+
 Json GaltFigure(const Lookup& lookup, const Json& choices, const std::string& name, const Json& reference) {
   const double window = choices.contains("galt_window_s") ? choices["galt_window_s"].get<double>() : kGaltFigureWindow;
   const double high = std::max(kGaltFigureHigh, window);
@@ -217,7 +225,7 @@ Json GaltFigure(const Lookup& lookup, const Json& choices, const std::string& na
       reference_values = reference["tasks"][task].get<std::vector<double>>();
     }
     Json row = {{"task", task}, {"policy", HistogramJson(values, window, high)}, {"reference", nullptr},
-                {"relative_median_difference", nullptr}};
+                {"reference_source", ReferenceSource(choices, reference, task)}, {"relative_median_difference", nullptr}};
     if (!reference_values.empty()) {
       row["reference"] = HistogramJson(reference_values, window, high);
       const Json& m_policy = row["policy"]["median"];

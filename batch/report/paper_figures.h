@@ -13,6 +13,7 @@
 //                    blocked-clutter-pick-cube head cells (the paper's arms until camera sets exist)
 //   galt             Fig. 4: the policy's GALT per TAVIS-Head task (id, head, successful episodes)
 //   galt_reference   Fig. 4's reference: a label; otherwise the dataset's values given to the summary
+//                    (the spec's galt_reference_datasets, read by sweep/galt_reference.h)
 //   galt_window_s    values above it are left out of Fig. 4 (the detector keeps [-0.5, 4.0] s; the
 //                    paper's figure uses 3.0, the default)
 #pragma once
@@ -31,7 +32,8 @@ inline constexpr double kGaltFigureHigh = 3.5;
 inline constexpr double kGaltFigureWindow = 3.0;
 
 // summary["figures"]: {fig3a, fig3b, fig3c, fig3d, fig4}; a panel whose cells the sweep lacks is
-// null. `galt_reference`: null or {source, tasks: {task: [seconds, ...]}}.
+// null. `galt_reference`: null or {source, tasks: {task: [seconds, ...]}, optionally datasets: {task:
+// folder}}; each Fig. 4 row names its reference_source (the label, the task's folder or source).
 nlohmann::ordered_json PaperFiguresJson(const nlohmann::ordered_json& summary, const nlohmann::ordered_json& choices,
                                         const nlohmann::ordered_json& galt_reference);
 

@@ -1,5 +1,6 @@
 #include "batch/report/svg_canvas.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -30,7 +31,19 @@ std::string DataText(const DataAttributes& data) {
 constexpr int kShift = 4;
 cv::Point Px(double x, double y) { return {static_cast<int>(std::lround(x * 16)), static_cast<int>(std::lround(y * 16))}; }
 
+// The PNG is drawn at twice the size and halved, for smoother lines and text.
+constexpr double kPngScale = 2.0;
+// Hershey simplex is about 22 px tall at scale 1.
+double HersheyScale(double size) { return size * kPngScale / 22.0; }
+
 }  // namespace
+
+double Canvas::TextWidth(const std::string& text, double size) {
+  int baseline = 0;
+  const cv::Size hershey = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, HersheyScale(size), 1, &baseline);
+  // The PNG's Hershey glyphs are wider than a browser's sans-serif: the larger of the two.
+  return std::max(hershey.width / kPngScale, 0.6 * size * static_cast<double>(text.size()));
+}
 
 std::string EscapeXml(const std::string& text) {
   std::string escaped;
@@ -132,8 +145,7 @@ std::string Canvas::Svg(const std::string& id) const {
 }
 
 std::string Canvas::Png() const {
-  // Drawn at twice the size and halved, for smoother lines and text.
-  constexpr double kScale = 2.0;
+  constexpr double kScale = kPngScale;
   cv::Mat image(static_cast<int>(height_ * kScale), static_cast<int>(width_ * kScale), CV_8UC3, cv::Scalar(255, 255, 255));
   for (const Mark& mark : marks_) {
     switch (mark.kind) {
@@ -170,7 +182,7 @@ std::string Canvas::Png() const {
                    mark.filled ? cv::FILLED : static_cast<int>(kScale), cv::LINE_AA, kShift);
         break;
       case Mark::Kind::kText: {
-        const double font_scale = mark.c * kScale / 22.0;  // Hershey simplex is about 22 px tall at scale 1
+        const double font_scale = HersheyScale(mark.c);
         int baseline = 0;
         const cv::Size size = cv::getTextSize(mark.text, cv::FONT_HERSHEY_SIMPLEX, font_scale, 1, &baseline);
         double x = mark.a * kScale;

@@ -29,6 +29,10 @@ class Canvas {
   void Text(double x, double y, const std::string& text, double size = 11.0, Anchor anchor = Anchor::kStart,
             const std::string& colour = "#222222");
 
+  // How wide `text` is drawn at `size` (px), in the PNG's font or a browser's sans-serif,
+  // whichever is wider: what figure layouts reserve, so that labels neither overlap nor clip.
+  static double TextWidth(const std::string& text, double size);
+
   // <svg> with a white background; `id` names it (for the HTML report and tests).
   std::string Svg(const std::string& id) const;
   // The same drawing as the bytes of an 8-bit RGB PNG file (rasterised with OpenCV; text in its

@@ -9,6 +9,7 @@
 #include "batch/report/paper_table.h"
 #include "batch/report/sweep_summary.h"
 #include "batch/report/sweep_tables.h"
+#include "batch/sweep/galt_reference.h"
 #include "batch/sweep/sweep_cell.h"
 
 namespace tavis::batch::sweep {
@@ -33,7 +34,8 @@ void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered
     if (!records) throw std::runtime_error(cell_dir.string() + " is not a complete cell of this sweep");
     episodes.push_back({cell.id, cell.config, std::move(*records), cell.label, cell.seed_group, ServerMetadata(cell_dir)});
   }
-  const nlohmann::ordered_json summary = report::SweepSummaryJson(spec_json, episodes);
+  const nlohmann::ordered_json summary =
+      report::SweepSummaryJson(spec_json, episodes, DatasetGaltReference(spec_json.value("figures", nlohmann::ordered_json::object())));
   WriteFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
   std::filesystem::create_directories(dir / "tables");
   for (const report::TextTable& table : report::SweepTables(summary)) {

@@ -14,6 +14,7 @@
 
 #include "batch/cell_report.h"
 #include "batch/output_folder.h"
+#include "batch/sweep/galt_reference.h"
 #include "batch/sweep/sweep_cell.h"
 #include "batch/sweep/sweep_manifest.h"
 #include "batch/sweep/sweep_progress.h"
@@ -44,6 +45,7 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   std::vector<std::string> ids;
   for (const SweepCell& cell : mine) ids.push_back(cell.id);
   for (const SweepCell& cell : mine) CheckEvaluationCell(cell.config);  // bad settings fail before any work
+  DatasetGaltReference(spec.figures);  // an unreadable reference dataset fails before any work, not after it
 
   SweepManifest manifest(spec, options.spec_yaml, options.shard, ids);
   // A sweep writes only into a new folder or its own: never beside a user's files or into an

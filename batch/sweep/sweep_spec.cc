@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 
@@ -47,6 +48,32 @@ void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_r
   }
 }
 
+// figures.galt_reference_datasets: {task: DIR} for the sweep's TAVIS-Head tasks, each DIR a
+// LeRobot dataset (relative paths from the current directory, as match_dataset). Checked here for
+// its meta/info.json, so that a mistyped path stops the sweep before it runs; its GALT is read
+// when the results are written (galt_reference.h).
+nlohmann::ordered_json ReadGaltReferenceDatasets(const YamlValue& datasets, const std::vector<std::string>& sweep_tasks) {
+  nlohmann::ordered_json json = nlohmann::ordered_json::object();
+  for (const scenarios::Suite suite : scenarios::kAllSuites) {
+    for (const scenarios::ScenarioDef* task : scenarios::SuiteScenarios(suite)) {
+      const auto dir = datasets.Optional(task->name);
+      if (!dir) continue;
+      if (suite != scenarios::Suite::kTavisHead) dir->Fail("Figure 4 draws TAVIS-Head tasks only, not " + task->name);
+      if (std::find(sweep_tasks.begin(), sweep_tasks.end(), task->name) == sweep_tasks.end()) {
+        dir->Fail("the sweep does not evaluate " + task->name);
+      }
+      const std::string path = dir->AsString();
+      if (!std::filesystem::is_regular_file(std::filesystem::path(path) / "meta" / "info.json")) {
+        dir->Fail("'" + path + "' is not a LeRobot dataset (no meta/info.json there)");
+      }
+      json[task->name] = path;
+    }
+  }
+  datasets.ExpectNoOtherKeys();  // names no task
+  if (json.empty()) datasets.Fail("must map at least one TAVIS-Head task to a dataset folder");
+  return json;
+}
+
 // figures: names labels (or seed groups) for the paper's figures; checked against the policies.
 void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
   const auto known = [&spec](const YamlValue& value) {
@@ -89,6 +116,10 @@ void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
       json["ablation"][arm] = arm_json;
     }
     ablation->ExpectNoOtherKeys();
+  }
+  if (const auto datasets = figures.Optional("galt_reference_datasets")) {
+    if (json.contains("galt_reference")) datasets->Fail("names Figure 4's reference as well as galt_reference; give one of them");
+    json["galt_reference_datasets"] = ReadGaltReferenceDatasets(*datasets, spec.tasks);
   }
   if (const auto window = figures.Optional("galt_window_s")) {
     json["galt_window_s"] = window->AsDouble({0.5, 4.0, false, "s", " (the detector keeps GALT in [-0.5, 4.0] s)"});

@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <regex>
 #include <string>
 
 #include "batch/report/figure_drawing.h"
+#include "batch/report/html_report.h"
 #include "batch/report/paper_figures.h"
 #include "batch/report/paper_table.h"
 #include "batch/report/sweep_summary.h"
@@ -257,6 +259,127 @@ TEST(PaperFigures, GaltAtTheWindowsEndsLandInTheirBins) {
   EXPECT_NE(narrow.canvas.Svg("n").find("2 outside"), std::string::npos);
   EXPECT_EQ(HistogramCounts({-0.5, 3.5, -0.51, 3.51}, -0.5, 3.5, 20), (std::vector<int>{1, 0, 0, 0, 0, 0, 0, 0, 0, 0,
                                                                                         0, 0, 0, 0, 0, 0, 0, 0, 0, 1}));
+}
+
+struct TextBox {
+  std::string text;
+  double left, right, top, bottom;
+};
+
+// Every <text> of `svg` with the box it is drawn in: as wide as Canvas::TextWidth measures it (the
+// PNG's font or a browser's sans-serif, the wider), from the baseline up by its font size.
+std::vector<TextBox> TextBoxes(const std::string& svg) {
+  std::vector<TextBox> boxes;
+  const std::regex text("<text x=\"([-0-9.e]+)\" y=\"([-0-9.e]+)\" font-size=\"([0-9.e]+)\" text-anchor=\"([a-z]+)\"[^>]*>([^<]*)</text>");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator(); ++it) {
+    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]), size = std::stod((*it)[3]);
+    const std::string content = std::regex_replace((*it)[5].str(), std::regex("&amp;"), "&");
+    const double width = Canvas::TextWidth(content, size);
+    const double left = (*it)[4] == "start" ? x : (*it)[4] == "middle" ? x - width / 2 : x - width;
+    boxes.push_back({content, left, left + width, y - size, y});
+  }
+  return boxes;
+}
+
+// The figures' labels stay on their canvas and never overlap: bar values over narrow bars, group
+// names, Fig. 3a's task labels of equal rates (both tasks at 75 % / 25 % here), legends, titles.
+TEST(PaperFigures, LabelsNeitherOverlapNorLeaveTheCanvas) {
+  std::vector<CellEpisodes> cells = TwoLabels();
+  cells.push_back(Cell("expert", "blocked-clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 7, 8));
+  for (CellEpisodes cell : TwoLabels()) {  // a second robot, for more groups and panels
+    cell.config.robot = "reachy2";
+    cell.id += "_reachy2";
+    cells.push_back(cell);
+  }
+  const Json spec = {{"episodes", 8}, {"figures", {{"single_vs_multi", {"still", "expert"}}, {"galt_reference", "still"}}}};
+  const std::vector<Figure> figures = DrawPaperFigures(SweepSummaryJson(spec, cells)["figures"]);
+  ASSERT_EQ(figures.size(), 5U);
+  for (const Figure& figure : figures) {
+    const std::vector<TextBox> boxes = TextBoxes(figure.canvas.Svg(figure.name));
+    ASSERT_GT(boxes.size(), 5U) << figure.name;
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const TextBox& a = boxes[i];
+      EXPECT_GE(a.left, 0.0) << figure.name << ": '" << a.text << "'";
+      EXPECT_LE(a.right, figure.canvas.width()) << figure.name << ": '" << a.text << "'";
+      EXPECT_GE(a.top, 0.0) << figure.name << ": '" << a.text << "'";
+      EXPECT_LE(a.bottom, figure.canvas.height()) << figure.name << ": '" << a.text << "'";
+      for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+        const TextBox& b = boxes[j];
+        const bool overlap = a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
+        EXPECT_FALSE(overlap) << figure.name << ": '" << a.text << "' and '" << b.text << "'";
+      }
+    }
+  }
+}
+
+// Fig. 3d of a sweep without fixed-camera cells: no no-AV arm, yet every robot's other arms drawn.
+TEST(PaperFigures, AblationDrawsEveryRobotOfTheArmsPresent) {
+  const std::vector<CellEpisodes> cells = {Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 3, 4),
+                                           Cell("expert", "clutter-pick-cube", "reachy2", CameraProtocol::kHead, 1, 4)};
+  const Json figures = SweepSummaryJson({{"episodes", 4}}, cells)["figures"];
+  ASSERT_FALSE(figures["fig3d"].is_null());
+  const Json only = {{"fig3a", nullptr}, {"fig3b", nullptr}, {"fig3c", nullptr}, {"fig3d", figures["fig3d"]}, {"fig4", nullptr}};
+  const auto bars = Marks(DrawPaperFigures(only).at(0).canvas.Svg("fig3d"), "arm");
+  std::map<std::string, double> full_av;
+  for (const auto& bar : bars) {
+    EXPECT_EQ(bar.at("arm"), "full_av") << "only the full-AV arm has cells";
+    full_av[bar.at("robot")] = std::stod(bar.at("value"));
+  }
+  EXPECT_EQ(full_av.size(), 3U);  // the mean over robots, gr1t2, reachy2
+  EXPECT_DOUBLE_EQ(full_av["gr1t2"], 0.75);
+  EXPECT_DOUBLE_EQ(full_av["reachy2"], 0.25);
+  EXPECT_DOUBLE_EQ(full_av["mean"], 0.5);
+}
+
+// The SVG with id `id` inside an HTML page (empty when absent).
+std::string SvgById(const std::string& html, const std::string& id) {
+  const std::size_t start = html.find("<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"" + id + "\"");
+  if (start == std::string::npos) return "";
+  return html.substr(start, html.find("</svg>", start) + 6 - start);
+}
+
+// Every histogram of the report page, end to end from the summary: Figure 4 (3.0 s window) and
+// the per-label, per-robot GALT histograms on the detector's [-0.5, 4.0] s. -0.45 s and +3.9 s
+// land in the first and last bins, or are counted outside; nothing is drawn off its axis. This
+// runs in the sanitizer job (.ci/sanitize, tavis_report_tests), where the old histogram's write
+// before its first bin was a heap-buffer-overflow.
+TEST(PaperFigures, ReportHistogramsDrawGaltAtBothEnds) {
+  const std::vector<double> values = {-0.45, 1.0, 1.2, 3.9};
+  const std::vector<CellEpisodes> cells = {Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 4, 4, values),
+                                           Cell("ref", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 2, 2, {-0.45, 3.9})};
+  const Json summary = SweepSummaryJson({{"episodes", 4}, {"figures", {{"galt_reference", "ref"}}}}, cells);
+  const std::string html = SweepHtmlReport(summary, Json::object());
+  // The per-robot histogram of the expert: 18 bins of 0.25 s from -0.5 s.
+  const std::string robot = SvgById(html, "galt_expert_gr1t2");
+  ASSERT_FALSE(robot.empty()) << html;
+  std::vector<int> counts;
+  for (const auto& bin : Marks(robot, "count")) counts.push_back(std::stoi(bin.at("count")));
+  ASSERT_EQ(counts.size(), 18U);
+  EXPECT_EQ(counts[0], 1) << "-0.45 s";
+  EXPECT_EQ(counts[17], 1) << "3.9 s";
+  EXPECT_EQ(counts[6], 2) << "1.0 s and 1.2 s";
+  const auto first = Marks(robot, "count").front();
+  EXPECT_DOUBLE_EQ(std::stod(first.at("low")), -0.5);
+  // Figure 4 in the page: 3.9 s lies beyond the 3.0 s window (counted, not drawn) for both series.
+  const std::string figure = SvgById(html, "fig4_galt");
+  ASSERT_FALSE(figure.empty());
+  std::map<std::string, std::vector<int>> series;
+  for (const auto& bin : Marks(figure, "count")) series[bin.at("series")].push_back(std::stoi(bin.at("count")));
+  ASSERT_EQ(series["policy"].size(), 20U);
+  ASSERT_EQ(series["reference"].size(), 20U);
+  EXPECT_EQ(series["policy"][0], 1);
+  EXPECT_EQ(series["reference"][0], 1);
+  EXPECT_EQ(series["policy"][19] + series["reference"][19], 0);
+  EXPECT_EQ(summary["figures"]["fig4"]["tasks"][0]["reference"]["n_outside_window"], 1);
+  // Every drawn bin lies within its panel: no rectangle of negative size or left of the axis.
+  const std::regex rect("<rect x=\"([-0-9.e]+)\" y=\"([-0-9.e]+)\" width=\"([-0-9.e]+)\" height=\"([-0-9.e]+)\"");
+  for (const std::string& svg : {robot, figure}) {
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), rect); it != std::sregex_iterator(); ++it) {
+      EXPECT_GE(std::stod((*it)[1]), 0.0) << it->str();
+      EXPECT_GE(std::stod((*it)[3]), 0.0) << it->str();
+      EXPECT_GE(std::stod((*it)[4]), 0.0) << it->str();
+    }
+  }
 }
 
 }  // namespace

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <ostream>
 #include <string>
 
@@ -118,6 +122,33 @@ TEST(SweepSpec, LabelledPoliciesServeTheirCells) {
   EXPECT_EQ(spec.figures["single_vs_multi"][1], "recipe");
   EXPECT_DOUBLE_EQ(spec.figures["galt_window_s"].get<double>(), 4.0);
   EXPECT_EQ(SweepSpecJson(spec)["policies"][2]["cells"]["robots"][0], "reachy2");
+}
+
+// figures.galt_reference_datasets maps the sweep's TAVIS-Head tasks to LeRobot dataset folders,
+// each checked for its meta/info.json when the spec is read.
+TEST(SweepSpec, Figure4DatasetReferencesNameTheSweepsHeadTasks) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("tavis_spec_reference_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir / "meta");
+  std::ofstream(dir / "meta" / "info.json") << "{}";
+  const std::string spec = std::string(kLabelled) + "  galt_reference_datasets: {wait-then-act: " + dir.string() + "}\n";
+  const SweepSpec parsed = Parse(spec);
+  EXPECT_EQ(parsed.figures["galt_reference_datasets"]["wait-then-act"], dir.string());
+  EXPECT_EQ(SweepSpecJson(parsed)["figures"]["galt_reference_datasets"]["wait-then-act"], dir.string());
+  const auto error = [&spec](const std::string& from, const std::string& to) { return ErrorOf(Replace(spec, from, to)); };
+  EXPECT_NE(error("{wait-then-act:", "{multi-shelf-scan:").find("figures.galt_reference_datasets.multi-shelf-scan: the sweep does not evaluate "
+                                                               "multi-shelf-scan"),
+            std::string::npos);
+  const std::string hands = Replace(spec, "tasks: [clutter-pick-cube, wait-then-act]", "tasks: [clutter-pick-cube, wait-then-act, peeking-box]");
+  EXPECT_NE(ErrorOf(Replace(hands, "{wait-then-act:", "{peeking-box:")).find("Figure 4 draws TAVIS-Head tasks only, not peeking-box"),
+            std::string::npos);
+  EXPECT_NE(error("{wait-then-act:", "{pick-nothing:").find("figures.galt_reference_datasets.pick-nothing: unknown key 'pick-nothing'"),
+            std::string::npos);
+  EXPECT_NE(error(dir.string() + "}", (dir / "nowhere").string() + "}").find("is not a LeRobot dataset (no meta/info.json there)"),
+            std::string::npos);
+  EXPECT_NE(error("galt_reference_datasets:", "galt_reference: still\n  galt_reference_datasets:").find("give one of them"),
+            std::string::npos);
+  EXPECT_NE(error("{wait-then-act: " + dir.string() + "}", "{}").find("at least one"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(SweepSpec, LabelledPolicyMistakesAreNamed) {
