@@ -21,6 +21,8 @@
 #include "batch/output_folder.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
+#include "batch/dataset/video/video_log.h"
+#include "batch/rollout/cell_videos.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
@@ -47,6 +49,10 @@ struct EvalOptions {
   bool overwrite = false;
   bool resume = false;
   bool one_episode = false;  // --episode I
+  batch::EpisodeVideoSettings videos;  // --videos N and how they look
+  std::string video_cameras;
+  std::string video_size = "320x240";
+  std::string video_format = "mp4";
 };
 
 std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split, bool one_episode) {
@@ -94,17 +100,22 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   batch::EvaluationCellConfig config = cell;
   config.first_episode = stream.next_episode();
   batch::CellResult result;
-  const auto record = [&stream, &replacement, &out](const batch::EpisodeRecord& episode) {
+  // Videos go where the cell is at each write: beside the old cell until the new one is swapped in.
+  batch::CellVideos videos(options.videos, config, [&replacement, &out] {
+    return (replacement && !replacement->swapped() ? replacement->staging() : fs::path(out)) / "videos";
+  });
+  const auto record = [&stream, &replacement, &out, &videos](const batch::EpisodeRecord& episode) {
     stream.Write(episode);
     if (replacement && !replacement->swapped()) {
       replacement->SwapIn();
       stream.MovedTo(out);
     }
+    videos.RecordFinished(episode);
   };
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
   const batch::ProgressCallback progress = [&reporter](int64_t done, int64_t total) { reporter.Update("", done, total); };
   try {
-    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record);
+    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record, videos.Sinks());
   } catch (...) {
     // A cell that failed before its first episode leaves nothing behind (and an --overwrite the
     // old cell); one that recorded episodes keeps them for --resume.
@@ -123,6 +134,10 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   for (const batch::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
   batch::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
+  if (videos.videos_written() > 0) {
+    std::cout << videos.videos_written() << (options.videos.format == batch::VideoFormat::kMp4 ? " videos" : " frame folders")
+              << " -> " << (fs::path(out) / "videos").string() << "\n";
+  }
   if (result.profile) {
     std::cout << batch::FormatCellProfile(*result.profile);
     batch::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
@@ -175,6 +190,8 @@ void RunEval(const EvalOptions& options) {
   cell.expert_mode = scenarios::ParseExpertMode(options.expert_mode);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
   if (options.image_size_given) std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
+  batch::ValidateEpisodeVideoSettings(options.videos);  // before anything is written
+  if (options.videos.episodes > 0) dataset::ShowOnlyVideoErrors();
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   if (options.overwrite && options.resume) throw std::invalid_argument("give --overwrite or --resume, not both");
@@ -288,6 +305,22 @@ void RegisterEvalCommand(CLI::App& app) {
                    "Size of the policy's images, WIDTHxHEIGHT (default: the observation keys' size for --policy\n"
                    "openpi: 320x240 for tavis, 224x224 for libero and aloha, the dataset's with --match-dataset;\n"
                    "otherwise the reference's 640x480)");
+  eval->add_option("--videos", options->videos.episodes,
+                   "Film the cell's first N episodes (episode indices from the first of the cell, --episode's with\n"
+                   "--episode) as DIR/videos/episode_<i>.mp4 at 20 fps: the policy's cameras tiled with the fixed\n"
+                   "camera, the step and the prompt over them, the end held one second with the outcome and GALT.\n"
+                   "Rendered apart from the policy's images; the records do not change")
+      ->check(IntegerIn(0, 100000000))
+      ->capture_default_str();
+  eval->add_option("--video-cameras", options->video_cameras,
+                   "For --videos: the cameras shown, comma-separated (head, fixed, left_wrist, right_wrist); default:\n"
+                   "the policy's cameras under --camera (head or fixed, and the wrists), then the fixed camera");
+  eval->add_option("--video-size", options->video_size, "For --videos: each camera's size in the frame, WIDTHxHEIGHT, even")
+      ->capture_default_str();
+  eval->add_option("--video-format", options->video_format,
+                   "For --videos: mp4 (H.264), or png (DIR/videos/episode_<i>/frame_<k>.png, one per policy step and\n"
+                   "the end)")
+      ->capture_default_str();
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet, "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
@@ -324,6 +357,16 @@ void RegisterEvalCommand(CLI::App& app) {
       options->cell.first_episode = options->cell.episode_start;
       options->one_episode = true;
     }
+    for (const char* video_only : {"--video-cameras", "--video-size", "--video-format"}) {
+      if (eval->count(video_only) > 0 && options->videos.episodes == 0) {
+        throw std::invalid_argument(std::string(video_only) + " applies to --videos N (N >= 1), which is not given");
+      }
+    }
+    if (!options->video_cameras.empty()) options->videos.cameras = batch::ParseCameraList(options->video_cameras);
+    if (eval->count("--video-size") > 0) {
+      std::tie(options->videos.tile_width, options->videos.tile_height) = ParseImageSize(options->video_size);
+    }
+    options->videos.format = batch::ParseVideoFormat(options->video_format);
     options->cell.serving = remote::ParseServingMode(options->serving);
     options->cell.observation_keys_given = eval->count("--keys") > 0;
     options->task_given = eval->count("--task") > 0;
