@@ -7,15 +7,13 @@
 #include <tbb/parallel_for.h>
 
 #include "batch/dataset/video/video_writer.h"
+#include "batch/rollout/observed_cameras.h"
 #include "batch/rollout/video_frame.h"
 
 namespace tavis::batch {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The observation contract's cameras (docs/observation.md), for a policy that takes no images.
-const std::vector<std::string> kContractCameras = {"head", "left_wrist", "right_wrist"};
 
 std::string StepCaption(int64_t episode, int control_step, int ticks_per_frame, double control_hz) {
   char text[96];
@@ -71,7 +69,7 @@ void ValidateEpisodeVideoSettings(const EpisodeVideoSettings& settings) {
 std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings, const std::vector<std::string>& policy_cameras,
                                       CameraProtocol protocol) {
   if (!settings.cameras.empty()) return settings.cameras;
-  std::vector<std::string> cameras = ProtocolCameras(policy_cameras.empty() ? kContractCameras : policy_cameras, protocol);
+  std::vector<std::string> cameras = ObservedCameras(policy_cameras, protocol);
   if (std::find(cameras.begin(), cameras.end(), "fixed") == cameras.end()) cameras.push_back("fixed");
   return cameras;
 }
