@@ -48,7 +48,7 @@ CellSinks CellRecording::Sinks() {
     writer_ = dataset::MakeDatasetWriter(settings_.root, layout);
     recorder_ = std::make_unique<RolloutRecorder>(
         env, cell_.camera, layout.cameras, layout.video, [this](dataset::RecordedEpisode&& episode, const EpisodeRecord& record) {
-          std::string line = EpisodeJsonLine(record, cell_.seed);  // {...}\n
+          std::string line = EpisodeJsonLine(record, cell_.seed) + "\n";
           if (episode.frames > 0) {
             line.insert(1, "\"episode_index\":" + std::to_string(writer_->episodes()) + ",");
             writer_->Add(episode);
