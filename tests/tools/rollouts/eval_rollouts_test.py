@@ -3,7 +3,9 @@ cell as MP4s that PyAV (a decoder we did not write) decodes with the right frame
 episode's policy steps, then the end held one second) and size, without changing a byte of the
 records; a served episode re-rendered from its saved actions (`--policy replay --episode I
 --videos 1`) gives the same record and the same video, and any camera and size as PNGs; a sweep
-films its cells; bad video options are refused by name before anything is written.
+films its cells; `--record DIR` writes the served cell's rollouts as a LeRobot dataset whose
+videos PyAV decodes and whose tavis_rollouts.jsonl holds the cell's records; bad video and record
+options are refused by name before anything is written.
 
     /usr/bin/python3 eval_videos_test.py TAVIS_BINARY SOURCE_DIR
 """
@@ -78,6 +80,24 @@ def check_videos(cell, count, what):
     return heights
 
 
+def check_rollout_dataset(root, cell):
+    with open(os.path.join(root, "meta", "info.json")) as text:
+        info = json.load(text)
+    steps = [record["length_steps"] for record in records(cell)]
+    check(info["total_episodes"] == len(steps) and info["total_frames"] == sum(steps) and info["fps"] == 20,
+          f"rollout dataset: {info['total_episodes']} episodes, {info['total_frames']} frames, fps {info['fps']}; steps {steps}")
+    videos = sorted(glob.glob(os.path.join(root, "videos", "*", "chunk-000", "file-000.mp4")))
+    check(len(videos) == 3, f"rollout dataset videos {videos}")
+    for path in videos:
+        frames, rate = decode(path)
+        check(len(frames) == sum(steps) and frames[0].width == 320 and frames[0].height == 240 and rate == 20,
+              f"{path}: {len(frames)} frames {frames[0].width}x{frames[0].height} at {rate}")
+    with open(os.path.join(root, "tavis_rollouts.jsonl")) as lines:
+        rollouts = [json.loads(line) for line in lines]
+    check([entry.pop("episode_index") for entry in rollouts] == list(range(len(steps))), "rollout episode indices")
+    check(rollouts == records(cell), "tavis_rollouts.jsonl differs from the cell's records")
+
+
 def free_port():
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
@@ -116,11 +136,12 @@ def main():
         served = os.path.join(work, "served")
         try:
             run([TAVIS, "eval", *cell, "--episodes", "2", "--policy", "openpi", "--server", url, "--replan-steps", "1",
-                 "--videos", "2", "--out", served])
+                 "--videos", "2", "--record", os.path.join(work, "rollouts"), "--out", served])
         finally:
             server.kill()
             server.wait()
         check_videos(served, 2, "served cell")
+        check_rollout_dataset(os.path.join(work, "rollouts"), served)
 
         # 3. Its episode 1 re-rendered from its CSV: the same record, the same video.
         replayed = os.path.join(work, "replayed")
@@ -157,7 +178,17 @@ def main():
         for camera in ("head", "fixed"):
             check_videos(os.path.join(sweep, "cells", f"clutter-pick-cube_gr1t2_id_{camera}_expert_s3"), 1, f"sweep {camera}")
 
-        # 7. Bad video options: refused by name, nothing written.
+        # 7. --record refuses a folder with files in it, and --resume.
+        result = run([TAVIS, "eval", *cell, "--episodes", "1", "--record", filmed, "--out", os.path.join(work, "r1")],
+                     expect_ok=False)
+        check(result.returncode != 0 and filmed in result.stderr and "already holds files" in result.stderr,
+              f"--record into a full folder: exit {result.returncode}, {result.stderr.strip()}")
+        result = run([TAVIS, "eval", *cell, "--episodes", "1", "--record", os.path.join(work, "r2"), "--resume", "--out", plain],
+                     expect_ok=False)
+        check(result.returncode != 0 and "--resume" in result.stderr and not os.path.exists(os.path.join(work, "r2")),
+              f"--record --resume: exit {result.returncode}, {result.stderr.strip()}")
+
+        # 8. Bad video options: refused by name, nothing written.
         for args, named in ((["--videos", "1", "--video-size", "101x80"], "101x80"),
                             (["--videos", "1", "--video-format", "gif"], "gif"),
                             (["--videos", "1", "--video-cameras", "belly"], "belly"),
