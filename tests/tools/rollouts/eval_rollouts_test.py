@@ -131,6 +131,16 @@ def main():
             check(a.read() == b.read(), "episodes.jsonl differs with --videos")
         check_videos(filmed, 2, "expert cell")
 
+        # --overwrite builds the new cell beside the old one and swaps it in at its first record:
+        # the frames written before the swap move with it (PNGs), the rest follow it.
+        run([TAVIS, "eval", *cell, "--episodes", "3", "--expert-hz", "20", "--videos", "1", "--video-format", "png",
+             "--video-size", "64x48", "--overwrite", "--out", filmed])
+        pngs = sorted(glob.glob(os.path.join(filmed, "videos", "*", "frame_*.png")))
+        check(os.listdir(os.path.join(filmed, "videos")) == ["episode_0"] and
+              len(pngs) == records(filmed)[0]["length_steps"] + 1,
+              f"--overwrite --videos: {os.listdir(os.path.join(filmed, 'videos'))}, {len(pngs)} PNGs")
+        check(not [name for name in os.listdir(work) if name.startswith(".filmed")], f"staging left behind: {os.listdir(work)}")
+
         # 2. A served cell (the stand-in server answers the expert's saved rows), filmed.
         server, url = serve(os.path.join(filmed, "actions"))
         served = os.path.join(work, "served")
