@@ -147,7 +147,7 @@ bool RunsPerSlot(const EvaluationCellConfig& config) {
 }
 
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress,
-                             const RecordCallback& on_record) {
+                             const RecordCallback& on_record, const CellSinks& sinks) {
   CheckEvaluationCell(config);
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
@@ -209,6 +209,10 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
                            });
   if (config.first_episode < end_episode) {
     EpisodeDriver driver(env, *policy, end_episode - config.first_episode, config.first_episode);
+    // The caller's sinks hear of an episode's end before the recorder hands its record on.
+    if (sinks) {
+      for (EpisodeSink* sink : sinks(env, ProtocolCameras(policy->cameras(), config.camera))) driver.AddSink(*sink);
+    }
     driver.AddSink(recorder);
     driver.SetProgress(progress);
     driver.SetCameraProtocol(config.camera);

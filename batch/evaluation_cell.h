@@ -124,7 +124,13 @@ bool RunsPerSlot(const EvaluationCellConfig& config);
 // Called with each episode's record as soon as it and every earlier episode have ended.
 using RecordCallback = std::function<void(const EpisodeRecord&)>;
 
+// Further sinks a caller plugs into the cell's driver beside its recorder (episode videos, a
+// rollout dataset), made once the env exists; `policy_cameras` are the cameras the policy sees
+// under the camera protocol (empty for one that takes no images). The sinks watch; what they do
+// must not change the records.
+using CellSinks = std::function<std::vector<EpisodeSink*>(const VecEnv& env, const std::vector<std::string>& policy_cameras)>;
+
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr,
-                             const RecordCallback& on_record = nullptr);
+                             const RecordCallback& on_record = nullptr, const CellSinks& sinks = nullptr);
 
 }  // namespace tavis::batch

@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 
 // What tavis writes at the top of each kind of folder. FILE.partial is an atomic write cut short.
 const std::set<std::string>& OwnEntries(OutputKind kind) {
-  static const std::set<std::string> cell = {"cell.json", "episodes.jsonl", "summary.json", "profile.json", "actions"};
+  static const std::set<std::string> cell = {"cell.json", "episodes.jsonl", "summary.json", "profile.json", "actions", "videos"};
   static const std::set<std::string> dataset = {"meta", "data", "videos", ".tavis_spool", "INCOMPLETE", "tavis_demos.json"};
   static const std::set<std::string> sweep = {"manifest.json", "cells", "summary.json", "tables", "figures", "report.html"};
   switch (kind) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -21,6 +22,9 @@
 #include "batch/output_folder.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
+#include "batch/dataset/video/video_log.h"
+#include "batch/rollout/cell_recording.h"
+#include "batch/rollout/cell_videos.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
@@ -47,7 +51,27 @@ struct EvalOptions {
   bool overwrite = false;
   bool resume = false;
   bool one_episode = false;  // --episode I
+  batch::EpisodeVideoSettings videos;  // --videos N and how they look
+  std::string video_cameras;
+  std::string video_size = "320x240";
+  std::string video_format = "mp4";
+  batch::RolloutDatasetSettings record;  // --record DIR: the cell's rollouts as a LeRobot dataset
+  std::string record_cameras;
+  std::string record_size = "320x240";
 };
+
+// --record DIR: a new or empty folder, locked for this run and marked as a dataset tavis writes.
+batch::OutputLock PrepareRolloutDataset(const std::string& root, const std::string& cell_out) {
+  namespace fs = std::filesystem;
+  batch::RequireUsableOutputPath(root);
+  if (fs::exists(root) && fs::exists(cell_out) && fs::equivalent(root, cell_out)) {
+    throw std::invalid_argument("--record " + root + " is the cell's --out: give the dataset a folder of its own");
+  }
+  if (!batch::HoldsNoResults(root)) throw std::invalid_argument("--record " + root + " already holds files: give a new or empty folder");
+  batch::OutputLock lock = batch::CreateAndLockOutput(root, "eval");
+  batch::WriteOutputMarker(root, batch::OutputKind::kDataset);
+  return lock;
+}
 
 std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split, bool one_episode) {
   // A head-still expert's cell must not take the place of the gaze-first one.
@@ -65,6 +89,8 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
                           const std::string& out) {
   batch::RequireUsableOutputPath(out);
   batch::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
+  std::optional<batch::OutputLock> record_lock;
+  if (!options.record.root.empty()) record_lock.emplace(PrepareRolloutDataset(options.record.root, out));
   for (const std::string& difference : batch::ServedLayoutDifferences(cell)) {
     std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": " << difference << "\n";
   }
@@ -94,17 +120,39 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   batch::EvaluationCellConfig config = cell;
   config.first_episode = stream.next_episode();
   batch::CellResult result;
-  const auto record = [&stream, &replacement, &out](const batch::EpisodeRecord& episode) {
+  // Videos go where the cell is at each write: beside the old cell until the new one is swapped in.
+  batch::CellVideos videos(options.videos, config, [&replacement, &out] {
+    return (replacement && !replacement->swapped() ? replacement->staging() : fs::path(out)) / "videos";
+  });
+  std::unique_ptr<batch::CellRecording> recording;
+  if (!options.record.root.empty()) recording = std::make_unique<batch::CellRecording>(options.record, config);
+  const auto record = [&stream, &replacement, &out, &videos, &recording](const batch::EpisodeRecord& episode) {
     stream.Write(episode);
     if (replacement && !replacement->swapped()) {
       replacement->SwapIn();
       stream.MovedTo(out);
     }
+    videos.RecordFinished(episode);
+    if (recording) recording->RecordFinished(episode);
   };
+  // The videos' and the rollout dataset's sinks, beside the cell's recorder.
+  const batch::CellSinks video_sinks = videos.Sinks();
+  const batch::CellSinks record_sinks = recording ? recording->Sinks() : nullptr;
+  batch::CellSinks sinks;
+  if (video_sinks || record_sinks) {
+    sinks = [&video_sinks, &record_sinks](const batch::VecEnv& env, const std::vector<std::string>& cameras) {
+      std::vector<batch::EpisodeSink*> all;
+      for (const batch::CellSinks* part : {&video_sinks, &record_sinks}) {
+        if (!*part) continue;
+        for (batch::EpisodeSink* sink : (*part)(env, cameras)) all.push_back(sink);
+      }
+      return all;
+    };
+  }
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
   const batch::ProgressCallback progress = [&reporter](int64_t done, int64_t total) { reporter.Update("", done, total); };
   try {
-    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record);
+    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record, sinks);
   } catch (...) {
     // A cell that failed before its first episode leaves nothing behind (and an --overwrite the
     // old cell); one that recorded episodes keeps them for --resume.
@@ -123,6 +171,15 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   for (const batch::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
   batch::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
+  if (recording) {
+    recording->Finish();
+    std::cout << "recorded " << recording->episodes() << " episodes (" << recording->frames() << " frames) as a LeRobot v3.0 dataset -> "
+              << options.record.root << "\n";
+  }
+  if (videos.videos_written() > 0) {
+    std::cout << videos.videos_written() << (options.videos.format == batch::VideoFormat::kMp4 ? " videos" : " frame folders")
+              << " -> " << (fs::path(out) / "videos").string() << "\n";
+  }
   if (result.profile) {
     std::cout << batch::FormatCellProfile(*result.profile);
     batch::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
@@ -175,6 +232,8 @@ void RunEval(const EvalOptions& options) {
   cell.expert_mode = scenarios::ParseExpertMode(options.expert_mode);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
   if (options.image_size_given) std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
+  batch::ValidateEpisodeVideoSettings(options.videos);  // before anything is written
+  if (options.videos.episodes > 0 || !options.record.root.empty()) dataset::ShowOnlyVideoErrors();
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   if (options.overwrite && options.resume) throw std::invalid_argument("give --overwrite or --resume, not both");
@@ -288,6 +347,31 @@ void RegisterEvalCommand(CLI::App& app) {
                    "Size of the policy's images, WIDTHxHEIGHT (default: the observation keys' size for --policy\n"
                    "openpi: 320x240 for tavis, 224x224 for libero and aloha, the dataset's with --match-dataset;\n"
                    "otherwise the reference's 640x480)");
+  eval->add_option("--videos", options->videos.episodes,
+                   "Film the cell's first N episodes (episode indices from the first of the cell, --episode's with\n"
+                   "--episode) as DIR/videos/episode_<i>.mp4 at 20 fps: the policy's cameras tiled with the fixed\n"
+                   "camera, the step and the prompt over them, the end held one second with the outcome and GALT.\n"
+                   "Rendered apart from the policy's images; the records do not change")
+      ->check(IntegerIn(0, 100000000))
+      ->capture_default_str();
+  eval->add_option("--video-cameras", options->video_cameras,
+                   "For --videos: the cameras shown, comma-separated (head, fixed, left_wrist, right_wrist); default:\n"
+                   "the policy's cameras under --camera (head or fixed, and the wrists), then the fixed camera");
+  eval->add_option("--video-size", options->video_size, "For --videos: each camera's size in the frame, WIDTHxHEIGHT, even")
+      ->capture_default_str();
+  eval->add_option("--video-format", options->video_format,
+                   "For --videos: mp4 (H.264), or png (DIR/videos/episode_<i>/frame_<k>.png, one per policy step and\n"
+                   "the end)")
+      ->capture_default_str();
+  eval->add_option("--record", options->record.root,
+                   "Also write the cell's episodes, failed ones too, as a LeRobot v3.0 dataset in DIR (new or empty):\n"
+                   "per 20 Hz policy step the observation the policy was given and the action it stepped with (its\n"
+                   "cameras rendered apart at --record-size), and DIR/tavis_rollouts.jsonl with each episode's record");
+  eval->add_option("--record-cameras", options->record_cameras,
+                   "For --record: the cameras stored, comma-separated; default: the policy's cameras under --camera\n"
+                   "(the observation contract's head or fixed, and the wrists, for a policy that takes no images)");
+  eval->add_option("--record-size", options->record_size, "For --record: the stored images' size, WIDTHxHEIGHT")
+      ->capture_default_str();
   eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet, "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
@@ -323,6 +407,29 @@ void RegisterEvalCommand(CLI::App& app) {
       options->cell.episodes = 1;
       options->cell.first_episode = options->cell.episode_start;
       options->one_episode = true;
+    }
+    for (const char* video_only : {"--video-cameras", "--video-size", "--video-format"}) {
+      if (eval->count(video_only) > 0 && options->videos.episodes == 0) {
+        throw std::invalid_argument(std::string(video_only) + " applies to --videos N (N >= 1), which is not given");
+      }
+    }
+    if (!options->video_cameras.empty()) options->videos.cameras = batch::ParseCameraList(options->video_cameras);
+    if (eval->count("--video-size") > 0) {
+      std::tie(options->videos.tile_width, options->videos.tile_height) = ParseImageSize(options->video_size);
+    }
+    options->videos.format = batch::ParseVideoFormat(options->video_format);
+    for (const char* record_only : {"--record-cameras", "--record-size"}) {
+      if (eval->count(record_only) > 0 && options->record.root.empty()) {
+        throw std::invalid_argument(std::string(record_only) + " applies to --record DIR, which is not given");
+      }
+    }
+    if (eval->count("--record") > 0) {
+      if (options->record.root.empty()) throw std::invalid_argument("--record must name a folder, got an empty string");
+      if (!options->suite.empty()) throw std::invalid_argument("--record writes one cell's dataset, not a --suite's");
+      if (options->resume) throw std::invalid_argument("--record cannot --resume: the dataset holds the episodes of one run");
+      if (!options->record_cameras.empty()) options->record.cameras = batch::ParseCameraList(options->record_cameras);
+      std::tie(options->record.width, options->record.height) = ParseImageSize(options->record_size);
+      batch::ValidateRolloutDatasetSettings(options->record);
     }
     options->cell.serving = remote::ParseServingMode(options->serving);
     options->cell.observation_keys_given = eval->count("--keys") > 0;

@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct SweepOptions {
   int threads = 0;
   int concurrent_cells = 0;
   bool quiet = false;
+  std::optional<int> videos;
 };
 
 struct MergeOptions {
@@ -57,6 +59,7 @@ void RunSweepCommand(const SweepOptions& options) {
   run.concurrent_cells = options.concurrent_cells;
   // A status line rewritten in place only makes sense on a terminal; a log gets the cell lines.
   run.quiet = options.quiet || isatty(STDERR_FILENO) == 0;
+  run.videos = options.videos;
   batch::sweep::RunSweep(spec, run);
   std::cout << (run.shard.count == 1 ? "sweep complete: " : "shard " + options.shard + " complete: ") << run.out_dir
             << (run.shard.count == 1 ? " (summary.json, tables/, report.html)" : " (merge the shards with `tavis sweep merge`)") << "\n";
@@ -85,6 +88,10 @@ void RegisterSweepCommand(CLI::App& app) {
                     "Run shard I of N (0 <= I < N): the cells whose position in the spec's order is I mod N; the\n"
                     "shards' folders are then combined by `tavis sweep merge` (e.g. one Slurm array task each)")
       ->capture_default_str();
+  sweep->add_option("--videos", options->videos,
+                    "Film each cell's first N episodes into cells/<id>/videos/episode_<i>.mp4, as `tavis eval --videos`\n"
+                    "does (in place of the spec's `videos:`; the records do not change)")
+      ->check(IntegerIn(0, 100000000));
   sweep->add_flag("--quiet", options->quiet, "No status line: one line per finished cell with the counts (the default when stderr is not a terminal)");
   AddConfigDirOption(*sweep, options->config_dir);
 

@@ -8,6 +8,7 @@
 #include "batch/cell_record_stream.h"
 #include "batch/cell_report.h"
 #include "batch/output_folder.h"
+#include "batch/rollout/cell_videos.h"
 
 namespace tavis::batch::sweep {
 namespace {
@@ -50,7 +51,7 @@ std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const fs::path& dir, 
 }
 
 CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, int threads, const ProgressCallback& progress,
-                       const std::string& label, const std::string& seed_group) {
+                       const std::string& label, const std::string& seed_group, const EpisodeVideoSettings& videos) {
   // A folder with settings continues; anything else there (a cell that failed before writing its
   // settings, or one whose summary does not match its records) starts over.
   const bool resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
@@ -61,7 +62,14 @@ CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, 
   WriteFileAtomically(dir / "policy.json", nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
   EvaluationCellConfig remaining = config;
   remaining.first_episode = stream.next_episode();
-  CellResult result = RunEvaluationCell(remaining, progress, [&stream](const EpisodeRecord& record) { stream.Write(record); });
+  CellVideos films(videos, remaining, [&dir] { return dir / "videos"; });
+  CellResult result = RunEvaluationCell(
+      remaining, progress,
+      [&stream, &films](const EpisodeRecord& record) {
+        stream.Write(record);
+        films.RecordFinished(record);
+      },
+      films.Sinks());
   std::vector<EpisodeRecord> episodes = stream.resumed();
   for (EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
   result.episodes = std::move(episodes);

@@ -10,6 +10,7 @@
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
 #include "batch/evaluation_cell.h"
+#include "batch/rollout/episode_videos.h"
 
 namespace tavis::batch::sweep {
 
@@ -21,7 +22,9 @@ std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const std::filesystem
 // Runs the cell into DIR (continuing an interrupted one), writes its summary.json last and
 // returns the whole cell's result (the kept records first). DIR/policy.json names the policy's
 // label and seed group, so that tools reading the folder (`tavis table`) keep labels apart.
+// `videos` films the cell's first episodes into DIR/videos (none by default).
 CellResult RunCellInto(const EvaluationCellConfig& config, const std::filesystem::path& dir, int threads,
-                       const ProgressCallback& progress, const std::string& label, const std::string& seed_group);
+                       const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
+                       const EpisodeVideoSettings& videos = {});
 
 }  // namespace tavis::batch::sweep

@@ -13,6 +13,7 @@
 #include <tbb/global_control.h>
 
 #include "batch/cell_report.h"
+#include "batch/dataset/video/video_log.h"
 #include "batch/output_folder.h"
 #include "batch/sweep/galt_reference.h"
 #include "batch/sweep/sweep_cell.h"
@@ -92,6 +93,9 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   std::atomic<bool> failed{false};
   std::exception_ptr first_error;
   std::mutex error_mutex;
+  EpisodeVideoSettings videos;
+  videos.episodes = options.videos.value_or(spec.videos);
+  if (videos.episodes > 0) dataset::ShowOnlyVideoErrors();
   const auto worker = [&] {
     for (std::size_t i = next++; i < to_run.size() && !failed; i = next++) {
       const SweepCell& cell = *to_run[i];
@@ -104,7 +108,7 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
                                                 progress.AddEpisodes(finished - reported);
                                                 reported = finished;
                                               },
-                                              cell.label, cell.seed_group);
+                                              cell.label, cell.seed_group, videos);
         manifest.SetState(cell.id, "complete");
         manifest.Write(out);
         progress.CellFinished(CellSummaryLine(result));

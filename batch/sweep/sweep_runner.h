@@ -3,6 +3,7 @@
 // combined by MergeSweeps). A rerun skips the complete cells and continues the interrupted ones.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "batch/sweep/sweep_spec.h"
@@ -19,6 +20,9 @@ struct SweepRunOptions {
   // slot (RunsPerSlot), else as many as threads. The results do not depend on it.
   int concurrent_cells = 0;
   bool quiet = false;
+  // Film each cell's first N episodes (cells/<id>/videos) in place of the spec's `videos`; unset:
+  // the spec's. Not part of the spec, so a sweep may be resumed with or without it.
+  std::optional<int> videos;
 };
 
 void RunSweep(const SweepSpec& spec, const SweepRunOptions& options);

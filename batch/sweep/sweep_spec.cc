@@ -149,6 +149,7 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   }
   spec.episodes = ReadCount(root.Required("episodes"), 1, 100000000);
   if (const auto envs = root.Optional("envs")) spec.envs = ReadCount(*envs, 1, 4096);
+  if (const auto videos = root.Optional("videos")) spec.videos = ReadCount(*videos, 0, spec.episodes);
   ReadPolicies(root, known_robots, spec);
   if (const auto figures = root.Optional("figures")) ReadFigures(*figures, spec);
   root.ExpectNoOtherKeys();
@@ -172,9 +173,11 @@ nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec) {
   for (const CameraProtocol camera : spec.cameras) cameras.push_back(ToString(camera));
   nlohmann::ordered_json policies = nlohmann::ordered_json::array();
   for (const PolicySpec& policy : spec.policies) policies.push_back(PolicySpecJson(policy));
-  return {{"suites", spec.suites}, {"tasks", spec.tasks},       {"robots", spec.robots},     {"splits", splits},
-          {"cameras", cameras},    {"seeds", spec.seeds},       {"episodes", spec.episodes}, {"policies", policies},
-          {"figures", spec.figures}};
+  nlohmann::ordered_json json = {{"suites", spec.suites}, {"tasks", spec.tasks},       {"robots", spec.robots},
+                                 {"splits", splits},      {"cameras", cameras},       {"seeds", spec.seeds},
+                                 {"episodes", spec.episodes}, {"policies", policies}, {"figures", spec.figures}};
+  if (spec.videos > 0) json["videos"] = spec.videos;  // absent otherwise, as in manifests written before it existed
+  return json;
 }
 
 std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& config_dir) {

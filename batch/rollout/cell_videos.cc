@@ -1,0 +1,29 @@
+#include "batch/rollout/cell_videos.h"
+
+namespace tavis::batch {
+
+CellVideos::CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig& cell, std::function<std::filesystem::path()> folder)
+    : settings_(std::move(settings)),
+      protocol_(cell.camera),
+      cell_start_(cell.episode_start),
+      first_to_run_(cell.first_episode),
+      folder_(std::move(folder)) {
+  ValidateEpisodeVideoSettings(settings_);
+}
+
+CellVideos::~CellVideos() = default;
+
+CellSinks CellVideos::Sinks() {
+  if (first_to_run_ >= cell_start_ + settings_.episodes) return nullptr;
+  return [this](const VecEnv& env, const std::vector<std::string>& policy_cameras) -> std::vector<EpisodeSink*> {
+    recorder_ = std::make_unique<EpisodeVideoRecorder>(env, settings_, VideoCameras(settings_, policy_cameras, protocol_),
+                                                       cell_start_, folder_);
+    return {recorder_.get()};
+  };
+}
+
+void CellVideos::RecordFinished(const EpisodeRecord& record) {
+  if (recorder_) recorder_->RecordFinished(record);
+}
+
+}  // namespace tavis::batch

@@ -1,0 +1,134 @@
+#include "batch/rollout/rollout_recorder.h"
+
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+namespace tavis::batch {
+namespace {
+
+void Append(std::vector<float>& rows, const float* values, int size) { rows.insert(rows.end(), values, values + size); }
+
+bool Finite(const kinematics::Action& action) {
+  for (double value : action) {
+    if (!std::isfinite(value)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+struct RolloutRecorder::Slot {
+  bool recording = false;
+  dataset::RecordedEpisode episode;
+  std::vector<dataset::EpisodeEncoder> encoders;  // per camera, for the running episode
+  kinematics::Action action{};                    // this tick's
+};
+
+RolloutRecorder::RolloutRecorder(const VecEnv& env, CameraProtocol protocol, std::vector<std::string> cameras,
+                                 dataset::VideoSettings video, Keep keep)
+    : cameras_(std::move(cameras)),
+      video_(video),
+      keep_(std::move(keep)),
+      ticks_per_frame_(env.model().physics.controls_per_policy()),
+      proprioception_(env.model().robot, env.num_envs()),
+      slots_(static_cast<std::size_t>(env.num_envs())),
+      observed_(static_cast<std::size_t>(env.num_envs()), 0),
+      acted_(static_cast<std::size_t>(env.num_envs()), 0) {
+  proprioception_.SetCameraProtocol(protocol);
+  if (cameras_.empty()) return;
+  CameraSettings settings;
+  settings.cameras = cameras_;
+  settings.width = video_.width;
+  settings.height = video_.height;
+  render_ = std::make_unique<SceneRender>(env.model(), env.num_envs(), settings);
+  // The task's black cameras are black here too, as the policy receives them.
+  for (const std::string& name : env.scenario().black_cameras) {
+    const int camera = render_->CameraIndex(name);
+    if (camera < 0) continue;
+    for (int slot = 0; slot < env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
+  }
+}
+
+RolloutRecorder::~RolloutRecorder() = default;
+
+void RolloutRecorder::EpisodeStarted(const VecEnv& env, int slot) {
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  recording.recording = true;
+  recording.episode = dataset::RecordedEpisode();
+  recording.episode.source_episode = env.state().episode[slot];
+  recording.episode.prompt = env.scenario().prompt(env.state(), slot);
+  recording.episode.image_stats.assign(cameras_.size(), dataset::ImageStats());
+  recording.encoders.clear();
+  for (const std::string& camera : cameras_) recording.encoders.emplace_back(video_, camera);
+}
+
+void RolloutRecorder::TickStarting(const VecEnv& env) {
+  const engine::BatchState& state = env.state();
+  bool any = false;
+  for (int slot = 0; slot < state.num_envs; ++slot) {
+    const bool take = slots_[static_cast<std::size_t>(slot)].recording && state.running(slot) &&
+                      state.control_step[slot] % ticks_per_frame_ == 0;
+    observed_[static_cast<std::size_t>(slot)] = take ? 1 : 0;
+    acted_[static_cast<std::size_t>(slot)] = 0;
+    any = any || take;
+  }
+  if (!any) return;
+  // Kept in the buffers until Stepped, when the frame's action is known to have been stepped.
+  proprioception_.Update(state, observed_);
+  if (render_) render_->Render(state, observed_.data());
+}
+
+void RolloutRecorder::ActionChosen(const VecEnv&, int slot, const kinematics::Action& action) {
+  if (!observed_[static_cast<std::size_t>(slot)] || !Finite(action)) return;  // a non-finite action is not stepped
+  acted_[static_cast<std::size_t>(slot)] = 1;
+  slots_[static_cast<std::size_t>(slot)].action = action;
+}
+
+void RolloutRecorder::Stepped(const VecEnv& env) {
+  const int slots = env.num_envs();
+  const int cameras = static_cast<int>(cameras_.size());
+  // Every (slot, camera) stream is its own encoder: the frames are taken in parallel.
+  tbb::parallel_for(0, slots * std::max(cameras, 1), [&](int item) {
+    const int slot = item / std::max(cameras, 1);
+    const int camera = item % std::max(cameras, 1);
+    if (!acted_[static_cast<std::size_t>(slot)]) return;
+    Slot& recording = slots_[static_cast<std::size_t>(slot)];
+    dataset::RecordedEpisode& episode = recording.episode;
+    if (camera == 0) {
+      for (double value : recording.action) episode.action.push_back(static_cast<float>(value));
+      Append(episode.state, proprioception_.state(slot), proprioception_.state_size());
+      Append(episode.left_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kLeft), 3);
+      Append(episode.left_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kLeft), 4);
+      Append(episode.right_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kRight), 3);
+      Append(episode.right_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kRight), 4);
+      ++episode.frames;
+    }
+    if (camera >= cameras) return;
+    const render::ImageBatch& images = render_->images();
+    const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
+    recording.encoders[static_cast<std::size_t>(camera)].WriteFrame(images.rgb(slot, camera), size);
+    episode.image_stats[static_cast<std::size_t>(camera)].AddFrame(images.rgb(slot, camera), images.width(camera),
+                                                                   images.height(camera));
+  });
+  std::fill(acted_.begin(), acted_.end(), 0);
+}
+
+void RolloutRecorder::EpisodeEnded(const VecEnv&, int slot) {
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  if (!recording.recording) return;
+  for (dataset::EpisodeEncoder& encoder : recording.encoders) recording.episode.videos.push_back(encoder.Finish());
+  recording.encoders.clear();
+  recording.recording = false;
+  ended_[recording.episode.source_episode] = std::move(recording.episode);
+}
+
+void RolloutRecorder::RecordFinished(const EpisodeRecord& record) {
+  const auto found = ended_.find(record.episode);
+  if (found == ended_.end()) return;
+  dataset::RecordedEpisode episode = std::move(found->second);
+  ended_.erase(found);
+  keep_(std::move(episode), record);
+}
+
+}  // namespace tavis::batch

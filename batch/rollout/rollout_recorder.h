@@ -1,0 +1,66 @@
+// Rollouts as data (`tavis eval --record DIR`): a sink that turns a cell's episodes into dataset
+// episodes (dataset::RecordedEpisode, written by the LeRobot writer of `tavis demos`). Unlike a
+// demonstration, whose frame t pairs the observation after action t with it (the reference's
+// recording), a rollout frame is what the policy had and did at one of its 20 Hz ticks: the
+// observation it was given (observation.state and end-effector poses as the driver gives them,
+// the neck zeroed under the fixed protocol, and the cameras rendered at that tick by this sink's
+// own renderer, so the policy's images are untouched) and the action the env then stepped with.
+// Every episode is kept, failed ones too, so an episode of L policy steps (EpisodeRecord::
+// length_steps) has L frames and its action rows, served back at 20 Hz, replay it; a tick whose
+// action never reached the env (a fault of the served policy, a non-finite action) ends the
+// episode without a frame. Episodes are handed on by RecordFinished with the cell's records, so
+// in episode order.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "batch/camera_protocol.h"
+#include "batch/dataset/recorded_episode.h"
+#include "batch/dataset/video/video_settings.h"
+#include "batch/episode_driver.h"
+#include "batch/episode_recorder.h"
+#include "batch/proprioception.h"
+#include "batch/scene_render.h"
+
+namespace tavis::batch {
+
+class RolloutRecorder : public EpisodeSink {
+ public:
+  using Keep = std::function<void(dataset::RecordedEpisode&&, const EpisodeRecord&)>;
+
+  // Records the env's episodes with `cameras` at video.width x video.height, handing each with its
+  // record to `keep` (from RecordFinished).
+  RolloutRecorder(const VecEnv& env, CameraProtocol protocol, std::vector<std::string> cameras, dataset::VideoSettings video,
+                  Keep keep);
+  ~RolloutRecorder() override;
+
+  void EpisodeStarted(const VecEnv& env, int slot) override;
+  void TickStarting(const VecEnv& env) override;
+  void ActionChosen(const VecEnv& env, int slot, const kinematics::Action& action) override;
+  void Stepped(const VecEnv& env) override;
+  void EpisodeEnded(const VecEnv& env, int slot) override;
+
+  // The cell has recorded `record`: its episode goes to `keep`.
+  void RecordFinished(const EpisodeRecord& record);
+
+ private:
+  struct Slot;
+
+  std::vector<std::string> cameras_;
+  dataset::VideoSettings video_;
+  Keep keep_;
+  int ticks_per_frame_;
+  ProprioceptionBatch proprioception_;
+  std::unique_ptr<SceneRender> render_;
+  std::vector<Slot> slots_;
+  std::vector<uint8_t> observed_;  // (slots) observed at this tick: a frame waits for its action
+  std::vector<uint8_t> acted_;     // (slots) and its action was stepped
+  std::map<int64_t, dataset::RecordedEpisode> ended_;  // waiting for their records
+};
+
+}  // namespace tavis::batch
