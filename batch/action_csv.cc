@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "configs/input_file.h"
+
 namespace tavis::batch {
 namespace {
 
@@ -96,10 +98,8 @@ ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int
 }
 
 ActionTrajectory ReadActionCsv(const std::filesystem::path& path, int columns) {
-  if (std::filesystem::is_directory(path)) {
-    throw std::runtime_error(path.string() + ": is a directory, not a CSV file");
-  }
-  if (!std::filesystem::exists(path)) throw std::runtime_error(path.string() + ": no such file");
+  const std::string not_a_file = configs::WhyNotARegularFile(path);
+  if (!not_a_file.empty()) throw std::runtime_error(path.string() + ": " + not_a_file);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot open file");
   return ParseActionCsv(in, path.string(), columns);

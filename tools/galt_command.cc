@@ -11,6 +11,7 @@
 
 #include "batch/action_csv.h"
 #include "batch/dataset/dataset_actions.h"
+#include "batch/dataset/dataset_info.h"
 #include "batch/galt_validation.h"
 #include "kinematics/galt.h"
 #include "tools/commands.h"
@@ -50,8 +51,8 @@ Dataset mode (--dataset DIR, instead of CSV files):
   mean_s and median_s. --table-only prints the table alone; --json-out FILE writes its numbers.
   Any unreadable or malformed dataset file is an error naming the file; exit status 1.)";
 
-constexpr double kMinFps = 1.0;
-constexpr double kMaxFps = 1000.0;
+constexpr double kMinFps = dataset::kMinDatasetFps;
+constexpr double kMaxFps = dataset::kMaxDatasetFps;
 
 struct GaltOptions {
   double fps = 0.0;  // 0: not given

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,19 @@ TEST(ActionCsv, MissingFileIsAnError) {
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/episode.csv: no such file");
+  }
+}
+
+// Before: /dev/zero was read as one endless line until the stream failed with "read error".
+TEST(ActionCsv, DeviceOrFolderIsNamedNotRead) {
+  for (const auto& [path, what] : {std::pair<std::string, std::string>{"/dev/zero", "is a character device, not a regular file"},
+                                   {std::filesystem::temp_directory_path().string(), "is a directory, not a file"}}) {
+    try {
+      ReadActionCsv(path);
+      FAIL() << path << " was read";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": " + what);
+    }
   }
 }
 

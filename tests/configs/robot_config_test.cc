@@ -65,6 +65,16 @@ TEST(RobotConfig, NameThatDiffersFromTheFileNameIsRefused) {
   EXPECT_EQ(LoadRobotModel(path).name, "myrobot");
 }
 
+// A device named as a YAML file is named as such, not read without end.
+TEST(RobotConfig, DeviceGivenAsAYamlFileIsNamed) {
+  try {
+    YamlValue::LoadFile("/dev/zero");
+    FAIL() << "/dev/zero was read";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "/dev/zero: is a character device, not a regular file");
+  }
+}
+
 TEST(RobotConfig, UnknownKeyIsNamedWithItsPath) {
   const std::string text = std::regex_replace(kGr1t2, std::regex("  damping: 0.01"), "  damping: 0.01\n  dampnig: 0.02");
   EXPECT_NE(LoadError(text).find("ik.dampnig: unknown key 'dampnig'"), std::string::npos) << LoadError(text);

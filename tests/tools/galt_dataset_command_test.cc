@@ -161,6 +161,13 @@ TEST_F(GaltDatasetCommandTest, BadInputsExitOneWithNamedErrors) {
          std::ofstream(dir / "meta/info.json") << info;
        },
        "unknown codebase_version \"v9.9\""},
+      {"absurd fps",
+       [](const fs::path& dir) {
+         nlohmann::json info = nlohmann::json::parse(ReadText(dir / "meta/info.json"));
+         info["fps"] = 1e9;
+         std::ofstream(dir / "meta/info.json") << info.dump();
+       },
+       "meta/info.json: fps must be a number from 1 to 1000, got 1000000000.0"},
       {"truncated parquet",
        [](const fs::path& dir) {
          const fs::path file = dir / "data/chunk-000/file-001.parquet";

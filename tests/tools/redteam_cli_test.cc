@@ -152,5 +152,25 @@ TEST_F(RedTeamCliTest, EvalProvenanceOptionsAreNotIgnored) {
   ExpectRefused("eval --episodes 1 --out ''", "--out must name a folder, got an empty string");
 }
 
+// A device, a FIFO or a folder given as an input file is named as such. Before: /dev/zero was read
+// without end (memory growing until "read error"), a folder as a spec gave yaml-cpp's "bad file".
+TEST_F(RedTeamCliTest, InputsThatAreNotRegularFilesAreNamedNotRead) {
+  ExpectRefused("sweep /dev/zero --out out", "/dev/zero: the sweep spec is a character device, not a regular file");
+  ExpectRefused("sweep . --out out", ".: the sweep spec is a directory, not a file");
+  ExpectRefused("eval --episodes 1 --policy replay --actions /dev/zero --out out", "/dev/zero: is a character device, not a regular file");
+  ExpectRefused("galt --fps 20 /dev/zero", "/dev/zero: is a character device, not a regular file");
+}
+
+// Options that only a served policy uses are refused with a built-in one, on the command line and
+// in a sweep spec (naming the file and key).
+TEST_F(RedTeamCliTest, ServedPolicyOptionsWithABuiltInPolicyAreRefused) {
+  ExpectRefused("eval --episodes 1 --replan-steps 5 --out out", "--replan-steps applies to --policy openpi only, got --policy expert");
+  ExpectRefused("eval --episodes 1 --keys libero --out out", "--keys applies to --policy openpi only, got --policy expert");
+  WriteFile(root_ / "spec.yaml",
+            "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\nepisodes: 2\n"
+            "policy:\n  name: expert\n  replan_steps: 5\n");
+  ExpectRefused("sweep spec.yaml --out out", "spec.yaml: policy.replan_steps: applies to policy 'openpi' only, got policy 'expert'");
+}
+
 }  // namespace
 }  // namespace tavis::tools
