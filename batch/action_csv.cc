@@ -64,6 +64,8 @@ bool IsHeader(const std::vector<std::string_view>& fields) {
   return true;
 }
 
+constexpr const char* kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
 }  // namespace
 
 ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int columns) {
@@ -74,6 +76,8 @@ ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int
   bool first_line = true;
   while (std::getline(in, line)) {
     ++line_number;
+    // Spreadsheet programs start a UTF-8 CSV with a byte order mark, invisible in an error message.
+    if (line_number == 1 && line.rfind(kUtf8ByteOrderMark, 0) == 0) line.erase(0, std::string_view(kUtf8ByteOrderMark).size());
     if (Trim(line).empty()) continue;
     const std::vector<std::string_view> fields = SplitFields(line);
     CheckColumnCount(fields, columns, source, line_number);
