@@ -51,7 +51,9 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   }
   if (!missing.empty()) throw std::invalid_argument("merge needs every shard; missing " + missing);
 
-  const SweepSpec spec = ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir);
+  // The shards' cells are finished: the files their policies read need not be here.
+  const SweepSpec spec = ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir,
+                                        PolicyFiles::kNotRead);
   const std::vector<SweepCell> cells = ExpandCells(spec, config_dir);
   const fs::path out = out_dir;
   if (!HoldsNoResults(out)) throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");

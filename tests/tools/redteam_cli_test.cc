@@ -161,6 +161,17 @@ TEST_F(RedTeamCliTest, InputsThatAreNotRegularFilesAreNamedNotRead) {
   ExpectRefused("galt --fps 20 /dev/zero", "/dev/zero: is a character device, not a regular file");
 }
 
+// A sweep whose policy names a file that is not there is refused before it writes anything,
+// naming the spec file and key. Before: the sweep folder was made and the first cell failed with
+// "nothere.csv: no such file", naming neither.
+TEST_F(RedTeamCliTest, SweepSpecFileErrorsAreFoundBeforeAnythingIsWritten) {
+  const std::string cells = "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\nepisodes: 2\n";
+  WriteFile(root_ / "replay.yaml", cells + "policy:\n  name: replay\n  actions: nothere.csv\n");
+  ExpectRefused("sweep replay.yaml --out out", "replay.yaml: policy.actions: nothere.csv: no such file");
+  WriteFile(root_ / "keys.yaml", cells + "policy:\n  name: openpi\n  servers: [ws://127.0.0.1:1]\n  keys: nothere.yaml\n");
+  ExpectRefused("sweep keys.yaml --out out", "keys.yaml: policy.keys: observation keys 'nothere.yaml' are neither a preset");
+}
+
 // Options that only a served policy uses are refused with a built-in one, on the command line and
 // in a sweep spec (naming the file and key).
 TEST_F(RedTeamCliTest, ServedPolicyOptionsWithABuiltInPolicyAreRefused) {
