@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "batch/atomic_file.h"
+#include "batch/json_error_text.h"
 #include "batch/dataset/episode_rows.h"
 #include "batch/dataset/parquet/parquet_reader.h"
 #include "batch/dataset/parquet/parquet_writer.h"
@@ -14,19 +15,13 @@
 namespace tavis::dataset {
 namespace {
 
-// nlohmann's messages start with "[json.exception.type_error.302] "; the rest says what is wrong.
-std::string WithoutLibraryPrefix(const std::string& message) {
-  const std::size_t end = message.rfind("] ", message.find(' '));
-  return message.rfind("[json.exception.", 0) == 0 && end != std::string::npos ? message.substr(end + 2) : message;
-}
-
 nlohmann::json ReadJson(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path.string());
   try {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& error) {
-    throw std::runtime_error(path.string() + ": damaged spool file, not valid JSON: " + WithoutLibraryPrefix(error.what()));
+    throw std::runtime_error(path.string() + ": damaged spool file, not valid JSON: " + batch::JsonErrorText(error.what()));
   }
 }
 
@@ -40,7 +35,7 @@ T Field(const nlohmann::json& record, const char* key, const std::filesystem::pa
     return record.at(key).get<T>();
   } catch (const nlohmann::json::exception& error) {
     throw std::runtime_error(path.string() + ": damaged spool file, \"" + key + "\" is " + record.at(key).dump(-1).substr(0, 80) +
-                             ": " + WithoutLibraryPrefix(error.what()));
+                             ": " + batch::JsonErrorText(error.what()));
   }
 }
 

@@ -63,10 +63,10 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   fs::create_directories(out / "cells");
   SweepManifest manifest(spec, first["spec_yaml"].get<std::string>(), Shard{0, 1}, {});
   Json merged = manifest.Json();
-  merged["spec_file"] = first["spec_file"];
+  merged["spec_file"] = first.value("spec_file", Json());
   merged["merged_from"] = Json::array();
   for (int index = 0; index < count; ++index) {
-    merged["merged_from"].push_back({{"dir", shard_of[index]}, {"machine", (*manifest_of[index])["machine"]}, {"timing", (*manifest_of[index])["timing"]}});
+    merged["merged_from"].push_back({{"dir", shard_of[index]}, {"machine", manifest_of[index]->value("machine", Json())}, {"timing", manifest_of[index]->value("timing", Json())}});
   }
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const fs::path from = fs::path(shard_of[i % static_cast<std::size_t>(count)]) / "cells" / cells[i].id;

@@ -172,6 +172,24 @@ TEST_F(RedTeamCliTest, SweepSpecFileErrorsAreFoundBeforeAnythingIsWritten) {
   ExpectRefused("sweep keys.yaml --out out", "keys.yaml: policy.keys: observation keys 'nothere.yaml' are neither a preset");
 }
 
+// A damaged manifest is named with what is wrong. Before: nlohmann's "[json.exception.type_error.305]
+// cannot use operator[] with a string argument with string", naming no file.
+TEST_F(RedTeamCliTest, DamagedSweepManifestIsNamedWithWhatIsWrong) {
+  const std::string valid = R"({"spec": {}, "spec_yaml": "", "version": "v", "shard": {"index": 0, "count": 1}, "cells": {}})";
+  const std::string manifest = "shard/manifest.json";
+  WriteFile(root_ / manifest, valid);
+  ASSERT_EQ(Run("sweep merge --out " + Quote((root_ / "merged").string()) + " " + Quote((root_ / "shard").string())).err.find("damaged"),
+            std::string::npos)
+      << "the premise: the valid manifest passes the checks";
+  fs::remove_all(root_ / "merged");
+  WriteFile(root_ / manifest, valid.substr(0, 20));
+  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, not valid JSON: parse error");
+  WriteFile(root_ / manifest, std::string(valid).replace(valid.find(R"({"index": 0, "count": 1})"), 24, R"("x")"));
+  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, 'shard' must be {\"index\": I, \"count\": N}");
+  WriteFile(root_ / manifest, std::string(valid).replace(valid.find(R"("cells": {})"), 11, R"("cells": 5)"));
+  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, 'cells' must be an object of cell ids, got 5");
+}
+
 // Options that only a served policy uses are refused with a built-in one, on the command line and
 // in a sweep spec (naming the file and key).
 TEST_F(RedTeamCliTest, ServedPolicyOptionsWithABuiltInPolicyAreRefused) {
