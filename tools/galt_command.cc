@@ -40,8 +40,9 @@ Output:
 Dataset mode (--dataset DIR, instead of CSV files):
   A LeRobot dataset, codebase_version v3.0 (data/*/*.parquet) or v2.1
   (data/chunk-*/episode_*.parquet): the float32 `action` column (19 wide), grouped by
-  episode_index with frame_index 0..T-1. The rate is meta/info.json's fps; --fps overrides it
-  (with a note on stderr) only for a dataset whose info.json is known to be wrong.
+  episode_index with frame_index 0..T-1. The rate is meta/info.json's fps (1 to 1000; another
+  value is refused, naming the file); --fps overrides it (with a note on stderr) only for a
+  dataset whose info.json is known to be wrong.
   Prints one JSON object per episode, with "episode" (episode_index) and "task" (the episode's
   tasks from the episode metadata, joined by "; "; null when absent) in place of "file", then a
   blank line and the paper's validation table in Markdown: per robot (info.json robot_type,
