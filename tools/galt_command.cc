@@ -117,7 +117,14 @@ void RunGaltOnFiles(const GaltOptions& options) {
 
 // The rate GALT runs at: info.json's fps unless --fps overrides it.
 double DatasetRate(const dataset::DatasetInfo& info, const GaltOptions& options) {
-  if (options.fps == 0.0 || options.fps == info.fps) return info.fps;
+  if (options.fps == 0.0) {
+    if (!(info.fps >= kMinFps && info.fps <= kMaxFps)) {
+      throw std::invalid_argument(options.dataset + "/meta/info.json: fps must be a number from 1 to 1000, got " +
+                                  nlohmann::json(info.fps).dump() + " (give --fps F if the file is wrong)");
+    }
+    return info.fps;
+  }
+  if (options.fps == info.fps) return info.fps;
   std::cerr << "tavis galt: note: --fps " << options.fps << " overrides the dataset's fps " << info.fps
             << " (meta/info.json)\n";
   return options.fps;

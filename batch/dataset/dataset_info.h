@@ -23,14 +23,14 @@ struct DatasetInfo {
   std::int64_t total_episodes = 0;
 };
 
-// The frame rates a dataset may declare (and `tavis galt --fps` may give): a rate outside them is
-// a damaged or mistaken info.json, not a recording.
+// The frame rates of a recording (and of `tavis galt --fps`): an info.json fps outside them is a
+// damaged or mistaken file, not a recording (a reader that uses the rate refuses it).
 inline constexpr double kMinDatasetFps = 1.0;
 inline constexpr double kMaxDatasetFps = 1000.0;
 
 // Parses DIR/meta/info.json. Throws std::runtime_error naming the file when it is missing, is not
-// JSON, has an unknown codebase_version, or lacks an fps from kMinDatasetFps to kMaxDatasetFps or
-// a non-negative total_episodes.
+// JSON, has an unknown codebase_version, or lacks a positive fps or a non-negative
+// total_episodes.
 DatasetInfo ReadDatasetInfo(const std::filesystem::path& dataset_dir);
 
 // The *.parquet files whose name starts with `file_prefix`, in the directories under `root` whose
