@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "configs/input_file.h"
+
 namespace tavis::batch {
 namespace {
 
@@ -62,6 +64,8 @@ bool IsHeader(const std::vector<std::string_view>& fields) {
   return true;
 }
 
+constexpr const char* kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
 }  // namespace
 
 ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int columns) {
@@ -72,6 +76,8 @@ ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int
   bool first_line = true;
   while (std::getline(in, line)) {
     ++line_number;
+    // Spreadsheet programs start a UTF-8 CSV with a byte order mark, invisible in an error message.
+    if (line_number == 1 && line.rfind(kUtf8ByteOrderMark, 0) == 0) line.erase(0, std::string_view(kUtf8ByteOrderMark).size());
     if (Trim(line).empty()) continue;
     const std::vector<std::string_view> fields = SplitFields(line);
     CheckColumnCount(fields, columns, source, line_number);
@@ -96,10 +102,8 @@ ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int
 }
 
 ActionTrajectory ReadActionCsv(const std::filesystem::path& path, int columns) {
-  if (std::filesystem::is_directory(path)) {
-    throw std::runtime_error(path.string() + ": is a directory, not a CSV file");
-  }
-  if (!std::filesystem::exists(path)) throw std::runtime_error(path.string() + ": no such file");
+  const std::string not_a_file = configs::WhyNotARegularFile(path);
+  if (!not_a_file.empty()) throw std::runtime_error(path.string() + ": " + not_a_file);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot open file");
   return ParseActionCsv(in, path.string(), columns);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "batch/atomic_file.h"
+#include "batch/json_error_text.h"
 #include "batch/cell_report.h"
 #include "batch/config_identity.h"
 #include "batch/output_folder.h"
@@ -103,7 +104,7 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
     try {
       std::ifstream(cell_json) >> was;
     } catch (const nlohmann::json::exception& error) {
-      throw std::invalid_argument(cell_json.string() + ": " + error.what());
+      throw std::invalid_argument(cell_json.string() + ": damaged cell file, not valid JSON: " + JsonErrorText(error.what()));
     }
     const std::string differences = SettingsDifference(was, settings);
     if (!differences.empty()) throw std::invalid_argument("--resume " + dir_ + " with other settings: " + differences);

@@ -5,8 +5,11 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <functional>
 #include <stdexcept>
+#include <string>
 #include <tuple>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -56,6 +59,116 @@ int64_t ReadCount(const nlohmann::json& summary, const char* key, const std::str
   }
   return it->get<int64_t>();
 }
+
+// A summary's seed as the text of its number: a string of digits ("7", as some scripts write it)
+// is the same seed as the number 7, so a copied cell cannot pass as another seed that way.
+std::string SeedText(const nlohmann::json& seed, const std::string& source) {
+  if (seed.is_number_unsigned() || (seed.is_number_integer() && seed.get<int64_t>() >= 0)) return seed.dump();
+  if (seed.is_string()) {
+    const std::string text = seed.get<std::string>();
+    if (!text.empty() && text.size() <= 20 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      try {
+        return std::to_string(std::stoull(text));
+      } catch (const std::out_of_range&) {
+      }
+    }
+  }
+  if (seed.is_null()) return "";
+  throw std::runtime_error(source + ": key 'seed' must be an integer from 0 to 2^64-1, got " + seed.dump());
+}
+
+// Reads a cell's episodes.jsonl into `cell` (has_records, records_digest, record_keys) and checks
+// it against the summary's counts: the records are what the counts claim to summarise.
+void ReadRecords(const std::filesystem::path& path, CellCounts& cell) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open file");
+  std::vector<std::string> lines;
+  int64_t episodes = 0, successes = 0, line_number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::string where = path.string() + ":" + std::to_string(line_number);
+    const nlohmann::json record = nlohmann::json::parse(line, nullptr, false);
+    if (record.is_discarded() || !record.is_object()) throw std::runtime_error(where + ": not a JSON object (a damaged record)");
+    const auto success = record.find("success");
+    if (success == record.end() || !success->is_boolean()) {
+      throw std::runtime_error(where + ": a record needs \"success\": true or false");
+    }
+    ++episodes;
+    if (success->get<bool>()) ++successes;
+    const auto seed = record.find("seed"), episode = record.find("episode");
+    if (seed != record.end() && seed->is_number_unsigned() && episode != record.end() && episode->is_number_integer()) {
+      cell.record_keys.emplace_back(seed->get<uint64_t>(), episode->get<int64_t>());
+    }
+    lines.push_back(record.dump());  // keys sorted: the same record however it was spaced
+  }
+  if (episodes != cell.n_episodes || successes != cell.n_successful) {
+    throw std::runtime_error("cell " + path.parent_path().string() + ": episodes.jsonl holds " + std::to_string(episodes) +
+                             " episodes (" + std::to_string(successes) + " successful) but summary.json says n_episodes " +
+                             std::to_string(cell.n_episodes) + ", n_successful " + std::to_string(cell.n_successful));
+  }
+  std::sort(cell.record_keys.begin(), cell.record_keys.end());
+  const auto twice = std::adjacent_find(cell.record_keys.begin(), cell.record_keys.end());
+  if (twice != cell.record_keys.end()) {
+    throw std::runtime_error(path.string() + ": holds episode " + std::to_string(twice->second) + " of seed " +
+                             std::to_string(twice->first) + " twice");
+  }
+  std::sort(lines.begin(), lines.end());
+  std::string all;
+  for (const std::string& line : lines) all += line + "\n";
+  cell.has_records = true;
+  cell.records_digest = std::hash<std::string>{}(all);
+}
+
+// tavis's temporary folders beside a result it replaces (output_folder.h's OutputReplacement):
+// ".NAME.tavis-new-PID" (being built) and ".NAME.tavis-old-PID" (being removed).
+bool IsTemporaryOutputFolder(const std::filesystem::path& dir) {
+  const std::string name = dir.filename().string();
+  return name.size() > 1 && name[0] == '.' &&
+         (name.find(".tavis-new-") != std::string::npos || name.find(".tavis-old-") != std::string::npos);
+}
+
+// Cells of one (task, robot, split, camera, label): files within such a group must not hold the
+// same cell twice.
+using CellGroup = std::tuple<std::string, std::string, std::string, std::string, std::string>;
+
+CellGroup GroupOf(const CellCounts& cell) { return {cell.task, cell.robot, cell.split, cell.camera, cell.label}; }
+
+// Throws naming both files when `cell` repeats an earlier cell of its group: the same seed in
+// the summaries, the same records, or an episode of a seed that an earlier file holds too.
+class DuplicateCellCheck {
+ public:
+  void Add(const CellCounts& cell) {
+    const CellGroup group = GroupOf(cell);
+    const std::string what = "(task " + cell.task + ", robot " + cell.robot + ", split " + cell.split + ", camera " +
+                             cell.camera + ", label " + cell.label + ")";
+    if (!cell.seed.empty()) {
+      const auto [it, inserted] = seeds_.emplace(std::make_pair(group, cell.seed), cell.source);
+      if (!inserted) {
+        throw std::runtime_error("duplicate cell (same task, robot, split, camera, seed and label): " + it->second + " and " +
+                                 cell.source);
+      }
+    }
+    if (!cell.has_records) return;
+    const auto [it, inserted] = digests_.emplace(std::make_pair(group, cell.records_digest), cell.source);
+    if (!inserted) {
+      throw std::runtime_error("duplicate cell " + what + ": " + it->second + " and " + cell.source +
+                               " hold the same episode records, whatever their summaries say about the seed");
+    }
+    for (const auto& [seed, episode] : cell.record_keys) {
+      const auto [earlier, new_episode] = episodes_.emplace(std::make_tuple(group, seed, episode), cell.source);
+      if (!new_episode) {
+        throw std::runtime_error("duplicate episodes " + what + ": " + earlier->second + " and " + cell.source +
+                                 " both hold episode " + std::to_string(episode) + " of seed " + std::to_string(seed));
+      }
+    }
+  }
+
+ private:
+  std::map<std::pair<CellGroup, std::string>, std::string> seeds_;
+  std::map<std::pair<CellGroup, std::size_t>, std::string> digests_;
+  std::map<std::tuple<CellGroup, uint64_t, int64_t>, std::string> episodes_;
+};
 
 // Throws naming `source` unless `name` (of `key`) is one of `known`.
 void RequireKnown(const std::string& name, const char* key, const std::vector<std::string>& known,
@@ -187,7 +300,7 @@ CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<s
   cell.split = KebabCase(ReadString(summary, "split", source));
   if (summary.contains("camera")) cell.camera = CameraMode(ReadString(summary, "camera", source));
   if (summary.contains("policy")) cell.policy = ReadString(summary, "policy", source);
-  if (summary.contains("seed")) cell.seed = summary.at("seed").dump();
+  if (summary.contains("seed")) cell.seed = SeedText(summary.at("seed"), source);
   RequireKnown(cell.task, "task", KnownTaskNames(), source);
   if (!known_robots.empty()) RequireKnown(cell.robot, "robot", known_robots, source);
   RequireKnown(cell.split, "split", KnownSplitNames(), source);
@@ -198,34 +311,35 @@ CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<s
     throw std::runtime_error(source + ": n_successful = " + std::to_string(cell.n_successful) +
                              " exceeds n_episodes = " + std::to_string(cell.n_episodes));
   }
+  const std::filesystem::path records = path.parent_path() / "episodes.jsonl";
+  if (std::filesystem::exists(records)) ReadRecords(records, cell);
   return cell;
 }
 
-std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder,
-                                        const std::vector<std::string>& known_robots) {
+std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder, const std::vector<std::string>& known_robots,
+                                        const CellLabeller& label_of) {
   if (!std::filesystem::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": not a directory");
   }
   std::vector<std::filesystem::path> paths;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
-    if (entry.is_regular_file() && entry.path().filename() == "summary.json") {
-      paths.push_back(entry.path());
+  for (auto entry = std::filesystem::recursive_directory_iterator(folder); entry != std::filesystem::recursive_directory_iterator();
+       ++entry) {
+    if (entry->is_directory() && IsTemporaryOutputFolder(entry->path())) entry.disable_recursion_pending();
+    const bool sweep_summary = std::filesystem::exists(entry->path().parent_path() / "manifest.json");
+    if (entry->is_regular_file() && entry->path().filename() == "summary.json" && !sweep_summary) {
+      paths.push_back(entry->path());
     }
   }
   std::sort(paths.begin(), paths.end());
   std::vector<CellCounts> cells;
   cells.reserve(paths.size());
   // A copied cell folder would count its episodes twice and narrow the interval. Files without a
-  // seed (the reference's) cannot be told apart from other seeds of the cell, so they are pooled.
-  std::map<std::tuple<std::string, std::string, std::string, std::string, std::string, std::string>, std::string> seen;
+  // seed or records (the reference's) cannot be told apart from other seeds of the cell, so they are pooled.
+  DuplicateCellCheck duplicates;
   for (const std::filesystem::path& path : paths) {
     CellCounts cell = ReadCellResult(path, known_robots);
-    const auto [it, inserted] = seen.emplace(
-        std::make_tuple(cell.task, cell.robot, cell.split, cell.camera, cell.seed, cell.policy), cell.source);
-    if (!cell.seed.empty() && !inserted) {
-      throw std::runtime_error("duplicate cell (same task, robot, split, camera, seed and policy): " + it->second +
-                               " and " + cell.source);
-    }
+    cell.label = label_of ? label_of(cell) : cell.policy;
+    duplicates.Add(cell);
     cells.push_back(std::move(cell));
   }
   return cells;
@@ -245,7 +359,11 @@ ResultsTable BuildResultsTable(const std::vector<CellCounts>& cells, const std::
   const CellCounts* policy_source = nullptr;
   for (const CellCounts& cell : cells) {
     const auto task = std::find(table.tasks.begin(), table.tasks.end(), cell.task);
-    if (task == table.tasks.end() || cell.n_episodes == 0) continue;
+    if (task == table.tasks.end()) continue;
+    if (cell.n_episodes == 0) {
+      table.skipped_empty.push_back(cell.source);
+      continue;
+    }
     if (policy_source && policy_source->policy != cell.policy) {
       throw std::runtime_error("cells of one table name different policies: '" +
                                policy_source->policy + "' in " + policy_source->source + ", '" +

@@ -327,6 +327,13 @@ RobotModel LoadRobotModel(const std::string& path) {
   const YamlValue root = YamlValue::LoadFile(path);
   RobotModel robot;
   robot.name = root.String("name");
+  // Commands find a robot by its file's name (robots/NAME.yaml) and record that name in their
+  // results, so a `name:` that says otherwise would label one robot's results with another's name.
+  const std::string file_name = std::filesystem::path(path).stem().string();
+  if (robot.name != file_name) {
+    root.Required("name").Fail("'" + robot.name + "' differs from the file's name '" + file_name +
+                               "' (robots/NAME.yaml must say name: NAME)");
+  }
   robot.root_world = root.Vector3("root_world_xyz", kPosition);
   robot.canonical_offset = root.Vector3("canonical_offset", kPosition);
 

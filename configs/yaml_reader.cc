@@ -3,9 +3,12 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <sstream>
 #include <yaml-cpp/yaml.h>
+
+#include "configs/input_file.h"
 
 namespace tavis::configs {
 namespace {
@@ -59,6 +62,9 @@ bool IsOutOfRangeNumber(const std::string& text) {
 }  // namespace
 
 YamlValue YamlValue::LoadFile(const std::string& path) {
+  // A missing file is yaml-cpp's BadFile below; anything else that is not a file is named here.
+  const std::string not_a_file = WhyNotARegularFile(path);
+  if (!not_a_file.empty() && std::filesystem::exists(path)) throw ConfigError(path + ": " + not_a_file);
   try {
     return YamlValue(Checked(YAML::LoadFile(path), path), path, "");
   } catch (const YAML::BadFile&) {

@@ -13,6 +13,7 @@
 #include "batch/action_csv.h"
 #include "batch/dataset/dataset_actions.h"
 #include "batch/dataset/dataset_galt.h"
+#include "batch/dataset/dataset_info.h"
 #include "batch/galt_validation.h"
 #include "kinematics/galt.h"
 #include "tools/commands.h"
@@ -41,8 +42,9 @@ Output:
 Dataset mode (--dataset DIR, instead of CSV files):
   A LeRobot dataset, codebase_version v3.0 (data/*/*.parquet) or v2.1
   (data/chunk-*/episode_*.parquet): the float32 `action` column (19 wide), grouped by
-  episode_index with frame_index 0..T-1. The rate is meta/info.json's fps; --fps overrides it
-  (with a note on stderr) only for a dataset whose info.json is known to be wrong.
+  episode_index with frame_index 0..T-1. The rate is meta/info.json's fps (1 to 1000; another
+  value is refused, naming the file); --fps overrides it (with a note on stderr) only for a
+  dataset whose info.json is known to be wrong.
   Prints one JSON object per episode, with "episode" (episode_index) and "task" (the episode's
   tasks from the episode metadata, joined by "; "; null when absent) in place of "file", then a
   blank line and the paper's validation table in Markdown: per robot (info.json robot_type,
@@ -52,8 +54,8 @@ Dataset mode (--dataset DIR, instead of CSV files):
   mean_s and median_s. --table-only prints the table alone; --json-out FILE writes its numbers.
   Any unreadable or malformed dataset file is an error naming the file; exit status 1.)";
 
-constexpr double kMinFps = 1.0;
-constexpr double kMaxFps = 1000.0;
+constexpr double kMinFps = dataset::kMinDatasetFps;
+constexpr double kMaxFps = dataset::kMaxDatasetFps;
 
 struct GaltOptions {
   double fps = 0.0;  // 0: not given
@@ -117,7 +119,14 @@ void RunGaltOnFiles(const GaltOptions& options) {
 
 // The rate GALT runs at: info.json's fps unless --fps overrides it.
 double DatasetRate(const dataset::DatasetInfo& info, const GaltOptions& options) {
-  if (options.fps == 0.0 || options.fps == info.fps) return info.fps;
+  if (options.fps == 0.0) {
+    if (!(info.fps >= kMinFps && info.fps <= kMaxFps)) {
+      throw std::invalid_argument(options.dataset + "/meta/info.json: fps must be a number from 1 to 1000, got " +
+                                  nlohmann::json(info.fps).dump() + " (give --fps F if the file is wrong)");
+    }
+    return info.fps;
+  }
+  if (options.fps == info.fps) return info.fps;
   std::cerr << "tavis galt: note: --fps " << options.fps << " overrides the dataset's fps " << info.fps
             << " (meta/info.json)\n";
   return options.fps;

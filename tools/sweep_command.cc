@@ -17,6 +17,7 @@
 #include "batch/sweep/sweep_merge.h"
 #include "batch/sweep/sweep_runner.h"
 #include "batch/sweep/sweep_spec.h"
+#include "configs/input_file.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
 
@@ -41,6 +42,8 @@ struct MergeOptions {
 };
 
 std::string ReadSpecText(const std::string& path) {
+  const std::string not_a_file = configs::WhyNotARegularFile(path);
+  if (!not_a_file.empty()) throw std::invalid_argument(path + ": the sweep spec " + not_a_file);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path + ": cannot open the sweep spec");
   std::ostringstream text;

@@ -42,40 +42,14 @@ std::string CellLabel(const batch::CellCounts& cell) {
   return cell.policy.empty() ? "unlabelled" : cell.policy;
 }
 
-// Every summary.json under the folder with its label, as LoadCellResults reads them, but with the
-// label in the duplicate check: two labels may evaluate the same cell and seed (two checkpoints).
-std::vector<std::pair<std::string, batch::CellCounts>> LoadLabelledCells(const std::string& folder) {
-  if (!std::filesystem::is_directory(folder)) throw std::runtime_error(folder + ": not a directory");
-  std::vector<std::filesystem::path> paths;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
-    if (entry.is_regular_file() && entry.path().filename() == "summary.json") paths.push_back(entry.path());
-  }
-  std::sort(paths.begin(), paths.end());
-  const std::vector<std::string> robots = configs::KnownRobots(DefaultConfigDir());
-  std::vector<std::pair<std::string, batch::CellCounts>> cells;
-  std::map<std::string, std::string> seen;  // cell key -> file
-  for (const std::filesystem::path& path : paths) {
-    batch::CellCounts cell = batch::ReadCellResult(path, robots);
-    const std::string label = CellLabel(cell);
-    const std::string key = cell.task + "|" + cell.robot + "|" + cell.split + "|" + cell.camera + "|" + cell.seed + "|" + label;
-    const auto [it, inserted] = seen.emplace(key, cell.source);
-    if (!cell.seed.empty() && !inserted) {
-      throw std::runtime_error("duplicate cell (same task, robot, split, camera, seed and label): " + it->second + " and " + cell.source);
-    }
-    cells.emplace_back(label, std::move(cell));
-  }
-  return cells;
-}
-
 // The cells the table pools: those of --label, or all of them when they share one label or
 // --pool-labels declares the pooling; anything else is refused, naming the labels.
-std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<std::pair<std::string, batch::CellCounts>>& cells,
-                                               const TableOptions& options) {
+std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<batch::CellCounts>& cells, const TableOptions& options) {
   std::map<std::string, int> counts;
   std::vector<batch::CellCounts> kept;
-  for (const auto& [label, cell] : cells) {
-    ++counts[label];
-    if (options.label.empty() || label == options.label) kept.push_back(cell);
+  for (const batch::CellCounts& cell : cells) {
+    ++counts[cell.label];
+    if (options.label.empty() || cell.label == options.label) kept.push_back(cell);
   }
   std::string labels;
   for (const auto& [label, n] : counts) labels += (labels.empty() ? "" : ", ") + label + " (" + std::to_string(n) + " cells)";
@@ -98,8 +72,14 @@ void WriteFile(const std::string& path, const std::string& text) {
 
 void RunTable(const TableOptions& options) {
   if (!options.label.empty() && options.pool_labels) throw std::invalid_argument("--label and --pool-labels exclude each other");
-  const batch::ResultsTable table = batch::BuildResultsTable(
-      CellsOfOneLabel(LoadLabelledCells(options.in_dir), options), options.suite);
+  // Two labels may evaluate the same cell and seed (two checkpoints): the label is part of the
+  // duplicate check.
+  const std::vector<batch::CellCounts> cells =
+      batch::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir()), CellLabel);
+  const batch::ResultsTable table = batch::BuildResultsTable(CellsOfOneLabel(cells, options), options.suite);
+  for (const std::string& source : table.skipped_empty) {
+    std::cerr << "tavis table: note: " << source << " holds no episodes (n_episodes 0): left out of the table\n";
+  }
   const bool with_intervals = !options.no_intervals;
   // --out results/tables/acceptance: the folder part is made if it is missing.
   const std::filesystem::path folder = std::filesystem::path(options.out_prefix).parent_path();
@@ -120,7 +100,7 @@ void RegisterTableCommand(CLI::App& app) {
   auto options = std::make_shared<TableOptions>();
   CLI::App* command = app.add_subcommand(
       "table", "Success-rate table (paper layout) from the summary.json files under a folder");
-  command->add_option("--in", options->in_dir, "Folder searched recursively for summary.json")
+  command->add_option("--in", options->in_dir, "Folder searched recursively for cells' summary.json (eval cells, a sweep's folder)")
       ->required();
   command->add_option("--suite", options->suite, "Suite whose tasks form the rows: " + scenarios::KnownSuites())
       ->required();
@@ -131,7 +111,10 @@ void RegisterTableCommand(CLI::App& app) {
   command->add_flag("--pool-labels", options->pool_labels, "Pool the cells of different policy labels (refused otherwise)");
   command->footer(
       "Each summary.json needs task, robot, split, n_episodes and n_successful; camera (head or\n"
-      "fixed, default head) and policy are optional. Cells sharing task, robot, split and camera\n"
+      "fixed, default head) and policy are optional. An episodes.jsonl beside it must hold those\n"
+      "counts, and two files holding the same records (or one episode of one seed) are refused;\n"
+      "a sweep's own summary.json (beside manifest.json) is not a cell; a cell without episodes is\n"
+      "left out with a note. Cells sharing task, robot, split and camera\n"
       "(e.g. several seeds) are pooled; cells of different policy labels (policy.json next to the\n"
       "summary, else the policy's name) are refused unless --label picks one or --pool-labels. Rows: the suite's tasks, then the suite mean as the task\n"
       "average and pooled over episodes (with the Wilson interval of the pooled counts).");

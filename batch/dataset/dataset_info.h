@@ -23,6 +23,11 @@ struct DatasetInfo {
   std::int64_t total_episodes = 0;
 };
 
+// The frame rates of a recording (and of `tavis galt --fps`): an info.json fps outside them is a
+// damaged or mistaken file, not a recording (a reader that uses the rate refuses it).
+inline constexpr double kMinDatasetFps = 1.0;
+inline constexpr double kMaxDatasetFps = 1000.0;
+
 // Parses DIR/meta/info.json. Throws std::runtime_error naming the file when it is missing, is not
 // JSON, has an unknown codebase_version, or lacks a positive fps or a non-negative
 // total_episodes.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 #include <vector>
 
@@ -61,7 +62,10 @@ void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   if (progress.is_null()) {
     throw std::invalid_argument("--resume: " + config.out + " holds no interrupted recording (no " + spool.dir() + "/progress.json)");
   }
-  nlohmann::json was = progress.at("settings");
+  if (!progress.contains("settings") || !progress["settings"].is_object()) {
+    throw std::runtime_error(spool.dir() + "/progress.json: damaged spool file, no \"settings\" object");
+  }
+  nlohmann::json was = progress["settings"];
   nlohmann::json now = Fingerprint(config);
   // More attempts finish a recording that ran out of them: the episodes already kept stay valid,
   // since episode i draws only on (seed, i).
@@ -145,14 +149,17 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   const std::unique_ptr<DatasetWriter> writer = MakeDatasetWriter(config.out, layout);
 
   DemoReport report;
-  // The spooled episodes first: each task's count, and where it goes on (after its last kept one).
+  // The spooled episodes first: each task's count, where it goes on (after its last kept one) and
+  // the failures before that, so that its report equals an uninterrupted recording's.
   std::vector<int64_t> written(config.tasks.size(), 0), next_episode(config.tasks.size(), 0);
+  std::vector<std::map<std::string, int64_t>> failures(config.tasks.size());
   for (int64_t n = 0; n < spool.count(); ++n) {
-    const RecordedEpisode episode = spool.Load(n);
-    const std::size_t task_index = static_cast<std::size_t>(episode.task_index);
-    writer->Add(episode);
+    const SpooledEpisode spooled = spool.Load(n);
+    const std::size_t task_index = static_cast<std::size_t>(spooled.episode.task_index);
+    writer->Add(spooled.episode);
     ++written[task_index];
-    next_episode[task_index] = episode.source_episode + 1;
+    next_episode[task_index] = spooled.episode.source_episode + 1;
+    failures[task_index] = spooled.task_failures_before;
     ++report.resumed;
   }
 
@@ -163,6 +170,7 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     task.task = scenario.name;
     task.written = written[task_index];
     task.attempts = next_episode[task_index];
+    task.failures = failures[task_index];
     const int slots = std::min(config.envs, config.episodes);
     batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
     const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
@@ -173,13 +181,18 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     recording.video = layout.video;
     recording.stride = static_cast<int>(env.model().physics.control_hz + 0.5) / config.fps;
     recording.task_index = static_cast<int>(task_index);
+    // The round's recorder: it hands episodes over in order, so when it keeps one its failures()
+    // are those of this round's episodes before it.
+    const DemoRecorder* round_recorder = nullptr;
     const DemoRecorder::Keep keep = [&](RecordedEpisode&& episode) {
       if (task.written >= config.episodes) {
         ++task.surplus;
         return;
       }
       const Clock::time_point write_start = Clock::now();
-      spool.Save(episode);
+      std::map<std::string, int64_t> failures_before = task.failures;
+      for (const auto& [end, count] : round_recorder->failures()) failures_before[end] += count;
+      spool.Save(episode, failures_before);
       writer->Add(episode);
       report.write_s += SecondsSince(write_start);
       ++task.written;
@@ -189,6 +202,7 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     while (task.written < config.episodes && task.attempts < cap) {
       const int64_t round = std::min<int64_t>(config.episodes - task.written, cap - task.attempts);
       DemoRecorder recorder(env, recording, task.attempts, keep);
+      round_recorder = &recorder;
       batch::EpisodeDriver driver(env, *expert, round, task.attempts);
       driver.AddSink(recorder);
       driver.Run();

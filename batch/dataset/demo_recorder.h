@@ -50,7 +50,8 @@ class DemoRecorder : public batch::EpisodeSink {
   void Stepped(const batch::VecEnv& env) override;
   void EpisodeEnded(const batch::VecEnv& env, int slot) override;
 
-  // Episodes handed over so far that ended without success, by how they ended.
+  // Episodes handed over so far that ended without success, by how they ended. Episodes are
+  // handed over in order, so while `keep` runs for episode e this counts the failures before e.
   const std::map<std::string, int64_t>& failures() const { return failures_; }
   const RecordingTimes& times() const { return times_; }
 

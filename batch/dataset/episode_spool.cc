@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "batch/atomic_file.h"
+#include "batch/json_error_text.h"
 #include "batch/dataset/episode_rows.h"
 #include "batch/dataset/parquet/parquet_reader.h"
 #include "batch/dataset/parquet/parquet_writer.h"
@@ -20,7 +21,21 @@ nlohmann::json ReadJson(const std::filesystem::path& path) {
   try {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& error) {
-    throw std::runtime_error(path.string() + ": " + error.what());
+    throw std::runtime_error(path.string() + ": damaged spool file, not valid JSON: " + batch::JsonErrorText(error.what()));
+  }
+}
+
+// record[key] as T, or an error naming the file, the key and what is wrong with it.
+template <typename T>
+T Field(const nlohmann::json& record, const char* key, const std::filesystem::path& path) {
+  if (!record.is_object() || !record.contains(key)) {
+    throw std::runtime_error(path.string() + ": damaged spool file, no \"" + key + "\"");
+  }
+  try {
+    return record.at(key).get<T>();
+  } catch (const nlohmann::json::exception& error) {
+    throw std::runtime_error(path.string() + ": damaged spool file, \"" + key + "\" is " + record.at(key).dump(-1).substr(0, 80) +
+                             ": " + batch::JsonErrorText(error.what()));
   }
 }
 
@@ -41,7 +56,7 @@ std::string EpisodeSpool::EpisodeDir(int64_t n) const {
   return dir_ + "/" + name;
 }
 
-void EpisodeSpool::Save(const RecordedEpisode& episode) {
+void EpisodeSpool::Save(const RecordedEpisode& episode, const std::map<std::string, int64_t>& task_failures_before) {
   const std::string dir = EpisodeDir(count_);
   std::filesystem::remove_all(dir);  // what an interrupted Save left
   std::filesystem::create_directories(dir);
@@ -57,19 +72,30 @@ void EpisodeSpool::Save(const RecordedEpisode& episode) {
                                  {"task_index", episode.task_index},
                                  {"prompt", episode.prompt},
                                  {"frames", episode.frames},
-                                 {"image_histograms", histograms}};
+                                 {"image_histograms", histograms},
+                                 {"task_failures_before", task_failures_before}};
   batch::WriteFileAtomically(dir + "/episode.json", record.dump() + "\n");
   ++count_;
 }
 
-RecordedEpisode EpisodeSpool::Load(int64_t n) const {
+SpooledEpisode EpisodeSpool::Load(int64_t n) const {
   const std::string dir = EpisodeDir(n);
-  const nlohmann::json record = ReadJson(dir + "/episode.json");
-  RecordedEpisode episode;
-  episode.source_episode = record.at("source_episode").get<int64_t>();
-  episode.task_index = record.at("task_index").get<int>();
-  episode.prompt = record.at("prompt").get<std::string>();
-  episode.frames = record.at("frames").get<int64_t>();
+  const std::filesystem::path record_path = dir + "/episode.json";
+  const nlohmann::json record = ReadJson(record_path);
+  SpooledEpisode spooled;
+  RecordedEpisode& episode = spooled.episode;
+  episode.source_episode = Field<int64_t>(record, "source_episode", record_path);
+  episode.task_index = Field<int>(record, "task_index", record_path);
+  if (episode.task_index < 0 || static_cast<std::size_t>(episode.task_index) >= layout_.tasks.size()) {
+    throw std::runtime_error(record_path.string() + ": damaged spool file, \"task_index\" " + std::to_string(episode.task_index) +
+                             " is not one of the recording's " + std::to_string(layout_.tasks.size()) + " tasks");
+  }
+  episode.prompt = Field<std::string>(record, "prompt", record_path);
+  episode.frames = Field<int64_t>(record, "frames", record_path);
+  // Spools of earlier versions did not keep the failures: counted from this episode on.
+  if (record.contains("task_failures_before")) {
+    spooled.task_failures_before = Field<std::map<std::string, int64_t>>(record, "task_failures_before", record_path);
+  }
   const ParquetReader data(dir + "/data.parquet");
   episode.action = ReadVectors(data, "action");
   episode.state = ReadVectors(data, "observation.state");
@@ -81,15 +107,19 @@ RecordedEpisode EpisodeSpool::Load(int64_t n) const {
     throw std::runtime_error(dir + ": data.parquet has " + std::to_string(data.num_rows()) + " frames, episode.json says " +
                              std::to_string(episode.frames));
   }
-  const nlohmann::json& histograms = record.at("image_histograms");
+  const nlohmann::json histograms = Field<nlohmann::json>(record, "image_histograms", record_path);
+  if (!histograms.is_array() || histograms.size() != layout_.cameras.size()) {
+    throw std::runtime_error(record_path.string() + ": damaged spool file, \"image_histograms\" needs one entry per camera (" +
+                             std::to_string(layout_.cameras.size()) + ")");
+  }
   VideoSettings settings = layout_.video;
   settings.fps = layout_.fps;
   for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
     episode.videos.push_back(LoadEncodedEpisode(dir + "/" + layout_.cameras[camera] + ".packets", settings));
-    episode.image_stats.push_back(ImageStats::FromHistogram(histograms.at(camera).at("frames").get<int64_t>(),
-                                                            histograms.at(camera).at("histogram").get<ImageStats::Histogram>()));
+    episode.image_stats.push_back(ImageStats::FromHistogram(Field<int64_t>(histograms[camera], "frames", record_path),
+                                                            Field<ImageStats::Histogram>(histograms[camera], "histogram", record_path)));
   }
-  return episode;
+  return spooled;
 }
 
 void EpisodeSpool::SaveProgress(const nlohmann::json& progress) const {
@@ -98,7 +128,10 @@ void EpisodeSpool::SaveProgress(const nlohmann::json& progress) const {
 
 nlohmann::json EpisodeSpool::LoadProgress() const {
   const std::filesystem::path path = dir_ + "/progress.json";
-  return std::filesystem::exists(path) ? ReadJson(path) : nlohmann::json();
+  if (!std::filesystem::exists(path)) return nlohmann::json();
+  nlohmann::json progress = ReadJson(path);
+  if (!progress.is_object()) throw std::runtime_error(path.string() + ": damaged spool file, not a JSON object");
+  return progress;
 }
 
 void EpisodeSpool::Remove() const { std::filesystem::remove_all(dir_); }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -17,20 +18,29 @@
 
 namespace tavis::dataset {
 
+// A kept episode as the spool holds it, with what a resumed recording needs to report the same
+// counts as an uninterrupted one.
+struct SpooledEpisode {
+  RecordedEpisode episode;
+  // How the task's episodes before this one that failed ended (not written to the dataset).
+  std::map<std::string, int64_t> task_failures_before;
+};
+
 class EpisodeSpool {
  public:
   // Creates `dir` if needed.
   EpisodeSpool(std::string dir, DatasetLayout layout);
 
-  // Stores `episode` as dataset episode count().
-  void Save(const RecordedEpisode& episode);
+  // Stores `episode` as dataset episode count(), with its task's failures before it.
+  void Save(const RecordedEpisode& episode, const std::map<std::string, int64_t>& task_failures_before);
   // Episodes 0 .. count() - 1 are complete in the spool (counted when constructed, then by Save).
   int64_t count() const { return count_; }
   // Episode n as Save received it (videos as packets, image statistics as histograms). Throws
-  // std::runtime_error naming the file when it is missing or unreadable.
-  RecordedEpisode Load(int64_t n) const;
+  // std::runtime_error naming the file and what is wrong when it is missing, unreadable or damaged.
+  SpooledEpisode Load(int64_t n) const;
 
-  // The recording's progress (written atomically; null when none was written).
+  // The recording's progress (written atomically; null when none was written; a file that is
+  // not a JSON object is an error naming it).
   void SaveProgress(const nlohmann::json& progress) const;
   nlohmann::json LoadProgress() const;
 

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <stdexcept>
 
+#include "batch/action_csv.h"
 #include "batch/builtin_policies.h"
+#include "batch/remote/observation_keys.h"
 #include "batch/sweep/spec_lists.h"
+#include "configs/input_file.h"
 
 namespace tavis::batch::sweep {
 namespace {
@@ -25,6 +29,31 @@ void ReadCellFilter(const YamlValue& cells, const std::vector<std::string>& know
   cells.ExpectNoOtherKeys();
 }
 
+// The files a policy names, read as its cells will read them; an error names the spec's key.
+void CheckPolicyFiles(const YamlValue& node, const PolicySpec& policy, const std::string& config_dir) {
+  if (!policy.actions_file.empty()) {
+    try {
+      ReadActionCsv(policy.actions_file);
+    } catch (const std::exception& error) {
+      node.Required("actions").Fail(error.what());
+    }
+  }
+  if (policy.observation_keys_given) {
+    try {
+      remote::LoadObservationKeys(policy.observation_keys, config_dir);
+    } catch (const std::exception& error) {
+      node.Required("keys").Fail(error.what());
+    }
+  }
+  if (!policy.match_dataset.empty()) {
+    const std::filesystem::path info = std::filesystem::path(policy.match_dataset) / "meta" / "info.json";
+    const std::string not_a_file = configs::WhyNotARegularFile(info);
+    if (!not_a_file.empty()) {
+      node.Required("match_dataset").Fail("'" + policy.match_dataset + "' is not a LeRobot dataset: " + info.string() + ": " + not_a_file);
+    }
+  }
+}
+
 }  // namespace
 
 bool IsValidLabel(const std::string& label) {
@@ -33,7 +62,8 @@ bool IsValidLabel(const std::string& label) {
          });
 }
 
-PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std::vector<std::string>& known_robots) {
+PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std::vector<std::string>& known_robots,
+                          const std::string& config_dir, PolicyFiles files) {
   PolicySpec policy;
   policy.name = node.String("name");
   if (const auto label = node.Optional("label")) {
@@ -87,6 +117,7 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
   for (const char* key : {"keys", "replan_steps", "server_timeout_s", "match_dataset", "serving"}) {
     if (!served && node.Optional(key)) node.Required(key).Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
   }
+  if (files == PolicyFiles::kRead) CheckPolicyFiles(node, policy, config_dir);
   return policy;
 }
 

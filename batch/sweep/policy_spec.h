@@ -37,9 +37,16 @@ struct PolicySpec {
   void ApplyTo(EvaluationCellConfig& cell) const;
 };
 
+// Whether reading a spec reads the files its policies name: a sweep about to run does (so that it
+// does not stop at its first cell), a merge of finished shards does not need them.
+enum class PolicyFiles { kRead, kNotRead };
+
 // `policy:` (one policy, labelled by its name unless it has a label) or one entry of `policies:`.
-// Throws configs::ConfigError naming the key and the value.
-PolicySpec ReadPolicySpec(const configs::YamlValue& policy, bool label_required, const std::vector<std::string>& known_robots);
+// Throws configs::ConfigError naming the key and the value. With PolicyFiles::kRead the files it
+// names are read now: the actions CSV, the observation keys (a preset of `config_dir` or a YAML
+// file) and match_dataset's meta/info.json.
+PolicySpec ReadPolicySpec(const configs::YamlValue& policy, bool label_required, const std::vector<std::string>& known_robots,
+                          const std::string& config_dir, PolicyFiles files);
 
 nlohmann::ordered_json PolicySpecJson(const PolicySpec& policy);
 

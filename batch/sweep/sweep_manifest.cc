@@ -4,12 +4,14 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdint>
 #include <ctime>
 #include <fstream>
 #include <stdexcept>
 #include <thread>
 
 #include "batch/atomic_file.h"
+#include "batch/json_error_text.h"
 #include "batch/program_version.h"
 #include "batch/settings_difference.h"
 
@@ -62,11 +64,28 @@ nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
   try {
     manifest = nlohmann::ordered_json::parse(in);
   } catch (const nlohmann::json::exception& error) {
-    throw std::runtime_error(path.string() + ": invalid JSON: " + error.what());
+    throw std::runtime_error(path.string() + ": damaged sweep manifest, not valid JSON: " + JsonErrorText(error.what()));
   }
+  if (!manifest.is_object()) throw std::runtime_error(path.string() + ": damaged sweep manifest, not a JSON object");
   for (const char* key : {"spec", "spec_yaml", "version", "shard", "cells"}) {
     if (!manifest.contains(key)) throw std::runtime_error(path.string() + ": missing key '" + key + "'");
   }
+  // The keys resumes and merges read, each of the type this program writes.
+  const auto require = [&](bool ok, const char* key, const char* what) {
+    if (!ok) {
+      throw std::runtime_error(path.string() + ": damaged sweep manifest, '" + key + "' must be " + what + ", got " +
+                               manifest[key].dump().substr(0, 80));
+    }
+  };
+  require(manifest["spec"].is_object(), "spec", "an object");
+  require(manifest["spec_yaml"].is_string(), "spec_yaml", "a string");
+  require(manifest["version"].is_string(), "version", "a string");
+  require(manifest["cells"].is_object(), "cells", "an object of cell ids");
+  const nlohmann::ordered_json& shard = manifest["shard"];
+  require(shard.is_object() && shard.contains("index") && shard.contains("count") && shard["index"].is_number_integer() &&
+              shard["count"].is_number_integer() && shard["count"].get<int64_t>() >= 1 && shard["index"].get<int64_t>() >= 0 &&
+              shard["index"].get<int64_t>() < shard["count"].get<int64_t>() && shard["count"].get<int64_t>() <= 1000000,
+          "shard", "{\"index\": I, \"count\": N} with 0 <= I < N");
   return manifest;
 }
 

@@ -51,7 +51,9 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   }
   if (!missing.empty()) throw std::invalid_argument("merge needs every shard; missing " + missing);
 
-  const SweepSpec spec = ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir);
+  // The shards' cells are finished: the files their policies read need not be here.
+  const SweepSpec spec = ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir,
+                                        PolicyFiles::kNotRead);
   const std::vector<SweepCell> cells = ExpandCells(spec, config_dir);
   const fs::path out = out_dir;
   if (!HoldsNoResults(out)) throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
@@ -61,10 +63,10 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   fs::create_directories(out / "cells");
   SweepManifest manifest(spec, first["spec_yaml"].get<std::string>(), Shard{0, 1}, {});
   Json merged = manifest.Json();
-  merged["spec_file"] = first["spec_file"];
+  merged["spec_file"] = first.value("spec_file", Json());
   merged["merged_from"] = Json::array();
   for (int index = 0; index < count; ++index) {
-    merged["merged_from"].push_back({{"dir", shard_of[index]}, {"machine", (*manifest_of[index])["machine"]}, {"timing", (*manifest_of[index])["timing"]}});
+    merged["merged_from"].push_back({{"dir", shard_of[index]}, {"machine", manifest_of[index]->value("machine", Json())}, {"timing", manifest_of[index]->value("timing", Json())}});
   }
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const fs::path from = fs::path(shard_of[i % static_cast<std::size_t>(count)]) / "cells" / cells[i].id;

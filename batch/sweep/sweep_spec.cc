@@ -26,18 +26,19 @@ uint64_t ReadSeed(const YamlValue& value) {
   return std::stoull(text);
 }
 
-void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_robots, SweepSpec& spec) {
+void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_robots, const std::string& config_dir,
+                  PolicyFiles files, SweepSpec& spec) {
   const auto single = root.Optional("policy");
   const auto several = root.Optional("policies");
   if (single.has_value() == several.has_value()) root.Fail("needs exactly one of policy: {...} and policies: [...]");
   if (single) {
-    spec.policies.push_back(ReadPolicySpec(*single, false, known_robots));
+    spec.policies.push_back(ReadPolicySpec(*single, false, known_robots, config_dir, files));
     return;
   }
   const std::vector<YamlValue> entries = several->Elements();
   if (entries.empty()) several->Fail("must name at least one policy, got []");
   for (const YamlValue& entry : entries) {
-    PolicySpec policy = ReadPolicySpec(entry, true, known_robots);
+    PolicySpec policy = ReadPolicySpec(entry, true, known_robots, config_dir, files);
     for (const PolicySpec& other : spec.policies) {
       if (other.label == policy.label) entry.Required("label").Fail("'" + policy.label + "' is used twice");
       if (other.label == policy.seed_group || other.seed_group == policy.label) {
@@ -129,7 +130,7 @@ void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
 }
 
 
-SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::string& config_dir) {
+SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::string& config_dir, PolicyFiles files) {
   SweepSpec spec;
   spec.source = source;
   const auto suites = root.Optional("suites");
@@ -150,7 +151,7 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   spec.episodes = ReadCount(root.Required("episodes"), 1, 100000000);
   if (const auto envs = root.Optional("envs")) spec.envs = ReadCount(*envs, 1, 4096);
   if (const auto videos = root.Optional("videos")) spec.videos = ReadCount(*videos, 0, spec.episodes);
-  ReadPolicies(root, known_robots, spec);
+  ReadPolicies(root, known_robots, config_dir, files, spec);
   if (const auto figures = root.Optional("figures")) ReadFigures(*figures, spec);
   root.ExpectNoOtherKeys();
   return spec;
@@ -158,12 +159,13 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
 
 }  // namespace
 
-SweepSpec ParseSweepSpec(const std::string& yaml_text, const std::string& source_name, const std::string& config_dir) {
-  return ReadSpec(YamlValue::LoadString(yaml_text, source_name), source_name, config_dir);
+SweepSpec ParseSweepSpec(const std::string& yaml_text, const std::string& source_name, const std::string& config_dir,
+                         PolicyFiles files) {
+  return ReadSpec(YamlValue::LoadString(yaml_text, source_name), source_name, config_dir, files);
 }
 
-SweepSpec LoadSweepSpec(const std::string& path, const std::string& config_dir) {
-  return ReadSpec(YamlValue::LoadFile(path), path, config_dir);
+SweepSpec LoadSweepSpec(const std::string& path, const std::string& config_dir, PolicyFiles files) {
+  return ReadSpec(YamlValue::LoadFile(path), path, config_dir, files);
 }
 
 nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec) {

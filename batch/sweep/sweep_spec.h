@@ -42,9 +42,11 @@ struct SweepCell {
 };
 
 // Throws configs::ConfigError ("FILE: key: message, got VALUE") for any mistake; robots must be
-// among configs_dir's robots/*.yaml.
-SweepSpec LoadSweepSpec(const std::string& path, const std::string& config_dir);
-SweepSpec ParseSweepSpec(const std::string& yaml_text, const std::string& source_name, const std::string& config_dir);
+// among configs_dir's robots/*.yaml; the files the policies name are read unless `files` says not
+// (ReadPolicySpec).
+SweepSpec LoadSweepSpec(const std::string& path, const std::string& config_dir, PolicyFiles files = PolicyFiles::kRead);
+SweepSpec ParseSweepSpec(const std::string& yaml_text, const std::string& source_name, const std::string& config_dir,
+                         PolicyFiles files = PolicyFiles::kRead);
 
 // The spec's settings as JSON (what the manifest records and merge compares; not the file name).
 nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec);

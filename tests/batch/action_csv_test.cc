@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,34 @@ TEST(ActionCsv, MissingFileIsAnError) {
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/episode.csv: no such file");
+  }
+}
+
+// Spreadsheet programs start a UTF-8 CSV with a byte order mark: before, the first number was
+// refused as "not a number: '0'" with the mark invisible in the message.
+TEST(ActionCsv, ByteOrderMarkIsSkipped) {
+  const std::string rows = Row(0.25, -1) + Row(2);
+  const ActionTrajectory with_mark = Parse("\xEF\xBB\xBF" + rows);
+  const ActionTrajectory plain = Parse(rows);
+  EXPECT_EQ(with_mark.num_steps, 2);
+  EXPECT_EQ(with_mark.values, plain.values);
+  std::string header = "left_x";
+  for (int column = 1; column < 19; ++column) header += ",c" + std::to_string(column);
+  EXPECT_EQ(Parse("\xEF\xBB\xBF" + header + "\n" + rows).values, plain.values) << "a header after the mark is still a header";
+  EXPECT_EQ(ErrorOf(Row(1) + "\xEF\xBB\xBF" + Row(1)), "episode.csv:2: column 1: not a number: '\xEF\xBB\xBF" "1.000000'")
+      << "only the file's start may hold the mark";
+}
+
+// Before: /dev/zero was read as one endless line until the stream failed with "read error".
+TEST(ActionCsv, DeviceOrFolderIsNamedNotRead) {
+  for (const auto& [path, what] : {std::pair<std::string, std::string>{"/dev/zero", "is a character device, not a regular file"},
+                                   {std::filesystem::temp_directory_path().string(), "is a directory, not a file"}}) {
+    try {
+      ReadActionCsv(path);
+      FAIL() << path << " was read";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": " + what);
+    }
   }
 }
 

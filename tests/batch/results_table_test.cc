@@ -209,5 +209,84 @@ TEST_F(ResultsTableTest, MixedPoliciesOrNoCellsAreErrors) {
   EXPECT_THROW(BuildResultsTable({}, "tavis-feet"), std::invalid_argument);
 }
 
+// A tavis cell: summary.json with its seed as `seed_json` (omitted when empty) and the
+// episodes.jsonl of `episodes` episodes of seed 7, the first `successes` successful.
+void WriteRecordedCell(const fs::path& dir, const std::string& seed_json, int episodes, int successes, int first_episode = 0) {
+  fs::create_directories(dir);
+  std::ofstream records(dir / "episodes.jsonl");
+  for (int i = 0; i < episodes; ++i) {
+    records << R"({"episode":)" << first_episode + i << R"(,"seed":7,"success":)" << (i < successes ? "true" : "false")
+            << R"(,"end":")" << (i < successes ? "success" : "time_out") << R"(","length_steps":)" << 100 + i << "}\n";
+  }
+  std::ofstream(dir / "summary.json") << R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "policy": "expert", )"
+                                      << (seed_json.empty() ? "" : "\"seed\": " + seed_json + ", ") << "\"n_episodes\": " << episodes
+                                      << ", \"n_successful\": " << successes << "}";
+}
+
+std::string LoadError(const fs::path& root) {
+  try {
+    LoadCellResults(root);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The 192-from-96 case: a copied cell whose summary lost its seed, or names it as a string, or
+// another seed, still holds the first cell's records: refused, naming both files.
+TEST_F(ResultsTableTest, CopiedCellIsRefusedByItsRecordsWhateverItsSeedSays) {
+  WriteRecordedCell(root_ / "cell", "7", 4, 3);
+  for (const std::string& copy_seed : {std::string(), std::string("\"7\""), std::string("8")}) {
+    WriteRecordedCell(root_ / "copy", copy_seed, 4, 3);
+    const std::string error = LoadError(root_);
+    EXPECT_NE(error.find((root_ / "cell" / "summary.json").string() + " and " + (root_ / "copy" / "summary.json").string()),
+              std::string::npos)
+        << "seed " << copy_seed << ": " << error;
+  }
+  // Part of the cell copied: the episodes it shares are named.
+  WriteRecordedCell(root_ / "copy", "", 2, 2, 2);
+  EXPECT_NE(LoadError(root_).find("both hold episode 2 of seed 7"), std::string::npos) << LoadError(root_);
+  // Other episodes of the same seed (e.g. the cell's second half run apart) are pooled.
+  WriteRecordedCell(root_ / "copy", "", 2, 2, 4);
+  EXPECT_EQ(BuildResultsTable(LoadCellResults(root_), "tavis-head").pooled[0]->n_episodes, 6);
+}
+
+TEST_F(ResultsTableTest, RecordsThatDisagreeWithTheSummaryNameTheCell) {
+  WriteRecordedCell(root_ / "cell", "7", 4, 3);
+  std::ofstream(root_ / "cell" / "episodes.jsonl", std::ios::app) << R"({"episode":3,"seed":7,"success":false})" << "\n";
+  EXPECT_NE(LoadError(root_).find("cell " + (root_ / "cell").string() +
+                                  ": episodes.jsonl holds 5 episodes (3 successful) but summary.json says n_episodes 4, n_successful 3"),
+            std::string::npos)
+      << LoadError(root_);
+  WriteRecordedCell(root_ / "cell", "7", 4, 3);
+  std::ofstream(root_ / "cell" / "summary.json") << R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "seed": 7,
+                                                       "n_episodes": 4, "n_successful": 4})";
+  EXPECT_NE(LoadError(root_).find("holds 4 episodes (3 successful) but summary.json says n_episodes 4, n_successful 4"), std::string::npos)
+      << LoadError(root_);
+  WriteRecordedCell(root_ / "cell", "7", 4, 3);
+  std::ofstream(root_ / "cell" / "episodes.jsonl", std::ios::app) << "{\"episode\":4,\"se\n";
+  EXPECT_NE(LoadError(root_).find((root_ / "cell" / "episodes.jsonl").string() + ":5: not a JSON object"), std::string::npos)
+      << LoadError(root_);
+}
+
+// A sweep folder: its own summary.json (beside manifest.json) is not a cell, nor is a result
+// tavis was replacing (".NAME.tavis-old-PID").
+TEST_F(ResultsTableTest, SweepFolderIsReadAsItsCells) {
+  std::ofstream(root_ / "manifest.json") << R"({"cells": {}})";
+  std::ofstream(root_ / "summary.json") << R"({"cells": [], "tables": {}})";
+  WriteRecordedCell(root_ / "cells" / "a", "7", 4, 3);
+  WriteRecordedCell(root_ / ".cells.tavis-old-123" / "a", "7", 4, 3);
+  const std::vector<CellCounts> cells = LoadCellResults(root_);
+  ASSERT_EQ(cells.size(), 1u);
+  EXPECT_EQ(cells[0].source, (root_ / "cells" / "a" / "summary.json").string());
+}
+
+TEST_F(ResultsTableTest, CellsWithoutEpisodesAreListedAsSkipped) {
+  WriteCell("a", "wait-then-act", "gr1t2", "id", "head", 1, 2);
+  WriteCell("empty", "conditional-pick", "gr1t2", "id", "head", 0, 0);
+  const ResultsTable table = BuildResultsTable(LoadCellResults(root_), "tavis-head");
+  EXPECT_EQ(table.skipped_empty, std::vector<std::string>{(root_ / "empty" / "summary.json").string()});
+}
+
 }  // namespace
 }  // namespace tavis::batch

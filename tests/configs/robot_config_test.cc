@@ -16,13 +16,20 @@ std::string ReadFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-// Writes `text` to a temporary robot file and returns the loader's error message. ctest runs
-// each case as its own process in parallel, so the file is named after the running test.
-std::string LoadError(const std::string& text) {
+// Writes `text` as the robot file ROBOT.yaml in a temporary folder and returns its path. ctest
+// runs each case as its own process in parallel, so the folder is named after the running test.
+std::string TempRobotFile(const std::string& text, const std::string& robot = "gr1t2") {
   const std::string test_name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("tavis_robot_config_" + test_name + ".yaml")).string();
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("tavis_robot_config_" + test_name);
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / (robot + ".yaml")).string();
   std::ofstream(path) << text;
+  return path;
+}
+
+// The loader's error message for `text` as gr1t2.yaml ("" when it loads).
+std::string LoadError(const std::string& text) {
+  const std::string path = TempRobotFile(text);
   try {
     LoadRobotModel(path);
   } catch (const ConfigError& e) {
@@ -39,6 +46,32 @@ TEST(RobotConfig, BothRobotsLoad) {
     EXPECT_EQ(robot.name, name);
     EXPECT_EQ(robot.num_joints(), 17);
     EXPECT_EQ(robot.cameras.size(), 3u);
+  }
+}
+
+// Commands find a robot by its file's name and label results with it: a file whose name: says
+// another robot is refused, naming the file, the key and both names.
+TEST(RobotConfig, NameThatDiffersFromTheFileNameIsRefused) {
+  const std::string path = TempRobotFile(kGr1t2, "myrobot");
+  try {
+    LoadRobotModel(path);
+    FAIL() << "a file myrobot.yaml saying name: gr1t2 was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": name: 'gr1t2' differs from the file's name 'myrobot' (robots/NAME.yaml must say name: NAME)");
+  }
+  std::string renamed = kGr1t2;
+  renamed.replace(renamed.find("name: gr1t2"), std::string("name: gr1t2").size(), "name: myrobot");
+  std::ofstream(path) << renamed;
+  EXPECT_EQ(LoadRobotModel(path).name, "myrobot");
+}
+
+// A device named as a YAML file is named as such, not read without end.
+TEST(RobotConfig, DeviceGivenAsAYamlFileIsNamed) {
+  try {
+    YamlValue::LoadFile("/dev/zero");
+    FAIL() << "/dev/zero was read";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "/dev/zero: is a character device, not a regular file");
   }
 }
 

@@ -127,12 +127,14 @@ std::string ShippedRobot(const std::string& robot) {
   return ReadFile(RobotConfigPath(TAVIS_CONFIG_DIR, robot));
 }
 
-// A per-test file: ctest runs each case as its own process, in parallel.
-std::string TempRobotFile(const std::string& text) {
+// ROBOT.yaml (a robot file's name must match its name: key) in a per-test folder: ctest runs
+// each case as its own process, in parallel.
+std::string TempRobotFile(const std::string& text, const std::string& robot) {
   std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
   for (char& c : name) c = c == '/' ? '_' : c;
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("tavis_robot_validation_" + name + ".yaml")).string();
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("tavis_robot_validation_" + name);
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / (robot + ".yaml")).string();
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
@@ -145,7 +147,7 @@ TEST_P(RobotConfigValidation, NamesFileKeyAndValue) {
   const size_t at = text.find(m.from);
   ASSERT_NE(at, std::string::npos) << "the shipped " << m.robot << ".yaml no longer holds '" << m.from << "'";
   text.replace(at, std::string(m.from).size(), m.to);
-  const std::string path = TempRobotFile(text);
+  const std::string path = TempRobotFile(text, m.robot);
   try {
     LoadRobotModel(path);
     FAIL() << "accepted: " << m.to;
@@ -173,7 +175,7 @@ TEST(RobotConfigValidationExtra, ShippedRobotsPassUnchanged) {
 
 // yaml-cpp skips a UTF-8 byte order mark: such a file loads as the same robot.
 TEST(RobotConfigValidationExtra, ByteOrderMarkIsAccepted) {
-  const std::string path = TempRobotFile("\xEF\xBB\xBF" + ShippedRobot("gr1t2"));
+  const std::string path = TempRobotFile("\xEF\xBB\xBF" + ShippedRobot("gr1t2"), "gr1t2");
   const kinematics::RobotModel with_bom = LoadRobotModel(path);
   std::filesystem::remove(path);
   const kinematics::RobotModel plain = LoadRobotModel(RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));

@@ -106,3 +106,45 @@ def test_a_policy_of_another_env_raises_value_error(env):
     policy = other.make_policy("hold")
     with pytest.raises(ValueError, match="another env"):
         env._core.act(policy._policy)
+
+
+# A wrong type is one line naming the argument. Before: pybind11's "incompatible constructor
+# arguments. The following argument types are supported: 1. tavis._tavis.VecEnvCore(task: str, ..."
+@pytest.mark.parametrize("options, message", [
+    ({"num_envs": "4"}, "num_envs must be an int, got str '4'"),
+    ({"num_envs": 2.5}, "num_envs must be an int, got float 2.5"),
+    ({"seed": "x"}, "seed must be an int, got str 'x'"),
+    ({"task": 5}, "task must be a str, got int 5"),
+    ({"robot": None}, "robot must be a str, got NoneType None"),
+    ({"threads": "a"}, "threads must be an int, got str 'a'"),
+    ({"control_ticks_per_step": 1.5}, "control_ticks_per_step must be an int, got float 1.5"),
+    ({"cameras": [1, 2]}, "cameras must be a list of str, got an item int 1"),
+    ({"image_size": ("a", 2), "cameras": ["head"]}, r"image_size\[0\] must be an int, got str 'a'"),
+    ({"config_dir": 5}, r"config_dir must be a path \(str or os.PathLike\), got int 5"),
+])
+def test_wrong_types_raise_one_line_type_error_naming_the_argument(options, message):
+    settings = {"task": TASK, "num_envs": 1, "cameras": []}
+    settings.update(options)
+    with pytest.raises(TypeError, match="^" + message + "$") as error:
+        tavis.make_vec(**settings)
+    assert "\n" not in str(error.value)
+
+
+def test_negative_seed_raises_value_error():
+    with pytest.raises(ValueError, match="seed must be an int from 0 to 18446744073709551615, got -1"):
+        tavis.make_vec(task=TASK, num_envs=1, cameras=[], seed=-1)
+
+
+def test_wrong_types_in_methods_raise_one_line_type_error(env, tmp_path):
+    for call, message in [
+        (lambda: env.make_policy(5), "name must be a str, got int 5"),
+        (lambda: env.make_policy("replay", 5), r"actions_file must be a path \(str or os.PathLike\), got int 5"),
+        (lambda: env.write_results(tmp_path / "out", 5, 1), "policy must be a str, got int 5"),
+        (lambda: env.write_results(tmp_path / "out", "hold", "1"), "episodes must be an int, got str '1'"),
+        (lambda: env.reset(seed=1.5), "seed must be None, an int or a list of 2 ints, got float 1.5"),
+    ]:
+        with pytest.raises(TypeError, match="^" + message + "$") as error:
+            call()
+        assert "\n" not in str(error.value)
+    assert not (tmp_path / "out").exists()
+    env.step(hold_actions(env))  # still usable

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <fstream>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -26,6 +28,15 @@ nlohmann::json ReadJson(const fs::path& path) { return nlohmann::json::parse(Rea
 
 // The pixels of the image `tavis render` wrote at `path`.
 dataset::testing::RgbFrame Png(const fs::path& path) { return render::ReadPng(path.string()).pixels; }
+
+// The files of a dataset folder (its Snapshot) by their path inside it, without the run's report.
+std::map<std::string, std::string> DatasetFiles(const std::map<std::string, std::string>& snapshot, const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& [path, text] : snapshot) {
+    if (path.find("tavis_demos.json") == std::string::npos) files[path.substr(dir.string().size())] = text;
+  }
+  return files;
+}
 
 TEST_F(DemosPipeline, TheFrameLeRobotLooksUpIsTheImageRenderedAfterThatAction) {
   const fs::path dataset_dir = root_ / "dataset";
@@ -124,15 +135,62 @@ TEST_F(DemosPipeline, KilledAndResumedRecordingEqualsAnUninterruptedOne) {
   EXPECT_GE(ReadJson(out / "tavis_demos.json")["resumed_episodes"].get<int>(), 4);
   EXPECT_FALSE(fs::exists(out / "INCOMPLETE"));
   EXPECT_FALSE(fs::exists(out / ".tavis_spool"));
-  std::map<std::string, std::string> whole, again;
-  for (const auto& [path, text] : Snapshot(root_ / "whole")) {
-    if (path.find("tavis_demos.json") == std::string::npos) whole[path.substr((root_ / "whole").string().size())] = text;
-  }
-  for (const auto& [path, text] : Snapshot(out)) {
-    if (path.find("tavis_demos.json") == std::string::npos) again[path.substr(out.string().size())] = text;
-  }
+  const std::map<std::string, std::string> whole = DatasetFiles(Snapshot(root_ / "whole"), root_ / "whole");
+  std::map<std::string, std::string> again = DatasetFiles(Snapshot(out), out);
   EXPECT_EQ(whole.size(), again.size());
   for (const auto& [path, text] : whole) EXPECT_TRUE(again.count(path) && again[path] == text) << path << " differs";
+}
+
+// --max-attempts ran out (multi-shelf-scan's expert fails one of its first 12 episodes with seed
+// 0): the kept episodes stay in the spool and --resume with more attempts finishes the dataset,
+// equal to an uninterrupted run with those attempts, its failure counts included.
+TEST_F(DemosPipeline, RecordingStrandedByMaxAttemptsIsFinishedByAResumeWithMoreAttempts) {
+  const std::string args = "demos --task multi-shelf-scan --episodes 12 --fps 20 --image-size 64x48 --cameras head --quiet";
+  const fs::path whole = root_ / "whole", stranded = root_ / "stranded";
+  ASSERT_EQ(Run(args + " --max-attempts 20 --out " + Quote(whole.string())).exit_code, 0);
+  const nlohmann::json whole_task = ReadJson(whole / "tavis_demos.json")["tasks"][0];
+  ASSERT_LE(whole_task["attempts"].get<int>(), 20);
+  ASSERT_GT(whole_task["attempts"].get<int>(), 12) << "the premise: an episode among the first 12 fails";
+
+  const RunResult ran_out = Run(args + " --max-attempts 12 --out " + Quote(stranded.string()));
+  ASSERT_EQ(ran_out.exit_code, 1);
+  EXPECT_NE(ran_out.err.find("--resume with a larger --max-attempts finishes the dataset"), std::string::npos) << ran_out.err;
+  EXPECT_TRUE(fs::exists(stranded / "INCOMPLETE"));
+  EXPECT_TRUE(fs::exists(stranded / ".tavis_spool" / "episode_000000" / "episode.json"));
+
+  const RunResult resumed = Run(args + " --max-attempts 20 --threads 1 --resume --out " + Quote(stranded.string()));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const nlohmann::json report = ReadJson(stranded / "tavis_demos.json");
+  EXPECT_GE(report["resumed_episodes"].get<int>(), 1);
+  EXPECT_EQ(report["tasks"][0], whole_task) << "written, attempts and failures as without the interruption";
+  EXPECT_FALSE(fs::exists(stranded / "INCOMPLETE"));
+  EXPECT_FALSE(fs::exists(stranded / ".tavis_spool"));
+  const std::map<std::string, std::string> expected = DatasetFiles(Snapshot(whole), whole),
+                                                   got = DatasetFiles(Snapshot(stranded), stranded);
+  EXPECT_EQ(expected.size(), got.size());
+  for (const auto& [path, text] : expected) EXPECT_TRUE(got.count(path) && got.at(path) == text) << path << " differs";
+}
+
+// A damaged spool record is named with what is wrong, not as a bare library message.
+TEST_F(DemosPipeline, DamagedSpoolRecordIsNamed) {
+  const std::string args = "demos --task multi-shelf-scan --episodes 12 --fps 20 --image-size 64x48 --cameras head --quiet";
+  const fs::path out = root_ / "stranded";
+  ASSERT_EQ(Run(args + " --max-attempts 12 --out " + Quote(out.string())).exit_code, 1);
+  const fs::path record = out / ".tavis_spool" / "episode_000000" / "episode.json";
+  nlohmann::json damaged = ReadJson(record);
+  damaged["frames"] = "many";
+  std::ofstream(record) << damaged.dump();
+  const RunResult resumed = Run(args + " --max-attempts 20 --resume --out " + Quote(out.string()));
+  EXPECT_EQ(resumed.exit_code, 1);
+  EXPECT_NE(resumed.err.find(record.string() + ": damaged spool file, \"frames\" is \"many\""), std::string::npos) << resumed.err;
+  EXPECT_EQ(resumed.err.find("json.exception"), std::string::npos) << resumed.err;
+
+  std::ofstream(out / ".tavis_spool" / "progress.json") << "{\"settings\": ";
+  const RunResult truncated = Run(args + " --max-attempts 20 --resume --out " + Quote(out.string()));
+  EXPECT_EQ(truncated.exit_code, 1);
+  EXPECT_NE(truncated.err.find((out / ".tavis_spool" / "progress.json").string() + ": damaged spool file, not valid JSON"),
+            std::string::npos) << truncated.err;
+  EXPECT_TRUE(fs::exists(record)) << "nothing already recorded is lost";
 }
 
 }  // namespace

@@ -210,6 +210,19 @@ TEST_F(GaltDatasetCommandTest, RatesThatCannotBeDownsampledAndOptionMistakesAreR
   EXPECT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.err.find("--fps 60 overrides the dataset's fps 30"), std::string::npos) << run.err;
 
+  // An absurd rate in info.json is refused naming the file (before: GALT ran at 1e9 fps); --fps
+  // still overrides a file known to be wrong.
+  nlohmann::json info = nlohmann::json::parse(ReadText(Dataset() / "meta/info.json"));
+  info["fps"] = 1e9;
+  std::ofstream(Dataset() / "meta/info.json") << info.dump();
+  run = Run("galt --dataset " + Quote(Dataset().string()));
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find(Dataset().string() + "/meta/info.json: fps must be a number from 1 to 1000, got 1000000000.0"),
+            std::string::npos)
+      << run.err;
+  run = Run("galt --dataset " + Quote(Dataset().string()) + " --fps 60");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+
   run = Run("galt --dataset " + Quote(Dataset().string()) + " " + Quote((root_ / "x.csv").string()));
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find("exactly one of them"), std::string::npos) << run.err;

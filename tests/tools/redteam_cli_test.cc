@@ -152,5 +152,54 @@ TEST_F(RedTeamCliTest, EvalProvenanceOptionsAreNotIgnored) {
   ExpectRefused("eval --episodes 1 --out ''", "--out must name a folder, got an empty string");
 }
 
+// A device, a FIFO or a folder given as an input file is named as such. Before: /dev/zero was read
+// without end (memory growing until "read error"), a folder as a spec gave yaml-cpp's "bad file".
+TEST_F(RedTeamCliTest, InputsThatAreNotRegularFilesAreNamedNotRead) {
+  ExpectRefused("sweep /dev/zero --out out", "/dev/zero: the sweep spec is a character device, not a regular file");
+  ExpectRefused("sweep . --out out", ".: the sweep spec is a directory, not a file");
+  ExpectRefused("eval --episodes 1 --policy replay --actions /dev/zero --out out", "/dev/zero: is a character device, not a regular file");
+  ExpectRefused("galt --fps 20 /dev/zero", "/dev/zero: is a character device, not a regular file");
+}
+
+// A sweep whose policy names a file that is not there is refused before it writes anything,
+// naming the spec file and key. Before: the sweep folder was made and the first cell failed with
+// "nothere.csv: no such file", naming neither.
+TEST_F(RedTeamCliTest, SweepSpecFileErrorsAreFoundBeforeAnythingIsWritten) {
+  const std::string cells = "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\nepisodes: 2\n";
+  WriteFile(root_ / "replay.yaml", cells + "policy:\n  name: replay\n  actions: nothere.csv\n");
+  ExpectRefused("sweep replay.yaml --out out", "replay.yaml: policy.actions: nothere.csv: no such file");
+  WriteFile(root_ / "keys.yaml", cells + "policy:\n  name: openpi\n  servers: [ws://127.0.0.1:1]\n  keys: nothere.yaml\n");
+  ExpectRefused("sweep keys.yaml --out out", "keys.yaml: policy.keys: observation keys 'nothere.yaml' are neither a preset");
+}
+
+// A damaged manifest is named with what is wrong. Before: nlohmann's "[json.exception.type_error.305]
+// cannot use operator[] with a string argument with string", naming no file.
+TEST_F(RedTeamCliTest, DamagedSweepManifestIsNamedWithWhatIsWrong) {
+  const std::string valid = R"({"spec": {}, "spec_yaml": "", "version": "v", "shard": {"index": 0, "count": 1}, "cells": {}})";
+  const std::string manifest = "shard/manifest.json";
+  WriteFile(root_ / manifest, valid);
+  ASSERT_EQ(Run("sweep merge --out " + Quote((root_ / "merged").string()) + " " + Quote((root_ / "shard").string())).err.find("damaged"),
+            std::string::npos)
+      << "the premise: the valid manifest passes the checks";
+  fs::remove_all(root_ / "merged");
+  WriteFile(root_ / manifest, valid.substr(0, 20));
+  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, not valid JSON: parse error");
+  WriteFile(root_ / manifest, std::string(valid).replace(valid.find(R"({"index": 0, "count": 1})"), 24, R"("x")"));
+  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, 'shard' must be {\"index\": I, \"count\": N}");
+  WriteFile(root_ / manifest, std::string(valid).replace(valid.find(R"("cells": {})"), 11, R"("cells": 5)"));
+  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, 'cells' must be an object of cell ids, got 5");
+}
+
+// Options that only a served policy uses are refused with a built-in one, on the command line and
+// in a sweep spec (naming the file and key).
+TEST_F(RedTeamCliTest, ServedPolicyOptionsWithABuiltInPolicyAreRefused) {
+  ExpectRefused("eval --episodes 1 --replan-steps 5 --out out", "--replan-steps applies to --policy openpi only, got --policy expert");
+  ExpectRefused("eval --episodes 1 --keys libero --out out", "--keys applies to --policy openpi only, got --policy expert");
+  WriteFile(root_ / "spec.yaml",
+            "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\nepisodes: 2\n"
+            "policy:\n  name: expert\n  replan_steps: 5\n");
+  ExpectRefused("sweep spec.yaml --out out", "spec.yaml: policy.replan_steps: applies to policy 'openpi' only, got policy 'expert'");
+}
+
 }  // namespace
 }  // namespace tavis::tools

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <regex>
 #include <string>
@@ -184,6 +185,65 @@ TEST_F(SweepRuns, BadSpecNamesFileKeyAndValueAndWritesNothing) {
   const RunResult shard = Sweep(root_ / "out", "--shard 3/3");
   EXPECT_EQ(shard.exit_code, 1);
   EXPECT_NE(shard.err.find("'3/3'"), std::string::npos) << shard.err;
+}
+
+// `tavis table --in SWEEP` tables the sweep's cells (its own summary.json is not a cell), with
+// each rate counted here from the cell's episodes.jsonl; a copied cell is refused whatever its
+// summary says about its seed, records that disagree with their summary name the cell, and a
+// cell without episodes is left out with a note naming it.
+TEST_F(SweepRuns, TableReadsTheSweepFolderAndChecksItsCells) {
+  const fs::path sweep = root_ / "sweep";
+  ASSERT_EQ(Sweep(sweep).exit_code, 0);
+  const std::string table = "table --suite tavis-head --no-ci --in " + Quote(sweep.string()) + " --out " + Quote((root_ / "t").string());
+  const RunResult run = Run(table);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The table's row of the task (the suite's other tasks have no cells).
+  const auto task_row = [this] {
+    for (const std::string& line : Lines(ReadText(root_ / "t.csv"))) {
+      if (line.rfind("clutter-pick-cube,", 0) == 0) return line;
+    }
+    return std::string("no clutter-pick-cube row");
+  };
+  std::string expected_row = "clutter-pick-cube";
+  for (const char* column : {"id_head", "id_fixed", "ood-spatial_head", "ood-spatial_fixed"}) {
+    int successes = 0;
+    for (const std::string& line : Lines(ReadText(sweep / "cells" / ("clutter-pick-cube_gr1t2_" + std::string(column) + "_expert_s3") / "episodes.jsonl"))) {
+      successes += nlohmann::json::parse(line)["success"].get<bool>() ? 1 : 0;
+    }
+    char rate[16];
+    std::snprintf(rate, sizeof rate, ",%.1f", 100.0 * successes / 6);
+    expected_row += rate;
+  }
+  EXPECT_EQ(task_row(), expected_row);
+
+  const fs::path cell = sweep / "cells" / kFirstCell, copy = sweep / "cells" / "copy";
+  fs::copy(cell, copy, fs::copy_options::recursive);
+  nlohmann::json summary = nlohmann::json::parse(ReadText(copy / "summary.json"));
+  for (const nlohmann::json& seed : {nlohmann::json("3"), nlohmann::json()}) {
+    seed.is_null() ? static_cast<void>(summary.erase("seed")) : static_cast<void>(summary["seed"] = seed);
+    std::ofstream(copy / "summary.json") << summary.dump();
+    const RunResult copied = Run(table);
+    EXPECT_EQ(copied.exit_code, 1) << "seed " << seed;
+    EXPECT_NE(copied.err.find((cell / "summary.json").string() + " and " + (copy / "summary.json").string()), std::string::npos)
+        << copied.err;
+  }
+  summary["n_episodes"] = 0;
+  summary["n_successful"] = 0;
+  std::ofstream(copy / "summary.json") << summary.dump();
+  std::ofstream(copy / "episodes.jsonl", std::ios::trunc).close();
+  const RunResult empty = Run(table);
+  EXPECT_EQ(empty.exit_code, 0) << empty.err;
+  EXPECT_NE(empty.err.find("note: " + (copy / "summary.json").string() + " holds no episodes (n_episodes 0): left out of the table"),
+            std::string::npos)
+      << empty.err;
+  EXPECT_EQ(task_row(), expected_row);
+
+  fs::remove_all(copy);
+  const std::string first_record = Lines(ReadText(cell / "episodes.jsonl"))[0];
+  std::ofstream(cell / "episodes.jsonl", std::ios::app) << first_record << "\n";
+  const RunResult doubled = Run(table);
+  EXPECT_EQ(doubled.exit_code, 1);
+  EXPECT_NE(doubled.err.find("cell " + cell.string() + ": episodes.jsonl holds 7 episodes"), std::string::npos) << doubled.err;
 }
 
 TEST_F(SweepRuns, HtmlReportInHeadlessChromiumShowsTheJsonNumbers) {

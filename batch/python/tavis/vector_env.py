@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from . import _tavis, spaces
+from . import _arguments, _tavis, spaces
 from ._config_dir import default_config_dir
 
 try:  # Gymnasium is optional: subclass its VectorEnv when it is there.
@@ -81,8 +81,18 @@ class TavisVectorEnv(_VectorEnvBase):
                  control_ticks_per_step=0, autoreset=True, config_dir=None, copy=True, render_mode=None):
         if isinstance(cameras, str):
             raise ValueError(f"cameras must be a list of camera names, got the string {cameras!r}")
-        if len(tuple(image_size)) != 2:
+        task, robot, split, camera = (_arguments.require_str(name, value) for name, value in
+                                      (("task", task), ("robot", robot), ("split", split), ("camera", camera)))
+        num_envs = _arguments.require_int("num_envs", num_envs)
+        seed = _arguments.require_int("seed", seed, 0, _arguments.MAX_SEED)
+        threads = _arguments.require_int("threads", threads)
+        control_ticks_per_step = _arguments.require_int("control_ticks_per_step", control_ticks_per_step)
+        cameras = _arguments.require_str_list("cameras", cameras)
+        if config_dir is not None:
+            config_dir = _arguments.require_path("config_dir", config_dir)
+        if not isinstance(image_size, (list, tuple, np.ndarray)) or len(tuple(image_size)) != 2:
             raise ValueError(f"image_size must be (height, width), got {image_size!r}")
+        image_size = tuple(_arguments.require_int(f"image_size[{i}]", v) for i, v in enumerate(image_size))
         if render_mode not in self.RENDER_MODES:
             raise ValueError(f"render_mode must be one of {self.RENDER_MODES}, got {render_mode!r}")
         if render_mode == "rgb_array" and len(cameras) == 0:
@@ -174,6 +184,8 @@ class TavisVectorEnv(_VectorEnvBase):
 
     def make_policy(self, name, actions_file=""):
         """A built-in policy acting on this env (tavis.builtin_policy_names())."""
+        name = _arguments.require_str("name", name)
+        actions_file = _arguments.require_path("actions_file", actions_file)
         return BuiltinPolicy(self, self._core.make_policy(name, actions_file))
 
     def neutral_actions(self):
@@ -189,7 +201,11 @@ class TavisVectorEnv(_VectorEnvBase):
     def write_results(self, out_dir, policy, episodes, first_episode=0):
         """Writes episodes first_episode .. +episodes-1 as `tavis eval` does: OUT/episodes.jsonl and
         OUT/summary.json. ``policy`` names what acted (the summary's "policy")."""
-        self._core.write_results(str(out_dir), policy, first_episode, episodes)
+        out_dir = _arguments.require_path("out_dir", out_dir)
+        policy = _arguments.require_str("policy", policy)
+        episodes = _arguments.require_int("episodes", episodes)
+        first_episode = _arguments.require_int("first_episode", first_episode)
+        self._core.write_results(out_dir, policy, first_episode, episodes)
 
     # Helpers
 
@@ -199,6 +215,9 @@ class TavisVectorEnv(_VectorEnvBase):
         if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
             seeds = [int(seed) + i for i in range(self.num_envs)]
         else:
+            if not isinstance(seed, (list, tuple, np.ndarray)):
+                raise TypeError(f"seed must be None, an int or a list of {self.num_envs} ints, "
+                                f"got {type(seed).__name__} {seed!r}")
             seeds = list(seed)
             if len(seeds) != self.num_envs:
                 raise ValueError(f"seed must be an int or {self.num_envs} ints, got {len(seeds)} values")

@@ -56,6 +56,13 @@ TEST(SweepSpec, ExpandsTheProductInSpecOrder) {
   EXPECT_EQ(cells[7].config.seed, 7U);
 }
 
+// A merge of finished shards re-reads the spec without the files its policies named (they may
+// live on the machine that ran the cells only).
+TEST(SweepSpec, PolicyFilesAreNotReadWhenAskedNotTo) {
+  const std::string spec = Replace(kValid, "name: expert", "name: replay\n  actions: /nonexistent/a.csv");
+  EXPECT_EQ(ParseSweepSpec(spec, "specs/bad.yaml", TAVIS_CONFIG_DIR, PolicyFiles::kNotRead).policies[0].actions_file, "/nonexistent/a.csv");
+}
+
 TEST(SweepSpec, SuitesBringTheirTasksOnce) {
   const SweepSpec spec = Parse(Replace(kValid, "tasks: [clutter-pick-cube]", "suites: [tavis-head, tavis-hands]\ntasks: [clutter-pick-cube]"));
   EXPECT_EQ(spec.tasks.size(), 8U);
@@ -203,7 +210,16 @@ INSTANTIATE_TEST_SUITE_P(
                       BadSpec{"ReplayWithoutActions", "name: expert", "name: replay", "policy", "replay"},
                       BadSpec{"ServersForExpert", "name: expert", "name: expert\n  servers: [ws://x:1]", "policy.servers", "expert"},
                       BadSpec{"UnknownPolicyKey", "name: expert", "name: expert\n  temperature: 2", "policy", "temperature"},
-                      BadSpec{"MissingRobots", "robots: [gr1t2]\n", "", "robots", "robots"}),
+                      BadSpec{"MissingRobots", "robots: [gr1t2]\n", "", "robots", "robots"},
+                      // The files a policy names are read with the spec, not when its first cell starts.
+                      BadSpec{"MissingActionsFile", "name: expert", "name: replay\n  actions: /nonexistent/a.csv", "policy.actions",
+                              "/nonexistent/a.csv: no such file"},
+                      BadSpec{"ActionsFileIsADevice", "name: expert", "name: replay\n  actions: /dev/zero", "policy.actions",
+                              "/dev/zero: is a character device"},
+                      BadSpec{"MissingKeysFile", "name: expert", "name: openpi\n  servers: [ws://x:1]\n  keys: /nonexistent/k.yaml",
+                              "policy.keys", "'/nonexistent/k.yaml' are neither a preset"},
+                      BadSpec{"MissingMatchDataset", "name: expert", "name: openpi\n  servers: [ws://x:1]\n  match_dataset: /nonexistent/d",
+                              "policy.match_dataset", "'/nonexistent/d' is not a LeRobot dataset: /nonexistent/d/meta/info.json: no such file"}),
     [](const ::testing::TestParamInfo<BadSpec>& case_info) { return std::string(case_info.param.name); });
 
 }  // namespace
