@@ -158,3 +158,40 @@ if local != merged:
 print("slurm ok: a 3-task job array with task 1 rerun alone: shards merged equal the local run (%d files, %d cells)"
       % (len(local), sum(1 for k in local if k.endswith("episodes.jsonl"))))
 PY
+
+# The sweep lock on Slurm: a task requeued while its first attempt still runs (or the same task
+# submitted twice) must be refused naming the holder, and the first attempt's shard must come out
+# whole. One 96-episode cell on one CPU runs for seconds, so the second attempt is submitted once
+# the first holds the shard's lock.
+mkdir -p "$work/lock"
+chmod 777 "$work/lock"
+cat >"$work/lock/spec.yaml" <<SPEC
+tasks: [clutter-pick-cube]
+robots: [gr1t2]
+splits: [id]
+cameras: [head]
+seeds: [2]
+episodes: 96
+envs: 2
+policy:
+  name: expert
+SPEC
+TAVIS=$tavis timeout 300 sbatch --wait --array=0 --cpus-per-task=1 --chdir="$work/lock" \
+  "$source_dir/tools/slurm/sweep_array.sbatch" "$work/lock/spec.yaml" "$work/lock/shards" 1 >"$work/sbatch_first.out" 2>&1 &
+first=$!
+for _ in $(seq 300); do
+  [ -s "$work/lock/shards/shard_0/.tavis_lock" ] && break
+  sleep 0.1
+done
+[ -s "$work/lock/shards/shard_0/.tavis_lock" ] || fail "the first attempt never held the shard's lock"
+if TAVIS=$tavis timeout 120 sbatch --wait --array=0 --cpus-per-task=1 --chdir="$work/lock" \
+     "$source_dir/tools/slurm/sweep_array.sbatch" "$work/lock/spec.yaml" "$work/lock/shards" 1 >"$work/sbatch_second.out" 2>&1; then
+  fail "a second attempt of a running task was not refused"
+fi
+wait $first || fail "the first attempt failed beside the refused one: $(cat "$work/sbatch_first.out")"
+grep -l "is being written by" "$work/lock"/tavis-sweep-*_0.log >/dev/null ||
+  fail "the refused attempt did not name the lock's holder: $(cat "$work/lock"/tavis-sweep-*_0.log)"
+records=$(cat "$work/lock/shards/shard_0"/cells/*/episodes.jsonl | wc -l)
+[ "$records" -eq 96 ] || fail "the locked shard holds $records records, not 96"
+[ -f "$work/lock/shards/shard_0/manifest.json" ] || fail "the locked shard has no manifest"
+echo "slurm lock ok: a second attempt of a running task was refused naming the holder; the first wrote its 96 records"
