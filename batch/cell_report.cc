@@ -146,7 +146,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
   };
   if (config.policy == "expert") summary["expert_mode"] = scenarios::ToString(config.expert_mode);
   // null under the fixed protocol, where no GALT is computed (as in the reference).
-  summary["galt"] = config.camera == CameraProtocol::kHead ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
+  summary["galt"] = !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
                                                           : nlohmann::json();
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);

@@ -53,10 +53,10 @@ struct SuccessRule {
 SuccessRule LiftAbove(double height_m);
 SuccessRule PullOutPast(double x_m);
 
-// The stages of a pick (stage.h): the cue fixated within 0.2 rad (a task with a cue: the cue
-// card, the signal light), the target approached within 5 cm, grasped, and lifted (a pull-out
-// rule: pulled) 3 cm. Keys: cue_fixated, target_approached, target_grasped, target_lifted or
-// target_pulled.
+// The stages of a pick (stage.h): the cue fixated within 0.15 rad of the best fixation the
+// neck's limits allow (a task with a cue: the cue card, the signal light), the target approached
+// within 5 cm, grasped, and lifted (a pull-out rule: pulled) 3 cm. Keys: cue_fixated,
+// target_approached, target_grasped, target_lifted or target_pulled.
 std::vector<StageDef> PickStages(const SuccessRule& success, const std::string& cue = "");
 
 // What an episode is about besides its target object, for its record; empty / -1 where the task

@@ -9,9 +9,8 @@ std::vector<StageDef> PickStages(const SuccessRule& success, const std::string& 
     fixated.name = "cue_fixated";
     fixated.kind = StageDef::Kind::kCueFixated;
     fixated.object = cue;
-    // The scripted expert's fixation leaves up to about 0.1 rad off its axis; at reset the
-    // cue sits about 1 rad off the axis.
-    fixated.max_angle_rad = 0.2;
+    // Beyond the best fixation the neck allows; at reset the cue sits about 1 rad off the axis.
+    fixated.max_angle_rad = 0.15;
     stages.push_back(fixated);
   }
   StageDef approached;

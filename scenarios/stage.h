@@ -12,7 +12,9 @@ namespace tavis::scenarios {
 
 struct StageDef {
   enum class Kind {
-    // The head camera's optical axis within max_angle_rad of the cue object's centre.
+    // The head camera's optical axis within max_angle_rad of the cue object's centre, beyond the
+    // closest the neck's joint limits let it come (Reachy2's neck pitches 0.35 rad at most, so
+    // its head cannot centre a card on the table).
     kCueFixated,
     // A hand's tool centre point within distance_m of the target's bounding box: the policy went
     // for the right object (a hand at the wrong side never reaches it).
@@ -22,7 +24,8 @@ struct StageDef {
     // target's box.
     kTargetGrasped,
     // While grasped (as kTargetGrasped within 2 cm), the target moved distance_m in the success rule's direction (up for a lift,
-    // toward the robot for a pull-out) from the furthest-back place it has been in the episode.
+    // toward the robot for a pull-out) from the furthest-back place it has been in the episode,
+    // or is past the success rule's threshold.
     kTargetRaised,
   };
   std::string name;  // the record's key, e.g. "target_grasped"

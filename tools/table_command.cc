@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/results_table.h"
+#include "batch/stage_funnel_table.h"
 #include "configs/robot_config.h"
 #include "scenarios/suite.h"
 #include "tools/commands.h"
@@ -98,8 +99,8 @@ void WriteFile(const std::string& path, const std::string& text) {
 
 void RunTable(const TableOptions& options) {
   if (!options.label.empty() && options.pool_labels) throw std::invalid_argument("--label and --pool-labels exclude each other");
-  const batch::ResultsTable table = batch::BuildResultsTable(
-      CellsOfOneLabel(LoadLabelledCells(options.in_dir), options), options.suite);
+  const std::vector<batch::CellCounts> cells = CellsOfOneLabel(LoadLabelledCells(options.in_dir), options);
+  const batch::ResultsTable table = batch::BuildResultsTable(cells, options.suite);
   const bool with_intervals = !options.no_intervals;
   // --out results/tables/acceptance: the folder part is made if it is missing.
   const std::filesystem::path folder = std::filesystem::path(options.out_prefix).parent_path();
@@ -108,7 +109,8 @@ void RunTable(const TableOptions& options) {
     throw std::runtime_error("--out " + options.out_prefix + ": cannot create the folder " + folder.string() + ": " +
                              error.message());
   }
-  WriteFile(options.out_prefix + ".md", batch::FormatMarkdown(table, with_intervals));
+  WriteFile(options.out_prefix + ".md",
+            batch::FormatMarkdown(table, with_intervals) + batch::FormatFunnelMarkdown(table, cells));
   WriteFile(options.out_prefix + ".csv", batch::FormatCsv(table, with_intervals));
   std::cout << "wrote " << options.out_prefix << ".md and " << options.out_prefix << ".csv ("
             << table.tasks.size() << " tasks x " << table.columns.size() << " columns)\n";

@@ -63,12 +63,12 @@ class ObjectWatch : public EpisodeSink {
   std::vector<std::size_t> slot_episode_;
 };
 
-struct Run {
+struct CellRun {
   std::vector<EpisodeRecord> records;  // in episode order
   ObjectWatch watch;
 };
 
-void RunCell(VecEnv& env, Policy& policy, int episodes, Run& run) {
+void RunCell(VecEnv& env, Policy& policy, int episodes, CellRun& run) {
   EpisodeRecorder recorder(env.num_envs(), env.model().physics.max_control_steps(), RecordSettings(), 0,
                            [&run](EpisodeRecord&& record) { run.records.push_back(std::move(record)); });
   EpisodeDriver driver(env, policy, episodes);
@@ -96,7 +96,7 @@ TEST(StageMetrics, ConditionalPickDeclaresTheCueThenThePickStages) {
 TEST(StageMetrics, TheExpertPassesEveryStageInOrderAndRecordsItsTarget) {
   VecEnv env = MakeEnv("conditional-pick", 12.0, 3);
   std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", env.scenario(), env.model(), env.num_envs());
-  Run run;
+  CellRun run;
   RunCell(env, *expert, 3, run);
   ASSERT_EQ(run.records.size(), 3u);
   for (const EpisodeRecord& record : run.records) {
@@ -130,7 +130,7 @@ TEST(StageMetrics, TheExpertPassesEveryStageInOrderAndRecordsItsTarget) {
 TEST(StageMetrics, TheHoldPolicyNeverGrasps) {
   VecEnv env = MakeEnv("clutter-pick-cube", 3.0, 2);
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs());
-  Run run;
+  CellRun run;
   RunCell(env, *hold, 2, run);
   ASSERT_EQ(run.records.size(), 2u);
   for (const EpisodeRecord& record : run.records) {
@@ -143,7 +143,7 @@ TEST(StageMetrics, TheHoldPolicyNeverGrasps) {
 TEST(StageMetrics, APolicyThatPicksTheWrongSideFailsAtTheCorrectTarget) {
   VecEnv env = MakeEnv("conditional-pick", 10.0, 3);
   WrongSidePolicy wrong_side(env);
-  Run run;
+  CellRun run;
   RunCell(env, wrong_side, 3, run);
   ASSERT_EQ(run.records.size(), 3u);
   int lifted_the_other = 0;
