@@ -14,6 +14,7 @@
 #include "batch/config_identity.h"
 #include "batch/output_folder.h"
 #include "batch/settings_difference.h"
+#include "batch/stage_record.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {
@@ -89,6 +90,7 @@ EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
   }
   record.galt = ParseGalt(line, "galt");
   record.galt_policy_rate = ParseGalt(line, "galt_policy_rate");
+  ParseStagesJson(line, record);
   return record;
 }
 

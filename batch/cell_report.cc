@@ -14,6 +14,7 @@
 #include "batch/action_csv.h"
 #include "batch/atomic_file.h"
 #include "batch/galt_summary.h"
+#include "batch/stage_record.h"
 #include "batch/remote/value_json.h"
 #include "batch/statistics.h"
 
@@ -83,6 +84,7 @@ std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
   };
   add_galt(record.galt, "galt");
   add_galt(record.galt_policy_rate, "galt_policy_rate");
+  AddStagesJson(record, line);
   return line.dump();
 }
 
@@ -124,6 +126,11 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
       {"ci_low", ci.low},
       {"ci_high", ci.high},
       {"ends", EndCountsJson(result.episodes)},
+      // Episodes the simulator failed (physics blew up): counted as failures in the success
+      // rate, reported apart from the policy's.
+      {"simulator_faults", std::count_if(result.episodes.begin(), result.episodes.end(),
+                                         [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kPhysicsBlowUp; })},
+      {"stages", StageFunnelJson(StageNames(config.task), result.episodes)},
       {"wall_s", result.wall_s},
       {"envs", result.envs},
       {"threads", info.threads},
@@ -139,7 +146,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
   };
   if (config.policy == "expert") summary["expert_mode"] = scenarios::ToString(config.expert_mode);
   // null under the fixed protocol, where no GALT is computed (as in the reference).
-  summary["galt"] = config.camera == CameraProtocol::kHead ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
+  summary["galt"] = !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
                                                           : nlohmann::json();
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);

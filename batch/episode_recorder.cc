@@ -1,5 +1,7 @@
 #include "batch/episode_recorder.h"
 
+#include "batch/vec_env.h"
+
 namespace tavis::batch {
 
 EpisodeRecorder::EpisodeRecorder(int slots, int max_control_steps, RecordSettings settings, int64_t first_episode,
@@ -7,14 +9,31 @@ EpisodeRecorder::EpisodeRecorder(int slots, int max_control_steps, RecordSetting
     : settings_(settings),
       finished_(std::move(finished)),
       action_logs_(static_cast<std::size_t>(slots)),
+      stage_progress_(static_cast<std::size_t>(slots)),
+      prompts_(static_cast<std::size_t>(slots)),
+      target_objects_(static_cast<std::size_t>(slots)),
+      targets_(static_cast<std::size_t>(slots)),
       next_release_(first_episode) {
   for (auto& log : action_logs_) log.reserve(static_cast<std::size_t>(max_control_steps));
 }
 
-void EpisodeRecorder::EpisodeStarted(const VecEnv&, int slot) { action_logs_[slot].clear(); }
+void EpisodeRecorder::EpisodeStarted(const VecEnv& env, int slot) {
+  action_logs_[slot].clear();
+  const scenarios::ScenarioDef& scenario = env.scenario();
+  const engine::BatchState& state = env.state();
+  std::optional<scenarios::StageProgress>& progress = stage_progress_[slot];
+  if (!progress) progress.emplace(scenario, env.model());
+  progress->Start();
+  prompts_[slot] = scenario.prompt != nullptr ? scenario.prompt(state, slot) : "";
+  target_objects_[slot] = env.model().objects[static_cast<std::size_t>(state.target(slot))].name;
+  targets_[slot] = scenario.target_facts != nullptr ? scenario.target_facts(state, slot) : scenarios::TargetFacts{};
+}
 
-void EpisodeRecorder::ActionChosen(const VecEnv&, int slot, const kinematics::Action& action) {
+void EpisodeRecorder::ActionChosen(const VecEnv& env, int slot, const kinematics::Action& action) {
   action_logs_[slot].push_back(action);
+  // The state this tick's action is chosen in: every state of the episode but its last, which
+  // EpisodeEnded looks at.
+  stage_progress_[slot]->Observe(env.state(), slot);
 }
 
 std::optional<kinematics::GaltResult> EpisodeRecorder::Galt(const std::vector<kinematics::Action>& log, int stride,
@@ -36,6 +55,13 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& env, int slot) {
   record.length_steps = (state.control_step[slot] + ticks_per_policy_step - 1) / ticks_per_policy_step;
   record.solver_messages = env.solver_messages(slot);
   record.invalid_action = state.invalid_action[slot];
+  record.prompt = prompts_[slot];
+  record.target_object = target_objects_[slot];
+  record.target = targets_[slot];
+  scenarios::StageProgress& progress = *stage_progress_[slot];
+  progress.Observe(state, slot);
+  const std::vector<scenarios::StageDef>& stages = env.scenario().stages;
+  for (std::size_t i = 0; i < stages.size(); ++i) record.stages.push_back({stages[i].name, progress.first_ticks()[i]});
   if (record.success) {
     record.galt = Galt(log, settings_.galt_stride, settings_.galt_fps);
     record.galt_policy_rate = Galt(log, settings_.policy_rate_stride, settings_.policy_rate_fps);

@@ -8,14 +8,26 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "batch/episode_driver.h"
 #include "engine/batch_state.h"
 #include "kinematics/action.h"
 #include "kinematics/galt.h"
+#include "scenarios/stage_progress.h"
 
 namespace tavis::batch {
+
+// One of the task's stages (scenarios/stage.h) in an episode: the control tick it was first
+// reached at, -1 if never.
+struct StageReached {
+  std::string name;
+  int first_tick = -1;
+
+  bool reached() const { return first_tick >= 0; }
+  bool operator==(const StageReached& other) const { return name == other.name && first_tick == other.first_tick; }
+};
 
 struct EpisodeRecord {
   int64_t episode = 0;
@@ -31,6 +43,12 @@ struct EpisodeRecord {
   // The same at the 20 Hz policy rate, for a policy acting faster (the scripted experts at 60 Hz),
   // as the paper's validation table reports both.
   std::optional<kinematics::GaltResult> galt_policy_rate;
+  // What the episode was about: the instruction the policy received, the target object's model
+  // name and the task's facts about it (its side, shelf, the box's open side).
+  std::string prompt;
+  std::string target_object;
+  scenarios::TargetFacts target;
+  std::vector<StageReached> stages;  // the task's stages, in declared order
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
   std::vector<kinematics::Action> actions;  // every control tick's, with RecordSettings::keep_actions
 };
@@ -70,6 +88,12 @@ class EpisodeRecorder : public EpisodeSink {
   RecordSettings settings_;
   Finished finished_;
   std::vector<std::vector<kinematics::Action>> action_logs_;  // [slot], reserved for a whole episode
+  // [slot]: made at the slot's first episode (the recorder learns the task from the env then);
+  // each slot touches only its own.
+  std::vector<std::optional<scenarios::StageProgress>> stage_progress_;
+  std::vector<std::string> prompts_;        // [slot] the running episode's prompt
+  std::vector<std::string> target_objects_;  // [slot]
+  std::vector<scenarios::TargetFacts> targets_;  // [slot]
   int64_t next_release_;
   std::map<int64_t, EpisodeRecord> waiting_;  // ended, after an episode still running
 };

@@ -77,7 +77,7 @@ std::vector<std::string> CamerasToRender(const Policy& policy, const EvaluationC
 RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks, const engine::PhysicsSettings& physics,
                                  bool served) {
   RecordSettings settings;
-  if (config.camera == CameraProtocol::kHead) {
+  if (!UsesFixedView(config.camera)) {
     settings.galt_stride = hold_ticks;
     settings.galt_fps = physics.control_hz / hold_ticks;
     const int policy_stride = physics.controls_per_policy();
@@ -195,7 +195,10 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     }
   }
   const std::vector<std::string> cameras = CamerasToRender(*policy, config);
-  if (!cameras.empty()) env.EnableCameras({cameras, result.render_width, result.render_height, false, false});
+  if (!cameras.empty()) {
+    env.EnableCameras({cameras, result.render_width, result.render_height, false, false});
+    env.BlockCameras(ProtocolBlackCameras(config.camera));
+  }
 
   const RecordSettings record_settings =
       RecordSettingsFor(config, policy->control_ticks_per_action(), env.model().physics, served != nullptr);

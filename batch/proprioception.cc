@@ -41,7 +41,7 @@ void ProprioceptionBatch::UpdateEnv(const engine::BatchState& state, int env) {
         break;
     }
   }
-  if (protocol_ == CameraProtocol::kFixed) {
+  if (UsesFixedView(protocol_)) {
     for (const int entry : neck_entries_) {
       if (entry >= 0) row[entry] = 0.0f;
     }

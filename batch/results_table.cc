@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/camera_protocol.h"
 #include "batch/statistics.h"
 #include "scenarios/registry.h"
 
@@ -212,7 +213,7 @@ bool ColumnBefore(const TableColumn& a, const TableColumn& b) {
     for (const scenarios::Split split : scenarios::kAllSplits) names.push_back(scenarios::ToString(split));
     return names;
   }();
-  static const std::vector<std::string> cameras = {"head", "fixed"};
+  static const std::vector<std::string>& cameras = CameraProtocolNames();
   return std::make_tuple(OrderKey(a.robot, robots), OrderKey(a.split, splits),
                          OrderKey(a.camera, cameras)) <
          std::make_tuple(OrderKey(b.robot, robots), OrderKey(b.split, splits),
@@ -304,7 +305,7 @@ CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<s
   RequireKnown(cell.task, "task", KnownTaskNames(), source);
   if (!known_robots.empty()) RequireKnown(cell.robot, "robot", known_robots, source);
   RequireKnown(cell.split, "split", KnownSplitNames(), source);
-  RequireKnown(cell.camera, "camera", {"head", "fixed"}, source);
+  RequireKnown(cell.camera, "camera", CameraProtocolNames(), source);
   cell.n_episodes = ReadCount(summary, "n_episodes", source);
   cell.n_successful = ReadCount(summary, "n_successful", source);
   if (cell.n_successful > cell.n_episodes) {

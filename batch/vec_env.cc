@@ -308,6 +308,15 @@ void VecEnv::SetCameraBlocked(int env, int camera, bool blocked) {
   state_.images_current[env] = 0;
 }
 
+void VecEnv::BlockCameras(const std::vector<std::string>& names) {
+  if (!cameras_) throw std::logic_error("VecEnv::BlockCameras: cameras are not enabled (call EnableCameras)");
+  for (const std::string& name : names) {
+    const int camera = cameras_->CameraIndex(name);
+    if (camera < 0) continue;
+    for (int env = 0; env < num_envs(); ++env) SetCameraBlocked(env, camera, true);
+  }
+}
+
 const render::ImageBatch* VecEnv::images() const { return cameras_ ? &cameras_->images() : nullptr; }
 
 void VecEnv::RenderPolicyTick() {

@@ -90,6 +90,9 @@ class VecEnv {
   // Blocks or unblocks one camera of one env: a blocked camera's image is all zero. `camera`
   // indexes settings.cameras. Requires EnableCameras.
   void SetCameraBlocked(int env, int camera, bool blocked);
+  // Blocks the named cameras in every env (a camera protocol's blacked-out images,
+  // ProtocolBlackCameras); a name that is not rendered is skipped. Requires EnableCameras.
+  void BlockCameras(const std::vector<std::string>& names);
 
   // Stage: render. Renders every running env at a policy tick (control_step a multiple of
   // controls_per_policy) if any of them has images older than its state; without cameras it does

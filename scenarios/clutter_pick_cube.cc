@@ -101,8 +101,10 @@ std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int n
 }  // namespace
 
 ScenarioDef ClutterPickCube() {
-  return {"clutter-pick-cube", "ClutterPickCubeTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
-          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
+  ScenarioDef def{"clutter-pick-cube", "ClutterPickCubeTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset,
+                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  def.stages = PickStages(def.success);
+  return def;
 }
 
 ScenarioDef BlockedClutterPickCube() {

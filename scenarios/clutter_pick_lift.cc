@@ -56,8 +56,10 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ClutterPickLift() {
-  return {"clutter-pick-lift", "ClutterPickLiftTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
-          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
+  ScenarioDef def{"clutter-pick-lift", "ClutterPickLiftTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset,
+                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  def.stages = PickStages(def.success);
+  return def;
 }
 
 }  // namespace tavis::scenarios

@@ -67,6 +67,13 @@ const char* Prompt(const engine::BatchState&, int) {
   return "Look at the card. If it is red, pick the object on the left. If it is green, pick the object on the right.";
 }
 
+// The card's rule names the target by its side: red the left object, green the right.
+TargetFacts Facts(const engine::BatchState& state, int env) {
+  TargetFacts facts;
+  facts.side = state.task[env].card_is_red ? "left" : "right";
+  return facts;
+}
+
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
   settings.mode = mode;
@@ -77,8 +84,11 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ConditionalPick() {
-  return {"conditional-pick", "ConditionalPickTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
-          &Prompt, &MakeExpert, /*cue_objects=*/{kCardName}, /*black_cameras=*/{}};
+  ScenarioDef def{"conditional-pick", "ConditionalPickTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset,
+                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{kCardName}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  def.stages = PickStages(def.success, kCardName);
+  def.target_facts = &Facts;
+  return def;
 }
 
 }  // namespace tavis::scenarios

@@ -99,6 +99,16 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 
 const char* Prompt(const engine::BatchState& state, int env) { return TargetPrompt(kPrompts, state, env); }
 
+// The shelf the target stands on: the highest board below it.
+TargetFacts Facts(const engine::BatchState& state, int env) {
+  TargetFacts facts;
+  const double z = state.ObjectPosition(env, state.target(env)).z();
+  for (std::size_t shelf = 0; shelf < kShelfZ.size(); ++shelf) {
+    if (kShelfZ[shelf] < z) facts.shelf = static_cast<int>(shelf);
+  }
+  return facts;
+}
+
 // Scans the three rows bottom to top, then reaches level into the target's slot from the front
 // and pulls it straight out past the success line.
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
@@ -116,8 +126,11 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef MultiShelfScan() {
-  return {"multi-shelf-scan", "MultiShelfScanTask", Suite::kTavisHead, PullOutPast(kSuccessMaxX), &Layout, &Reset, /*update=*/nullptr,
-          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
+  ScenarioDef def{"multi-shelf-scan", "MultiShelfScanTask", Suite::kTavisHead, PullOutPast(kSuccessMaxX), &Layout, &Reset,
+                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  def.stages = PickStages(def.success);
+  def.target_facts = &Facts;
+  return def;
 }
 
 }  // namespace tavis::scenarios

@@ -59,8 +59,10 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef OccludedReach() {
-  return {"occluded-reach", "OccludedReachTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
-          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
+  ScenarioDef def{"occluded-reach", "OccludedReachTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset,
+                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  def.stages = PickStages(def.success);
+  return def;
 }
 
 }  // namespace tavis::scenarios

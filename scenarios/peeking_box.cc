@@ -82,6 +82,12 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
 
 const char* Prompt(const engine::BatchState&, int) { return "Retrieve the object from inside the box."; }
 
+TargetFacts Facts(const engine::BatchState& state, int env) {
+  TargetFacts facts;
+  facts.open_side = state.task[env].open_side > 0 ? "left" : "right";
+  return facts;
+}
+
 double BoxYaw(const engine::BatchState& state, int env) {
   const Mat3 R = state.ObjectOrientation(env, kWallBack).toRotationMatrix();
   return std::atan2(R(1, 0), R(0, 0));
@@ -146,8 +152,11 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef PeekingBox() {
-  return {"peeking-box", "PeekingBoxTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset, /*update=*/nullptr,
-          &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}};
+  ScenarioDef def{"peeking-box", "PeekingBoxTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset,
+                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  def.stages = PickStages(def.success);
+  def.target_facts = &Facts;
+  return def;
 }
 
 }  // namespace tavis::scenarios

@@ -14,6 +14,7 @@
 #include "kinematics/action.h"
 #include "scenarios/expert_mode.h"
 #include "scenarios/split.h"
+#include "scenarios/stage.h"
 #include "scenarios/suite.h"
 
 namespace tavis::scenarios {
@@ -52,6 +53,20 @@ struct SuccessRule {
 SuccessRule LiftAbove(double height_m);
 SuccessRule PullOutPast(double x_m);
 
+// The stages of a pick (stage.h): the cue fixated within 0.15 rad of the best fixation the
+// neck's limits allow (a task with a cue: the cue card, the signal light), the target approached
+// within 5 cm, grasped, and lifted (a pull-out rule: pulled) 3 cm. Keys: cue_fixated,
+// target_approached, target_grasped, target_lifted or target_pulled.
+std::vector<StageDef> PickStages(const SuccessRule& success, const std::string& cue = "");
+
+// What an episode is about besides its target object, for its record; empty / -1 where the task
+// has no such variable.
+struct TargetFacts {
+  std::string side;       // where the target is, as the task's rule names it: "left" or "right"
+  int shelf = -1;         // the shelf the target stands on, 0 the lowest
+  std::string open_side;  // the side of the box whose wall is missing: "left" or "right"
+};
+
 struct ScenarioDef {
   std::string name;  // e.g. "clutter-pick-cube"
   // The reference's task class ("ClutterPickCubeTask"): LeRobot's `task` in its datasets.
@@ -75,6 +90,10 @@ struct ScenarioDef {
   std::vector<std::string> cue_objects;
   // Cameras whose image the policy receives all black (the camera still moves).
   std::vector<std::string> black_cameras;
+  // The steps a successful episode passes, in order (stage.h); recorded per episode.
+  std::vector<StageDef> stages;
+  // Optional: the task's facts of the env's episode (fixed at reset) besides its target.
+  TargetFacts (*target_facts)(const engine::BatchState& state, int env) = nullptr;
 
   // True on a control tick the success rule holds for the env's episode.
   bool Succeeded(const engine::BatchState& state, int env) const;

@@ -85,8 +85,10 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 ScenarioDef WaitThenAct() {
   SuccessRule success = LiftAbove(kHeadLiftSuccessZ);
   success.after_go = true;  // lifted before the light turns green does not count
-  return {"wait-then-act", "WaitThenActTask", Suite::kTavisHead, success, &Layout, &Reset, &Update, &Prompt, &MakeExpert,
-          /*cue_objects=*/{kLightName}, /*black_cameras=*/{}};
+  ScenarioDef def{"wait-then-act", "WaitThenActTask", Suite::kTavisHead, success, &Layout, &Reset, &Update, &Prompt,
+                  &MakeExpert, /*cue_objects=*/{kLightName}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  def.stages = PickStages(def.success, kLightName);
+  return def;
 }
 
 }  // namespace tavis::scenarios

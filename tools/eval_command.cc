@@ -265,7 +265,9 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--camera", options->camera,
                    "Camera protocol: head (the policy sees and moves the head camera; GALT computed) or fixed\n"
                    "(the fixed camera instead, neck actions and neck state zeroed, no GALT); episode i has the\n"
-                   "same scene under both, so a head and a fixed cell pair")
+                   "same scene under both, so a head and a fixed cell pair. Camera sets: head-only (wrist images\n"
+                   "black), wrists-only (head rules, the head image black), fixed-only (fixed rules, wrist images\n"
+                   "black); head is head + wrists, fixed is fixed + wrists; every set pairs with head")
       ->capture_default_str();
   eval->add_option("--policy", options->cell.policy,
                    "Policy (" + batch::CellPolicyNames() + "); openpi: a policy served over openpi's websocket\n"

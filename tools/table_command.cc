@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/results_table.h"
+#include "batch/stage_funnel_table.h"
 #include "configs/robot_config.h"
 #include "scenarios/suite.h"
 #include "tools/commands.h"
@@ -74,9 +75,9 @@ void RunTable(const TableOptions& options) {
   if (!options.label.empty() && options.pool_labels) throw std::invalid_argument("--label and --pool-labels exclude each other");
   // Two labels may evaluate the same cell and seed (two checkpoints): the label is part of the
   // duplicate check.
-  const std::vector<batch::CellCounts> cells =
-      batch::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir()), CellLabel);
-  const batch::ResultsTable table = batch::BuildResultsTable(CellsOfOneLabel(cells, options), options.suite);
+  const std::vector<batch::CellCounts> cells = CellsOfOneLabel(
+      batch::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir()), CellLabel), options);
+  const batch::ResultsTable table = batch::BuildResultsTable(cells, options.suite);
   for (const std::string& source : table.skipped_empty) {
     std::cerr << "tavis table: note: " << source << " holds no episodes (n_episodes 0): left out of the table\n";
   }
@@ -88,7 +89,8 @@ void RunTable(const TableOptions& options) {
     throw std::runtime_error("--out " + options.out_prefix + ": cannot create the folder " + folder.string() + ": " +
                              error.message());
   }
-  WriteFile(options.out_prefix + ".md", batch::FormatMarkdown(table, with_intervals));
+  WriteFile(options.out_prefix + ".md",
+            batch::FormatMarkdown(table, with_intervals) + batch::FormatFunnelMarkdown(table, cells));
   WriteFile(options.out_prefix + ".csv", batch::FormatCsv(table, with_intervals));
   std::cout << "wrote " << options.out_prefix << ".md and " << options.out_prefix << ".csv ("
             << table.tasks.size() << " tasks x " << table.columns.size() << " columns)\n";

@@ -109,7 +109,10 @@ PythonVecEnv::PythonVecEnv(const PythonVecEnvConfig& config)
                                 std::to_string(env_.model().physics.controls_per_policy()) + " (or give cameras=[])");
   }
   proprioception_.SetCameraProtocol(protocol_);
-  if (!cameras_.empty()) env_.EnableCameras({cameras_, config.image_width, config.image_height, false, false});
+  if (!cameras_.empty()) {
+    env_.EnableCameras({cameras_, config.image_width, config.image_height, false, false});
+    env_.BlockCameras(ProtocolBlackCameras(protocol_));
+  }
   EvaluationCellConfig cell;
   cell.camera = protocol_;
   RecordSettings settings = RecordSettingsFor(cell, ticks_per_step_, env_.model().physics, false);

@@ -8,9 +8,11 @@
 
 #include "batch/galt_summary.h"
 #include "batch/galt_validation.h"
+#include "batch/report/camera_set_pairs.h"
 #include "batch/report/paired_statistics.h"
 #include "batch/report/paper_figures.h"
 #include "batch/report/seed_groups.h"
+#include "batch/report/stage_funnel_section.h"
 #include "batch/results_table.h"
 #include "batch/statistics.h"
 #include "scenarios/registry.h"
@@ -93,7 +95,7 @@ Json CellJson(const CellEpisodes& cell) {
   for (const double length : lengths) length_values.push_back(length);
   json["successful_length_s"] = SpreadJson(lengths);
   json["successful_length_s"]["values"] = length_values;
-  if (cell.config.camera == CameraProtocol::kHead) {
+  if (!UsesFixedView(cell.config.camera)) {
     json["galt"] = GaltSummaryJson(SummarizeGalt(galt));
     json["galt"]["values_s"] = galt_values;
   } else {
@@ -158,7 +160,8 @@ Json SuccessJson(const std::string& suite, const std::vector<CellEpisodes>& cell
           {"id_minus_ood", differences}};
 }
 
-// The sections of one label's cells: success, successful_length, id_minus_ood, paired, galt.
+// The sections of one label's cells: success, successful_length, id_minus_ood, paired, galt, stages,
+// paired_camera_sets.
 Json LabelSections(const std::vector<CellEpisodes>& cells) {
   Json summary = Json::object();
   std::vector<GroupKey> order;
@@ -261,6 +264,8 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
   }
   std::stable_sort(galt.begin(), galt.end(), [](const Json& a, const Json& b) { return a["robot"] < b["robot"]; });
   summary["galt"] = galt;
+  summary["stages"] = StageFunnelRows(cells);
+  summary["paired_camera_sets"] = CameraSetPairRows(cells);
   return summary;
 }
 
@@ -289,7 +294,7 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, 
   }
   summary["labels"] = label_list;
   summary["cells"] = cell_list;
-  const char* sections[] = {"success", "successful_length", "id_minus_ood", "paired", "galt"};
+  const char* sections[] = {"success", "successful_length", "id_minus_ood", "paired", "galt", "stages", "paired_camera_sets"};
   for (const char* section : sections) summary[section] = Json::array();
   for (const std::string& label : labels) {
     std::vector<CellEpisodes> mine;

@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <sstream>
 
+#include "batch/report/camera_set_pairs.h"
+#include "batch/report/stage_funnel_section.h"
+
 namespace tavis::batch::report {
 namespace {
 
@@ -199,6 +202,8 @@ std::vector<TextTable> SweepTables(const Json& summary) {
   tables.push_back(PairedTable(summary));
   tables.push_back(LengthTable(summary));
   tables.push_back(GaltTable(summary));
+  tables.push_back(StageFunnelTable(summary));
+  if (!summary["paired_camera_sets"].empty()) tables.push_back(CameraSetPairTable(summary));
   if (!summary["seed_groups"].empty()) tables.push_back(SeedGroupTable(summary));
   tables.push_back(HeadlineTable(summary));
   return tables;

@@ -45,6 +45,31 @@ TEST(CameraProtocol, FixedGivesTheFixedCameraForTheHeadAndZeroesTheNeckActions) 
   }
 }
 
+TEST(CameraProtocol, CameraSetsKeepOneViewAndBlackOutTheRest) {
+  for (const std::string& name : CameraProtocolNames()) EXPECT_EQ(ToString(ParseCameraProtocol(name)), name);
+  EXPECT_EQ(CameraProtocolNames().size(), 5u);
+  const std::vector<std::string> policy = {"head", "left_wrist", "right_wrist"};
+  const std::vector<std::string> wrists = {"left_wrist", "right_wrist"};
+  EXPECT_EQ(ProtocolCameras(policy, CameraProtocol::kHeadOnly), policy);
+  EXPECT_EQ(ProtocolCameras(policy, CameraProtocol::kWristsOnly), policy) << "the head image is sent, black";
+  EXPECT_EQ(ProtocolCameras(policy, CameraProtocol::kFixedOnly),
+            (std::vector<std::string>{"fixed", "left_wrist", "right_wrist"}));
+  EXPECT_EQ(ProtocolBlackCameras(CameraProtocol::kHead), std::vector<std::string>{});
+  EXPECT_EQ(ProtocolBlackCameras(CameraProtocol::kFixed), std::vector<std::string>{});
+  EXPECT_EQ(ProtocolBlackCameras(CameraProtocol::kHeadOnly), wrists);
+  EXPECT_EQ(ProtocolBlackCameras(CameraProtocol::kFixedOnly), wrists);
+  EXPECT_EQ(ProtocolBlackCameras(CameraProtocol::kWristsOnly), std::vector<std::string>{"head"});
+  kinematics::Action action;
+  action.fill(0.5);
+  ApplyToAction(CameraProtocol::kWristsOnly, action);
+  ApplyToAction(CameraProtocol::kHeadOnly, action);
+  EXPECT_EQ(action[kinematics::action::kNeckYaw], 0.5) << "the head moves under head-only and wrists-only";
+  ApplyToAction(CameraProtocol::kFixedOnly, action);
+  EXPECT_EQ(action[kinematics::action::kNeckYaw], 0.0);
+  EXPECT_FALSE(UsesFixedView(CameraProtocol::kWristsOnly));
+  EXPECT_TRUE(UsesFixedView(CameraProtocol::kFixedOnly));
+}
+
 // Per episode: the object poses at its start and the largest neck angle reached.
 class NeckAndLayout : public EpisodeSink {
  public:
