@@ -9,6 +9,7 @@
 #include "batch/dataset/video/video_writer.h"
 #include "batch/rollout/observed_cameras.h"
 #include "batch/rollout/video_frame.h"
+#include "scenarios/stage_progress.h"
 
 namespace tavis::batch {
 namespace {
@@ -47,7 +48,25 @@ struct EpisodeVideoRecorder::Film {
   int64_t frames = 0;
   std::vector<render::RgbImage> end_views;  // [camera] at the episode's end
   std::string prompt;
+  std::optional<scenarios::StageProgress> stages;  // shown in the caption as the episode goes
+  std::vector<std::string> stage_names;
+
+  std::vector<StageReached> StagesSoFar() const {
+    std::vector<StageReached> reached;
+    for (std::size_t i = 0; i < stage_names.size(); ++i) reached.push_back({stage_names[i], stages->first_ticks()[i]});
+    return reached;
+  }
 };
+
+std::string StageCaption(const std::vector<StageReached>& stages) {
+  if (stages.empty()) return "";
+  int furthest = -1;
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    if (stages[i].reached()) furthest = static_cast<int>(i);
+  }
+  return "   stage " + std::to_string(furthest + 1) + "/" + std::to_string(stages.size()) + " " +
+         (furthest >= 0 ? stages[static_cast<std::size_t>(furthest)].name : std::string("none yet"));
+}
 
 VideoFormat ParseVideoFormat(const std::string& text) {
   if (text == "mp4") return VideoFormat::kMp4;
@@ -121,6 +140,9 @@ void EpisodeVideoRecorder::EpisodeStarted(const VecEnv& env, int slot) {
   film = std::make_unique<Film>();
   film->episode = episode;
   film->prompt = env.scenario().prompt(env.state(), slot);
+  film->stages.emplace(env.scenario(), env.model());
+  film->stages->Start();
+  for (const scenarios::StageDef& stage : env.scenario().stages) film->stage_names.push_back(stage.name);
   if (settings_.format == VideoFormat::kMp4) {
     film->encoder.emplace(video_, EpisodeVideoName(episode, settings_.format));
   } else {
@@ -167,8 +189,17 @@ void EpisodeVideoRecorder::TickStarting(const VecEnv& env) {
   tbb::parallel_for(0, env.num_envs(), [&](int slot) {
     if (!render_slots_[static_cast<std::size_t>(slot)]) return;
     Film& film = *running_[static_cast<std::size_t>(slot)];
-    Write(film, Frame(slot, {StepCaption(film.episode, state.control_step[slot], ticks_per_frame_, control_hz_), film.prompt}));
+    Write(film, Frame(slot, {StepCaption(film.episode, state.control_step[slot], ticks_per_frame_, control_hz_) +
+                                 StageCaption(film.StagesSoFar()),
+                             film.prompt}));
   });
+}
+
+void EpisodeVideoRecorder::ActionChosen(const VecEnv& env, int slot, const kinematics::Action&) {
+  // Every control tick's state, as the cell's recorder follows the stages, so the caption agrees
+  // with the episode's record.
+  const std::unique_ptr<Film>& film = running_[static_cast<std::size_t>(slot)];
+  if (film) film->stages->Observe(env.state(), slot);
 }
 
 void EpisodeVideoRecorder::EpisodeEnded(const VecEnv& env, int slot) {
@@ -199,7 +230,8 @@ void EpisodeVideoRecorder::RecordFinished(const EpisodeRecord& record) {
     views.push_back({cameras_[camera], view.height, view.width, view.pixels.data()});
   }
   const render::RgbImage frame = ComposeVideoFrame(
-      views, {StepCaption(film.episode, record.length_control_ticks, ticks_per_frame_, control_hz_), OutcomeCaption(record)});
+      views, {StepCaption(film.episode, record.length_control_ticks, ticks_per_frame_, control_hz_) + StageCaption(record.stages),
+              OutcomeCaption(record)});
   const fs::path folder = folder_();
   if (film.encoder) {
     for (int hold = 0; hold < kOutcomeFrames; ++hold) Write(film, frame);

@@ -51,6 +51,10 @@ void ValidateEpisodeVideoSettings(const EpisodeVideoSettings& settings);
 std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings, const std::vector<std::string>& policy_cameras,
                                       CameraProtocol protocol);
 
+// The caption's stage: the furthest of the task's stages reached so far (a task declares them
+// in the order it is done), e.g. "   stage 3/4 target_grasped"; empty for a task without stages.
+std::string StageCaption(const std::vector<StageReached>& stages);
+
 // The file name of episode i's video (mp4) or frame folder (png) inside the videos folder.
 std::string EpisodeVideoName(int64_t episode, VideoFormat format);
 
@@ -65,6 +69,7 @@ class EpisodeVideoRecorder : public EpisodeSink {
 
   void EpisodeStarted(const VecEnv& env, int slot) override;
   void TickStarting(const VecEnv& env) override;
+  void ActionChosen(const VecEnv& env, int slot, const kinematics::Action& action) override;
   void EpisodeEnded(const VecEnv& env, int slot) override;
 
   // The cell has recorded `record`: a filmed episode gets its outcome frames and its file is

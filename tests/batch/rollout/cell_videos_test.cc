@@ -115,6 +115,15 @@ TEST(EpisodeVideoSettings, DefaultCamerasArePoliciesThenFixed) {
   EXPECT_EQ(VideoCameras(chosen, {"head"}, CameraProtocol::kHead), (std::vector<std::string>{"right_wrist"}));
 }
 
+TEST(EpisodeVideoCaption, NamesTheFurthestStageReached) {
+  EXPECT_EQ(StageCaption({}), "");
+  EXPECT_EQ(StageCaption({{"cue_fixated", -1}, {"target_grasped", -1}}), "   stage 0/2 none yet");
+  EXPECT_EQ(StageCaption({{"cue_fixated", 12}, {"target_grasped", -1}}), "   stage 1/2 cue_fixated");
+  // The furthest one, though an earlier one was missed (the grasp test can miss a grasp).
+  EXPECT_EQ(StageCaption({{"target_approached", 40}, {"target_grasped", -1}, {"target_lifted", 90}}),
+            "   stage 3/3 target_lifted");
+}
+
 TEST(EpisodeVideoSettings, BadValuesAreNamed) {
   const auto message = [](const EpisodeVideoSettings& settings) {
     try {
