@@ -14,40 +14,19 @@ import glob
 import json
 import os
 import shutil
-import socket
-import subprocess
 import sys
 import tempfile
-import time
-import urllib.request
 
 import av
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tool_script_support import check, failures, passed_count, run, start_replay_server  # noqa: E402
+
 TAVIS, SOURCE = sys.argv[1], sys.argv[2]
-SERVER = os.path.join(SOURCE, "tests", "batch", "remote", "policy_server.py")
 SEED = "3"
 OUTCOME_FRAMES = 20  # the end held one second at 20 fps (episode_videos.h)
 # Four 320x240 tiles in two columns with 4-pixel margins, under the caption band.
 FRAME_WIDTH = 2 * 320 + 3 * 4
-failures = []
-passed = 0
-
-
-def check(condition, message):
-    global passed
-    passed += 1 if condition else 0
-    if not condition:
-        failures.append(message)
-        print("FAIL:", message, flush=True)
-
-
-def run(args, expect_ok=True):
-    result = subprocess.run(args, capture_output=True, text=True, timeout=600)
-    if expect_ok and result.returncode != 0:
-        sys.exit(f"{' '.join(args)} exited {result.returncode}:\n{result.stdout}\n{result.stderr}")
-    return result
-
-
 def records(cell):
     with open(os.path.join(cell, "episodes.jsonl"), "rb") as lines:
         return [json.loads(line) for line in lines]
@@ -98,25 +77,8 @@ def check_rollout_dataset(root, cell):
     check(rollouts == records(cell), "tavis_rollouts.jsonl differs from the cell's records")
 
 
-def free_port():
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
 def serve(actions):
-    port = free_port()
-    process = subprocess.Popen(["/usr/bin/python3", SERVER, "--port", str(port), "--horizon", "1", "--action-dim", "19",
-                                "--replay-actions", actions, "--lifetime", "600"], cwd=os.path.dirname(SERVER))
-    deadline = time.time() + 30
-    while time.time() < deadline:
-        try:
-            urllib.request.urlopen(f"http://127.0.0.1:{port}/healthz", timeout=1)
-            return process, f"ws://127.0.0.1:{port}"
-        except OSError:
-            time.sleep(0.1)
-    process.kill()
-    sys.exit("the stand-in policy server did not start")
+    return start_replay_server(SOURCE, actions, lifetime=600)
 
 
 def main():
@@ -209,7 +171,7 @@ def main():
                   f"{args}: exit {result.returncode}, {result.stderr.strip()}")
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    print(f"{passed} checks passed, {len(failures)} failed")
+    print(f"{passed_count()} checks passed, {len(failures)} failed")
     sys.exit(1 if failures else 0)
 
 

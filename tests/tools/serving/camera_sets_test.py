@@ -16,62 +16,23 @@ policy_server.py answers, by (episode, step), the actions `tavis eval --policy e
 import glob
 import json
 import os
-import socket
-import subprocess
 import sys
 import tempfile
-import time
-import urllib.request
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tool_script_support import check, failures, passed_count, run, start_replay_server  # noqa: E402
+
 TAVIS, SOURCE = sys.argv[1], sys.argv[2]
-SERVER = os.path.join(SOURCE, "tests", "batch", "remote", "policy_server.py")
 ROBOT, SEED, EPISODES = "gr1t2", "2", "2"
 HEAD, LEFT, RIGHT = "observation.images.OBS_HEAD", "observation.images.OBS_WRIST_LEFT", "observation.images.OBS_WRIST_RIGHT"
-failures = []
-passed = 0
-
-
-def check(condition, message):
-    global passed
-    passed += 1 if condition else 0
-    if not condition:
-        failures.append(message)
-        print("FAIL:", message, flush=True)
-
-
-def run(args):
-    result = subprocess.run(args, capture_output=True, text=True, timeout=600)
-    if result.returncode != 0:
-        sys.exit(f"{' '.join(args)} exited {result.returncode}:\n{result.stdout}\n{result.stderr}")
-    return result
-
-
-def free_port():
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
 def served_cell(task, camera, replay, work):
     record_dir, out = os.path.join(work, f"{task}_{camera}_requests"), os.path.join(work, f"{task}_{camera}")
-    port = free_port()
-    server = subprocess.Popen(["/usr/bin/python3", SERVER, "--port", str(port), "--horizon", "1", "--action-dim", "19",
-                               "--replay-actions", replay, "--record-dir", record_dir, "--lifetime", "900"],
-                              cwd=os.path.dirname(SERVER))
+    server, address = start_replay_server(SOURCE, replay, record_dir)
     try:
-        deadline = time.time() + 30
-        while True:
-            try:
-                urllib.request.urlopen(f"http://127.0.0.1:{port}/healthz", timeout=1)
-                break
-            except OSError:
-                if time.time() > deadline:
-                    sys.exit("policy_server.py did not become ready")
-                time.sleep(0.1)
         run([TAVIS, "eval", "--task", task, "--robot", ROBOT, "--seed", SEED, "--episodes", EPISODES, "--envs", "2",
-             "--policy", "openpi", "--server", f"ws://127.0.0.1:{port}", "--camera", camera, "--out", out, "--quiet"])
+             "--policy", "openpi", "--server", address, "--camera", camera, "--out", out, "--quiet"])
     finally:
         server.terminate()
         server.wait()
@@ -135,7 +96,7 @@ def main():
         # The replayed actions do not read images, so every set's records are head's: the cells pair.
         check(wrists_records == head_records and head_only_records == head_records, f"{task}: the sets' episodes pair with head's")
 
-    print(f"{passed} checks passed, {len(failures)} failed")
+    print(f"{passed_count()} checks passed, {len(failures)} failed")
     sys.exit(1 if failures else 0)
 
 

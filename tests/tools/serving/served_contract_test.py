@@ -20,18 +20,16 @@ import glob
 import json
 import os
 import shutil
-import socket
-import subprocess
 import sys
 import tempfile
-import time
-import urllib.request
 
 import av
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tool_script_support import check, failures, passed_count, run, start_replay_server  # noqa: E402
+
 TAVIS, SOURCE = sys.argv[1], sys.argv[2]
-SERVER = os.path.join(SOURCE, "tests", "batch", "remote", "policy_server.py")
 READ_PARQUET = os.path.join(SOURCE, "tests", "js", "read_parquet.mjs")
 TASK, ROBOT, SEED, WIDTH, HEIGHT = "clutter-pick-cube", "gr1t2", "3", 320, 240
 # The served size, 320x240. H.264 keeps every frame >= 30 dB here (worst 30.4 dB at its default
@@ -40,45 +38,8 @@ TASK, ROBOT, SEED, WIDTH, HEIGHT = "clutter-pick-cube", "gr1t2", "3", 320, 240
 # subsampled 2x2 by yuv420p, is what the codec loses there, not the quantiser.
 CRF = "17"
 CAMERAS = ["OBS_HEAD", "OBS_WRIST_LEFT", "OBS_WRIST_RIGHT"]
-failures = []
-passed = 0
-
-
-def check(condition, message):
-    global passed
-    passed += 1 if condition else 0
-    if not condition:
-        failures.append(message)
-        print("FAIL:", message, flush=True)
-
-
-def run(args, **kwargs):
-    result = subprocess.run(args, capture_output=True, text=True, timeout=600, **kwargs)
-    if result.returncode != 0:
-        sys.exit(f"{' '.join(args)} exited {result.returncode}:\n{result.stdout}\n{result.stderr}")
-    return result
-
-
-def free_port():
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
 def serve(replay, record_dir):
-    port = free_port()
-    process = subprocess.Popen(["/usr/bin/python3", SERVER, "--port", str(port), "--horizon", "1", "--action-dim", "19",
-                                "--replay-actions", replay, "--record-dir", record_dir, "--lifetime", "900"],
-                               cwd=os.path.dirname(SERVER))
-    deadline = time.time() + 30
-    while time.time() < deadline:
-        try:
-            urllib.request.urlopen(f"http://127.0.0.1:{port}/healthz", timeout=1)
-            return process, f"ws://127.0.0.1:{port}"
-        except OSError:
-            time.sleep(0.1)
-    process.kill()
-    sys.exit("policy_server.py did not become ready")
+    return start_replay_server(SOURCE, replay, record_dir)
 
 
 def decoded_frames(path):
@@ -188,7 +149,7 @@ def main():
             check(np.array_equal(request["observation.state"], requests[key]["observation.state"]), f"default state at {key}")
             same += 1
     check(same >= 20, f"only {same} default requests compared")
-    print(f"{passed} passed, {len(failures)} failed")
+    print(f"{passed_count()} passed, {len(failures)} failed")
     if not failures:
         shutil.rmtree(work)
     sys.exit(1 if failures else 0)
