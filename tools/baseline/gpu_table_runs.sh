@@ -19,7 +19,7 @@
 set -u
 T=$1
 W=$2
-STEPS=${STEPS:-2000}
+STEPS=${STEPS:-1800}
 mkdir -p "$W/logs" "$W/eval" "$W/ckpt" "$W/ds"
 export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1 PYTORCH_CUDA_ALLOC_CONF=expandable_segments:True
 stamp() { echo "$(date -u +%H:%M:%S) $*" >> "$W/progress.log"; }
