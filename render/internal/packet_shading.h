@@ -161,12 +161,10 @@ struct HitGeometry {
 // directions and hit distances; lanes without a hit compute harmless values nobody reads.
 // (__restrict: the arrays do not overlap; without it GCC needs more run-time overlap checks than
 // it allows and leaves the loop scalar.)
-// kAnyRound: whether some lane needs a round shape's normal (the square root and divisions are
-// skipped for packets of boxes and planes).
-template <int K, bool kAnyRound>
-void ComputeHitGeometryOf(const Eigen::Vector3f& origin, const float* __restrict dir_x, const float* __restrict dir_y,
-                          const float* __restrict dir_z, const float* __restrict t, const Eigen::Vector3f& to_light,
-                          const HitLanes<K>& __restrict lanes, HitGeometry<K>* __restrict out) {
+template <int K>
+void ComputeHitGeometry(const Eigen::Vector3f& origin, const float* __restrict dir_x, const float* __restrict dir_y,
+                        const float* __restrict dir_z, const float* __restrict t, const Eigen::Vector3f& to_light,
+                        const HitLanes<K>& __restrict lanes, HitGeometry<K>* __restrict out) {
   const float ox = origin.x(), oy = origin.y(), oz = origin.z();
   const float lx = to_light.x(), ly = to_light.y(), lz = to_light.z();
   const auto& f = lanes.frame;
@@ -185,25 +183,23 @@ void ComputeHitGeometryOf(const Eigen::Vector3f& origin, const float* __restrict
     out->p_local[0][k] = qx;
     out->p_local[1][k] = qy;
     out->p_local[2][k] = qz;
-    // LocalNormal: box faces and planes (fixed), cylinder caps (by the sign of z) ...
-    float mx = lanes.fixed_normal[0][k];
-    float my = lanes.fixed_normal[1][k];
-    float mz = Blend(lanes.cap[k] != 0, Blend(qz >= 0.0f, 1.0f, -1.0f), lanes.fixed_normal[2][k]);
-    if constexpr (kAnyRound) {
-      // ... and round shapes (NormalizedOrUp of the offset from the nearest centre).
-      const float h = lanes.round_half_length[k];
-      const float upper = qz < h ? qz : h;
-      const float centre_z = upper > -h ? upper : -h;
-      const float rz = qz - centre_z;
-      // Eigen's order for 3-vectors: x + (y + z), in norms and dot products alike.
-      const float length = std::sqrt(qx * qx + (qy * qy + rz * rz));
-      const float unit_x = qx / length, unit_y = qy / length, unit_z = rz / length;
-      const bool has_length = length > 1e-12f;
-      const bool round = lanes.round[k] != 0;
-      mx = Blend(round, Blend(has_length, unit_x, 0.0f), mx);
-      my = Blend(round, Blend(has_length, unit_y, 0.0f), my);
-      mz = Blend(round, Blend(has_length, unit_z, 1.0f), mz);
-    }
+    // LocalNormal: round shapes (NormalizedOrUp of the offset from the nearest centre).
+    const float h = lanes.round_half_length[k];
+    const float upper = qz < h ? qz : h;
+    const float centre_z = upper > -h ? upper : -h;
+    const float rz = qz - centre_z;
+    // Eigen's order for 3-vectors: x + (y + z), in norms and dot products alike.
+    const float length = std::sqrt(qx * qx + (qy * qy + rz * rz));
+    const float unit_x = qx / length, unit_y = qy / length, unit_z = rz / length;
+    const bool has_length = length > 1e-12f;
+    const float round_x = Blend(has_length, unit_x, 0.0f);
+    const float round_y = Blend(has_length, unit_y, 0.0f);
+    const float round_z = Blend(has_length, unit_z, 1.0f);
+    const float cap_z = Blend(qz >= 0.0f, 1.0f, -1.0f);
+    const bool round = lanes.round[k] != 0;
+    const float mx = Blend(round, round_x, lanes.fixed_normal[0][k]);
+    const float my = Blend(round, round_y, lanes.fixed_normal[1][k]);
+    const float mz = Blend(round, round_z, Blend(lanes.cap[k] != 0, cap_z, lanes.fixed_normal[2][k]));
     out->n_local[0][k] = mx;
     out->n_local[1][k] = my;
     out->n_local[2][k] = mz;
@@ -220,18 +216,6 @@ void ComputeHitGeometryOf(const Eigen::Vector3f& origin, const float* __restrict
     out->n[2][k] = nz;
     const float cosine = nx * lx + (ny * ly + nz * lz);
     out->cosine[k] = Blend(0.0f < cosine, cosine, 0.0f);
-  }
-}
-
-template <int K>
-void ComputeHitGeometry(const Eigen::Vector3f& origin, const float* dir_x, const float* dir_y, const float* dir_z,
-                        const float* t, const Eigen::Vector3f& to_light, const HitLanes<K>& lanes, HitGeometry<K>* out) {
-  int32_t any_round = 0;
-  for (int k = 0; k < K; ++k) any_round |= lanes.round[k];
-  if (any_round != 0) {
-    ComputeHitGeometryOf<K, true>(origin, dir_x, dir_y, dir_z, t, to_light, lanes, out);
-  } else {
-    ComputeHitGeometryOf<K, false>(origin, dir_x, dir_y, dir_z, t, to_light, lanes, out);
   }
 }
 

@@ -122,22 +122,14 @@ void WriteLanes(const ImageView& image, const SrgbEncoder& encoder, const float 
   for (int c = 0; c < 3; ++c) {
     for (int k = 0; k < K; ++k) index[c][k] = SrgbEncoder::TableIndex(linear[c][k]);
   }
-  // Local copies: the byte stores may alias anything, so fields read through `image` would be
-  // reloaded after each of them.
-  uint8_t* const rgb = image.rgb;
-  float* const depth_image = image.depth;
-  int32_t* const object_id_image = image.object_id;
   for (int k = 0; k < K; ++k) {
     if (write[k] == 0) continue;
-    const std::size_t at = pixel[k];
-    const uint8_t r = encoder.Lookup(index[0][k]);
-    const uint8_t g = encoder.Lookup(index[1][k]);
-    const uint8_t b = encoder.Lookup(index[2][k]);
-    if (depth_image != nullptr) depth_image[at] = depth[k];
-    if (object_id_image != nullptr) object_id_image[at] = object_id[k];
-    rgb[3 * at] = r;
-    rgb[3 * at + 1] = g;
-    rgb[3 * at + 2] = b;
+    uint8_t* rgb = image.rgb + 3 * pixel[k];
+    rgb[0] = encoder.Lookup(index[0][k]);
+    rgb[1] = encoder.Lookup(index[1][k]);
+    rgb[2] = encoder.Lookup(index[2][k]);
+    if (image.depth != nullptr) image.depth[pixel[k]] = depth[k];
+    if (image.object_id != nullptr) image.object_id[pixel[k]] = object_id[k];
   }
 }
 
