@@ -69,40 +69,11 @@ struct HitLanes {
   // Lane k hit triangle `primitive` of an instance with this surface, pose and reflectance `rgb`.
   void GatherHit(int k, const SurfaceModel& surface, const InstanceFrame& instance_frame, uint32_t primitive,
                  const Eigen::Vector3f& rgb) {
-    GatherInstance(k, surface, instance_frame, rgb);
-    GatherPrimitive(k, surface, primitive);
-  }
-
-  // What lane k takes from the instance it hit (the same for all lanes on that instance).
-  void GatherInstance(int k, const SurfaceModel& surface, const InstanceFrame& instance_frame,
-                      const Eigen::Vector3f& rgb) {
     for (int i = 0; i < 12; ++i) frame[i][k] = instance_frame.xfm[i];
     for (int c = 0; c < 3; ++c) base[c][k] = rgb[c];
     kind[k] = surface.appearance.emissive ? LaneKind::kEmissive : LaneKind::kDiffuse;
     object_id[k] = surface.object_id;
     labelled[k] = surface.appearance.label != LabelPattern::kNone ? &surface : nullptr;
-  }
-
-  // Copies lane 0's instance fields (GatherInstance) to every lane: a packet whose rays all hit
-  // one instance gathers them once. The copies are whole-array loops, which vectorise.
-  void BroadcastInstance() {
-    for (int i = 0; i < 12; ++i) {
-      const float value = frame[i][0];
-      for (int k = 1; k < K; ++k) frame[i][k] = value;
-    }
-    for (int c = 0; c < 3; ++c) {
-      const float value = base[c][0];
-      for (int k = 1; k < K; ++k) base[c][k] = value;
-    }
-    for (int k = 1; k < K; ++k) {
-      kind[k] = kind[0];
-      object_id[k] = object_id[0];
-      labelled[k] = labelled[0];
-    }
-  }
-
-  // How lane k finds its normal on triangle `primitive` of a shape with this surface.
-  void GatherPrimitive(int k, const SurfaceModel& surface, uint32_t primitive) {
     switch (surface.kind) {
       case ShapeKind::kBox: {
         const uint32_t face = primitive / 2;
@@ -188,8 +159,7 @@ void ComputeHitGeometry(const Eigen::Vector3f& origin, const float* __restrict d
     const float upper = qz < h ? qz : h;
     const float centre_z = upper > -h ? upper : -h;
     const float rz = qz - centre_z;
-    // Eigen's order for 3-vectors: x + (y + z), in norms and dot products alike.
-    const float length = std::sqrt(qx * qx + (qy * qy + rz * rz));
+    const float length = std::sqrt(qx * qx + qy * qy + rz * rz);
     const float unit_x = qx / length, unit_y = qy / length, unit_z = rz / length;
     const bool has_length = length > 1e-12f;
     const float round_x = Blend(has_length, unit_x, 0.0f);
@@ -207,14 +177,14 @@ void ComputeHitGeometry(const Eigen::Vector3f& origin, const float* __restrict d
     float nx = f[0][k] * mx + f[3][k] * my + f[6][k] * mz;
     float ny = f[1][k] * mx + f[4][k] * my + f[7][k] * mz;
     float nz = f[2][k] * mx + f[5][k] * my + f[8][k] * mz;
-    const bool behind = nx * dir_x[k] + (ny * dir_y[k] + nz * dir_z[k]) > 0.0f;
+    const bool behind = nx * dir_x[k] + ny * dir_y[k] + nz * dir_z[k] > 0.0f;
     nx = Blend(behind, -nx, nx);
     ny = Blend(behind, -ny, ny);
     nz = Blend(behind, -nz, nz);
     out->n[0][k] = nx;
     out->n[1][k] = ny;
     out->n[2][k] = nz;
-    const float cosine = nx * lx + (ny * ly + nz * lz);
+    const float cosine = nx * lx + ny * ly + nz * lz;
     out->cosine[k] = Blend(0.0f < cosine, cosine, 0.0f);
   }
 }

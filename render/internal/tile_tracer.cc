@@ -239,36 +239,19 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
       counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
 
+      // Scalar pass: what each lane hit.
       for (int k = 0; k < K; ++k) {
         pixel[k] = static_cast<std::size_t>(block_y + kLanes.row_index[k]) * static_cast<std::size_t>(image.width) +
                    static_cast<std::size_t>(block_x + kLanes.column_index[k]);
-      }
-      // Scalar pass: what each lane hit. Packets whose rays all hit one instance (most, on large
-      // surfaces) read that instance once.
-      bool one_instance = true;
-      for (int k = 0; k < K; ++k) {
-        one_instance &= (valid[k] != 0) & (primary.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) &
-                        (primary.hit.instID[0][k] == primary.hit.instID[0][0]);
-      }
-      if (one_instance) {
-        counts.primary_hits += K;
-        const unsigned int instance = primary.hit.instID[0][0];
-        const SurfaceModel& surface = env.surfaces[instance];
-        lanes.GatherInstance(0, surface, env.frames[instance], BaseReflectance(env, instance));
-        lanes.BroadcastInstance();
-        for (int k = 0; k < K; ++k) lanes.GatherPrimitive(k, surface, primary.hit.primID[k]);
-      } else {
-        for (int k = 0; k < K; ++k) {
-          if (valid[k] == 0) {
-            lanes.SetEmpty(k, LaneKind::kInactive, lighting.background());
-          } else if (primary.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-            lanes.SetEmpty(k, LaneKind::kMiss, lighting.background());
-          } else {
-            ++counts.primary_hits;
-            const unsigned int instance = primary.hit.instID[0][k];
-            lanes.GatherHit(k, env.surfaces[instance], env.frames[instance], primary.hit.primID[k],
-                            BaseReflectance(env, instance));
-          }
+        if (valid[k] == 0) {
+          lanes.SetEmpty(k, LaneKind::kInactive, lighting.background());
+        } else if (primary.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+          lanes.SetEmpty(k, LaneKind::kMiss, lighting.background());
+        } else {
+          ++counts.primary_hits;
+          const unsigned int instance = primary.hit.instID[0][k];
+          lanes.GatherHit(k, env.surfaces[instance], env.frames[instance], primary.hit.primID[k],
+                          BaseReflectance(env, instance));
         }
       }
 
