@@ -29,24 +29,6 @@ class LightingModel {
     return rgb.cwiseProduct(sky * ambient_ + direct_cosine * direct_);
   }
 
-  // Shade() over K lanes in structure-of-arrays form: out[c][k] is channel c of
-  // Shade(rgb[.][k], a normal with z component nz[k], direct_cosine[k]), computed in the same
-  // order, so the values are identical. One loop without branches over arrays that do not
-  // overlap (__restrict), so it vectorises.
-  template <int K>
-  void ShadeLanes(const float (&__restrict rgb)[3][K], const float (&__restrict nz)[K],
-                  const float (&__restrict direct_cosine)[K], float (&__restrict out)[3][K]) const {
-    const float half_bounce = ground_bounce_ * 0.5f;
-    const float ambient_r = ambient_.x(), ambient_g = ambient_.y(), ambient_b = ambient_.z();
-    const float direct_r = direct_.x(), direct_g = direct_.y(), direct_b = direct_.z();
-    for (int k = 0; k < K; ++k) {
-      const float sky = 0.5f * (1.0f + nz[k]) + half_bounce * (1.0f - nz[k]);
-      out[0][k] = rgb[0][k] * (sky * ambient_r + direct_cosine[k] * direct_r);
-      out[1][k] = rgb[1][k] * (sky * ambient_g + direct_cosine[k] * direct_g);
-      out[2][k] = rgb[2][k] * (sky * ambient_b + direct_cosine[k] * direct_b);
-    }
-  }
-
  private:
   Eigen::Vector3f to_light_;
   Eigen::Vector3f ambient_;  // dome irradiance on an upward face, times exposure
@@ -61,18 +43,11 @@ class SrgbEncoder {
  public:
   SrgbEncoder();
 
-  uint8_t Encode(float linear) const { return table_[static_cast<std::size_t>(TableIndex(linear))]; }
-
-  // Encode() in two steps, so the index arithmetic can run over many values at once (it
-  // vectorises; the table look-up does not): Encode(x) == Lookup(TableIndex(x)).
-  static int32_t TableIndex(float linear) {
+  uint8_t Encode(float linear) const {
     const float scaled = linear * static_cast<float>(kSteps - 1) + 0.5f;
-    // Clamped in float before the conversion, so no lane converts an out-of-range value.
-    const float low_clamped = scaled > 0.0f ? scaled : 0.0f;
-    const float clamped = low_clamped < static_cast<float>(kSteps - 1) ? low_clamped : static_cast<float>(kSteps - 1);
-    return static_cast<int32_t>(clamped);
+    const int index = scaled <= 0.0f ? 0 : scaled >= kSteps - 1 ? kSteps - 1 : static_cast<int>(scaled);
+    return table_[static_cast<std::size_t>(index)];
   }
-  uint8_t Lookup(int32_t index) const { return table_[static_cast<std::size_t>(index)]; }
 
  private:
   static constexpr int kSteps = 4096;

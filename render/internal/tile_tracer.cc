@@ -4,8 +4,6 @@
 #include <cstring>
 #include <limits>
 
-#include "render/internal/packet_shading.h"
-
 namespace tavis::render::internal {
 namespace {
 
@@ -113,32 +111,36 @@ int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const 
   return count;
 }
 
-// Writes the pixels of a packet's lanes: sRGB colour, and depth and object id where the image
-// has them. The colours' table indices are computed for all lanes at once.
-template <int K>
-void WriteLanes(const ImageView& image, const SrgbEncoder& encoder, const float (&linear)[3][K], const int32_t* write,
-                const std::size_t* pixel, const float* depth, const int32_t* object_id) {
-  alignas(64) int32_t index[3][K];
-  for (int c = 0; c < 3; ++c) {
-    for (int k = 0; k < K; ++k) index[c][k] = SrgbEncoder::TableIndex(linear[c][k]);
+// Writes one shaded pixel: sRGB colour, and depth and object id where the image has them.
+struct PixelWriter {
+  const ImageView& image;
+  const SrgbEncoder& encoder;
+
+  void Write(std::size_t pixel, const Eigen::Vector3f& linear, float depth, int32_t object_id) const {
+    uint8_t* rgb = image.rgb + 3 * pixel;
+    rgb[0] = encoder.Encode(linear.x());
+    rgb[1] = encoder.Encode(linear.y());
+    rgb[2] = encoder.Encode(linear.z());
+    if (image.depth != nullptr) image.depth[pixel] = depth;
+    if (image.object_id != nullptr) image.object_id[pixel] = object_id;
   }
-  for (int k = 0; k < K; ++k) {
-    if (write[k] == 0) continue;
-    uint8_t* rgb = image.rgb + 3 * pixel[k];
-    rgb[0] = encoder.Lookup(index[0][k]);
-    rgb[1] = encoder.Lookup(index[1][k]);
-    rgb[2] = encoder.Lookup(index[2][k]);
-    if (image.depth != nullptr) image.depth[pixel[k]] = depth[k];
-    if (image.object_id != nullptr) image.object_id[pixel[k]] = object_id[k];
-  }
-}
+};
 
 // Lit diffuse pixels waiting for their shadow ray, packed into full packets across the blocks of
-// a tile: one rtcOccluded call per K waiting pixels rather than one per block. What each pixel
-// needs once its shadow ray is known is kept in structure-of-arrays form, lane k for ray k.
+// a tile: one rtcOccluded call per K waiting pixels rather than one per block.
 template <int K>
 class ShadowQueue {
  public:
+  // What a waiting pixel needs once its shadow ray is known.
+  struct Waiting {
+    std::size_t pixel;
+    Eigen::Vector3f colour;
+    Eigen::Vector3f normal;
+    float cosine;
+    float depth;
+    int32_t object_id;
+  };
+
   explicit ShadowQueue(const Eigen::Vector3f& to_light)
       : context_(MakeContext(RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT)) {
     // Shadow rays all go towards the distant light; only their origins change.
@@ -152,24 +154,17 @@ class ShadowQueue {
 
   bool full() const { return size_ == K; }
 
-  // Queues lane k of a shaded packet: its shadow ray leaves p + kShadowRayOffset * n.
-  void Push(const HitGeometry<K>& hit, const float (&colour)[3][K], int k, std::size_t pixel, float depth,
-            int32_t object_id) {
-    rays_.org_x[size_] = hit.p[0][k] + kShadowRayOffset * hit.n[0][k];
-    rays_.org_y[size_] = hit.p[1][k] + kShadowRayOffset * hit.n[1][k];
-    rays_.org_z[size_] = hit.p[2][k] + kShadowRayOffset * hit.n[2][k];
-    for (int c = 0; c < 3; ++c) colour_[c][size_] = colour[c][k];
-    nz_[size_] = hit.n[2][k];
-    cosine_[size_] = hit.cosine[k];
-    pixel_[size_] = pixel;
-    depth_[size_] = depth;
-    object_id_[size_] = object_id;
+  void Push(const Eigen::Vector3f& origin, const Waiting& waiting) {
+    rays_.org_x[size_] = origin.x();
+    rays_.org_y[size_] = origin.y();
+    rays_.org_z[size_] = origin.z();
+    waiting_[size_] = waiting;
     ++size_;
   }
 
   // Traces the waiting shadow rays, writes their pixels and empties the queue; returns the number
   // of rays traced.
-  int Flush(RTCScene scene, const Shading& shading, const ImageView& image) {
+  int Flush(RTCScene scene, const LightingModel& lighting, const PixelWriter& writer) {
     if (size_ == 0) return 0;
     alignas(64) int valid[K];
     for (int k = 0; k < K; ++k) {
@@ -177,14 +172,12 @@ class ShadowQueue {
       rays_.tfar[k] = k < size_ ? std::numeric_limits<float>::infinity() : 0.0f;  // inactive lanes stay finite
     }
     Packet<K>::Occluded(valid, scene, &context_, &rays_);
-    alignas(64) float direct_cosine[K];
-    for (int k = 0; k < K; ++k) {
+    for (int k = 0; k < size_; ++k) {
+      const Waiting& w = waiting_[k];
       // rtcOccluded sets tfar to -inf for blocked rays.
-      direct_cosine[k] = Blend(rays_.tfar[k] < 0.0f, 0.0f, cosine_[k]);
+      const bool blocked = rays_.tfar[k] < 0.0f;
+      writer.Write(w.pixel, lighting.Shade(w.colour, w.normal, blocked ? 0.0f : w.cosine), w.depth, w.object_id);
     }
-    alignas(64) float linear[3][K];
-    shading.lighting->ShadeLanes<K>(colour_, nz_, direct_cosine, linear);
-    WriteLanes<K>(image, *shading.encoder, linear, valid, pixel_, depth_, object_id_);
     const int traced = size_;
     size_ = 0;
     return traced;
@@ -195,20 +188,9 @@ class ShadowQueue {
   // never returned on an AVX-512 AMD CPU (observed on the development machine).
   RTCIntersectContext context_;
   alignas(64) typename Packet<K>::Ray rays_;
-  alignas(64) float colour_[3][K] = {};
-  alignas(64) float nz_[K] = {};
-  alignas(64) float cosine_[K] = {};
-  alignas(64) float depth_[K] = {};
-  alignas(64) int32_t object_id_[K] = {};
-  std::size_t pixel_[K] = {};
+  Waiting waiting_[K];
   int size_ = 0;
 };
-
-// The reflectance a hit on `instance` starts from: the per-env override or the palette colour.
-// Every albedo the shading reads comes through here.
-inline Eigen::Vector3f BaseReflectance(const EnvView& env, unsigned int instance) {
-  return env.rgb_override != nullptr ? env.rgb_override[instance] : env.surfaces[instance].appearance.rgb;
-}
 
 template <int K>
 TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect,
@@ -217,19 +199,12 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   static constexpr LaneOffsets<K> kLanes;
   constexpr int kBlockHeight = K / P::kBlockWidth;
   const LightingModel& lighting = *shading.lighting;
+  const PixelWriter writer{image, *shading.encoder};
   const Eigen::Vector3f to_light = lighting.to_light();
   const bool shadows = lighting.shadows();
   RTCIntersectContext primary_context = MakeContext(RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
   alignas(64) int valid[K];
   alignas(64) typename P::RayHit primary;
-  alignas(64) HitLanes<K> lanes;
-  alignas(64) HitGeometry<K> hit;
-  alignas(64) float colour[3][K];
-  alignas(64) float shaded[3][K];
-  alignas(64) float linear[3][K];
-  alignas(64) float depth[K];
-  alignas(64) int32_t write_now[K];
-  std::size_t pixel[K];
   ShadowQueue<K> queue(to_light);
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
@@ -239,63 +214,45 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
       counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
 
-      // Scalar pass: what each lane hit.
       for (int k = 0; k < K; ++k) {
-        pixel[k] = static_cast<std::size_t>(block_y + kLanes.row_index[k]) * static_cast<std::size_t>(image.width) +
-                   static_cast<std::size_t>(block_x + kLanes.column_index[k]);
-        if (valid[k] == 0) {
-          lanes.SetEmpty(k, LaneKind::kInactive, lighting.background());
-        } else if (primary.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-          lanes.SetEmpty(k, LaneKind::kMiss, lighting.background());
-        } else {
-          ++counts.primary_hits;
-          const unsigned int instance = primary.hit.instID[0][k];
-          lanes.GatherHit(k, env.surfaces[instance], env.frames[instance], primary.hit.primID[k],
-                          BaseReflectance(env, instance));
+        if (valid[k] == 0) continue;
+        const std::size_t pixel =
+            static_cast<std::size_t>(block_y + kLanes.row_index[k]) * static_cast<std::size_t>(image.width) +
+            static_cast<std::size_t>(block_x + kLanes.column_index[k]);
+        if (primary.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+          writer.Write(pixel, lighting.background(), 0.0f, kBackgroundObjectId);
+          continue;
         }
-      }
-
-      // Lane-parallel: hit points, normals, the light's cosine.
-      ComputeHitGeometry<K>(camera.origin, primary.ray.dir_x, primary.ray.dir_y, primary.ray.dir_z, primary.ray.tfar,
-                            to_light, lanes, &hit);
-      for (int c = 0; c < 3; ++c) {
-        for (int k = 0; k < K; ++k) colour[c][k] = lanes.base[c][k];
-      }
-      // Labels (scalar, only on labelled surfaces).
-      for (int k = 0; k < K; ++k) {
-        if (lanes.labelled[k] == nullptr || lanes.kind[k] != LaneKind::kDiffuse) continue;
-        const SurfaceModel& surface = *lanes.labelled[k];
-        const Eigen::Vector3f p_local(hit.p_local[0][k], hit.p_local[1][k], hit.p_local[2][k]);
-        const Eigen::Vector3f n_local(hit.n_local[0][k], hit.n_local[1][k], hit.n_local[2][k]);
-        if (InsideLabel(surface, p_local, n_local)) {
-          for (int c = 0; c < 3; ++c) colour[c][k] = surface.appearance.label_rgb[c];
+        ++counts.primary_hits;
+        const unsigned int instance = primary.hit.instID[0][k];
+        const SurfaceModel& surface = env.surfaces[instance];
+        const float depth = primary.ray.tfar[k];
+        const Eigen::Vector3f base = env.rgb_override != nullptr ? env.rgb_override[instance] : surface.appearance.rgb;
+        if (surface.appearance.emissive) {
+          writer.Write(pixel, base, depth, surface.object_id);
+          continue;
         }
-      }
-
-      // Lane-parallel: lighting without shadows; misses show the dome, emissive lanes their colour.
-      lighting.ShadeLanes<K>(colour, hit.n[2], hit.cosine, shaded);
-      for (int k = 0; k < K; ++k) {
-        const bool diffuse = lanes.kind[k] == LaneKind::kDiffuse;
-        const bool miss = lanes.kind[k] == LaneKind::kMiss;
-        linear[0][k] = Blend(diffuse, shaded[0][k], colour[0][k]);
-        linear[1][k] = Blend(diffuse, shaded[1][k], colour[1][k]);
-        linear[2][k] = Blend(diffuse, shaded[2][k], colour[2][k]);
-        depth[k] = Blend(miss, 0.0f, primary.ray.tfar[k]);
-        // Lit diffuse lanes wait for their shadow ray; the others are final now. (& rather than
-        // &&: no branches in the loop.)
-        const bool waits = shadows & diffuse & (hit.cosine[k] > 0.0f);
-        write_now[k] = -static_cast<int32_t>((lanes.kind[k] != LaneKind::kInactive) & !waits);
-      }
-      WriteLanes<K>(image, *shading.encoder, linear, write_now, pixel, depth, lanes.object_id);
-
-      for (int k = 0; k < K; ++k) {
-        if (write_now[k] != 0 || lanes.kind[k] != LaneKind::kDiffuse) continue;
-        queue.Push(hit, colour, k, pixel[k], depth[k], lanes.object_id[k]);
-        if (queue.full()) counts.shadow_rays += queue.Flush(env.scene, shading, image);
+        const InstanceFrame& frame = env.frames[instance];
+        const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
+        const Eigen::Vector3f p = camera.origin + depth * direction;
+        // Plain boxes and planes (floor, table, most links) need no local point: their normal
+        // follows from the triangle and they have no label.
+        const Eigen::Vector3f p_local = NeedsLocalPoint(surface) ? frame.ToLocal(p) : Eigen::Vector3f::Zero();
+        const Eigen::Vector3f n_local = LocalNormal(surface, p_local, primary.hit.primID[k]);
+        Eigen::Vector3f n = frame.RotateToWorld(n_local);
+        if (n.dot(direction) > 0.0f) n = -n;  // seen from behind (a plane from below, a camera inside)
+        const Eigen::Vector3f colour = Reflectance(surface, base, p_local, n_local);
+        const float cosine = std::max(0.0f, n.dot(to_light));
+        if (cosine > 0.0f && shadows) {
+          queue.Push(p + kShadowRayOffset * n, {pixel, colour, n, cosine, depth, surface.object_id});
+          if (queue.full()) counts.shadow_rays += queue.Flush(env.scene, lighting, writer);
+          continue;
+        }
+        writer.Write(pixel, lighting.Shade(colour, n, cosine), depth, surface.object_id);
       }
     }
   }
-  counts.shadow_rays += queue.Flush(env.scene, shading, image);
+  counts.shadow_rays += queue.Flush(env.scene, lighting, writer);
   return counts;
 }
 
