@@ -140,9 +140,14 @@ void PerturbLighting(const engine::RenderPerturbation& perturbation, render::Lig
   lighting->dome_intensity *= scale;
   lighting->distant_intensity *= scale;
   if (perturbation.colour_temperature_k != 0.0) {
+    // A light's colour lies in [0, 1] (render::ValidateSceneLayout): the tint's largest component
+    // goes into the intensity instead.
     const Eigen::Vector3f tint = BlackBodyTint(perturbation.colour_temperature_k);
-    lighting->dome_rgb = lighting->dome_rgb.cwiseProduct(tint);
-    lighting->distant_rgb = lighting->distant_rgb.cwiseProduct(tint);
+    const float peak = tint.maxCoeff();
+    lighting->dome_rgb = lighting->dome_rgb.cwiseProduct(tint / peak);
+    lighting->distant_rgb = lighting->distant_rgb.cwiseProduct(tint / peak);
+    lighting->dome_intensity *= peak;
+    lighting->distant_intensity *= peak;
   }
   if (perturbation.light_azimuth_deg != 0.0 || perturbation.light_elevation_deg != 0.0) {
     const Eigen::Vector3d travel = lighting->distant_direction.cast<double>().normalized();
