@@ -117,9 +117,13 @@ RigidTransform CameraMountOffset(const std::string& camera, const engine::Render
 
 RigidTransform PerturbedFixedCameraPose(const RigidTransform& X_WC, const engine::RenderPerturbation& perturbation) {
   if (perturbation.fixed_offset_m.isZero(0) && perturbation.fixed_rotation_deg.isZero(0)) return X_WC;
-  // Moved in the world, turned about its own axes: the same camera knocked to a new viewpoint.
-  return MakeTransform(X_WC.translation() + perturbation.fixed_offset_m,
-                       X_WC.linear() * RotationFromDegrees(perturbation.fixed_rotation_deg));
+  // Moved in the world, then panned about the world's vertical (yaw), tilted about its own
+  // image-left axis (pitch, positive looks down) and rolled about its optical axis: a tripod
+  // camera set up at a new viewpoint.
+  const Vec3 rpy = perturbation.fixed_rotation_deg * kDegToRad;
+  const Mat3 pan = Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()).toRotationMatrix();
+  const Mat3 tilt_roll = (Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) * Eigen::AngleAxisd(rpy.x(), Vec3::UnitX())).toRotationMatrix();
+  return MakeTransform(X_WC.translation() + perturbation.fixed_offset_m, pan * X_WC.linear() * tilt_roll);
 }
 
 Eigen::Vector3f BlackBodyTint(double kelvin) {
