@@ -18,6 +18,7 @@
 #include "batch/cell_record_stream.h"
 #include "batch/evaluation_cell.h"
 #include "batch/perturbed_view.h"
+#include "batch/report/perturbation_pairs.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -211,6 +212,24 @@ TEST(PerturbedView, TheDefaultChangesNothing) {
   EXPECT_EQ(base.rgb, again.rgb);
 }
 
+TEST(PerturbedView, FixedCameraYawPansAboutTheVerticalAndPitchTiltsItDown) {
+  const RigidTransform X_WC = render::FixedCameraPose();
+  const Vec3 forward = X_WC.linear().col(0);  // the optical axis (camera x)
+  engine::RenderPerturbation pan;
+  pan.fixed_rotation_deg = Vec3(0.0, 0.0, 30.0);
+  const Vec3 panned = PerturbedFixedCameraPose(X_WC, pan).linear().col(0);
+  EXPECT_NEAR(panned.z(), forward.z(), 1e-12) << "a pan keeps the downward angle";
+  const double turned = std::atan2(panned.y(), panned.x()) - std::atan2(forward.y(), forward.x());
+  EXPECT_NEAR(turned, 30.0 * M_PI / 180.0, 1e-9) << "positive yaw pans left";
+  engine::RenderPerturbation tilt;
+  tilt.fixed_rotation_deg = Vec3(0.0, 10.0, 0.0);
+  const Vec3 tilted = PerturbedFixedCameraPose(X_WC, tilt).linear().col(0);
+  EXPECT_NEAR(std::asin(-tilted.z()) - std::asin(-forward.z()), 10.0 * M_PI / 180.0, 1e-9) << "positive pitch looks further down";
+  engine::RenderPerturbation move;
+  move.fixed_offset_m = Vec3(0.0, 0.25, 0.1);
+  EXPECT_TRUE(PerturbedFixedCameraPose(X_WC, move).translation().isApprox(X_WC.translation() + move.fixed_offset_m));
+}
+
 TEST(PerturbedView, BlackBodyTintIsWhiteAt6500KWarmBelowAndCoolAbove) {
   const Eigen::Vector3f white = BlackBodyTint(6500.0);
   EXPECT_NEAR(white.x(), 1.0f, 1e-5f);
@@ -349,6 +368,46 @@ TEST(PerturbationAxes, ViewAxesLeaveTheExpertsEpisodesExactlyAsInTheBaseCell) {
       EXPECT_EQ(result.episodes[i].actions, reference.episodes[i].actions) << "episode " << i;
     }
   }
+}
+
+TEST(PerturbationPairs, PerturbedCellsPairWithTheirBaseCellEpisodeByEpisode) {
+  // Two seeds of a base cell and of its perturbed cell (labelled as a sweep labels them), and a
+  // perturbed cell of another policy whose base cell is missing: no row.
+  auto cell = [](const std::string& label, const std::vector<std::string>& perturbations, uint64_t seed,
+                 const std::vector<bool>& successes) {
+    report::CellEpisodes episodes;
+    episodes.label = label;
+    episodes.config.task = "clutter-pick-cube";
+    episodes.config.robot = "gr1t2";
+    episodes.config.seed = seed;
+    episodes.config.perturbations = perturbations;
+    for (const bool success : successes) {
+      EpisodeRecord record;
+      record.success = success;
+      episodes.episodes.push_back(record);
+    }
+    return episodes;
+  };
+  const std::vector<report::CellEpisodes> cells = {
+      cell("expert", {}, 0, {true, true, true, true, false}),
+      cell("expert.sensor.noise-high", {"sensor:noise-high"}, 0, {false, false, false, true, true}),
+      cell("expert", {}, 1, {true, true, true, true}),
+      cell("expert.sensor.noise-high", {"sensor:noise-high"}, 1, {false, true, false, false}),
+      cell("other.sensor.noise-high", {"sensor:noise-high"}, 0, {true}),
+  };
+  const nlohmann::ordered_json rows = report::PerturbationPairRows(cells);
+  ASSERT_EQ(rows.size(), 1u) << rows.dump();
+  const nlohmann::ordered_json& row = rows[0];
+  EXPECT_EQ(row["label"], "expert");
+  EXPECT_EQ(row["perturbation"], "sensor:noise-high");
+  EXPECT_EQ(row["pairs"], 9);
+  EXPECT_EQ(row["both"], 2);            // seed 0 episode 3, seed 1 episode 1
+  EXPECT_EQ(row["base_only"], 6);       // seed 0 episodes 0-2, seed 1 episodes 0, 2, 3
+  EXPECT_EQ(row["perturbed_only"], 1);  // seed 0 episode 4
+  EXPECT_EQ(row["neither"], 0);
+  // McNemar: 2 P[X <= 1], X ~ Binomial(7, 1/2) = 2 * 8 / 128.
+  EXPECT_NEAR(row["mcnemar_p"].get<double>(), 16.0 / 128.0, 1e-12);
+  EXPECT_NEAR(row["difference"].get<double>(), 3.0 / 9.0 - 8.0 / 9.0, 1e-12);
 }
 
 }  // namespace
