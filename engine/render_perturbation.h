@@ -15,8 +15,10 @@ namespace tavis::engine {
 struct RenderPerturbation {
   // camera axis. The head camera's pose is offset in its own frame (x forward, y left, z up) and
   // rotated about its own axes (roll, pitch, yaw), as a mount knocked out of place would be; the
-  // fixed camera's world pose is moved by fixed_offset_m (world frame) and rotated likewise. A
-  // field of view scale multiplies the horizontal angle of view (the focal length follows).
+  // fixed camera is moved by fixed_offset_m (world frame), panned about the world's vertical
+  // (yaw), tilted about its own left axis (pitch) and rolled about its optical axis (roll), as a
+  // tripod set up elsewhere. A field of view scale multiplies the horizontal angle of view (the
+  // focal length follows).
   Vec3 head_offset_m = Vec3::Zero();
   Vec3 head_rotation_deg = Vec3::Zero();
   Vec3 fixed_offset_m = Vec3::Zero();
