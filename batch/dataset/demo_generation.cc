@@ -41,20 +41,25 @@ std::vector<std::string> StateNames(const kinematics::RobotModel& robot) {
 // The settings that decide what the dataset holds (not envs or threads, which do not).
 nlohmann::json Fingerprint(const DemoConfig& config) {
   nlohmann::json fingerprint = {{"tasks", config.tasks},
-          {"robot", config.robot},
-          {"split", scenarios::ToString(config.split)},
-          {"expert_mode", scenarios::ToString(config.expert_mode)},
-          {"episodes", config.episodes},
-          {"max_attempts", config.max_attempts},
-          {"seed", config.seed},
-          {"fps", config.fps},
-          {"expert_hz", config.expert_hz},
-          {"cameras", config.cameras},
-          {"video", {{"width", config.video.width}, {"height", config.video.height}, {"codec", VideoCodecName(config.video.codec)},
-                     {"crf", config.video.crf}, {"gop", config.video.gop}, {"h264_preset", config.video.h264_preset},
-                     {"av1_preset", config.video.av1_preset}}},
-          {"format", ToString(config.version)},
-          {"identity", batch::ConfigIdentityJson(config.config_dir, config.robot)}};
+                                {"robot", config.robot},
+                                {"split", scenarios::ToString(config.split)},
+                                {"expert_mode", scenarios::ToString(config.expert_mode)},
+                                {"episodes", config.episodes},
+                                {"max_attempts", config.max_attempts},
+                                {"seed", config.seed},
+                                {"fps", config.fps},
+                                {"expert_hz", config.expert_hz},
+                                {"cameras", config.cameras},
+                                {"video",
+                                 {{"width", config.video.width},
+                                  {"height", config.video.height},
+                                  {"codec", VideoCodecName(config.video.codec)},
+                                  {"crf", config.video.crf},
+                                  {"gop", config.video.gop},
+                                  {"h264_preset", config.video.h264_preset},
+                                  {"av1_preset", config.video.av1_preset}}},
+                                {"format", ToString(config.version)},
+                                {"identity", batch::ConfigIdentityJson(config.config_dir, config.robot)}};
   // Only a perturbed recording names its perturbations, so an unperturbed spool resumes as before.
   if (!config.perturbations.empty()) {
     fingerprint["perturbations"] = batch::PerturbationsJson(batch::ResolvePerturbations(config.config_dir, config.perturbations));

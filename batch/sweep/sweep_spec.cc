@@ -219,29 +219,29 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
       for (const scenarios::Split split : spec.splits) {
         for (const CameraProtocol camera : spec.cameras) {
           for (const PolicySpec& policy : spec.policies) {
-           for (const std::vector<std::string>& perturbations : spec.perturbations) {
-            for (const uint64_t seed : spec.seeds) {
-              SweepCell cell;
-              EvaluationCellConfig& config = cell.config;
-              config.task = task;
-              config.robot = robot;
-              config.split = split;
-              config.camera = camera;
-              config.seed = seed;
-              config.episodes = spec.episodes;
-              config.envs = spec.envs;
-              config.config_dir = config_dir;
-              config.perturbations = perturbations;
-              if (!policy.Serves(config)) continue;
-              policy.ApplyTo(config);
-              const std::string suffix = PerturbationLabelSuffix(perturbations);
-              cell.label = policy.label + suffix;
-              cell.seed_group = policy.seed_group.empty() ? "" : policy.seed_group + suffix;
-              cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + cell.label + "_s" +
-                        std::to_string(seed);
-              cells.push_back(std::move(cell));
+            for (const std::vector<std::string>& perturbations : spec.perturbations) {
+              for (const uint64_t seed : spec.seeds) {
+                SweepCell cell;
+                EvaluationCellConfig& config = cell.config;
+                config.task = task;
+                config.robot = robot;
+                config.split = split;
+                config.camera = camera;
+                config.seed = seed;
+                config.episodes = spec.episodes;
+                config.envs = spec.envs;
+                config.config_dir = config_dir;
+                config.perturbations = perturbations;
+                if (!policy.Serves(config)) continue;
+                policy.ApplyTo(config);
+                const std::string suffix = PerturbationLabelSuffix(perturbations);
+                cell.label = policy.label + suffix;
+                cell.seed_group = policy.seed_group.empty() ? "" : policy.seed_group + suffix;
+                cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + cell.label + "_s" +
+                          std::to_string(seed);
+                cells.push_back(std::move(cell));
+              }
             }
-           }
           }
         }
       }
