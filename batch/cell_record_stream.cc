@@ -13,6 +13,7 @@
 #include "batch/cell_report.h"
 #include "batch/config_identity.h"
 #include "batch/output_folder.h"
+#include "batch/perturbation_catalog.h"
 #include "batch/settings_difference.h"
 #include "batch/stage_record.h"
 #include "scenarios/split.h"
@@ -68,6 +69,11 @@ nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
   if (config.episode_start != 0) settings["episode_start"] = config.episode_start;
   // Only the expert has a mode; it decides the expert's records, so a resume must keep it.
   if (config.policy == "expert") settings["expert_mode"] = scenarios::ToString(config.expert_mode);
+  // Only a perturbed cell names its perturbations (with each level's settings, so an edited level
+  // file is a different setting): a base cell's cell.json is as it was.
+  if (!config.perturbations.empty()) {
+    settings["perturbations"] = PerturbationsJson(ResolvePerturbations(config.config_dir, config.perturbations));
+  }
   return settings;
 }
 

@@ -145,6 +145,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
         {"images", result.rendered_images}}},
   };
   if (config.policy == "expert") summary["expert_mode"] = scenarios::ToString(config.expert_mode);
+  if (!config.perturbations.empty()) summary["perturbations"] = config.perturbations;
   // null under the fixed protocol, where no GALT is computed (as in the reference).
   summary["galt"] = !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
                                                           : nlohmann::json();

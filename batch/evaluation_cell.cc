@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "batch/builtin_policies.h"
+#include "batch/perturbation_catalog.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
@@ -128,6 +129,7 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   ValidateCameraSettings(cameras);
   scenarios::FindScenario(config.task);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  ResolvePerturbations(config.config_dir, config.perturbations);
   if (config.policy == kServedPolicy) {
     ServedKeys(config, static_cast<int>(robot.observation_state.size()));
   } else if (!config.observation_dataset.empty()) {
@@ -155,7 +157,9 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
 
   const int64_t end_episode = config.episode_start + config.episodes;
   const int slots = static_cast<int>(std::clamp<int64_t>(end_episode - config.first_episode, 1, config.envs));
-  VecEnv env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
+  engine::WorldModel model = BuildWorldModel(robot, scenario);
+  ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
+  VecEnv env(std::move(model), scenario, config.split, slots, config.seed);
   CellResult result;
   result.config = config;
   std::unique_ptr<Policy> policy;

@@ -8,6 +8,7 @@
 
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/gripper_geometry.h"
+#include "batch/perturbed_view.h"
 #include "render/batch_renderer.h"
 #include "render/camera.h"
 #include "render/palette.h"
@@ -132,17 +133,23 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
 
   for (const std::string& name : settings.cameras) {
     int mount = -1;
-    layout.cameras.push_back(SpecOf(name, robot, settings.width, settings.height, &mount));
+    layout.cameras.push_back(PerturbedCameraSpec(SpecOf(name, robot, settings.width, settings.height, &mount),
+                                                 model.view_perturbation));
     camera_mount->push_back(mount);
   }
   // The task's shadow light (multi-shelf-scan has its own); the dome light is shared.
   layout.lighting.distant_direction = model.lighting.distant_direction.cast<float>();
   layout.lighting.distant_intensity = static_cast<float>(model.lighting.distant_intensity);
+  PerturbLighting(model.view_perturbation, &layout.lighting);
   return layout;
 }
 
 SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const CameraSettings& settings)
-    : robot_(model.robot), gripper_(model.robot.gripper), num_envs_(num_envs), settings_(settings) {
+    : robot_(model.robot),
+      gripper_(model.robot.gripper),
+      num_envs_(num_envs),
+      settings_(settings),
+      perturbation_(model.view_perturbation) {
   ValidateCameraSettings(settings_);
   if (settings_.cameras.empty()) throw std::invalid_argument("SceneRender: no camera to render");
   if (num_envs_ < 1) throw std::invalid_argument("SceneRender: num_envs = " + std::to_string(num_envs_) + " must be positive");
@@ -162,6 +169,7 @@ SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const Ca
   X_WC_.assign(envs * settings_.cameras.size(), RigidTransform::Identity());
   enabled_.assign(envs * settings_.cameras.size(), 1);
   tick_enabled_.assign(envs * settings_.cameras.size(), 0);
+  for (const std::string& name : settings_.cameras) camera_offset_.push_back(CameraMountOffset(name, perturbation_));
   // Static parts and the fixed camera never move: their poses are written once.
   for (std::size_t env = 0; env < envs; ++env) {
     for (std::size_t i = 0; i < instances; ++i) {
@@ -169,7 +177,7 @@ SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const Ca
       rgb_[env * instances + i] = layout().instances[i].appearance.rgb;
     }
     for (int c = 0; c < num_cameras(); ++c) {
-      if (camera_mount_[static_cast<std::size_t>(c)] < 0) X_WC_[Index(static_cast<int>(env), c)] = render::FixedCameraPose();
+      if (camera_mount_[static_cast<std::size_t>(c)] < 0) X_WC_[Index(static_cast<int>(env), c)] = PerturbedFixedCameraPose(render::FixedCameraPose(), perturbation_);
     }
   }
 }
@@ -238,6 +246,7 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
   for (int c = 0; c < num_cameras(); ++c) {
     const int mount = camera_mount_[static_cast<std::size_t>(c)];
     if (mount >= 0) X_WC_[Index(env, c)] = X_WB * kinematics::CameraPose(robot_, mount, X_BL);
+    if (mount >= 0 && perturbation_.moves_cameras()) X_WC_[Index(env, c)] = X_WC_[Index(env, c)] * camera_offset_[static_cast<std::size_t>(c)];
   }
 }
 
@@ -254,6 +263,7 @@ void SceneRender::Render(const engine::BatchState& state, const uint8_t* render_
   inputs.X_WC = X_WC_;
   inputs.camera_enabled = tick_enabled_;
   renderer_->Render(inputs, images_.get());
+  ApplySensorPerturbation(perturbation_, state, settings_.cameras, tick_enabled_, images_.get());
 }
 
 }  // namespace tavis::batch

@@ -111,6 +111,8 @@ class SceneRender {
   std::vector<RigidTransform> X_WC_;     // [env][camera]
   std::vector<uint8_t> enabled_;         // [env][camera] the caller's blocked flags
   std::vector<uint8_t> tick_enabled_;    // [env][camera] enabled and rendered this call
+  engine::RenderPerturbation perturbation_;       // the model's camera, lighting and sensor perturbations
+  std::vector<RigidTransform> camera_offset_;    // [camera] its perturbed mount in its own frame
 };
 
 }  // namespace tavis::batch

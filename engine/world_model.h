@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/render_perturbation.h"
 #include "kinematics/robot_model.h"
 #include "kinematics/shape.h"
 
@@ -77,6 +78,8 @@ struct WorldModel {
   MaterialTable materials;
   SceneLighting lighting;
   PhysicsSettings physics;
+  // What the cell's perturbations change in the views (identity: none); read by renderers only.
+  RenderPerturbation view_perturbation;
 
   int num_objects() const { return static_cast<int>(objects.size()); }
   int ObjectIndex(const std::string& name) const;  // throws std::out_of_range naming it

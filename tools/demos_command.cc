@@ -83,6 +83,7 @@ nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const Demos
   return {{"robot", config.robot},
           {"split", options.split},
           {"expert_mode", options.expert_mode},
+          {"perturbations", config.perturbations},
           {"seed", config.seed},
           {"episodes_per_task", config.episodes},
           {"fps", config.fps},
@@ -185,6 +186,9 @@ void RegisterDemosCommand(CLI::App& app) {
                     "How the scripted expert's head leads: gaze-first (looks at the cue and the target, then acts)\n"
                     "or head-still (neck still at its reset pose, hands act as soon as the task allows)")
       ->capture_default_str();
+  demos->add_option("--perturb", options->config.perturbations,
+                    "AXIS:LEVEL: record every episode under this perturbation level (configs/perturbations/AXIS.yaml,\n"
+                    "docs/perturbations.md); repeat it for several axes, one level each. Episode i keeps its scene");
   demos->add_option("--episodes", options->config.episodes, "Episodes written per task")
       ->check(IntegerIn(1, 10000000))
       ->capture_default_str();

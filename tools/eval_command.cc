@@ -27,6 +27,7 @@
 #include "batch/rollout/cell_videos.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
+#include "batch/perturbation_catalog.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
@@ -79,8 +80,14 @@ std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const st
       cell.expert_mode == scenarios::ExpertMode::kGazeFirst ? "" : std::string("-") + scenarios::ToString(cell.expert_mode);
   // One chosen episode (--episode I) must not take the place of its full cell either.
   const std::string only = one_episode ? "_ep" + std::to_string(cell.episode_start) : "";
+  // Nor may a perturbed cell take the place of its base cell.
+  std::string perturbed;
+  for (const std::string& choice : cell.perturbations) {
+    const batch::PerturbationChoice parsed = batch::ParsePerturbationChoice(choice);
+    perturbed += "_p-" + parsed.axis + "-" + parsed.level;
+  }
   return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + mode + "_s" +
-         std::to_string(cell.seed) + only;
+         std::to_string(cell.seed) + only + perturbed;
 }
 
 // One cell into `out`: its records streamed as episodes end (an interrupted cell keeps them and
@@ -278,6 +285,11 @@ void RegisterEvalCommand(CLI::App& app) {
                    "(neck still at its reset pose, hands act as soon as the task allows; its cells are named\n"
                    "..._expert-head-still_s<seed>)")
       ->capture_default_str();
+  eval->add_option("--perturb", options->cell.perturbations,
+                   "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
+                   "sensor, lighting; docs/perturbations.md); repeat it for several axes, one level each. Episode i\n"
+                   "keeps its base scene, so the cell pairs with its unperturbed one; the levels are recorded in\n"
+                   "cell.json and summary.json, and the default folder is named ..._p-AXIS-LEVEL");
   eval->add_option("--server", options->cell.servers,
                    "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
                    "several servers (slot i asks server i mod K). Each episode's actions are saved in\n"

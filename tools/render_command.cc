@@ -8,6 +8,7 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
+#include "batch/perturbation_catalog.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -30,6 +31,7 @@ struct RenderCommandOptions {
   int height = 480;
   int steps = 120;
   std::string config_dir;
+  std::vector<std::string> perturbations;  // --perturb AXIS:LEVEL
 };
 
 void RequirePositive(const char* option, int value) {
@@ -111,7 +113,9 @@ void RunRender(const RenderCommandOptions& options) {
   RequirePositive("--height", options.height);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(options.config_dir, options.robot));
 
-  batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, split, 1, options.seed);
+  engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
+  batch::ApplyPerturbations(options.config_dir, options.perturbations, options.seed, &model);
+  batch::VecEnv env(std::move(model), scenario, split, 1, options.seed);
   batch::CameraSettings settings;
   settings.cameras = batch::SceneCameraNames();
   settings.width = options.width;
@@ -163,6 +167,9 @@ void RegisterRenderCommand(CLI::App& app) {
   render->add_option("--steps", options->steps, "Control ticks (60 Hz) of the expert before the second render")
       ->check(IntegerIn(0, 1000000))
       ->capture_default_str();
+  render->add_option("--perturb", options->perturbations,
+                     "AXIS:LEVEL: render under a perturbation level (configs/perturbations/AXIS.yaml,\n"
+                     "docs/perturbations.md); repeat it for several axes. The episode keeps its scene");
   AddConfigDirOption(*render, options->config_dir);
   render->callback([options] { RunRender(*options); });
 }

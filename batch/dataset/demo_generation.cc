@@ -16,6 +16,7 @@
 #include "batch/episode_driver.h"
 #include "batch/scene_render.h"
 #include "batch/config_identity.h"
+#include "batch/perturbation_catalog.h"
 #include "batch/settings_difference.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -39,21 +40,31 @@ std::vector<std::string> StateNames(const kinematics::RobotModel& robot) {
 
 // The settings that decide what the dataset holds (not envs or threads, which do not).
 nlohmann::json Fingerprint(const DemoConfig& config) {
-  return {{"tasks", config.tasks},
-          {"robot", config.robot},
-          {"split", scenarios::ToString(config.split)},
-          {"expert_mode", scenarios::ToString(config.expert_mode)},
-          {"episodes", config.episodes},
-          {"max_attempts", config.max_attempts},
-          {"seed", config.seed},
-          {"fps", config.fps},
-          {"expert_hz", config.expert_hz},
-          {"cameras", config.cameras},
-          {"video", {{"width", config.video.width}, {"height", config.video.height}, {"codec", VideoCodecName(config.video.codec)},
-                     {"crf", config.video.crf}, {"gop", config.video.gop}, {"h264_preset", config.video.h264_preset},
-                     {"av1_preset", config.video.av1_preset}}},
-          {"format", ToString(config.version)},
-          {"identity", batch::ConfigIdentityJson(config.config_dir, config.robot)}};
+  nlohmann::json fingerprint = {{"tasks", config.tasks},
+                                {"robot", config.robot},
+                                {"split", scenarios::ToString(config.split)},
+                                {"expert_mode", scenarios::ToString(config.expert_mode)},
+                                {"episodes", config.episodes},
+                                {"max_attempts", config.max_attempts},
+                                {"seed", config.seed},
+                                {"fps", config.fps},
+                                {"expert_hz", config.expert_hz},
+                                {"cameras", config.cameras},
+                                {"video",
+                                 {{"width", config.video.width},
+                                  {"height", config.video.height},
+                                  {"codec", VideoCodecName(config.video.codec)},
+                                  {"crf", config.video.crf},
+                                  {"gop", config.video.gop},
+                                  {"h264_preset", config.video.h264_preset},
+                                  {"av1_preset", config.video.av1_preset}}},
+                                {"format", ToString(config.version)},
+                                {"identity", batch::ConfigIdentityJson(config.config_dir, config.robot)}};
+  // Only a perturbed recording names its perturbations, so an unperturbed spool resumes as before.
+  if (!config.perturbations.empty()) {
+    fingerprint["perturbations"] = batch::PerturbationsJson(batch::ResolvePerturbations(config.config_dir, config.perturbations));
+  }
+  return fingerprint;
 }
 
 // A resumed recording must be the one that was interrupted.
@@ -119,6 +130,7 @@ void ValidateDemoConfig(const DemoConfig& config) {
   cameras.height = config.video.height;
   batch::ValidateCameraSettings(cameras);
   for (const std::string& camera : config.cameras) CameraVideoKey(camera);
+  for (const std::string& choice : config.perturbations) batch::ParsePerturbationChoice(choice);
   VideoSettings video = config.video;
   video.fps = config.fps;
   ValidateVideoSettings(video, "--image-size/--codec/--crf");
@@ -172,7 +184,9 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     task.attempts = next_episode[task_index];
     task.failures = failures[task_index];
     const int slots = std::min(config.envs, config.episodes);
-    batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
+    engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
+    batch::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
+    batch::VecEnv env(std::move(model), scenario, config.split, slots, config.seed);
     const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
     const auto expert =
         std::make_unique<batch::ExpertPolicy>(scenario, env.model(), slots, config.expert_mode, control_hz / config.expert_hz);

@@ -38,6 +38,9 @@ struct DemoConfig {
   VideoSettings video;     // size and codec; fps is set from `fps`
   DatasetVersion version = DatasetVersion::kV30;
   std::string config_dir;  // holds robots/*.yaml
+  // Perturbation levels, "AXIS:LEVEL" each (batch/perturbation_catalog.h): every episode is
+  // recorded under them, so a dataset can be randomised along an axis. Empty: the base scene.
+  std::vector<std::string> perturbations;
   std::string out;
   // Continue an interrupted recording into `out` after the last episode it had kept (they are
   // kept in OUT/.tavis_spool until the dataset is finished). The settings must be the same.

@@ -9,6 +9,7 @@
 #include "batch/galt_summary.h"
 #include "batch/galt_validation.h"
 #include "batch/report/camera_set_pairs.h"
+#include "batch/report/perturbation_pairs.h"
 #include "batch/report/paired_statistics.h"
 #include "batch/report/paper_figures.h"
 #include "batch/report/seed_groups.h"
@@ -306,6 +307,10 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, 
       for (const Json& row : label_sections[section]) summary[section].push_back(Labelled(label, row));
     }
   }
+  // Across labels (a perturbed cell's label is its base label and its levels); only a sweep with
+  // perturbed cells has the section, so other summaries are as before.
+  const Json perturbation_pairs = PerturbationPairRows(cells);
+  if (!perturbation_pairs.empty()) summary["paired_perturbations"] = perturbation_pairs;
   summary["seed_groups"] = SeedGroupsJson(summary);
   const Json choices = spec.contains("figures") ? spec["figures"] : Json::object();
   summary["figures"] = PaperFiguresJson(summary, choices, galt_reference);

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "batch/report/camera_set_pairs.h"
+#include "batch/report/perturbation_pairs.h"
 #include "batch/report/stage_funnel_section.h"
 
 namespace tavis::batch::report {
@@ -204,6 +205,7 @@ std::vector<TextTable> SweepTables(const Json& summary) {
   tables.push_back(GaltTable(summary));
   tables.push_back(StageFunnelTable(summary));
   if (!summary["paired_camera_sets"].empty()) tables.push_back(CameraSetPairTable(summary));
+  if (summary.contains("paired_perturbations")) tables.push_back(PerturbationPairTable(summary));
   if (!summary["seed_groups"].empty()) tables.push_back(SeedGroupTable(summary));
   tables.push_back(HeadlineTable(summary));
   return tables;

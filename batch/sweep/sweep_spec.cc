@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "batch/perturbation_catalog.h"
 #include "batch/sweep/spec_lists.h"
 #include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
@@ -129,6 +130,28 @@ void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
   spec.figures = json;
 }
 
+// perturbations: [none, camera:fov-wide, sensor:noise-low+lighting:dim]; every level is looked up
+// in config_dir's perturbation files now, so a typo fails before any cell runs.
+std::vector<std::vector<std::string>> ReadPerturbations(const YamlValue& list, const std::string& config_dir) {
+  if (!list.IsSequence() || list.Elements().empty()) list.Fail("must be a non-empty list (none, AXIS:LEVEL or AXIS:LEVEL+AXIS:LEVEL), got " + list.Text());
+  std::vector<std::vector<std::string>> sets;
+  for (const YamlValue& entry : list.Elements()) {
+    std::vector<std::string> choices;
+    try {
+      choices = SplitPerturbationSet(entry.AsString());
+      ResolvePerturbations(config_dir, choices);
+    } catch (const std::invalid_argument& error) {
+      entry.Fail(error.what());
+    } catch (const configs::ConfigError& error) {
+      entry.Fail(error.what());
+    }
+    for (const std::vector<std::string>& earlier : sets) {
+      if (PerturbationLabelSuffix(earlier) == PerturbationLabelSuffix(choices)) entry.Fail(entry.Text() + " is listed twice");
+    }
+    sets.push_back(std::move(choices));
+  }
+  return sets;
+}
 
 SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::string& config_dir, PolicyFiles files) {
   SweepSpec spec;
@@ -152,6 +175,7 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   if (const auto envs = root.Optional("envs")) spec.envs = ReadCount(*envs, 1, 4096);
   if (const auto videos = root.Optional("videos")) spec.videos = ReadCount(*videos, 0, spec.episodes);
   ReadPolicies(root, known_robots, config_dir, files, spec);
+  if (const auto perturbations = root.Optional("perturbations")) spec.perturbations = ReadPerturbations(*perturbations, config_dir);
   if (const auto figures = root.Optional("figures")) ReadFigures(*figures, spec);
   root.ExpectNoOtherKeys();
   return spec;
@@ -179,6 +203,12 @@ nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec) {
                                  {"splits", splits},      {"cameras", cameras},       {"seeds", spec.seeds},
                                  {"episodes", spec.episodes}, {"policies", policies}, {"figures", spec.figures}};
   if (spec.videos > 0) json["videos"] = spec.videos;  // absent otherwise, as in manifests written before it existed
+  // Absent for the base scene alone, as in manifests written before perturbations existed.
+  if (spec.perturbations != std::vector<std::vector<std::string>>{{}}) {
+    nlohmann::ordered_json sets = nlohmann::ordered_json::array();
+    for (const std::vector<std::string>& choices : spec.perturbations) sets.push_back(choices);
+    json["perturbations"] = sets;
+  }
   return json;
 }
 
@@ -189,24 +219,28 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
       for (const scenarios::Split split : spec.splits) {
         for (const CameraProtocol camera : spec.cameras) {
           for (const PolicySpec& policy : spec.policies) {
-            for (const uint64_t seed : spec.seeds) {
-              SweepCell cell;
-              EvaluationCellConfig& config = cell.config;
-              config.task = task;
-              config.robot = robot;
-              config.split = split;
-              config.camera = camera;
-              config.seed = seed;
-              config.episodes = spec.episodes;
-              config.envs = spec.envs;
-              config.config_dir = config_dir;
-              if (!policy.Serves(config)) continue;
-              policy.ApplyTo(config);
-              cell.label = policy.label;
-              cell.seed_group = policy.seed_group;
-              cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + policy.label + "_s" +
-                        std::to_string(seed);
-              cells.push_back(std::move(cell));
+            for (const std::vector<std::string>& perturbations : spec.perturbations) {
+              for (const uint64_t seed : spec.seeds) {
+                SweepCell cell;
+                EvaluationCellConfig& config = cell.config;
+                config.task = task;
+                config.robot = robot;
+                config.split = split;
+                config.camera = camera;
+                config.seed = seed;
+                config.episodes = spec.episodes;
+                config.envs = spec.envs;
+                config.config_dir = config_dir;
+                config.perturbations = perturbations;
+                if (!policy.Serves(config)) continue;
+                policy.ApplyTo(config);
+                const std::string suffix = PerturbationLabelSuffix(perturbations);
+                cell.label = policy.label + suffix;
+                cell.seed_group = policy.seed_group.empty() ? "" : policy.seed_group + suffix;
+                cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + cell.label + "_s" +
+                          std::to_string(seed);
+                cells.push_back(std::move(cell));
+              }
             }
           }
         }
@@ -214,6 +248,21 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
     }
   }
   return cells;
+}
+
+std::vector<std::string> SplitPerturbationSet(const std::string& text) {
+  if (text == "none") return {};
+  std::vector<std::string> choices;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t plus = text.find('+', start);
+    const std::string choice = text.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
+    ParsePerturbationChoice(choice);
+    choices.push_back(choice);
+    if (plus == std::string::npos) break;
+    start = plus + 1;
+  }
+  return choices;
 }
 
 Shard ParseShard(const std::string& text) {

@@ -29,6 +29,11 @@ struct SweepSpec {
   // The labelled policies (a spec's single `policy:` is one, labelled by its name), each serving
   // the cells its filter allows; two labels may serve the same cell (they are separate cells).
   std::vector<PolicySpec> policies;
+  // The perturbation dimension (perturbations:): each entry a set of "AXIS:LEVEL" choices, the
+  // empty set being the base scene ("none" in the file). Default: only the base scene. A perturbed
+  // cell's label is its policy's label followed by ".AXIS.LEVEL" per choice, so tables and reports
+  // show it beside its base cell, with which it pairs episode by episode.
+  std::vector<std::vector<std::string>> perturbations = {{}};
   // Which labels the paper's figures and headline numbers take (figures:); empty: the defaults
   // of report::FigureChoices.
   nlohmann::ordered_json figures = nlohmann::ordered_json::object();
@@ -51,7 +56,10 @@ SweepSpec ParseSweepSpec(const std::string& yaml_text, const std::string& source
 // The spec's settings as JSON (what the manifest records and merge compares; not the file name).
 nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec);
 
-// Every cell, ordered task, robot, split, camera, policy, seed (the spec's orders); a policy
+// "camera:fov-wide+sensor:noise-low" -> {"camera:fov-wide", "sensor:noise-low"}; "none" -> {}.
+std::vector<std::string> SplitPerturbationSet(const std::string& text);
+
+// Every cell, ordered task, robot, split, camera, policy, perturbation, seed (the spec's orders); a policy
 // only where its cells: filter allows.
 std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& config_dir);
 

@@ -56,6 +56,31 @@ TEST(SweepSpec, ExpandsTheProductInSpecOrder) {
   EXPECT_EQ(cells[7].config.seed, 7U);
 }
 
+TEST(SweepSpec, PerturbationsAreADimensionWhoseCellsCarryTheirLevelsInTheirLabels) {
+  const std::string text = std::string(kValid) + "perturbations: [none, camera:fov-wide, sensor:noise-low+lighting:dim]\n";
+  const SweepSpec spec = Parse(text);
+  ASSERT_EQ(spec.perturbations.size(), 3u);
+  const std::vector<SweepCell> cells = ExpandCells(spec, TAVIS_CONFIG_DIR);
+  ASSERT_EQ(cells.size(), 24U);
+  // Order: ... policy, perturbation, seed; the base cell keeps its id and label.
+  EXPECT_EQ(cells[0].id, "clutter-pick-cube_gr1t2_id_head_expert_s0");
+  EXPECT_EQ(cells[0].label, "expert");
+  EXPECT_TRUE(cells[0].config.perturbations.empty());
+  EXPECT_EQ(cells[2].id, "clutter-pick-cube_gr1t2_id_head_expert.camera.fov-wide_s0");
+  EXPECT_EQ(cells[2].label, "expert.camera.fov-wide");
+  EXPECT_EQ(cells[2].config.perturbations, std::vector<std::string>{"camera:fov-wide"});
+  EXPECT_EQ(cells[5].label, "expert.sensor.noise-low.lighting.dim");
+  EXPECT_EQ(cells[5].config.perturbations, (std::vector<std::string>{"sensor:noise-low", "lighting:dim"}));
+  EXPECT_EQ(cells[5].config.seed, 7U);
+  const nlohmann::ordered_json json = SweepSpecJson(spec);
+  ASSERT_TRUE(json.contains("perturbations"));
+  EXPECT_EQ(json["perturbations"].size(), 3u);
+  // A spec without the dimension is the base scene alone, and its manifest is as before.
+  const SweepSpec plain = Parse(kValid);
+  EXPECT_EQ(plain.perturbations, std::vector<std::vector<std::string>>{{}});
+  EXPECT_FALSE(SweepSpecJson(plain).contains("perturbations"));
+}
+
 // A merge of finished shards re-reads the spec without the files its policies named (they may
 // live on the machine that ran the cells only).
 TEST(SweepSpec, PolicyFilesAreNotReadWhenAskedNotTo) {
@@ -211,6 +236,14 @@ INSTANTIATE_TEST_SUITE_P(
                       BadSpec{"ServersForExpert", "name: expert", "name: expert\n  servers: [ws://x:1]", "policy.servers", "expert"},
                       BadSpec{"UnknownPolicyKey", "name: expert", "name: expert\n  temperature: 2", "policy", "temperature"},
                       BadSpec{"MissingRobots", "robots: [gr1t2]\n", "", "robots", "robots"},
+                      BadSpec{"UnknownPerturbationLevel", "episodes: 3", "episodes: 3\nperturbations: [none, camera:sideways]",
+                              "perturbations[1]", "'sideways'"},
+                      BadSpec{"UnknownPerturbationAxis", "episodes: 3", "episodes: 3\nperturbations: [weather:rain]",
+                              "perturbations[0]", "'weather'"},
+                      BadSpec{"RepeatedPerturbation", "episodes: 3", "episodes: 3\nperturbations: [sensor:noise-low, sensor:noise-low]",
+                              "perturbations[1]", "noise-low"},
+                      BadSpec{"PerturbationAxisTwice", "episodes: 3", "episodes: 3\nperturbations: [sensor:noise-low+sensor:blur-low]",
+                              "perturbations[0]", "already chosen"},
                       // The files a policy names are read with the spec, not when its first cell starts.
                       BadSpec{"MissingActionsFile", "name: expert", "name: replay\n  actions: /nonexistent/a.csv", "policy.actions",
                               "/nonexistent/a.csv: no such file"},

@@ -1,0 +1,86 @@
+#!/usr/bin/python3
+"""Contact sheet of every perturbation level (docs/perturbations.md): one row per level (the base
+scene first), the head, fixed and right-wrist views of one episode after the scripted expert's
+first second and a half, each rendered by `tavis render --perturb AXIS:LEVEL`.
+
+    tools/perturbation_contact_sheet.py --tavis build/tavis --out docs/images/perturbations.png
+
+Needs Debian's python3-opencv (.ci/install-deps --tests) to read, label and write the PNGs.
+"""
+import argparse
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+import cv2
+import numpy as np
+
+CAMERAS = ["head", "fixed", "right_wrist"]
+LABEL_WIDTH = 190
+MARGIN = 4
+
+
+def levels(config_dir: pathlib.Path):
+    """(axis, level) for every level of every axis file, in file order; the axes in the docs' order."""
+    found = []
+    for axis in ["camera", "sensor", "lighting"]:
+        for line in (config_dir / "perturbations" / f"{axis}.yaml").read_text().splitlines():
+            stripped = line.strip()
+            if stripped.startswith("- name:"):
+                found.append((axis, stripped.split(":", 1)[1].strip()))
+    return found
+
+
+def render(tavis, args, choice, work):
+    out = work / (choice.replace(":", "_") if choice else "base")
+    command = [tavis, "render", "--task", args.task, "--robot", args.robot, "--seed", str(args.seed),
+               "--steps", str(args.steps), "--width", str(args.width), "--height", str(args.height), "--out", str(out)]
+    if choice:
+        command += ["--perturb", choice]
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    views = []
+    for camera in CAMERAS:
+        matches = sorted(out.glob(f"tick*_{camera}.png"))
+        if len(matches) != 1:
+            sys.exit(f"expected one tick*_{camera}.png in {out}, found {len(matches)}")
+        views.append(cv2.imread(str(matches[0]), cv2.IMREAD_COLOR))
+    return views
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--tavis", default="build/tavis")
+    parser.add_argument("--config-dir", default="configs")
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--task", default="clutter-pick-cube")
+    parser.add_argument("--robot", default="gr1t2")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--steps", type=int, default=90)
+    parser.add_argument("--width", type=int, default=160)
+    parser.add_argument("--height", type=int, default=120)
+    args = parser.parse_args()
+
+    rows = [("base", "")] + [(f"{axis}:{level}", f"{axis}:{level}") for axis, level in levels(pathlib.Path(args.config_dir))]
+    row_height = args.height + MARGIN
+    sheet_width = LABEL_WIDTH + len(CAMERAS) * (args.width + MARGIN)
+    header = 20
+    sheet = np.full((header + len(rows) * row_height, sheet_width, 3), 32, np.uint8)
+    font = cv2.FONT_HERSHEY_SIMPLEX
+    for column, camera in enumerate(CAMERAS):
+        cv2.putText(sheet, camera, (LABEL_WIDTH + column * (args.width + MARGIN) + 4, 15), font, 0.45, (230, 230, 230), 1,
+                    cv2.LINE_AA)
+    with tempfile.TemporaryDirectory() as work_dir:
+        for row, (label, choice) in enumerate(rows):
+            top = header + row * row_height
+            cv2.putText(sheet, label, (4, top + args.height // 2 + 5), font, 0.42, (230, 230, 230), 1, cv2.LINE_AA)
+            for column, view in enumerate(render(args.tavis, args, choice, pathlib.Path(work_dir))):
+                left = LABEL_WIDTH + column * (args.width + MARGIN)
+                sheet[top:top + args.height, left:left + args.width] = view
+    pathlib.Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    cv2.imwrite(args.out, sheet, [cv2.IMWRITE_PNG_COMPRESSION, 9])
+    print(f"{args.out}: {len(rows)} rows x {len(CAMERAS)} cameras, {pathlib.Path(args.out).stat().st_size} bytes")
+
+
+if __name__ == "__main__":
+    main()
