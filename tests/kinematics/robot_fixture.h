@@ -5,13 +5,8 @@
 
 #include "kinematics/forward_kinematics.h"
 #include "tests/support/robot_loading.h"
-#include "tests/support/robot_loading.h"
 
 namespace tavis::testing {
-
-inline kinematics::RobotModel LoadRobot(const std::string& name) {
-  return tavis::testing::LoadRobot(name);
-}
 
 inline std::vector<RigidTransform> LinkPoses(const kinematics::RobotModel& robot, const std::vector<double>& q) {
   std::vector<RigidTransform> X_BL(robot.links.size());
