@@ -166,10 +166,10 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   }
   // The summary covers the whole cell: the resumed records first.
   std::vector<batch::EpisodeRecord> episodes = stream.resumed();
-  for (batch::EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
+  for (batch::EpisodeRecord& episode : result.episodes) episodes.push_back(std::move(episode));
   result.episodes = std::move(episodes);
   result.successes = 0;
-  for (const batch::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
+  for (const batch::EpisodeRecord& episode : result.episodes) result.successes += episode.success ? 1 : 0;
   batch::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
   if (recording) {
