@@ -14,7 +14,7 @@ namespace {
 class HoldPolicy : public PerEnvPolicy {
  public:
   explicit HoldPolicy(int num_envs) : reset_action_(num_envs) {}
-  std::string name() const override { return "hold"; }
+  std::string name() const override { return PolicyName(PolicyKind::kHold); }
   int control_ticks_per_action() const override { return 3; }
 
  private:
@@ -51,7 +51,7 @@ class ReplayPolicy : public PerEnvPolicy {
       per_env_.resize(static_cast<std::size_t>(num_envs));
     }
   }
-  std::string name() const override { return "replay"; }
+  std::string name() const override { return PolicyName(PolicyKind::kReplay); }
   int control_ticks_per_action() const override { return kControlTicksPerRow; }
 
  private:
@@ -106,10 +106,14 @@ void ExpertPolicy::ActEnv(const Observation& observation, int env, kinematics::A
   action = held;
 }
 
-const char* BuiltinPolicyNames() { return "expert, hold, replay"; }
+const char* BuiltinPolicyNames() {
+  static const std::string names = PolicyNames(/*built_in_only=*/true);
+  return names.c_str();
+}
 
 void CheckBuiltinPolicyName(const std::string& name) {
-  if (name != "expert" && name != "hold" && name != "replay") {
+  const PolicyDecl* policy = FindPolicy(name);
+  if (policy == nullptr || !policy->built_in) {
     throw std::invalid_argument("unknown policy '" + name + "' (built in: " + BuiltinPolicyNames() + ")");
   }
 }
@@ -118,8 +122,8 @@ std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenari
                                           const engine::WorldModel& model, int num_envs,
                                           const std::string& actions_file, scenarios::ExpertMode expert_mode) {
   CheckBuiltinPolicyName(name);
-  if (name == "expert") return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);
-  if (name == "hold") return std::make_unique<HoldPolicy>(num_envs);
+  if (IsPolicy(name, PolicyKind::kExpert)) return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);
+  if (IsPolicy(name, PolicyKind::kHold)) return std::make_unique<HoldPolicy>(num_envs);
   if (actions_file.empty()) {
     throw std::invalid_argument("policy 'replay' needs an actions file or folder (--actions FILE.csv | DIR/actions)");
   }

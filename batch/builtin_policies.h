@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "batch/policy.h"
+#include "batch/policy_kinds.h"
 #include "scenarios/scenario.h"
 
 namespace tavis::batch {
@@ -28,7 +29,7 @@ class ExpertPolicy : public PerEnvPolicy {
   // Throws std::invalid_argument if the task has no scripted expert or decide_every < 1.
   ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
                scenarios::ExpertMode mode = scenarios::ExpertMode::kGazeFirst, int decide_every = 1);
-  std::string name() const override { return "expert"; }
+  std::string name() const override { return PolicyName(PolicyKind::kExpert); }
   int control_ticks_per_action() const override { return 1; }
   bool GaveUp(int env) const override { return expert_->gave_up(env); }
   const scenarios::Expert& expert() const { return *expert_; }

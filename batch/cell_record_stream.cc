@@ -14,6 +14,7 @@
 #include "batch/config_identity.h"
 #include "batch/output_folder.h"
 #include "batch/perturbation_catalog.h"
+#include "batch/policy_kinds.h"
 #include "batch/settings_difference.h"
 #include "batch/stage_record.h"
 #include "scenarios/split.h"
@@ -63,12 +64,12 @@ nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
                              {"image_width", config.image_width},
                              {"image_height", config.image_height},
                              {"identity", ConfigIdentityJson(config.config_dir, config.robot,
-                                                             config.policy == "openpi" ? config.observation_keys : "")}};
+                                                             IsPolicy(config.policy, PolicyKind::kOpenpi) ? config.observation_keys : "")}};
   // Only a cell that does not start at episode 0 names its start, so cells written before it
   // existed still resume.
   if (config.episode_start != 0) settings["episode_start"] = config.episode_start;
   // Only the expert has a mode; it decides the expert's records, so a resume must keep it.
-  if (config.policy == "expert") settings["expert_mode"] = scenarios::ToString(config.expert_mode);
+  if (IsPolicy(config.policy, PolicyKind::kExpert)) settings["expert_mode"] = scenarios::ToString(config.expert_mode);
   // Only a perturbed cell names its perturbations (with each level's settings, so an edited level
   // file is a different setting): a base cell's cell.json is as it was.
   if (!config.perturbations.empty()) {

@@ -14,6 +14,7 @@
 #include "batch/action_csv.h"
 #include "batch/atomic_file.h"
 #include "batch/galt_summary.h"
+#include "batch/policy_kinds.h"
 #include "batch/stage_record.h"
 #include "batch/remote/value_json.h"
 #include "batch/statistics.h"
@@ -144,7 +145,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
         {"height", result.render_height},
         {"images", result.rendered_images}}},
   };
-  if (config.policy == "expert") summary["expert_mode"] = scenarios::ToString(config.expert_mode);
+  if (IsPolicy(config.policy, PolicyKind::kExpert)) summary["expert_mode"] = scenarios::ToString(config.expert_mode);
   if (!config.perturbations.empty()) summary["perturbations"] = config.perturbations;
   // null under the fixed protocol, where no GALT is computed (as in the reference).
   summary["galt"] = !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)

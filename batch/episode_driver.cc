@@ -63,7 +63,7 @@ Observation EpisodeDriver::MakeObservation() const {
 }
 
 EpisodeDriver::Schedule EpisodeDriver::schedule() const {
-  if (lock_step_required_ || env_.cameras() != nullptr || dynamic_cast<PerEnvPolicy*>(&policy_) == nullptr) {
+  if (lock_step_required_ || env_.renderer() != nullptr || dynamic_cast<PerEnvPolicy*>(&policy_) == nullptr) {
     return Schedule::kLockStep;
   }
   for (const EpisodeSink* sink : sinks_) {
@@ -254,7 +254,7 @@ void EpisodeDriver::CollectAndRefill() {
   starts_.clear();
   // With cameras, episodes start only on ticks where the running ones are at a policy tick, so
   // that every render call draws all of them (rather than a third of them on every tick).
-  const bool deal_now = env_.cameras() == nullptr || lock_step_ticks_ % env_.model().physics.controls_per_policy() == 0;
+  const bool deal_now = env_.renderer() == nullptr || lock_step_ticks_ % env_.model().physics.controls_per_policy() == 0;
   for (int slot = 0; slot < slots; ++slot) {
     started_[slot] = 0;
     if (state.episode[slot] < 0) {

@@ -8,6 +8,7 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/perturbation_catalog.h"
+#include "batch/policy_kinds.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
@@ -15,10 +16,8 @@
 namespace tavis::batch {
 namespace {
 
-constexpr const char* kServedPolicy = "openpi";
-
 void ValidatePolicy(const EvaluationCellConfig& config) {
-  if (config.policy == kServedPolicy) {
+  if (IsPolicy(config.policy, PolicyKind::kOpenpi)) {
     if (config.servers.empty()) throw std::invalid_argument("policy 'openpi' needs a policy server (--server ws://HOST:PORT)");
     return;
   }
@@ -31,7 +30,7 @@ void ValidatePolicy(const EvaluationCellConfig& config) {
 }
 
 void ValidateExpertMode(const EvaluationCellConfig& config) {
-  if (config.expert_mode != scenarios::ExpertMode::kGazeFirst && config.policy != "expert") {
+  if (config.expert_mode != scenarios::ExpertMode::kGazeFirst && !IsPolicy(config.policy, PolicyKind::kExpert)) {
     throw std::invalid_argument(std::string("--expert-mode ") + scenarios::ToString(config.expert_mode) +
                                 " is for --policy expert, not '" + config.policy + "'");
   }
@@ -89,13 +88,13 @@ RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ti
   }
   // A served policy's chunks, and a 20 Hz expert's held actions, are kept at the policy rate for
   // --policy replay, which plays them back exactly.
-  const bool expert_at_policy_rate = config.policy == "expert" && config.expert_hz != 60;
+  const bool expert_at_policy_rate = IsPolicy(config.policy, PolicyKind::kExpert) && config.expert_hz != 60;
   settings.replay_stride = served ? hold_ticks : expert_at_policy_rate ? physics.controls_per_policy() : 0;
   settings.keep_actions = config.keep_actions;
   return settings;
 }
 
-std::string CellPolicyNames() { return std::string(BuiltinPolicyNames()) + ", " + kServedPolicy; }
+std::string CellPolicyNames() { return PolicyNames(/*built_in_only=*/false); }
 
 void CheckEvaluationCell(const EvaluationCellConfig& config) {
   if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
@@ -112,7 +111,7 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   if (config.expert_hz != 60 && config.expert_hz != 20) {
     throw std::invalid_argument("--expert-hz must be 60 or 20, got " + std::to_string(config.expert_hz));
   }
-  if (config.expert_hz != 60 && config.policy != "expert") {
+  if (config.expert_hz != 60 && !IsPolicy(config.policy, PolicyKind::kExpert)) {
     throw std::invalid_argument("--expert-hz applies to --policy expert only, got --policy " + config.policy);
   }
   ValidateExpertMode(config);
@@ -130,7 +129,7 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   scenarios::FindScenario(config.task);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   ResolvePerturbations(config.config_dir, config.perturbations);
-  if (config.policy == kServedPolicy) {
+  if (IsPolicy(config.policy, PolicyKind::kOpenpi)) {
     ServedKeys(config, static_cast<int>(robot.observation_state.size()));
   } else if (!config.observation_dataset.empty()) {
     throw std::invalid_argument("--match-dataset '" + config.observation_dataset + "' applies to --policy openpi only, got --policy " +
@@ -139,13 +138,13 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
 }
 
 std::vector<std::string> ServedLayoutDifferences(const EvaluationCellConfig& config) {
-  if (config.policy != kServedPolicy || config.observation_dataset.empty()) return {};
+  if (!IsPolicy(config.policy, PolicyKind::kOpenpi) || config.observation_dataset.empty()) return {};
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   return ServedKeys(config, static_cast<int>(robot.observation_state.size())).differences;
 }
 
 bool RunsPerSlot(const EvaluationCellConfig& config) {
-  return config.policy != kServedPolicy && config.render_cameras.empty();
+  return !IsPolicy(config.policy, PolicyKind::kOpenpi) && config.render_cameras.empty();
 }
 
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress,
@@ -164,7 +163,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
   result.config = config;
   std::unique_ptr<Policy> policy;
   remote::RemotePolicy* served = nullptr;
-  if (config.policy == kServedPolicy) {
+  if (IsPolicy(config.policy, PolicyKind::kOpenpi)) {
     remote::RemotePolicyOptions options;
     options.servers = config.servers;
     options.replan_steps = config.replan_steps;
@@ -191,7 +190,7 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     }
     result.render_width = result.config.image_width;
     result.render_height = result.config.image_height;
-    if (config.policy == "expert") {
+    if (IsPolicy(config.policy, PolicyKind::kExpert)) {
       const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
       policy = std::make_unique<ExpertPolicy>(scenario, env.model(), slots, config.expert_mode, control_hz / config.expert_hz);
     } else {

@@ -14,7 +14,7 @@
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
 #include "batch/remote/remote_policy.h"
-#include "scenarios/expert_mode.h"
+#include "scenarios/expert/expert_mode.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch {

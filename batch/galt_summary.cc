@@ -1,8 +1,8 @@
 #include "batch/galt_summary.h"
 
-#include <algorithm>
-#include <cmath>
-#include <numeric>
+#include <utility>
+
+#include "batch/statistics.h"
 
 namespace tavis::batch {
 
@@ -18,18 +18,10 @@ GaltSummary SummarizeGalt(const std::vector<kinematics::GaltResult>& successful_
   summary.n_valid = static_cast<int>(values.size());
   if (values.empty()) return summary;
 
-  const double n = static_cast<double>(values.size());
-  const double mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
-  // Two passes, as numpy's std does: the mean first, then the mean squared deviation.
-  double squared_deviations = 0.0;
-  for (const double value : values) squared_deviations += (value - mean) * (value - mean);
-
-  std::sort(values.begin(), values.end());
-  const std::size_t middle = values.size() / 2;
-  summary.median_s = values.size() % 2 == 1 ? values[middle]
-                                            : 0.5 * (values[middle - 1] + values[middle]);
-  summary.mean_s = mean;
-  summary.std_s = std::sqrt(squared_deviations / n);
+  const Spread spread = SpreadOf(std::move(values));
+  summary.mean_s = spread.mean;
+  summary.median_s = spread.median;
+  summary.std_s = spread.std;
   return summary;
 }
 

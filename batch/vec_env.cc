@@ -291,36 +291,36 @@ void VecEnv::EndEpisodes(EnvRange envs) {
 }
 
 void VecEnv::EnableCameras(const CameraSettings& settings) {
-  cameras_ = std::make_unique<SceneRender>(model_, num_envs(), settings);
+  renderer_ = std::make_unique<SceneRender>(model_, num_envs(), settings);
   // The task's black cameras (blocked-clutter-pick-cube's head, reference 4.8) give all-zero
   // images; the reference renders them and then replaces the image, here no ray is traced.
   for (const std::string& name : scenario_.black_cameras) {
-    const int camera = cameras_->CameraIndex(name);
+    const int camera = renderer_->CameraIndex(name);
     if (camera < 0) continue;
-    for (int env = 0; env < num_envs(); ++env) cameras_->SetCameraEnabled(env, camera, false);
+    for (int env = 0; env < num_envs(); ++env) renderer_->SetCameraEnabled(env, camera, false);
   }
   std::fill(state_.images_current.begin(), state_.images_current.end(), 0);
 }
 
 void VecEnv::SetCameraBlocked(int env, int camera, bool blocked) {
-  if (!cameras_) throw std::logic_error("VecEnv::SetCameraBlocked: cameras are not enabled (call EnableCameras)");
-  cameras_->SetCameraEnabled(env, camera, !blocked);
+  if (!renderer_) throw std::logic_error("VecEnv::SetCameraBlocked: cameras are not enabled (call EnableCameras)");
+  renderer_->SetCameraEnabled(env, camera, !blocked);
   state_.images_current[env] = 0;
 }
 
 void VecEnv::BlockCameras(const std::vector<std::string>& names) {
-  if (!cameras_) throw std::logic_error("VecEnv::BlockCameras: cameras are not enabled (call EnableCameras)");
+  if (!renderer_) throw std::logic_error("VecEnv::BlockCameras: cameras are not enabled (call EnableCameras)");
   for (const std::string& name : names) {
-    const int camera = cameras_->CameraIndex(name);
+    const int camera = renderer_->CameraIndex(name);
     if (camera < 0) continue;
     for (int env = 0; env < num_envs(); ++env) SetCameraBlocked(env, camera, true);
   }
 }
 
-const render::ImageBatch* VecEnv::images() const { return cameras_ ? &cameras_->images() : nullptr; }
+const render::ImageBatch* VecEnv::images() const { return renderer_ ? &renderer_->images() : nullptr; }
 
 void VecEnv::RenderPolicyTick() {
-  if (!cameras_) return;
+  if (!renderer_) return;
   const int ticks_per_policy_step = model_.physics.controls_per_policy();
   bool stale = false;
   int rendered_envs = 0;
@@ -333,18 +333,18 @@ void VecEnv::RenderPolicyTick() {
   // One render call for all envs at their policy tick: the call clears the other envs' images,
   // so envs already current are drawn again rather than left out.
   if (!stale) return;
-  Timed(Stage::kRender, [&] { cameras_->Render(state_, render_env_.data()); });
+  Timed(Stage::kRender, [&] { renderer_->Render(state_, render_env_.data()); });
   for (int env = 0; env < num_envs(); ++env) state_.images_current[env] = render_env_[env];
-  rendered_images_ += static_cast<int64_t>(rendered_envs) * cameras_->num_cameras();
+  rendered_images_ += static_cast<int64_t>(rendered_envs) * renderer_->num_cameras();
 }
 
 void VecEnv::RenderFinal(const std::vector<uint8_t>& envs) {
-  if (!cameras_) return;
-  Timed(Stage::kRender, [&] { cameras_->Render(state_, envs.data()); });
+  if (!renderer_) return;
+  Timed(Stage::kRender, [&] { renderer_->Render(state_, envs.data()); });
   int rendered_envs = 0;
   for (int env = 0; env < num_envs(); ++env) rendered_envs += envs[env] != 0 ? 1 : 0;
   std::fill(state_.images_current.begin(), state_.images_current.end(), 0);
-  rendered_images_ += static_cast<int64_t>(rendered_envs) * cameras_->num_cameras();
+  rendered_images_ += static_cast<int64_t>(rendered_envs) * renderer_->num_cameras();
 }
 
 }  // namespace tavis::batch

@@ -86,7 +86,8 @@ class VecEnv {
   // the order of settings.cameras); the scenario's black_cameras start blocked in every env.
   // Without it nothing is ever rendered.
   void EnableCameras(const CameraSettings& settings);
-  const SceneRender* cameras() const { return cameras_.get(); }
+  // The scene renderer; null until EnableCameras.
+  const SceneRender* renderer() const { return renderer_.get(); }
   // Blocks or unblocks one camera of one env: a blocked camera's image is all zero. `camera`
   // indexes settings.cameras. Requires EnableCameras.
   void SetCameraBlocked(int env, int camera, bool blocked);
@@ -142,7 +143,7 @@ class VecEnv {
   uint64_t seed_;
   engine::BatchState state_;
   std::vector<std::unique_ptr<engine::PhysicsWorld>> worlds_;
-  std::unique_ptr<SceneRender> cameras_;
+  std::unique_ptr<SceneRender> renderer_;
   // Per-tick scratch, sized once.
   std::vector<uint8_t> physics_sane_;                 // (num_envs) this tick's physics stayed finite
   std::vector<uint8_t> render_env_;                   // (num_envs) this tick's render flags

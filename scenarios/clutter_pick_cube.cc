@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "engine/object_catalog.h"
-#include "scenarios/arm_planner.h"
+#include "scenarios/expert/arm_planner.h"
 #include "scenarios/object_placement.h"
-#include "scenarios/pick_expert.h"
+#include "scenarios/expert/pick_expert.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {

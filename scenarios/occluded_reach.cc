@@ -2,7 +2,7 @@
 
 #include "engine/object_catalog.h"
 #include "scenarios/object_placement.h"
-#include "scenarios/pick_expert.h"
+#include "scenarios/expert/pick_expert.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {

@@ -12,7 +12,7 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/action.h"
-#include "scenarios/expert_mode.h"
+#include "scenarios/expert/expert_mode.h"
 #include "scenarios/split.h"
 #include "scenarios/stage.h"
 #include "scenarios/suite.h"

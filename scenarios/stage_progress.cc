@@ -5,7 +5,7 @@
 
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/robot_buffers.h"
-#include "scenarios/gaze.h"
+#include "scenarios/expert/gaze.h"
 
 namespace tavis::scenarios {
 

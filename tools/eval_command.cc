@@ -20,6 +20,7 @@
 #include "batch/cell_report.h"
 #include "batch/evaluation_cell.h"
 #include "batch/output_folder.h"
+#include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
 #include "batch/dataset/video/video_log.h"
@@ -172,10 +173,10 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   }
   // The summary covers the whole cell: the resumed records first.
   std::vector<batch::EpisodeRecord> episodes = stream.resumed();
-  for (batch::EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
+  for (batch::EpisodeRecord& episode : result.episodes) episodes.push_back(std::move(episode));
   result.episodes = std::move(episodes);
   result.successes = 0;
-  for (const batch::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
+  for (const batch::EpisodeRecord& episode : result.episodes) result.successes += episode.success ? 1 : 0;
   batch::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
   if (recording) {
@@ -403,11 +404,11 @@ void RegisterEvalCommand(CLI::App& app) {
     if (eval->count("--out") > 0 && options->out.empty()) {
       throw std::invalid_argument("--out must name a folder, got an empty string");
     }
-    if (eval->count("--actions") > 0 && options->cell.policy != "replay") {
+    if (eval->count("--actions") > 0 && !batch::IsPolicy(options->cell.policy, batch::PolicyKind::kReplay)) {
       throw std::invalid_argument("--actions '" + options->cell.actions_file + "' applies to --policy replay only, got --policy " +
                                   options->cell.policy);
     }
-    if (options->cell.policy != "openpi") {
+    if (!batch::IsPolicy(options->cell.policy, batch::PolicyKind::kOpenpi)) {
       for (const char* served_only : {"--serving", "--keys", "--replan-steps", "--match-dataset", "--server-timeout",
                                       "--reply-timeout", "--max-reply-mb"}) {
         if (eval->count(served_only) > 0) {

@@ -9,6 +9,7 @@
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
 #include "batch/perturbation_catalog.h"
+#include "batch/policy_kinds.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -122,7 +123,7 @@ void RunRender(const RenderCommandOptions& options) {
   settings.height = options.height;
   // Tasks still without a scripted expert are shown with the robot holding its reset pose.
   const bool has_expert = scenario.make_expert != nullptr;
-  std::unique_ptr<batch::Policy> policy = batch::MakeBuiltinPolicy(has_expert ? "expert" : "hold", scenario, env.model(), 1);
+  std::unique_ptr<batch::Policy> policy = batch::MakeBuiltinPolicy(batch::PolicyName(has_expert ? batch::PolicyKind::kExpert : batch::PolicyKind::kHold), scenario, env.model(), 1);
 
   const std::filesystem::path dir(options.out);
   std::filesystem::create_directories(dir);

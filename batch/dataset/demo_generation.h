@@ -14,7 +14,7 @@
 
 #include "batch/dataset/lerobot_features.h"
 #include "batch/dataset/video/video_settings.h"
-#include "scenarios/expert_mode.h"
+#include "scenarios/expert/expert_mode.h"
 #include "scenarios/split.h"
 
 namespace tavis::dataset {

@@ -10,6 +10,7 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/cell_report.h"
+#include "batch/policy_kinds.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
 
@@ -135,7 +136,7 @@ PythonVecEnv::PythonVecEnv(const PythonVecEnvConfig& config)
   ended_episode_.assign(n, -1);
   reported_episode_.assign(n, -1);
   final_state_.assign(n * static_cast<std::size_t>(state_size()), 0.0F);
-  hold_ = MakeBuiltinPolicy("hold", scenario_, env_.model(), num_envs(), "");
+  hold_ = MakeBuiltinPolicy(PolicyName(PolicyKind::kHold), scenario_, env_.model(), num_envs(), "");
   policies_.push_back(hold_);
 }
 

@@ -30,6 +30,7 @@
 
 #include "batch/camera_protocol.h"
 #include "batch/policy.h"
+#include "batch/policy_kinds.h"
 #include "batch/remote/msgpack_value.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/openpi_reply.h"
@@ -76,7 +77,7 @@ class RemotePolicy : public batch::Policy {
   // cannot be reached.
   RemotePolicy(RemotePolicyOptions options, int num_envs);
 
-  std::string name() const override { return "openpi"; }
+  std::string name() const override { return batch::PolicyName(batch::PolicyKind::kOpenpi); }
   int control_ticks_per_action() const override { return 3; }
   std::vector<std::string> cameras() const override { return options_.keys.PolicyCameras(); }
   // Clears the started envs' queues and answers the servers' pings (resets can take long).

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "batch/report/seed_groups.h"
+#include "batch/statistics.h"
 
 namespace tavis::batch::report {
 namespace {
@@ -265,12 +266,6 @@ std::vector<int> HistogramCounts(const std::vector<double>& values, double low, 
     ++counts[static_cast<std::size_t>(std::max(0, bin))];
   }
   return counts;
-}
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t middle = values.size() / 2;
-  return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
 }
 
 Json PaperFiguresJson(const Json& summary, const Json& choices, const Json& galt_reference) {

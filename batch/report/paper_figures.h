@@ -46,7 +46,4 @@ nlohmann::ordered_json HeadlineJson(const nlohmann::ordered_json& figures);
 // caller reports them), a value equal to high falls in the last bin.
 std::vector<int> HistogramCounts(const std::vector<double>& values, double low, double high, int bins);
 
-// The median (mean of the middle two for an even count); values must not be empty.
-double Median(std::vector<double> values);
-
 }  // namespace tavis::batch::report

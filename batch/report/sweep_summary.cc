@@ -5,6 +5,7 @@
 #include <map>
 #include <numeric>
 #include <tuple>
+#include <utility>
 
 #include "batch/galt_summary.h"
 #include "batch/galt_validation.h"
@@ -27,15 +28,10 @@ using Json = nlohmann::ordered_json;
 Json SpreadJson(std::vector<double> values) {
   Json spread = {{"n", values.size()}, {"mean", nullptr}, {"median", nullptr}, {"std", nullptr}};
   if (values.empty()) return spread;
-  const double n = static_cast<double>(values.size());
-  const double mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
-  double squared = 0.0;
-  for (const double value : values) squared += (value - mean) * (value - mean);
-  std::sort(values.begin(), values.end());
-  const std::size_t middle = values.size() / 2;
-  spread["mean"] = mean;
-  spread["median"] = values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-  spread["std"] = std::sqrt(squared / n);
+  const Spread of = SpreadOf(std::move(values));
+  spread["mean"] = of.mean;
+  spread["median"] = of.median;
+  spread["std"] = of.std;
   return spread;
 }
 

@@ -7,6 +7,7 @@
 
 #include "batch/action_csv.h"
 #include "batch/builtin_policies.h"
+#include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/sweep/spec_lists.h"
 #include "configs/input_file.h"
@@ -100,7 +101,7 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
     policy.server_timeout_s = timeout->AsDouble({0.001, 86400.0, false, "s"});
   }
   node.ExpectNoOtherKeys();
-  const bool served = policy.name == "openpi";
+  const bool served = IsPolicy(policy.name, PolicyKind::kOpenpi);
   if (!served) {
     try {
       CheckBuiltinPolicyName(policy.name);
@@ -108,8 +109,8 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
       node.Required("name").Fail("unknown policy '" + policy.name + "' (known: " + CellPolicyNames() + ")");
     }
   }
-  if (policy.name == "replay" && policy.actions_file.empty()) node.Fail("policy 'replay' needs actions: FILE.csv");
-  if (policy.name != "replay" && !policy.actions_file.empty()) {
+  if (IsPolicy(policy.name, PolicyKind::kReplay) && policy.actions_file.empty()) node.Fail("policy 'replay' needs actions: FILE.csv");
+  if (!IsPolicy(policy.name, PolicyKind::kReplay) && !policy.actions_file.empty()) {
     node.Required("actions").Fail("applies to policy 'replay' only, got policy '" + policy.name + "'");
   }
   if (served && policy.servers.empty()) node.Fail("policy 'openpi' needs servers: [ws://HOST:PORT, ...]");

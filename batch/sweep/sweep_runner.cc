@@ -114,7 +114,7 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
         progress.CellFinished(CellSummaryLine(result));
       } catch (...) {
         manifest.SetState(cell.id, "failed");
-        std::lock_guard<std::mutex> lock(error_mutex);
+        std::lock_guard<std::mutex> error_lock(error_mutex);
         if (!first_error) first_error = std::current_exception();
         failed = true;
       }

@@ -13,13 +13,14 @@
 #include "engine/batch_state.h"
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/gripper_geometry.h"
+#include "kinematics/servo.h"
 
 namespace tavis::peer {
 namespace {
 
-// Mirrors of engine/physics_world.cc's private constants, so both engines get the same bodies.
+// Mirrors of engine/internal/world_building.cc's private constants, so both engines get the same
+// bodies (the finger servo's gain is kinematics/servo.h's).
 constexpr double kRobotInertiaRadius = 0.05;   // robot bodies: inertia of a sphere of this radius
-constexpr double kFingerServoGain = 40.0;      // 1/s
 constexpr double kHingeStopClearance = 0.02;   // rad
 constexpr double kSliderStopClearance = 0.002; // m
 constexpr double kPadTorsionRadius = 0.01;     // m, ODE's rolling-friction radius on pads
@@ -341,20 +342,19 @@ void MujocoPhysics::StepTick(int env, const EpisodeTrajectory& episode, int tick
   const int nj = robot.num_joints();
   const double* q_target = &episode.q_target[static_cast<std::size_t>(tick) * static_cast<std::size_t>(nj)];
   const double* command = &episode.gripper_command[static_cast<std::size_t>(tick) * 2];
-  const double vmax = robot.arm_actuator.velocity_limit;
   const double max_finger_speed = s.gripper.spec().max_speed;
   const int fingers = static_cast<int>(s.arm_qpos.size());
   for (int step = 0; step < s.world.physics.substeps_per_control(); ++step) {
     for (std::size_t a = 0; a < s.arm_qpos.size(); ++a) {
       const kinematics::Joint& joint = robot.joints[static_cast<std::size_t>(s.arm_joint[a])];
       const double target = std::clamp(q_target[s.arm_joint[a]], joint.lower, joint.upper);
-      d->ctrl[a] = std::clamp(robot.arm_actuator.position_gain * (target - d->qpos[s.arm_qpos[a]]), -vmax, vmax);
+      d->ctrl[a] = kinematics::JointServoVelocity(robot.arm_actuator, target - d->qpos[s.arm_qpos[a]]);
     }
     for (int side = 0; side < 2; ++side) {
       const double closing = s.gripper.ClosingTarget(command[side]);
       for (int f = 0; f < 2; ++f) {
         const double error = closing - d->qpos[s.finger_qpos[static_cast<std::size_t>(side)][static_cast<std::size_t>(f)]];
-        d->ctrl[fingers + 2 * side + f] = std::clamp(kFingerServoGain * error, -max_finger_speed, max_finger_speed);
+        d->ctrl[fingers + 2 * side + f] = kinematics::ServoVelocity(kinematics::kFingerServoGain, error, max_finger_speed);
       }
     }
     mj_step(s.model, d);

@@ -11,8 +11,8 @@
 #include "altered_hold_policy.h"
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
@@ -91,7 +91,7 @@ class NeckAndLayout : public EpisodeSink {
 
 NeckAndLayout RunProtocol(CameraProtocol protocol) {
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario("conditional-pick");
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   engine::WorldModel model = BuildWorldModel(robot, scenario);
   model.physics.episode_length_s = 1.0;
   VecEnv env(std::move(model), scenario, scenarios::Split::kId, 2, 11);

@@ -15,14 +15,14 @@
 #include "altered_hold_policy.h"
 #include "batch/builtin_policies.h"
 #include "batch/episode_recorder.h"
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
 
 engine::WorldModel Model(const std::string& task, double episode_length_s) {
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   engine::WorldModel model = BuildWorldModel(robot, scenarios::FindScenario(task));
   model.physics.episode_length_s = episode_length_s;
   return model;
@@ -337,7 +337,7 @@ class PerSlotLog : public EpisodeSink {
 };
 
 engine::WorldModel TaskModel(const std::string& task) {
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   return BuildWorldModel(robot, scenarios::FindScenario(task));
 }
 

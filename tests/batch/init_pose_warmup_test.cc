@@ -5,14 +5,14 @@
 #include <cmath>
 
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "kinematics/forward_kinematics.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
 
-kinematics::RobotModel Robot(const char* name) { return configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, name)); }
+kinematics::RobotModel Robot(const char* name) { return tavis::testing::LoadRobot(name); }
 
 TEST(InitPoseWarmup, ActionHasTheReferenceNoiseAroundTheRestPose) {
   const kinematics::RobotModel robot = Robot("gr1t2");

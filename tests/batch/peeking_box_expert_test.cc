@@ -8,16 +8,16 @@
 #include <vector>
 
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
-#include "scenarios/arm_planner.h"
+#include "scenarios/expert/arm_planner.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
 
 TEST(PeekingBoxExpert, PeeksIntoBothSidesThenLiftsTheObjectOut) {
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario("peeking-box");
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   VecEnv env(BuildWorldModel(robot, scenario), scenario, scenarios::Split::kId, 1, 0);
   std::unique_ptr<scenarios::Expert> expert = scenario.make_expert(env.model(), 1, scenarios::ExpertMode::kGazeFirst);
   constexpr int kEpisode = 1;  // an episode the expert solves

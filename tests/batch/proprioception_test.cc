@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "kinematics/forward_kinematics.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
@@ -17,7 +17,7 @@ namespace {
 class Proprioception : public ::testing::TestWithParam<std::string> {
  protected:
   Proprioception()
-      : robot_(configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, GetParam()))),
+      : robot_(tavis::testing::LoadRobot(GetParam())),
         env_(BuildWorldModel(robot_, scenarios::FindScenario("clutter-pick-cube")), scenarios::FindScenario("clutter-pick-cube"),
              scenarios::Split::kOodInitPose, 2, 3) {
     // ood-init-pose's warm-up leaves the neck and the arms away from their defaults.

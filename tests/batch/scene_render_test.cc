@@ -17,10 +17,10 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "kinematics/forward_kinematics.h"
 #include "render/camera.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
@@ -28,7 +28,7 @@ namespace {
 constexpr const char* kTask = "clutter-pick-cube";
 
 engine::WorldModel Model(const std::string& robot_name, const std::string& task = kTask) {
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, robot_name));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot(robot_name);
   return BuildWorldModel(robot, scenarios::FindScenario(task));
 }
 
@@ -355,7 +355,7 @@ TEST(VecEnvCameras, BlockedHeadImageIsAllZero) {
   env.EnableCameras(Cameras({"head", "left_wrist", "right_wrist"}, 48, 36));
   env.ResetEnv(0, 0);
   env.ResetEnv(1, 0);  // the same episode in both slots
-  env.SetCameraBlocked(0, env.cameras()->CameraIndex("head"), true);
+  env.SetCameraBlocked(0, env.renderer()->CameraIndex("head"), true);
   std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
   for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
   RunExpert(env, *expert, 60);  // the head has turned to the table by now

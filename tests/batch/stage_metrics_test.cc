@@ -15,16 +15,16 @@
 #include "batch/episode_driver.h"
 #include "batch/episode_recorder.h"
 #include "batch/stage_record.h"
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
 #include "wrong_side_policy.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
 
 VecEnv MakeEnv(const std::string& task, double episode_length_s, int envs) {
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   engine::WorldModel model = BuildWorldModel(robot, scenario);
   model.physics.episode_length_s = episode_length_s;
   return VecEnv(std::move(model), scenario, scenarios::Split::kId, envs, 5);

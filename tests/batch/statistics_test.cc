@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace tavis::batch {
 namespace {
@@ -39,6 +40,29 @@ TEST(WilsonInterval, WiderZGivesAWiderInterval) {
   const ProportionInterval z258 = WilsonInterval(30, 60, 2.576);
   EXPECT_LT(z258.low, z196.low);
   EXPECT_GT(z258.high, z196.high);
+}
+
+// Values worked by hand: 2, 4, 4, 4, 5, 5, 7, 9 has mean 5, population std 2 (numpy's std) and
+// median 4.5 (the middle two's mean); order does not matter.
+TEST(SpreadOf, MeanMedianAndPopulationStd) {
+  const Spread spread = SpreadOf({9.0, 4.0, 2.0, 5.0, 4.0, 7.0, 4.0, 5.0});
+  EXPECT_EQ(spread.n, 8u);
+  EXPECT_DOUBLE_EQ(spread.mean, 5.0);
+  EXPECT_DOUBLE_EQ(spread.median, 4.5);
+  EXPECT_DOUBLE_EQ(spread.std, 2.0);
+}
+
+TEST(SpreadOf, OddCountTakesTheMiddleValueAndOneValueHasNoSpread) {
+  EXPECT_DOUBLE_EQ(Median({3.0, 1.0, 2.0}), 2.0);
+  const Spread one = SpreadOf({1.5});
+  EXPECT_DOUBLE_EQ(one.mean, 1.5);
+  EXPECT_DOUBLE_EQ(one.median, 1.5);
+  EXPECT_DOUBLE_EQ(one.std, 0.0);
+}
+
+TEST(SpreadOf, NoValuesIsRefused) {
+  EXPECT_THROW(SpreadOf({}), std::invalid_argument);
+  EXPECT_THROW(Median({}), std::invalid_argument);
 }
 
 }  // namespace

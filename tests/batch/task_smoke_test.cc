@@ -10,8 +10,8 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
@@ -27,7 +27,7 @@ class TaskSmoke : public ::testing::TestWithParam<std::tuple<std::string, std::s
 TEST_P(TaskSmoke, FiftyTicksStayFiniteAndAreEvaluated) {
   const auto& [task, robot_name] = GetParam();
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, robot_name));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot(robot_name);
   for (const scenarios::Split split : {scenarios::Split::kId, scenarios::Split::kOodSpatial, scenarios::Split::kOodInitPose}) {
     SCOPED_TRACE(scenarios::ToString(split));
     VecEnv env(BuildWorldModel(robot, scenario), scenario, split, 1, 3);

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "batch/builtin_policies.h"
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
 namespace {
@@ -21,7 +21,7 @@ constexpr const char* kTask = "clutter-pick-cube";
 
 engine::WorldModel Model(const std::string& robot_name, double episode_length_s) {
   const kinematics::RobotModel robot =
-      configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, robot_name));
+      tavis::testing::LoadRobot(robot_name);
   engine::WorldModel model = BuildWorldModel(robot, scenarios::FindScenario(kTask));
   model.physics.episode_length_s = episode_length_s;
   return model;

@@ -4,11 +4,11 @@
 
 #include <algorithm>
 
-#include "configs/robot_config.h"
 #include "engine/batch_state.h"
 #include "engine/object_catalog.h"
 #include "kinematics/inverse_kinematics.h"
-#include "scenarios/arm_planner.h"
+#include "scenarios/expert/arm_planner.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::engine {
 namespace {
@@ -20,7 +20,7 @@ const Vec3 kCubeOnTable(0.40, 0.20, kTableHeight + 0.0275);
 
 WorldModel CubeOnTableWorld() {
   WorldModel model;
-  model.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  model.robot = tavis::testing::LoadRobot("gr1t2");
   model.objects.push_back(MakeCatalogObject("red_cube"));
   model.static_parts.push_back(MakeTable());
   return model;
@@ -127,7 +127,7 @@ TEST(PhysicsWorld, DisabledObjectsDoNotMove) {
 TEST(PhysicsWorld, FreeFingersMeasureTheOpenAndClosedGaps) {
   for (const char* robot : {"gr1t2", "reachy2"}) {
     WorldModel model = CubeOnTableWorld();
-    model.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, robot));
+    model.robot = tavis::testing::LoadRobot(robot);
     const kinematics::GripperSpec& gripper = model.robot.gripper;
     PhysicsWorld world(model);
     const std::vector<double> q = model.robot.DefaultPositions();

@@ -1,17 +1,12 @@
-// Loads the project's robot configs for kinematics tests.
+// Link poses for kinematics tests; the robots load through tests/support/robot_loading.h.
 #pragma once
 
-#include <string>
 #include <vector>
 
-#include "configs/robot_config.h"
 #include "kinematics/forward_kinematics.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::testing {
-
-inline kinematics::RobotModel LoadRobot(const std::string& name) {
-  return configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, name));
-}
 
 inline std::vector<RigidTransform> LinkPoses(const kinematics::RobotModel& robot, const std::vector<double>& q) {
   std::vector<RigidTransform> X_BL(robot.links.size());

@@ -2,16 +2,16 @@
 
 #include <gtest/gtest.h>
 
-#include "configs/robot_config.h"
-#include "scenarios/gaze.h"
+#include "scenarios/expert/gaze.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::scenarios {
 namespace {
 
 engine::WorldModel World() {
   engine::WorldModel model;
-  model.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  model.robot = tavis::testing::LoadRobot("gr1t2");
   FindScenario("clutter-pick-cube").layout(model);
   return model;
 }
@@ -66,7 +66,7 @@ TEST(Registry, UnknownTaskNamesItAndTheKnownOnes) {
 
 TEST(Gaze, FixationCentresTheTargetInTheHeadCamera) {
   for (const char* name : {"gr1t2", "reachy2"}) {
-    const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, name));
+    const kinematics::RobotModel robot = tavis::testing::LoadRobot(name);
     std::vector<double> q = robot.DefaultPositions();
     // Reachy2's neck pitches at most 30 degrees down: a far table point stays within reach.
     const Vec3 target = robot.name == "reachy2" ? Vec3(0.75, -0.18, 1.03) : Vec3(0.42, -0.18, 1.03);

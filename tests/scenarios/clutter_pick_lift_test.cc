@@ -6,15 +6,15 @@
 #include <string>
 #include <vector>
 
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::scenarios {
 namespace {
 
 TEST(ClutterPickLift, EveryObjectStaysAndThePromptNamesTheTarget) {
   engine::WorldModel model;
-  model.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  model.robot = tavis::testing::LoadRobot("gr1t2");
   const ScenarioDef& scenario = FindScenario("clutter-pick-lift");
   scenario.layout(model);
   ASSERT_EQ(model.num_objects(), 5);

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/dataset/dataset_actions.h"
-#include "configs/robot_config.h"
 #include "kinematics/action.h"
 #include "tool_runner.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::tools {
 namespace {
@@ -46,7 +46,7 @@ TEST_F(ExpertModeCommand, HeadStillDemosHoldTheNeckAtItsResetPoseInEveryFrameAnd
   EXPECT_EQ(ReadJson(root_ / "head_still" / "tavis_demos.json")["expert_mode"], "head-still");
   EXPECT_EQ(ReadJson(root_ / "gaze_first" / "tavis_demos.json")["expert_mode"], "gaze-first");
 
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   const std::vector<double> q_reset = robot.DefaultPositions();  // the id split starts here
   const int neck[3] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch, kinematics::action::kNeckYaw};
   const dataset::DatasetActions head_still = dataset::ReadDatasetActions(root_ / "head_still");

@@ -195,7 +195,7 @@ TEST_F(OutputSafety, LockedDatasetIsRefusedAndThenWrittenAsAnUnlockedOne) {
   }
   const RunResult written = Run(kDemos + " --out " + Quote(dataset.string()));
   ASSERT_EQ(written.exit_code, 0) << written.err;
-  for (const std::string& part : {"meta/info.json", "meta/stats.json", "data/chunk-000/file-000.parquet"}) {
+  for (const char* part : {"meta/info.json", "meta/stats.json", "data/chunk-000/file-000.parquet"}) {
     EXPECT_EQ(ReadText(dataset / part), ReadText(reference / part)) << part;
   }
 }

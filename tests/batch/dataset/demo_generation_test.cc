@@ -10,8 +10,8 @@
 
 #include "batch/dataset/demo_generation.h"
 #include "batch/dataset/video/video_log.h"
-#include "configs/robot_config.h"
 #include "tests/batch/dataset/lerobot_dataset_checks.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::dataset {
 namespace {
@@ -70,7 +70,7 @@ TEST_F(DemoGeneration, ExpertEpisodesLoadAsALeRobotDataset) {
   ExpectVideosAsLeRobotReadsThem(view, scratch_);
 
   const std::size_t state_size =
-      configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2")).observation_state.size();
+      tavis::testing::LoadRobot("gr1t2").observation_state.size();
   EXPECT_EQ(view.info["features"]["observation.state"]["shape"], nlohmann::json({state_size}));
   ASSERT_FALSE(view.hyparquet_rows.empty());
   const nlohmann::json& first_state = view.hyparquet_rows[0]["observation.state"];

@@ -20,6 +20,7 @@
 #include "configs/yaml_reader.h"
 #include "scenarios/registry.h"
 #include "tests/batch/remote/policy_server_process.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::remote {
 namespace {
@@ -102,7 +103,7 @@ TEST_F(KeyFile, EachMistakeIsNamedWithItsKey) {
 class RenderedObservation : public ::testing::Test {
  protected:
   RenderedObservation()
-      : robot_(configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"))),
+      : robot_(tavis::testing::LoadRobot("gr1t2")),
         env_(batch::BuildWorldModel(robot_, scenarios::FindScenario("clutter-pick-cube")),
              scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 3),
         proprioception_(env_.model().robot, 2),

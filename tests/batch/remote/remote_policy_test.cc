@@ -21,10 +21,10 @@
 #include "batch/evaluation_cell.h"
 #include "batch/episode_driver.h"
 #include "batch/init_pose_warmup.h"
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
 #include "tests/batch/remote/policy_server_process.h"
 #include "tests/batch/remote/test_scripts.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::remote {
 namespace {
@@ -102,7 +102,7 @@ TEST(RemotePolicy, StepsWithTheServersFunctionOfEachEnvsObservationReplanningEve
   testing::PolicyServerProcess first = ServeActions(kHorizon);
   testing::PolicyServerProcess second = ServeActions(kHorizon);
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario("clutter-pick-cube");
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
   model.physics.episode_length_s = 1.0;  // 20 policy steps
   batch::VecEnv env(std::move(model), scenario, scenarios::Split::kId, 3, 5);

@@ -9,7 +9,7 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/robot_model.h"
-#include "scenarios/grasp_clearance.h"
+#include "scenarios/expert/grasp_clearance.h"
 
 namespace tavis::scenarios {
 

@@ -1,4 +1,4 @@
-#include "scenarios/arm_clearance.h"
+#include "scenarios/expert/arm_clearance.h"
 
 #include <algorithm>
 #include <cmath>

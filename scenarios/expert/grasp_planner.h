@@ -10,7 +10,7 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/robot_model.h"
-#include "scenarios/pick_expert_settings.h"
+#include "scenarios/expert/pick_expert_settings.h"
 #include "kinematics/robot_buffers.h"
 
 namespace tavis::scenarios {

@@ -1,4 +1,4 @@
-#include "scenarios/pick_expert.h"
+#include "scenarios/expert/pick_expert.h"
 
 #include <algorithm>
 #include <array>
@@ -6,9 +6,10 @@
 #include <optional>
 #include <vector>
 
-#include "scenarios/arm_clearance.h"
-#include "scenarios/arm_planner.h"
-#include "scenarios/gaze.h"
+#include "kinematics/servo.h"
+#include "scenarios/expert/arm_clearance.h"
+#include "scenarios/expert/arm_planner.h"
+#include "scenarios/expert/gaze.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -104,8 +105,8 @@ void PickExpert::UpdateNeck(const engine::WorldModel& model, const engine::Batch
   }
   const double dt = 1.0 / model.physics.control_hz;
   for (int i = 0; i < kinematics::kNeckDof; ++i) {
-    const double rate = std::clamp(settings_.neck_gain * (m.neck_goal[i] - m.neck_command[i]),
-                                   -settings_.neck_max_speed, settings_.neck_max_speed);
+    const double rate =
+        kinematics::ServoVelocity(settings_.neck_gain, m.neck_goal[i] - m.neck_command[i], settings_.neck_max_speed);
     m.neck_command[i] += rate * dt;
   }
 }

@@ -1,9 +1,9 @@
-#include "scenarios/hand_motion.h"
+#include "scenarios/expert/hand_motion.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "scenarios/arm_planner.h"
+#include "scenarios/expert/arm_planner.h"
 
 namespace tavis::scenarios {
 

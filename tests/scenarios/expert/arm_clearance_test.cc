@@ -1,13 +1,13 @@
-#include "scenarios/arm_clearance.h"
+#include "scenarios/expert/arm_clearance.h"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "configs/robot_config.h"
 #include "kinematics/forward_kinematics.h"
-#include "scenarios/arm_planner.h"
+#include "scenarios/expert/arm_planner.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -38,7 +38,7 @@ TEST(BoxesOverlap, RotatedBoxSeparatedOnlyAlongItsOwnFace) {
 TEST(ArmObstacles, DefaultPoseIsClearAndAHandThroughTheScreenIsNot) {
   const ScenarioDef& scenario = FindScenario("occluded-reach");
   engine::WorldModel model;
-  model.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+  model.robot = tavis::testing::LoadRobot("gr1t2");
   scenario.layout(model);
   engine::BatchState state;
   state.Allocate(1, model.robot.num_joints(), model.num_objects());

@@ -1,4 +1,4 @@
-#include "scenarios/expert_mode.h"
+#include "scenarios/expert/expert_mode.h"
 
 #include <stdexcept>
 

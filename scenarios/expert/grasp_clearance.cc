@@ -1,4 +1,4 @@
-#include "scenarios/grasp_clearance.h"
+#include "scenarios/expert/grasp_clearance.h"
 
 #include <array>
 

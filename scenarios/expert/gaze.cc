@@ -1,4 +1,4 @@
-#include "scenarios/gaze.h"
+#include "scenarios/expert/gaze.h"
 
 #include <algorithm>
 #include <cmath>

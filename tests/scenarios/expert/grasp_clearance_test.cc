@@ -1,10 +1,10 @@
-#include "scenarios/grasp_clearance.h"
+#include "scenarios/expert/grasp_clearance.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "configs/robot_config.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -18,7 +18,7 @@ struct Scene {
   engine::BatchState state;
 
   Scene(const Vec3& neighbour_position, const Vec3& neighbour_size) {
-    model.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+    model.robot = tavis::testing::LoadRobot("gr1t2");
     model.objects.push_back({"cube", {ShapeKind::kBox, Vec3::Constant(0.055)}, 0.1, engine::Material::kObject, "red_cube"});
     model.objects.push_back({"neighbour", {ShapeKind::kBox, neighbour_size}, 0.1, engine::Material::kObject, "gelatin_box"});
     state.Allocate(1, model.robot.num_joints(), 2);

@@ -1,12 +1,12 @@
-#include "scenarios/grasp_planner.h"
+#include "scenarios/expert/grasp_planner.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "scenarios/arm_clearance.h"
-#include "scenarios/arm_planner.h"
-#include "scenarios/grasp_clearance.h"
+#include "scenarios/expert/arm_clearance.h"
+#include "scenarios/expert/arm_planner.h"
+#include "scenarios/expert/grasp_clearance.h"
 
 namespace tavis::scenarios {
 namespace {

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
-#include "scenarios/pick_expert.h"
+#include "scenarios/expert/pick_expert.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace {
 
@@ -86,7 +86,7 @@ enum class GripReading { kSimulated, kClosedOnNothing };
 
 ActAllocations RunEpisode(const std::string& task, const std::string& robot_name, int64_t episode, GripReading grip) {
   const ScenarioDef& scenario = FindScenario(task);
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, robot_name));
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot(robot_name);
   batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, Split::kId, 1, 0);
   const std::unique_ptr<Expert> made = scenario.make_expert(env.model(), 1, ExpertMode::kGazeFirst);
   PickExpert& expert = dynamic_cast<PickExpert&>(*made);

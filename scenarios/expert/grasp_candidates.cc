@@ -1,4 +1,4 @@
-#include "scenarios/grasp_candidates.h"
+#include "scenarios/expert/grasp_candidates.h"
 
 #include <cmath>
 

@@ -9,8 +9,8 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/robot_model.h"
-#include "scenarios/expert_mode.h"
-#include "scenarios/grasp_candidates.h"
+#include "scenarios/expert/expert_mode.h"
+#include "scenarios/expert/grasp_candidates.h"
 
 namespace tavis::scenarios {
 

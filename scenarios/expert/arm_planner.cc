@@ -1,9 +1,9 @@
-#include "scenarios/arm_planner.h"
+#include "scenarios/expert/arm_planner.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "scenarios/arm_clearance.h"
+#include "scenarios/expert/arm_clearance.h"
 #include "kinematics/robot_buffers.h"
 
 namespace tavis::scenarios {

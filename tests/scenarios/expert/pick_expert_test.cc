@@ -1,7 +1,7 @@
 // The pick expert's grasp decisions, run kinematically: the expert steps on its own commands
 // (its phases advance on its commanded hand path and its clock), so a test can play the
 // gripper's reading back to it without physics: shut on nothing, or stopped by the object.
-#include "scenarios/pick_expert.h"
+#include "scenarios/expert/pick_expert.h"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "configs/robot_config.h"
 #include "engine/object_catalog.h"
 #include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -26,7 +26,7 @@ class PickExpertTest : public ::testing::Test {
   void ResetTask(const std::string& task, uint64_t episode, ExpertMode mode = ExpertMode::kGazeFirst) {
     scenario_ = &FindScenario(task);
     model_ = engine::WorldModel();
-    model_.robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
+    model_.robot = tavis::testing::LoadRobot("gr1t2");
     scenario_->layout(model_);
     state_ = engine::BatchState();
     state_.Allocate(1, model_.robot.num_joints(), model_.num_objects());

@@ -18,9 +18,9 @@
 #include <array>
 #include <vector>
 
-#include "scenarios/grasp_planner.h"
-#include "scenarios/hand_motion.h"
-#include "scenarios/pick_expert_settings.h"
+#include "scenarios/expert/grasp_planner.h"
+#include "scenarios/expert/hand_motion.h"
+#include "scenarios/expert/pick_expert_settings.h"
 #include "scenarios/scenario.h"
 
 namespace tavis::scenarios {
