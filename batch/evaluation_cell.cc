@@ -142,8 +142,12 @@ std::vector<std::string> ServedLayoutDifferences(const EvaluationCellConfig& con
   return ServedKeys(config, static_cast<int>(robot.observation_state.size())).differences;
 }
 
-bool RunsPerSlot(const EvaluationCellConfig& config) {
-  return config.policy != kServedPolicy && config.render_cameras.empty();
+bool RunsPerSlot(const EvaluationCellConfig& config) { return config.policy != kServedPolicy; }
+
+int DefaultEnvs(const std::string& policy, int threads) {
+  constexpr int kDefaultEnvs = 32;
+  constexpr int kServedEnvsPerThread = 6;
+  return policy == kServedPolicy ? std::max(kDefaultEnvs, kServedEnvsPerThread * threads) : kDefaultEnvs;
 }
 
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress,
