@@ -30,10 +30,9 @@ struct CellProfile {
   // next dealt as a thread frees up) rather than lock-step (a section per tick across the batch).
   bool per_slot = false;
   // (name, seconds) per stage, summed over envs and threads: the env's stages, then "render"
-  // (the CPU time spent in render calls), "render_idle" (the thread time render calls held
-  // without rendering: lock-step, a batch render call holds every thread until its last tile is
-  // done; per slot, a render call's wall time beyond its thread's CPU time, which is the machine
-  // preempting it), "policy", "recording" (the sinks) and "driver" (the rest of the serial loop).
+  // (the CPU time spent in render calls), lock-step "render_idle" (the thread time batch render
+  // calls held without rendering: each holds every thread until its last tile is done),
+  // "policy", "recording" (the sinks) and "driver" (the rest of the serial loop).
   std::vector<std::pair<std::string, double>> stages;
   std::vector<EpisodeCost> episodes;  // in the order they ended
   int threads = 1;
@@ -50,7 +49,9 @@ struct CellProfile {
   double render_seconds = 0.0;
   double render_wall_seconds = 0.0;  // render calls' wall time, summed over the calling threads
   double render_cpu_seconds = 0.0;   // CPU time inside render calls (every thread's)
-  double render_idle_seconds = 0.0;  // thread time render calls held without rendering
+  // Thread time render calls held without rendering: lock-step, the "render_idle" stage; per
+  // slot, a call's wall time beyond its thread's CPU time (the machine preempting it).
+  double render_idle_seconds = 0.0;
 
   double work_seconds() const;  // all measured work (stages' sum)
   // The time with unlimited threads: serial time plus, lock-step, the slowest env of every

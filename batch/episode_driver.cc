@@ -254,7 +254,10 @@ void EpisodeDriver::FinishProfile(double wall_seconds) {
   }
   profile_.stages.emplace_back(ToString(Stage::kReset), reset_seconds_);
   profile_.stages.emplace_back(ToString(Stage::kRender), profile_.render_cpu_seconds);
-  profile_.stages.emplace_back("render_idle", profile_.render_idle_seconds);
+  // Lock-step render calls hold every thread: their idle time is the cell's. Per slot the other
+  // threads go on working; a call's wall time beyond its CPU time is the machine preempting it,
+  // reported apart (render_idle_seconds) but no work.
+  if (!profile_.per_slot) profile_.stages.emplace_back("render_idle", profile_.render_idle_seconds);
   profile_.stages.emplace_back("policy", policy_seconds_);
   profile_.stages.emplace_back("recording", recording_seconds_);
   // Lock-step sinks run outside the parallel sections, per-slot ones inside them.
