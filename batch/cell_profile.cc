@@ -15,6 +15,12 @@ int64_t ThreadCpuNanoseconds() {
   return static_cast<int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
 }
 
+int64_t ProcessCpuNanoseconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<int64_t>(now.tv_sec) * 1000000000 + now.tv_nsec;
+}
+
 double CellProfile::work_seconds() const {
   double total = 0.0;
   for (const auto& stage : stages) total += stage.second;
@@ -68,6 +74,15 @@ std::string FormatCellProfile(const CellProfile& profile) {
                   work > 0.0 ? 100.0 * seconds / work : 0.0);
     text += line;
   }
+  if (profile.render_wall_seconds > 0.0) {
+    const double held = profile.render_cpu_seconds + profile.render_idle_seconds;
+    std::snprintf(line, sizeof line,
+                  "  render calls: %.3f s wall (%s), %.3f s CPU, %.3f s idle inside them (%.1f%% of the thread time they held)\n",
+                  profile.render_wall_seconds, profile.per_slot ? "summed over the slots' threads" : "x all threads",
+                  profile.render_cpu_seconds, profile.render_idle_seconds,
+                  held > 0.0 ? 100.0 * profile.render_idle_seconds / held : 0.0);
+    text += line;
+  }
   double longest = 0.0, total = 0.0;
   for (const EpisodeCost& cost : profile.episodes) {
     longest = std::max(longest, cost.seconds);
@@ -104,6 +119,9 @@ std::string CellProfileJson(const CellProfile& profile) {
   for (const auto& [name, seconds] : profile.stages) stages[name] = seconds;
   json["stage_s"] = stages;
   json["schedule"] = profile.per_slot ? "per_slot" : "lock_step";
+  json["render"] = {{"wall_s", profile.render_wall_seconds},
+                    {"cpu_s", profile.render_cpu_seconds},
+                    {"idle_s", profile.render_idle_seconds}};
   json["serial_s"] = profile.serial_seconds;
   json["slowest_env_per_section_s"] = profile.slowest_env_seconds;
   json["critical_path_s"] = profile.critical_path_seconds();

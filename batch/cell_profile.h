@@ -15,6 +15,8 @@ namespace tavis::batch {
 // CPU time of the calling thread: an env's cost measured on it does not include the time its
 // thread waited for a core, so costs measured on a loaded machine stay meaningful.
 int64_t ThreadCpuNanoseconds();
+// CPU time of the whole process (every thread).
+int64_t ProcessCpuNanoseconds();
 
 struct EpisodeCost {
   int64_t episode = 0;
@@ -28,8 +30,9 @@ struct CellProfile {
   // next dealt as a thread frees up) rather than lock-step (a section per tick across the batch).
   bool per_slot = false;
   // (name, seconds) per stage, summed over envs and threads: the env's stages, then "render"
-  // (wall time x threads: it is parallel over tiles, not envs), "policy", "recording" (the
-  // sinks) and "driver" (the rest of the serial loop).
+  // (the CPU time spent in render calls), lock-step "render_idle" (the thread time batch render
+  // calls held without rendering: each holds every thread until its last tile is done),
+  // "policy", "recording" (the sinks) and "driver" (the rest of the serial loop).
   std::vector<std::pair<std::string, double>> stages;
   std::vector<EpisodeCost> episodes;  // in the order they ended
   int threads = 1;
@@ -41,7 +44,14 @@ struct CellProfile {
   double slowest_env_seconds = 0.0;
   // Per section, max(slowest env, section work / threads) summed, for the estimates.
   std::vector<std::pair<double, double>> sections;  // (slowest env, work)
-  double render_seconds = 0.0;  // render stage, wall x threads
+  // Lock-step: the render calls' wall time x threads, for the estimates (per slot, renders are
+  // part of their episodes' costs: 0).
+  double render_seconds = 0.0;
+  double render_wall_seconds = 0.0;  // render calls' wall time, summed over the calling threads
+  double render_cpu_seconds = 0.0;   // CPU time inside render calls (every thread's)
+  // Thread time render calls held without rendering: lock-step, the "render_idle" stage; per
+  // slot, a call's wall time beyond its thread's CPU time (the machine preempting it).
+  double render_idle_seconds = 0.0;
 
   double work_seconds() const;  // all measured work (stages' sum)
   // The time with unlimited threads: serial time plus, lock-step, the slowest env of every

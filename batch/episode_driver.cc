@@ -63,7 +63,7 @@ Observation EpisodeDriver::MakeObservation() const {
 }
 
 EpisodeDriver::Schedule EpisodeDriver::schedule() const {
-  if (lock_step_required_ || env_.renderer() != nullptr || dynamic_cast<PerEnvPolicy*>(&policy_) == nullptr) {
+  if (lock_step_required_ || dynamic_cast<PerEnvPolicy*>(&policy_) == nullptr) {
     return Schedule::kLockStep;
   }
   for (const EpisodeSink* sink : sinks_) {
@@ -188,6 +188,11 @@ void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episo
       env_.EndEarly(slot, engine::EpisodeEnd::kStopped);
       break;
     }
+    costs.recording += WallSeconds([&] {
+      for (EpisodeSink* sink : sinks_) sink->SlotTickStarting(env_, slot);
+    });
+    // The slot's cameras at its own policy ticks, as RenderPolicyTick draws them for the batch.
+    env_.RenderEnvPolicyTick(slot);
     if (state.control_step[slot] % hold_ticks == 0) {
       if (state.control_step[slot] % ticks_per_policy_step == 0) proprioception_.UpdateEnv(state, slot);
       policy.ActOne(observation, slot, action);
@@ -198,6 +203,9 @@ void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episo
     });
     env_.StepEnv(slot, actions_);
     if (state.running(slot) && policy.GaveUp(slot)) env_.EndEarly(slot, engine::EpisodeEnd::kGaveUp);
+    costs.recording += WallSeconds([&] {
+      for (EpisodeSink* sink : sinks_) sink->SlotStepped(env_, slot);
+    });
     ++costs.control_ticks;
   }
   FinishSlotEpisode(slot, costs);
@@ -233,14 +241,23 @@ void EpisodeDriver::FinishProfile(double wall_seconds) {
   profile_.wall_seconds = wall_seconds;
   const double outside_parallel = std::max(0.0, wall_seconds - parallel_seconds_);
   profile_.serial_seconds += outside_parallel;
-  profile_.render_seconds = stage[static_cast<int>(Stage::kRender)] * threads;
+  const VecEnv::RenderTimes render = env_.render_times();
+  profile_.render_wall_seconds = stage[static_cast<int>(Stage::kRender)];
+  profile_.render_cpu_seconds = render.cpu;
+  profile_.render_idle_seconds = std::max(0.0, render.held - render.cpu);
+  // Lock-step render calls hold every thread; per slot they are part of their episodes' costs.
+  profile_.render_seconds = profile_.per_slot ? 0.0 : render.held;
   profile_.stages.clear();
   for (Stage name : {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask,
                      Stage::kEndEpisodes}) {
     profile_.stages.emplace_back(ToString(name), stage[static_cast<int>(name)]);
   }
   profile_.stages.emplace_back(ToString(Stage::kReset), reset_seconds_);
-  profile_.stages.emplace_back(ToString(Stage::kRender), profile_.render_seconds);
+  profile_.stages.emplace_back(ToString(Stage::kRender), profile_.render_cpu_seconds);
+  // Lock-step render calls hold every thread: their idle time is the cell's. Per slot the other
+  // threads go on working; a call's wall time beyond its CPU time is the machine preempting it,
+  // reported apart (render_idle_seconds) but no work.
+  if (!profile_.per_slot) profile_.stages.emplace_back("render_idle", profile_.render_idle_seconds);
   profile_.stages.emplace_back("policy", policy_seconds_);
   profile_.stages.emplace_back("recording", recording_seconds_);
   // Lock-step sinks run outside the parallel sections, per-slot ones inside them.

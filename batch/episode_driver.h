@@ -7,10 +7,11 @@
 //
 // Two schedules, with the same results. Lock-step: every slot takes a control tick together, the
 // batch's observation goes to the policy at once (a served or Python policy answers the whole
-// batch), and finished episodes are collected and slots refilled in slot order. Per slot: when
-// the policy decides each env on its own, nothing is rendered and every sink works per slot, each
-// worker thread runs one slot's episodes tick after tick and takes the next episode as soon as
-// its own ends, so no env waits for the batch's slowest at every tick (docs/architecture.md).
+// batch), the cameras are rendered for the whole batch in one call, and finished episodes are
+// collected and slots refilled in slot order. Per slot: when the policy decides each env on its
+// own and every sink works per slot, each worker thread runs one slot's episodes tick after tick,
+// rendering the slot's cameras at its own policy ticks, and takes the next episode as soon as its
+// own ends, so no env waits for the batch's slowest at every tick (docs/architecture.md).
 //
 // Episode i is always dealt with the randomness of (seed, i), whichever slot runs it, so results
 // do not depend on the schedule, the thread count or the number of slots.
@@ -46,10 +47,16 @@ class EpisodeSink {
   virtual bool EpisodeComplete(const VecEnv& /*env*/, int /*slot*/) const { return false; }
   // The episode in `slot` has ended (state.end[slot] says how), before the slot is refilled.
   virtual void EpisodeEnded(const VecEnv& /*env*/, int /*slot*/) {}
-  // True if the sink can follow slots run independently: it needs neither TickStarting nor
-  // Stepped; EpisodeStarted, ActionChosen and EpisodeComplete touch only their slot's data (they
-  // may run concurrently for distinct slots); and it accepts EpisodeEnded calls, one at a time,
-  // in the order episodes happen to end. False: the driver runs lock-step.
+  // Per-slot schedule only, in place of TickStarting and Stepped: the slot's control tick is
+  // about to begin (before its cameras are rendered and its policy observes it), and is done
+  // (after the step, and after a policy that gave up has ended the episode).
+  virtual void SlotTickStarting(const VecEnv& /*env*/, int /*slot*/) {}
+  virtual void SlotStepped(const VecEnv& /*env*/, int /*slot*/) {}
+  // True if the sink can follow slots run independently: on the per-slot schedule it is told of
+  // each slot's ticks by SlotTickStarting and SlotStepped instead of TickStarting and Stepped;
+  // EpisodeStarted, SlotTickStarting, ActionChosen, SlotStepped and EpisodeComplete touch only
+  // their slot's data (they may run concurrently for distinct slots); and it accepts EpisodeEnded
+  // calls, one at a time, in the order episodes happen to end. False: the driver runs lock-step.
   virtual bool works_per_slot() const { return false; }
 };
 
@@ -75,8 +82,8 @@ class EpisodeDriver {
   }
   // Runs lock-step even where the per-slot schedule applies (tests compare the two).
   void RequireLockStep() { lock_step_required_ = true; }
-  // The schedule Run uses: per slot when the policy is a PerEnvPolicy, the env renders nothing,
-  // every sink works_per_slot() and lock-step is not required; otherwise lock-step.
+  // The schedule Run uses: per slot when the policy is a PerEnvPolicy, every sink
+  // works_per_slot() and lock-step is not required (rendered or not); otherwise lock-step.
   Schedule schedule() const;
 
   // Until every episode has ended or been stopped. An unusable action (VecEnv::Step's check) or

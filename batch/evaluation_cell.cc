@@ -143,8 +143,12 @@ std::vector<std::string> ServedLayoutDifferences(const EvaluationCellConfig& con
   return ServedKeys(config, static_cast<int>(robot.observation_state.size())).differences;
 }
 
-bool RunsPerSlot(const EvaluationCellConfig& config) {
-  return !IsPolicy(config.policy, PolicyKind::kOpenpi) && config.render_cameras.empty();
+bool RunsPerSlot(const EvaluationCellConfig& config) { return !IsPolicy(config.policy, PolicyKind::kOpenpi); }
+
+int DefaultEnvs(const std::string& policy, int threads) {
+  constexpr int kDefaultEnvs = 32;
+  constexpr int kServedEnvsPerThread = 6;
+  return IsPolicy(policy, PolicyKind::kOpenpi) ? std::max(kDefaultEnvs, kServedEnvsPerThread * threads) : kDefaultEnvs;
 }
 
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress,

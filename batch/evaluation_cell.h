@@ -120,9 +120,15 @@ RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ti
 std::vector<std::string> ServedLayoutDifferences(const EvaluationCellConfig& config);
 
 // True if the cell's episodes run on the episode driver's per-slot schedule: a built-in policy
-// (each env decided on its own) and no camera rendered. Such a cell keeps every thread busy until
-// its last episodes, so a sweep runs these one after the other on all cores.
+// (each env decided on its own; its cameras, rendered or not, are drawn per slot), unless a sink
+// the caller adds needs the common tick (episode videos). Such a cell keeps every thread busy
+// until its last episodes.
 bool RunsPerSlot(const EvaluationCellConfig& config);
+
+// The --envs a cell gets when none is given: 32, and for a served policy (lock-step, a batch per
+// request) 6 per thread when that is more (96 on 16 threads), so that each tick's wait for the
+// slowest env and the server is shared by more envs.
+int DefaultEnvs(const std::string& policy, int threads);
 
 // Called with each episode's record as soon as it and every earlier episode have ended.
 using RecordCallback = std::function<void(const EpisodeRecord&)>;

@@ -170,29 +170,36 @@ void PerturbLighting(const engine::RenderPerturbation& perturbation, render::Lig
   }
 }
 
-void ApplySensorPerturbation(const engine::RenderPerturbation& perturbation, const engine::BatchState& state,
-                             const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
-                             render::ImageBatch* images) {
+void ApplySensorPerturbationToEnv(const engine::RenderPerturbation& perturbation, const engine::BatchState& state,
+                                  const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
+                                  int env, render::ImageBatch* images) {
   if (!perturbation.changes_images()) return;
   const std::vector<float> kernel =
       perturbation.blur_sigma_px > 0.0 ? GaussianKernel(perturbation.blur_sigma_px) : std::vector<float>();
   const int cameras = images->n_cameras();
-  tbb::parallel_for(0, images->n_envs(), [&](int env) {
-    for (int camera = 0; camera < cameras; ++camera) {
-      if (enabled[static_cast<std::size_t>(env) * cameras + camera] == 0) continue;
-      const int width = images->width(camera);
-      const int height = images->height(camera);
-      uint8_t* rgb = images->rgb(env, camera);
-      if (!kernel.empty()) Blur(kernel, width, height, rgb);
-      if (perturbation.noise_stddev > 0.0) {
-        const uint64_t episode_key = engine::DeriveKey(
-            perturbation.noise_seed, static_cast<uint64_t>(engine::RandomStreamId::kSensorNoise),
-            static_cast<uint64_t>(state.episode[static_cast<std::size_t>(env)]));
-        const uint64_t tick = static_cast<uint64_t>(state.control_step[static_cast<std::size_t>(env)]);
-        const uint64_t key = engine::MixBits(episode_key ^ engine::MixBits(tick) ^ CameraKey(camera_names[static_cast<std::size_t>(camera)]));
-        AddNoise(key, perturbation.noise_stddev, static_cast<std::size_t>(width) * height, rgb);
-      }
+  for (int camera = 0; camera < cameras; ++camera) {
+    if (enabled[static_cast<std::size_t>(env) * cameras + camera] == 0) continue;
+    const int width = images->width(camera);
+    const int height = images->height(camera);
+    uint8_t* rgb = images->rgb(env, camera);
+    if (!kernel.empty()) Blur(kernel, width, height, rgb);
+    if (perturbation.noise_stddev > 0.0) {
+      const uint64_t episode_key = engine::DeriveKey(
+          perturbation.noise_seed, static_cast<uint64_t>(engine::RandomStreamId::kSensorNoise),
+          static_cast<uint64_t>(state.episode[static_cast<std::size_t>(env)]));
+      const uint64_t tick = static_cast<uint64_t>(state.control_step[static_cast<std::size_t>(env)]);
+      const uint64_t key = engine::MixBits(episode_key ^ engine::MixBits(tick) ^ CameraKey(camera_names[static_cast<std::size_t>(camera)]));
+      AddNoise(key, perturbation.noise_stddev, static_cast<std::size_t>(width) * height, rgb);
     }
+  }
+}
+
+void ApplySensorPerturbation(const engine::RenderPerturbation& perturbation, const engine::BatchState& state,
+                             const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
+                             render::ImageBatch* images) {
+  if (!perturbation.changes_images()) return;
+  tbb::parallel_for(0, images->n_envs(), [&](int env) {
+    ApplySensorPerturbationToEnv(perturbation, state, camera_names, enabled, env, images);
   });
 }
 

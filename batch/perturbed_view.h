@@ -42,5 +42,10 @@ Eigen::Vector3f BlackBodyTint(double kelvin);
 void ApplySensorPerturbation(const engine::RenderPerturbation& perturbation, const engine::BatchState& state,
                              const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
                              render::ImageBatch* images);
+// The same for one env's images only (a per-slot render call: other slots' images belong to
+// other threads).
+void ApplySensorPerturbationToEnv(const engine::RenderPerturbation& perturbation, const engine::BatchState& state,
+                                  const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
+                                  int env, render::ImageBatch* images);
 
 }  // namespace tavis::batch

@@ -256,14 +256,25 @@ void SceneRender::Render(const engine::BatchState& state, const uint8_t* render_
     for (int c = 0; c < num_cameras(); ++c) tick_enabled_[Index(env, c)] = rendered ? enabled_[Index(env, c)] : 0;
     if (rendered) FillEnv(state, env);
   });
+  renderer_->Render(Inputs(), images_.get());
+  ApplySensorPerturbation(perturbation_, state, settings_.cameras, tick_enabled_, images_.get());
+}
+
+void SceneRender::RenderEnv(const engine::BatchState& state, int env) {
+  for (int c = 0; c < num_cameras(); ++c) tick_enabled_[Index(env, c)] = enabled_[Index(env, c)];
+  FillEnv(state, env);
+  renderer_->RenderEnv(env, Inputs(), images_.get());
+  ApplySensorPerturbationToEnv(perturbation_, state, settings_.cameras, tick_enabled_, env, images_.get());
+}
+
+render::RenderInputs SceneRender::Inputs() const {
   render::RenderInputs inputs;
   inputs.X_WI = X_WI_;
   inputs.instance_visible = visible_;
   inputs.instance_rgb = rgb_;
   inputs.X_WC = X_WC_;
   inputs.camera_enabled = tick_enabled_;
-  renderer_->Render(inputs, images_.get());
-  ApplySensorPerturbation(perturbation_, state, settings_.cameras, tick_enabled_, images_.get());
+  return inputs;
 }
 
 }  // namespace tavis::batch

@@ -8,6 +8,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "batch/cell_profile.h"
 #include "batch/init_pose_warmup.h"
@@ -74,9 +75,9 @@ void VecEnv::Timed(Stage stage, Body&& body) {
     body();
     return;
   }
-  // A control tick's stages run on one thread: their CPU time. Reset and render start parallel
-  // work: their wall time.
-  if (stage != Stage::kReset && stage != Stage::kRender) {
+  // A control tick's stages run on one thread: their CPU time. Reset starts parallel work: its
+  // wall time (render calls are timed by TimedRender).
+  if (stage != Stage::kReset) {
     const int64_t start = ThreadCpuNanoseconds();
     body();
     stage_nanoseconds_[static_cast<int>(stage)] += ThreadCpuNanoseconds() - start;
@@ -88,9 +89,34 @@ void VecEnv::Timed(Stage stage, Body&& body) {
   stage_nanoseconds_[static_cast<int>(stage)] += std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count();
 }
 
+template <typename Body>
+void VecEnv::TimedRender(int env, Body&& body) {
+  if (!stage_timing_) {
+    body();
+    return;
+  }
+  const bool batch = env < 0;
+  // The wall interval encloses the CPU one, so that the CPU time never exceeds the time held.
+  const auto start = std::chrono::steady_clock::now();
+  const int64_t cpu_start = batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds();
+  body();
+  const int64_t cpu = (batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds()) - cpu_start;
+  const int64_t wall = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+  stage_nanoseconds_[static_cast<int>(Stage::kRender)] += wall;
+  render_cpu_nanoseconds_ += cpu;
+  render_held_nanoseconds_ += batch ? wall * tbb::this_task_arena::max_concurrency() : wall;
+  if (!batch) env_nanoseconds_[env] += cpu;
+}
+
+VecEnv::RenderTimes VecEnv::render_times() const {
+  return {1e-9 * static_cast<double>(render_cpu_nanoseconds_.load()), 1e-9 * static_cast<double>(render_held_nanoseconds_.load())};
+}
+
 void VecEnv::EnableStageTiming(bool enabled) {
   stage_timing_ = enabled;
   for (auto& nanoseconds : stage_nanoseconds_) nanoseconds = 0;
+  render_cpu_nanoseconds_ = 0;
+  render_held_nanoseconds_ = 0;
   env_nanoseconds_.assign(num_envs(), 0);
 }
 
@@ -135,6 +161,9 @@ void VecEnv::ResetOne(const EpisodeStart& start) {
   const std::vector<double> q_default = robot.DefaultPositions();
   std::copy(q_default.begin(), q_default.end(), state_.q_row(env));
   std::copy(q_default.begin(), q_default.end(), state_.q_target_row(env));
+  // Grippers commanded open, as in a fresh batch (engine/batch_state.cc): the stage check reads
+  // the command at the first tick, which must not see what the slot's previous episode left.
+  std::fill_n(state_.gripper_command_row(env), engine::kGrippersPerEnv, -1.0);
   state_.task[env] = engine::TaskVars();
   std::fill_n(state_.object_rgb_row(env, 0), 3 * model_.num_objects(), -1.0f);
   scenario_.reset(model_, split_, state_, env);
@@ -333,14 +362,22 @@ void VecEnv::RenderPolicyTick() {
   // One render call for all envs at their policy tick: the call clears the other envs' images,
   // so envs already current are drawn again rather than left out.
   if (!stale) return;
-  Timed(Stage::kRender, [&] { renderer_->Render(state_, render_env_.data()); });
+  TimedRender(-1, [&] { renderer_->Render(state_, render_env_.data()); });
   for (int env = 0; env < num_envs(); ++env) state_.images_current[env] = render_env_[env];
   rendered_images_ += static_cast<int64_t>(rendered_envs) * renderer_->num_cameras();
 }
 
+void VecEnv::RenderEnvPolicyTick(int env) {
+  if (!renderer_ || !state_.running(env) || state_.images_current[env] != 0) return;
+  if (state_.control_step[env] % model_.physics.controls_per_policy() != 0) return;
+  TimedRender(env, [&] { renderer_->RenderEnv(state_, env); });
+  state_.images_current[env] = 1;
+  rendered_images_ += renderer_->num_cameras();
+}
+
 void VecEnv::RenderFinal(const std::vector<uint8_t>& envs) {
   if (!renderer_) return;
-  Timed(Stage::kRender, [&] { renderer_->Render(state_, envs.data()); });
+  TimedRender(-1, [&] { renderer_->Render(state_, envs.data()); });
   int rendered_envs = 0;
   for (int env = 0; env < num_envs(); ++env) rendered_envs += envs[env] != 0 ? 1 : 0;
   std::fill(state_.images_current.begin(), state_.images_current.end(), 0);

@@ -99,6 +99,10 @@ class VecEnv {
   // controls_per_policy) if any of them has images older than its state; without cameras it does
   // nothing. Afterwards images() holds the current images of exactly those envs.
   void RenderPolicyTick();
+  // The same for env `env` alone, on the calling thread (the per-slot schedule): renders it if it
+  // is running at a policy tick and its images are older than its state; the other envs' images
+  // are left as they are. Calls for distinct envs may run concurrently (not with RenderPolicyTick).
+  void RenderEnvPolicyTick(int env);
   // Renders exactly the envs flagged in `envs` (num_envs flags) at their current state, running or
   // not: the final observation of an episode that has just ended, before its slot restarts. The
   // other envs' images are cleared and marked stale, so the next RenderPolicyTick draws them.
@@ -112,12 +116,27 @@ class VecEnv {
   int solver_messages(int env) const { return worlds_[env]->solver_messages(); }
 
   // Per-stage time, summed over the env ranges (so it can exceed the elapsed time on several
-  // threads): the CPU time of a control tick's stages, the wall time of reset and render (which
-  // start parallel work). Off by default; the counters start from zero when it is switched on.
+  // threads): the CPU time of a control tick's stages, the wall time of reset and render calls
+  // (which start parallel work; render calls of single envs, RenderEnvPolicyTick, are summed over
+  // the threads that made them). Off by default; the counters start from zero when it is
+  // switched on.
   void EnableStageTiming(bool enabled);
   std::array<double, kNumStages> stage_seconds() const;
-  // With stage timing on: the CPU time spent on the env (its resets and control ticks) since
-  // the last call, which returns it and starts again from zero. Envs are then timed one by one.
+  // With stage timing on, the render calls' share of the above, split by what the threads did:
+  // `cpu` is the CPU time spent rendering (a batch render call: the process's CPU time during the
+  // call, when nothing else runs; a single env's: its thread's), and `held` the thread time the
+  // calls held (a batch call: its wall time x every thread; a single env's: its wall time on its
+  // thread). held - cpu is the time the render calls' threads waited: for a batch call, threads
+  // that ran out of tiles while the others finished; for a single env's, a busy machine's
+  // preemption.
+  struct RenderTimes {
+    double cpu = 0.0;
+    double held = 0.0;
+  };
+  RenderTimes render_times() const;
+  // With stage timing on: the CPU time spent on the env (its resets, control ticks and, on the
+  // per-slot schedule, its renders) since the last call, which returns it and starts again from
+  // zero. Envs are then timed one by one.
   double TakeEnvSeconds(int env);
 
  private:
@@ -136,6 +155,10 @@ class VecEnv {
 
   template <typename Body>
   void Timed(Stage stage, Body&& body);
+  // A render call of the whole batch (all threads) or of `env` alone (its thread), timed for
+  // render_times() and, for a single env, added to the env's cost.
+  template <typename Body>
+  void TimedRender(int env, Body&& body);
 
   engine::WorldModel model_;
   const scenarios::ScenarioDef& scenario_;
@@ -148,9 +171,11 @@ class VecEnv {
   std::vector<uint8_t> physics_sane_;                 // (num_envs) this tick's physics stayed finite
   std::vector<uint8_t> render_env_;                   // (num_envs) this tick's render flags
   std::vector<kinematics::Action> warmup_actions_;    // (num_envs) ood-init-pose warm-up actions
-  int64_t rendered_images_ = 0;
+  std::atomic<int64_t> rendered_images_{0};
   bool stage_timing_ = false;
   std::array<std::atomic<int64_t>, kNumStages> stage_nanoseconds_{};
+  std::atomic<int64_t> render_cpu_nanoseconds_{0};
+  std::atomic<int64_t> render_held_nanoseconds_{0};
   std::vector<int64_t> env_nanoseconds_;  // (num_envs) for TakeEnvSeconds
 };
 

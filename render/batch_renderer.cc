@@ -118,6 +118,13 @@ struct BatchRenderer::Impl {
 
   void CheckShapes(const RenderInputs& inputs, const ImageBatch* images) const;
   void PrepareTick(const RenderInputs& inputs);
+  // Marks env `env`'s rendered cameras active (enabled, finite pose) and commits its scene if
+  // any is; touches only the env's rows. `rendered(c)` says whether camera c is drawn this call.
+  template <typename Rendered>
+  void PrepareEnv(int env, const RenderInputs& inputs, const Rendered& rendered);
+  // One tile of one env's camera: shaded, or cleared where the camera is not active.
+  TileCounts ShadeOrClear(int env, int camera, const TileRect& rect, const RenderInputs& inputs,
+                          const internal::Shading& shading, ImageBatch* images) const;
   template <typename TileFunction>
   RenderStats ForEachTile(const TileFunction& trace_tile) const;
 
@@ -187,18 +194,44 @@ void BatchRenderer::Impl::PrepareTick(const RenderInputs& inputs) {
   }
   tbb::parallel_for(0, n_envs, [&](int env) {
     const internal::FlushDenormalsScope flush_denormals;
-    bool any_active = false;
-    for (int r = 0; r < n_rendered; ++r) {
-      const std::size_t index = static_cast<std::size_t>(env) * layout.cameras.size() +
-                                static_cast<std::size_t>(rendered_cameras[static_cast<std::size_t>(r)]);
-      const bool enabled = inputs.camera_enabled.empty() || inputs.camera_enabled[index] != 0;
-      const bool active = enabled && IsFinitePose(inputs.X_WC[index]);
-      camera_active[index] = active ? 1 : 0;
-      if (active) camera_frames[index] = FrameOf(inputs.X_WC[index]);
-      any_active = any_active || active;
-    }
-    if (any_active) env_scenes.Update(env, inputs);
+    PrepareEnv(env, inputs, [&](int camera) {
+      for (int r = 0; r < n_rendered; ++r) {
+        if (rendered_cameras[static_cast<std::size_t>(r)] == camera) return true;
+      }
+      return false;
+    });
   });
+}
+
+template <typename Rendered>
+void BatchRenderer::Impl::PrepareEnv(int env, const RenderInputs& inputs, const Rendered& rendered) {
+  bool any_active = false;
+  for (int camera = 0; camera < n_cameras(); ++camera) {
+    if (!rendered(camera)) continue;
+    const std::size_t index = static_cast<std::size_t>(env) * layout.cameras.size() + static_cast<std::size_t>(camera);
+    const bool enabled = inputs.camera_enabled.empty() || inputs.camera_enabled[index] != 0;
+    const bool active = enabled && IsFinitePose(inputs.X_WC[index]);
+    camera_active[index] = active ? 1 : 0;
+    if (active) camera_frames[index] = FrameOf(inputs.X_WC[index]);
+    any_active = any_active || active;
+  }
+  if (any_active) env_scenes.Update(env, inputs);
+}
+
+TileCounts BatchRenderer::Impl::ShadeOrClear(int env, int camera, const TileRect& rect, const RenderInputs& inputs,
+                                             const internal::Shading& shading, ImageBatch* images) const {
+  ImageView image;
+  image.rgb = images->rgb(env, camera);
+  image.depth = images->depth(env, camera);
+  image.object_id = images->object_id(env, camera);
+  image.width = images->width(camera);
+  const std::size_t index = static_cast<std::size_t>(env) * layout.cameras.size() + static_cast<std::size_t>(camera);
+  if (camera_active[index] == 0) {
+    internal::ClearTile(rect, image);
+    return TileCounts{};
+  }
+  return internal::ShadeTile(packet_width, ViewOf(env, inputs), rasters[static_cast<std::size_t>(camera)],
+                             camera_frames[index], rect, shading, image);
 }
 
 template <typename TileFunction>
@@ -280,19 +313,39 @@ RenderStats BatchRenderer::Render(const RenderInputs& inputs, ImageBatch* images
   impl.PrepareTick(inputs);
   const internal::Shading shading{&impl.lighting, &impl.encoder};
   return impl.ForEachTile([&](int env, int camera, const TileRect& rect) {
-    ImageView image;
-    image.rgb = images->rgb(env, camera);
-    image.depth = images->depth(env, camera);
-    image.object_id = images->object_id(env, camera);
-    image.width = images->width(camera);
-    const std::size_t index = static_cast<std::size_t>(env) * impl.layout.cameras.size() + static_cast<std::size_t>(camera);
-    if (impl.camera_active[index] == 0) {
-      internal::ClearTile(rect, image);
-      return TileCounts{};
-    }
-    return internal::ShadeTile(impl.packet_width, impl.ViewOf(env, inputs), impl.rasters[static_cast<std::size_t>(camera)],
-                               impl.camera_frames[index], rect, shading, image);
+    return impl.ShadeOrClear(env, camera, rect, inputs, shading, images);
   });
+}
+
+RenderStats BatchRenderer::RenderEnv(int env, const RenderInputs& inputs, ImageBatch* images) {
+  Impl& impl = *impl_;
+  if (env < 0 || env >= impl.n_envs) {
+    throw std::invalid_argument("BatchRenderer::RenderEnv: env " + std::to_string(env) + " out of range (" +
+                                std::to_string(impl.n_envs) + " envs)");
+  }
+  impl.CheckShapes(inputs, images);
+  const internal::FlushDenormalsScope flush_denormals;
+  const auto rendered = [&](int camera) {
+    return inputs.render_camera.empty() || inputs.render_camera[static_cast<std::size_t>(camera)] != 0;
+  };
+  impl.PrepareEnv(env, inputs, rendered);
+  const internal::Shading shading{&impl.lighting, &impl.encoder};
+  // The same tiles as Render's, one after the other: the caller's other envs keep the other threads busy.
+  TileCounts sum;
+  for (int camera = 0; camera < impl.n_cameras(); ++camera) {
+    if (!rendered(camera)) continue;
+    const CameraRaster& raster = impl.rasters[static_cast<std::size_t>(camera)];
+    for (int y0 = 0; y0 < raster.height; y0 += kTileSize) {
+      for (int x0 = 0; x0 < raster.width; x0 += kTileSize) {
+        const TileRect rect{x0, y0, std::min(x0 + kTileSize, raster.width), std::min(y0 + kTileSize, raster.height)};
+        const TileCounts counts = impl.ShadeOrClear(env, camera, rect, inputs, shading, images);
+        sum.primary_rays += counts.primary_rays;
+        sum.shadow_rays += counts.shadow_rays;
+        sum.primary_hits += counts.primary_hits;
+      }
+    }
+  }
+  return RenderStats{sum.primary_rays, sum.shadow_rays, sum.primary_hits};
 }
 
 RenderStats BatchRenderer::CastPrimaryRaysOnly(const RenderInputs& inputs) {

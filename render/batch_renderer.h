@@ -50,6 +50,11 @@ class BatchRenderer {
   // std::invalid_argument only if array sizes or the image batch do not match the declared
   // shapes (a caller bug, caught on the first call); never throws on the data, never allocates.
   RenderStats Render(const RenderInputs& inputs, ImageBatch* images);
+  // Renders the requested cameras of env `env` alone, on the calling thread, into its images;
+  // the other envs' images and scenes are left as they are. Calls for distinct envs may run
+  // concurrently with each other (not with Render): the per-env schedule of the episode driver
+  // renders each env at its own policy ticks. Images are the same as Render's for that env.
+  RenderStats RenderEnv(int env, const RenderInputs& inputs, ImageBatch* images);
 
   // Benchmark baseline: the same scene update and primary-ray packets as Render, with no
   // shading, no shadow rays and no image writes. Returns the ray and hit counts.

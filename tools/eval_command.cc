@@ -48,6 +48,7 @@ struct EvalOptions {
   std::string serving = "serial";
   bool task_given = false;
   bool image_size_given = false;
+  bool envs_given = false;
   int threads = 0;
   bool quiet = false;
   bool overwrite = false;
@@ -244,6 +245,7 @@ void RunEval(const EvalOptions& options) {
   if (options.videos.episodes > 0 || !options.record.root.empty()) dataset::ShowOnlyVideoErrors();
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  if (!options.envs_given) cell.envs = batch::DefaultEnvs(cell.policy, threads);
   if (options.overwrite && options.resume) throw std::invalid_argument("give --overwrite or --resume, not both");
   if (!options.suite.empty()) {
     if (options.task_given) throw std::invalid_argument("give either --task or --suite, not both");
@@ -347,10 +349,10 @@ void RegisterEvalCommand(CLI::App& app) {
       ->check(IntegerIn(0, 100000000))
       ->excludes("--episodes");
   AddSeedOption(*eval, options->cell.seed, "Seed: episode i draws its randomness from (seed, i)");
-  eval->add_option("--envs", options->cell.envs, "Parallel env slots stepped lock-step, for a served policy or rendering; a built-in policy\n"
-                   "without rendering runs one slot per thread instead (results do not depend on it)")
-      ->check(IntegerIn(1, 4096))
-      ->capture_default_str();
+  eval->add_option("--envs", options->cell.envs, "Parallel env slots stepped lock-step, for a served policy (default: 32, or 6 per\n"
+                   "thread when that is more: 96 on 16 threads); a built-in policy runs one slot per thread instead,\n"
+                   "rendered or not (results do not depend on it)")
+      ->check(IntegerIn(1, 4096));
   eval->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
@@ -450,6 +452,7 @@ void RegisterEvalCommand(CLI::App& app) {
     options->cell.observation_keys_given = eval->count("--keys") > 0;
     options->task_given = eval->count("--task") > 0;
     options->image_size_given = eval->count("--image-size") > 0;
+    options->envs_given = eval->count("--envs") > 0;
     RunEval(*options);
   });
 }

@@ -83,8 +83,9 @@ void RegisterSweepCommand(CLI::App& app) {
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   sweep->add_option("--concurrent-cells", options->concurrent_cells,
-                    "Cells run at once, sharing the cores (0 = one when every cell runs a built-in policy without\n"
-                    "rendering, which keeps all cores busy; otherwise as many as --threads; results do not depend on it)")
+                    "Cells run at once, sharing the cores (0 = when every cell runs a built-in policy, one per 4\n"
+                    "threads, at least one; otherwise as many as --threads; 1 runs them one after the other; results\n"
+                    "do not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   sweep->add_option("--shard", options->shard,

@@ -219,6 +219,7 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
       round_recorder = &recorder;
       batch::EpisodeDriver driver(env, *expert, round, task.attempts);
       driver.AddSink(recorder);
+      if (config.lock_step) driver.RequireLockStep();
       driver.Run();
       task.attempts += round;
       for (const auto& [end, count] : recorder.failures()) task.failures[end] += count;

@@ -29,6 +29,9 @@ struct DemoConfig {
   int max_attempts = 0;    // per task; 0: 2 * episodes + 20
   uint64_t seed = 0;
   int envs = 8;            // parallel env slots
+  // Steps the slots lock-step rather than each on its own thread (the dataset is the same; tests
+  // compare the two schedules).
+  bool lock_step = false;
   int fps = 60;            // 60 (the reference's) or 20
   // How often the expert's commanded action may change: 60 Hz (every control tick, the
   // reference's teleoperation rate) or 20 Hz (held for three ticks, as a learned 20 Hz policy

@@ -22,6 +22,7 @@ struct DemoRecorder::Slot {
   RecordedEpisode episode;
   std::vector<EpisodeEncoder> encoders;  // per camera, for the running episode
   kinematics::Action action{};           // this tick's
+  RecordingTimes times;                  // per-slot schedule: added to times_ when the episode ends
 };
 
 DemoRecorder::DemoRecorder(const batch::VecEnv& env, DemoRecording recording, int64_t first_episode, Keep keep)
@@ -65,32 +66,48 @@ void DemoRecorder::ActionChosen(const batch::VecEnv&, int slot, const kinematics
   slots_[static_cast<std::size_t>(slot)].action = action;
 }
 
+bool DemoRecorder::TakesFrame(const engine::BatchState& state, int slot) {
+  // control_step is now t + 1 for the tick t just stepped; the tick that ended the episode is not recorded.
+  const bool take = acted_[static_cast<std::size_t>(slot)] && state.running(slot) &&
+                    (state.control_step[slot] - 1) % recording_.stride == 0;
+  acted_[static_cast<std::size_t>(slot)] = 0;  // set again by the next tick's ActionChosen
+  return take;
+}
+
+void DemoRecorder::CaptureState(int slot) {
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  RecordedEpisode& episode = recording.episode;
+  for (double value : recording.action) episode.action.push_back(static_cast<float>(value));
+  Append(episode.state, proprioception_.state(slot), proprioception_.state_size());
+  Append(episode.left_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kLeft), 3);
+  Append(episode.left_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kLeft), 4);
+  Append(episode.right_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kRight), 3);
+  Append(episode.right_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kRight), 4);
+  ++episode.frames;
+}
+
+void DemoRecorder::EncodeImage(int slot, int camera) {
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  const render::ImageBatch& images = render_->images();
+  const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
+  recording.encoders[static_cast<std::size_t>(camera)].WriteFrame(images.rgb(slot, camera), size);
+  recording.episode.image_stats[static_cast<std::size_t>(camera)].AddFrame(images.rgb(slot, camera), images.width(camera),
+                                                                        images.height(camera));
+}
+
 void DemoRecorder::Stepped(const batch::VecEnv& env) {
   const engine::BatchState& state = env.state();
   bool any = false;
   for (int slot = 0; slot < state.num_envs; ++slot) {
-    // control_step is now t + 1 for the tick t just stepped; the tick that ended the episode is not recorded.
-    const bool take = acted_[static_cast<std::size_t>(slot)] && state.running(slot) &&
-                      (state.control_step[slot] - 1) % recording_.stride == 0;
-    acted_[static_cast<std::size_t>(slot)] = 0;  // set again by the next tick's ActionChosen
-    recorded_[static_cast<std::size_t>(slot)] = take;
-    any = any || take;
+    recorded_[static_cast<std::size_t>(slot)] = TakesFrame(state, slot) ? 1 : 0;
+    any = any || recorded_[static_cast<std::size_t>(slot)] != 0;
   }
   if (!any) return;
 
   Clock::time_point start = Clock::now();
   proprioception_.Update(state, recorded_);
   for (int slot = 0; slot < state.num_envs; ++slot) {
-    if (!recorded_[static_cast<std::size_t>(slot)]) continue;
-    Slot& recording = slots_[static_cast<std::size_t>(slot)];
-    RecordedEpisode& episode = recording.episode;
-    for (double value : recording.action) episode.action.push_back(static_cast<float>(value));
-    Append(episode.state, proprioception_.state(slot), proprioception_.state_size());
-    Append(episode.left_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kLeft), 3);
-    Append(episode.left_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kLeft), 4);
-    Append(episode.right_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kRight), 3);
-    Append(episode.right_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kRight), 4);
-    ++episode.frames;
+    if (recorded_[static_cast<std::size_t>(slot)]) CaptureState(slot);
   }
   times_.capture_s += SecondsSince(start);
   if (!render_) return;
@@ -102,24 +119,37 @@ void DemoRecorder::Stepped(const batch::VecEnv& env) {
   // Every (slot, camera) stream is its own encoder: encode them in parallel.
   start = Clock::now();
   const int cameras = static_cast<int>(recording_.cameras.size());
-  const render::ImageBatch& images = render_->images();
   tbb::parallel_for(0, state.num_envs * cameras, [&](int item) {
-    const int slot = item / cameras;
-    const int camera = item % cameras;
-    if (!recorded_[static_cast<std::size_t>(slot)]) return;
-    Slot& recording = slots_[static_cast<std::size_t>(slot)];
-    const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
-    recording.encoders[static_cast<std::size_t>(camera)].WriteFrame(images.rgb(slot, camera), size);
-    recording.episode.image_stats[static_cast<std::size_t>(camera)].AddFrame(images.rgb(slot, camera), images.width(camera),
-                                                                          images.height(camera));
+    if (recorded_[static_cast<std::size_t>(item / cameras)]) EncodeImage(item / cameras, item % cameras);
   });
   times_.encode_s += SecondsSince(start);
+}
+
+void DemoRecorder::SlotStepped(const batch::VecEnv& env, int slot) {
+  const engine::BatchState& state = env.state();
+  if (!TakesFrame(state, slot)) return;
+  RecordingTimes& times = slots_[static_cast<std::size_t>(slot)].times;
+  Clock::time_point start = Clock::now();
+  proprioception_.UpdateEnv(state, slot);
+  CaptureState(slot);
+  times.capture_s += SecondsSince(start);
+  if (!render_) return;
+  start = Clock::now();
+  render_->RenderEnv(state, slot);
+  times.render_s += SecondsSince(start);
+  start = Clock::now();
+  for (int camera = 0; camera < static_cast<int>(recording_.cameras.size()); ++camera) EncodeImage(slot, camera);
+  times.encode_s += SecondsSince(start);
 }
 
 void DemoRecorder::EpisodeEnded(const batch::VecEnv& env, int slot) {
   const engine::BatchState& state = env.state();
   Slot& recording = slots_[static_cast<std::size_t>(slot)];
   const int64_t episode = state.episode[slot];
+  times_.capture_s += recording.times.capture_s;
+  times_.render_s += recording.times.render_s;
+  times_.encode_s += recording.times.encode_s;
+  recording.times = RecordingTimes();
   if (state.end[slot] == engine::EpisodeEnd::kSuccess && recording.episode.frames > 0) {
     const Clock::time_point start = Clock::now();
     for (EpisodeEncoder& encoder : recording.encoders) recording.episode.videos.push_back(encoder.Finish());

@@ -48,7 +48,11 @@ class DemoRecorder : public batch::EpisodeSink {
   void EpisodeStarted(const batch::VecEnv& env, int slot) override;
   void ActionChosen(const batch::VecEnv& env, int slot, const kinematics::Action& action) override;
   void Stepped(const batch::VecEnv& env) override;
+  // The per-slot schedule's Stepped: the slot's frame, rendered by its own thread.
+  void SlotStepped(const batch::VecEnv& env, int slot) override;
   void EpisodeEnded(const batch::VecEnv& env, int slot) override;
+  // Per-slot frames and encoders; episodes are handed over in order whatever order they end in.
+  bool works_per_slot() const override { return true; }
 
   // Episodes handed over so far that ended without success, by how they ended. Episodes are
   // handed over in order, so while `keep` runs for episode e this counts the failures before e.
@@ -59,6 +63,12 @@ class DemoRecorder : public batch::EpisodeSink {
   struct Slot;
   // Hands the finished episodes to `keep` in episode order, as far as none is missing.
   void Release();
+  // Whether the tick just stepped gives `slot` a frame (clears the slot's acted flag).
+  bool TakesFrame(const engine::BatchState& state, int slot);
+  // The slot's frame: its action and proprioception (proprioception_ updated for it), and the
+  // rendered image of one camera.
+  void CaptureState(int slot);
+  void EncodeImage(int slot, int camera);
 
   // An episode that has ended: kept (with its recording) or not (how it ended).
   struct Finished {

@@ -63,26 +63,56 @@ void RolloutRecorder::EpisodeStarted(const VecEnv& env, int slot) {
   for (const std::string& camera : cameras_) recording.encoders.emplace_back(video_, camera);
 }
 
+bool RolloutRecorder::Observes(const engine::BatchState& state, int slot) {
+  const bool take = slots_[static_cast<std::size_t>(slot)].recording && state.running(slot) &&
+                    state.control_step[slot] % ticks_per_frame_ == 0;
+  observed_[static_cast<std::size_t>(slot)] = take ? 1 : 0;
+  acted_[static_cast<std::size_t>(slot)] = 0;
+  return take;
+}
+
 void RolloutRecorder::TickStarting(const VecEnv& env) {
   const engine::BatchState& state = env.state();
   bool any = false;
-  for (int slot = 0; slot < state.num_envs; ++slot) {
-    const bool take = slots_[static_cast<std::size_t>(slot)].recording && state.running(slot) &&
-                      state.control_step[slot] % ticks_per_frame_ == 0;
-    observed_[static_cast<std::size_t>(slot)] = take ? 1 : 0;
-    acted_[static_cast<std::size_t>(slot)] = 0;
-    any = any || take;
-  }
+  for (int slot = 0; slot < state.num_envs; ++slot) any = Observes(state, slot) || any;
   if (!any) return;
   // Kept in the buffers until Stepped, when the frame's action is known to have been stepped.
   proprioception_.Update(state, observed_);
   if (render_) render_->Render(state, observed_.data());
 }
 
+void RolloutRecorder::SlotTickStarting(const VecEnv& env, int slot) {
+  const engine::BatchState& state = env.state();
+  if (!Observes(state, slot)) return;
+  proprioception_.UpdateEnv(state, slot);
+  if (render_) render_->RenderEnv(state, slot);
+}
+
 void RolloutRecorder::ActionChosen(const VecEnv&, int slot, const kinematics::Action& action) {
   if (!observed_[static_cast<std::size_t>(slot)] || !Finite(action)) return;  // a non-finite action is not stepped
   acted_[static_cast<std::size_t>(slot)] = 1;
   slots_[static_cast<std::size_t>(slot)].action = action;
+}
+
+void RolloutRecorder::AppendState(int slot) {
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  dataset::RecordedEpisode& episode = recording.episode;
+  for (double value : recording.action) episode.action.push_back(static_cast<float>(value));
+  Append(episode.state, proprioception_.state(slot), proprioception_.state_size());
+  Append(episode.left_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kLeft), 3);
+  Append(episode.left_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kLeft), 4);
+  Append(episode.right_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kRight), 3);
+  Append(episode.right_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kRight), 4);
+  ++episode.frames;
+}
+
+void RolloutRecorder::AppendImage(int slot, int camera) {
+  Slot& recording = slots_[static_cast<std::size_t>(slot)];
+  const render::ImageBatch& images = render_->images();
+  const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
+  recording.encoders[static_cast<std::size_t>(camera)].WriteFrame(images.rgb(slot, camera), size);
+  recording.episode.image_stats[static_cast<std::size_t>(camera)].AddFrame(images.rgb(slot, camera), images.width(camera),
+                                                                        images.height(camera));
 }
 
 void RolloutRecorder::Stepped(const VecEnv& env) {
@@ -93,25 +123,17 @@ void RolloutRecorder::Stepped(const VecEnv& env) {
     const int slot = item / std::max(cameras, 1);
     const int camera = item % std::max(cameras, 1);
     if (!acted_[static_cast<std::size_t>(slot)]) return;
-    Slot& recording = slots_[static_cast<std::size_t>(slot)];
-    dataset::RecordedEpisode& episode = recording.episode;
-    if (camera == 0) {
-      for (double value : recording.action) episode.action.push_back(static_cast<float>(value));
-      Append(episode.state, proprioception_.state(slot), proprioception_.state_size());
-      Append(episode.left_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kLeft), 3);
-      Append(episode.left_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kLeft), 4);
-      Append(episode.right_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kRight), 3);
-      Append(episode.right_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kRight), 4);
-      ++episode.frames;
-    }
-    if (camera >= cameras) return;
-    const render::ImageBatch& images = render_->images();
-    const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
-    recording.encoders[static_cast<std::size_t>(camera)].WriteFrame(images.rgb(slot, camera), size);
-    episode.image_stats[static_cast<std::size_t>(camera)].AddFrame(images.rgb(slot, camera), images.width(camera),
-                                                                   images.height(camera));
+    if (camera == 0) AppendState(slot);
+    if (camera < cameras) AppendImage(slot, camera);
   });
   std::fill(acted_.begin(), acted_.end(), 0);
+}
+
+void RolloutRecorder::SlotStepped(const VecEnv&, int slot) {
+  if (!acted_[static_cast<std::size_t>(slot)]) return;
+  AppendState(slot);
+  for (int camera = 0; camera < static_cast<int>(cameras_.size()); ++camera) AppendImage(slot, camera);
+  acted_[static_cast<std::size_t>(slot)] = 0;
 }
 
 void RolloutRecorder::EpisodeEnded(const VecEnv&, int slot) {

@@ -43,13 +43,23 @@ class RolloutRecorder : public EpisodeSink {
   void TickStarting(const VecEnv& env) override;
   void ActionChosen(const VecEnv& env, int slot, const kinematics::Action& action) override;
   void Stepped(const VecEnv& env) override;
+  // The per-slot schedule's TickStarting and Stepped: the slot's frame, rendered by its own thread.
+  void SlotTickStarting(const VecEnv& env, int slot) override;
+  void SlotStepped(const VecEnv& env, int slot) override;
   void EpisodeEnded(const VecEnv& env, int slot) override;
+  // Per-slot frames and encoders; episodes wait for their records, in whatever order they end.
+  bool works_per_slot() const override { return true; }
 
   // The cell has recorded `record`: its episode goes to `keep`.
   void RecordFinished(const EpisodeRecord& record);
 
  private:
   struct Slot;
+  // Whether `slot` is observed at the tick about to begin (sets observed_, clears acted_).
+  bool Observes(const engine::BatchState& state, int slot);
+  // The slot's frame: its action and proprioception, and one camera's image.
+  void AppendState(int slot);
+  void AppendImage(int slot, int camera);
 
   std::vector<std::string> cameras_;
   dataset::VideoSettings video_;

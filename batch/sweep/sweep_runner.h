@@ -16,14 +16,18 @@ struct SweepRunOptions {
   std::string config_dir;
   Shard shard;
   int threads = 1;  // cores in use at once
-  // Cells run at once (each by its own thread, sharing the cores); 0: one if every cell runs per
-  // slot (RunsPerSlot), else as many as threads. The results do not depend on it.
+  // Cells run at once (each by its own thread, sharing the cores); 0: DefaultConcurrentCells.
+  // The results do not depend on it.
   int concurrent_cells = 0;
   bool quiet = false;
   // Film each cell's first N episodes (cells/<id>/videos) in place of the spec's `videos`; unset:
   // the spec's. Not part of the spec, so a sweep may be resumed with or without it.
   std::optional<int> videos;
 };
+
+// Cells run at once by default on `threads` cores: one per 4 threads (at least one) when every
+// cell runs per slot (RunsPerSlot: built-in policies), else one per thread.
+int DefaultConcurrentCells(bool all_per_slot, int threads);
 
 void RunSweep(const SweepSpec& spec, const SweepRunOptions& options);
 

@@ -14,6 +14,9 @@ constexpr double kAngleTolerance = 0.03;
 constexpr int kIterationsPerSeed = 150;
 constexpr int kSeeds = 24;
 constexpr double kStillStep = 1e-9;  // rad
+// A seed has converged when its score (Converge: position error in units of kPositionTolerance
+// plus angle error in units of kAngleTolerance) is at most this.
+constexpr double kConverged = 2.0;
 
 // Iterates the controller's IK step kinematically (joint limits respected); returns the error.
 // X_BL holds q's poses of the links the arm does not move; `arm_links` (LinksMovedByArm) are
@@ -68,15 +71,16 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
     std::vector<double> q = q_start;
     if (seed >= 0) SpreadSeed(robot, side, seed, q);
     const double score = Converge(robot, side, q, target, arm_links, X_BL);
+    // Only a converged seed better than the best so far can be the answer (a converged one beats
+    // any that is not): the others skip the clearance checks, which leaves the result unchanged.
+    if (!(score <= kConverged && score < best_score)) continue;
     if (obstacles && !obstacles->ArmIsClear(robot, side, X_BL.data())) continue;
     if (obstacles && clear_path_from && !obstacles->JointPathIsClear(robot, side, *clear_path_from, q)) continue;
-    if (score < best_score) {
-      best_score = score;
-      best = q;
-    }
-    if (best_score <= 2.0 && seed < 0) break;  // the start's own basin is preferred
+    best_score = score;
+    best = q;
+    if (seed < 0) break;  // the start's own basin is preferred
   }
-  if (best_score > 2.0) return std::nullopt;
+  if (best_score > kConverged) return std::nullopt;
   return best;
 }
 

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <atomic>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -365,7 +367,143 @@ TEST(EpisodeDriver, RunsPerSlotOnlyWhenPolicyCamerasAndEverySinkAllowIt) {
   }
   env.EnableCameras({{"head"}, 32, 24});
   EpisodeDriver driver(env, *hold, 1);
-  EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep) << "rendering is batched over the envs";
+  EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kPerSlot) << "each slot renders at its own policy ticks";
+}
+
+// Every image a policy is given: per episode, at each of its policy ticks, a hash of each
+// camera's pixels, taken when the driver hands the tick's action over (the images are rendered
+// for that tick by then, on either schedule).
+class ImageLog : public EpisodeSink {
+ public:
+  explicit ImageLog(int slots) : running_(static_cast<std::size_t>(slots)) {}
+  void EpisodeStarted(const VecEnv&, int slot) override { running_[static_cast<std::size_t>(slot)].clear(); }
+  void ActionChosen(const VecEnv& env, int slot, const kinematics::Action&) override {
+    const engine::BatchState& state = env.state();
+    if (state.control_step[slot] % env.model().physics.controls_per_policy() != 0) return;
+    const render::ImageBatch& images = *env.images();
+    for (int camera = 0; camera < images.n_cameras(); ++camera) {
+      const uint8_t* rgb = images.rgb(slot, camera);
+      const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
+      uint64_t hash = 1469598103934665603ull;  // FNV-1a
+      for (std::size_t i = 0; i < size; ++i) hash = (hash ^ rgb[i]) * 1099511628211ull;
+      running_[static_cast<std::size_t>(slot)].push_back(hash);
+      lit_pixels += static_cast<int64_t>(std::count_if(rgb, rgb + size, [](uint8_t value) { return value != 0; }));
+    }
+  }
+  void EpisodeEnded(const VecEnv& env, int slot) override {
+    by_episode[env.state().episode[slot]] = std::move(running_[static_cast<std::size_t>(slot)]);
+  }
+  bool works_per_slot() const override { return true; }
+
+  std::map<int64_t, std::vector<uint64_t>> by_episode;
+  std::atomic<int64_t> lit_pixels{0};
+
+ private:
+  std::vector<std::vector<uint64_t>> running_;  // [slot] the running episode's hashes
+};
+
+struct RenderedRun {
+  std::vector<EpisodeRecord> records;
+  std::map<int64_t, std::vector<uint64_t>> images;
+  int64_t lit_pixels = 0;
+  int64_t rendered_images = 0;
+  CellProfile profile;
+};
+
+// The expert on clutter-pick-cube with the head and left wrist cameras rendered at every policy
+// tick, as `tavis eval --render-cameras` runs it.
+RenderedRun RenderedExpert(bool lock_step, std::size_t threads, int slots) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  VecEnv env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, slots, 5);
+  env.EnableCameras({{"head", "left_wrist"}, 32, 24});
+  std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", env.scenario(), env.model(), slots);
+  RecordSettings settings;
+  settings.galt_stride = 1;
+  settings.galt_fps = env.model().physics.control_hz;
+  settings.keep_actions = true;
+  RecordCollector collected(env, settings);
+  ImageLog images(slots);
+  EpisodeDriver driver(env, *expert, 4);
+  driver.AddSink(images);
+  driver.AddSink(collected.recorder);
+  if (lock_step) driver.RequireLockStep();
+  EXPECT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
+  driver.EnableProfile();
+  driver.Run();
+  return {collected.records, images.by_episode, images.lit_pixels.load(), env.rendered_images(), driver.profile()};
+}
+
+double Stage(const CellProfile& profile, const std::string& name) {
+  for (const auto& [stage, seconds] : profile.stages) {
+    if (stage == name) return seconds;
+  }
+  ADD_FAILURE() << "no stage " << name;
+  return 0.0;
+}
+
+// --profile's render figures: the CPU time inside render calls and the thread time they held
+// idle. Per slot a render is part of its episode's cost (so not counted again for the
+// estimates); lock-step a render call holds every thread.
+TEST(EpisodeDriver, TheProfileReportsRenderCpuAndIdleTimeOnEitherSchedule) {
+  for (const bool lock_step : {false, true}) {
+    const RenderedRun run = RenderedExpert(lock_step, 2, 3);
+    const CellProfile& profile = run.profile;
+    const char* label = lock_step ? "lock-step" : "per slot";
+    EXPECT_GT(profile.render_cpu_seconds, 0.0) << label;
+    EXPECT_GT(profile.render_wall_seconds, 0.0) << label;
+    EXPECT_GE(profile.render_idle_seconds, 0.0) << label;
+    EXPECT_DOUBLE_EQ(Stage(profile, "render"), profile.render_cpu_seconds) << label;
+    if (lock_step) {
+      EXPECT_DOUBLE_EQ(Stage(profile, "render_idle"), profile.render_idle_seconds);
+      // Each batch call holds both threads for its wall time: what the threads did not spend
+      // rendering is idle.
+      EXPECT_NEAR(profile.render_seconds, 2.0 * profile.render_wall_seconds, 1e-6);
+      EXPECT_NEAR(profile.render_cpu_seconds + profile.render_idle_seconds, profile.render_seconds,
+                  1e-3 * profile.render_seconds);
+    } else {
+      EXPECT_EQ(profile.render_seconds, 0.0) << "per slot, renders are in the episodes' costs";
+      for (const auto& stage : profile.stages) EXPECT_NE(stage.first, "render_idle") << "preemption is no work";
+      double episode_costs = 0.0;
+      for (const EpisodeCost& cost : profile.episodes) episode_costs += cost.seconds;
+      EXPECT_GT(episode_costs, profile.render_cpu_seconds);
+      EXPECT_NEAR(profile.render_cpu_seconds + profile.render_idle_seconds, profile.render_wall_seconds,
+                  1e-3 * profile.render_wall_seconds);
+    }
+  }
+}
+
+TEST(EpisodeDriver, ARenderedExpertCellGivesTheSameRecordsAndImagesOnEitherScheduleAndThreadCount) {
+  const RenderedRun lock_step = RenderedExpert(true, 2, 3);
+  ASSERT_EQ(lock_step.records.size(), 4u);
+  ASSERT_EQ(lock_step.images.size(), 4u);
+  EXPECT_GT(lock_step.lit_pixels, 0) << "the cameras see the scene";
+  int64_t policy_ticks = 0;
+  for (const EpisodeRecord& record : lock_step.records) {
+    const auto& hashes = lock_step.images.at(record.episode);
+    EXPECT_EQ(hashes.size(), 2u * static_cast<std::size_t>(record.length_steps)) << "two cameras at every policy tick";
+    policy_ticks += static_cast<int64_t>(hashes.size()) / 2;
+  }
+  struct Variant {
+    bool lock_step;
+    std::size_t threads;
+    int slots;
+  };
+  for (const Variant& variant : {Variant{false, 1, 3}, Variant{false, 2, 3}, Variant{false, 2, 2}, Variant{true, 1, 4}}) {
+    const RenderedRun run = RenderedExpert(variant.lock_step, variant.threads, variant.slots);
+    const std::string label = std::string(variant.lock_step ? "lock-step" : "per slot") + ", " +
+                              std::to_string(variant.threads) + " threads, " + std::to_string(variant.slots) + " slots";
+    ASSERT_EQ(run.records.size(), lock_step.records.size()) << label;
+    for (std::size_t i = 0; i < run.records.size(); ++i) {
+      const EpisodeRecord& a = lock_step.records[i];
+      const EpisodeRecord& b = run.records[i];
+      EXPECT_EQ(b.episode, a.episode) << label;
+      EXPECT_EQ(b.end, a.end) << label << ", episode " << a.episode;
+      EXPECT_EQ(b.length_control_ticks, a.length_control_ticks) << label << ", episode " << a.episode;
+      EXPECT_EQ(b.actions, a.actions) << label << ", episode " << a.episode;
+    }
+    EXPECT_EQ(run.images, lock_step.images) << label << ": every policy tick's images";
+    EXPECT_EQ(run.rendered_images, 2 * policy_ticks) << label << ": each env-camera image is rendered once";
+  }
 }
 
 TEST(EpisodeDriver, PerSlotScheduleRunsEveryEpisodeOnceAndStopsThoseASinkIsDoneWith) {

@@ -122,11 +122,11 @@ TEST(EvaluationCell, RenderedCamerasLeaveRecordsUnchangedAndRenderEveryPolicySte
   const CellResult with = RunWithThreads(rendered, 2);
   ExpectWellFormed(with);
   ExpectSameRecords(without, with, "without vs with rendering");
-  // Rendering is batched over the envs: that cell runs lock-step, the plain one per slot.
+  // A built-in policy's cell runs per slot, rendered or not: each slot renders at its own ticks.
   EXPECT_TRUE(RunsPerSlot(plain));
   EXPECT_TRUE(without.per_slot);
-  EXPECT_FALSE(RunsPerSlot(rendered));
-  EXPECT_FALSE(with.per_slot);
+  EXPECT_TRUE(RunsPerSlot(rendered));
+  EXPECT_TRUE(with.per_slot);
   EXPECT_EQ(without.rendered_images, 0) << "the expert needs no images: nothing is rendered";
   EXPECT_TRUE(without.rendered_cameras.empty());
   EXPECT_EQ(with.rendered_cameras, rendered.render_cameras);

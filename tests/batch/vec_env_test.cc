@@ -75,6 +75,26 @@ TEST(VecEnv, NonFiniteActionEndsOnlyThatEpisodeAndReportsTheEntry) {
   EXPECT_EQ(state.invalid_action[0].entry, -1);
 }
 
+// A slot's next episode starts with its grippers commanded open whatever the previous episode
+// left: the stage check reads the command at the first tick, so a leftover closed command made
+// `target_grasped` depend on which episode the slot ran before (and on thread timing per slot).
+TEST(VecEnv, AResetCommandsTheGrippersOpenWhateverThePreviousEpisodeLeft) {
+  VecEnv env(Model("reachy2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 7);
+  for (int slot = 0; slot < 2; ++slot) env.ResetEnv(slot, slot);
+  std::vector<kinematics::Action> actions = HoldActions(env);
+  for (kinematics::Action& action : actions) {
+    for (int hand = 0; hand < 2; ++hand) action[kinematics::action::kGripper[hand]] = 1.0;  // close
+  }
+  env.Step(actions);
+  const engine::BatchState& state = env.state();
+  ASSERT_EQ(state.gripper_command_row(0)[0], 1.0);
+  ASSERT_EQ(state.gripper_command_row(1)[1], 1.0);
+  env.ResetEnv(0, 2);
+  EXPECT_EQ(state.gripper_command_row(0)[0], -1.0);
+  EXPECT_EQ(state.gripper_command_row(0)[1], -1.0);
+  EXPECT_EQ(state.gripper_command_row(1)[1], 1.0) << "only the reset slot is touched";
+}
+
 TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
   for (const char* robot_name : {"gr1t2", "reachy2"}) {
     SCOPED_TRACE(robot_name);

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "batch/dataset/demo_generation.h"
 #include "batch/dataset/video/video_log.h"
@@ -35,9 +37,11 @@ DemoConfig SmallConfig(const std::string& out) {
   return config;
 }
 
-DemoReport Generate(const std::string& out, int threads) {
+DemoReport Generate(const std::string& out, int threads, bool lock_step = false) {
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  return GenerateDemos(SmallConfig(out));
+  DemoConfig config = SmallConfig(out);
+  config.lock_step = lock_step;
+  return GenerateDemos(config);
 }
 
 // Every file under `root` by its relative path.
@@ -87,19 +91,26 @@ TEST_F(DemoGeneration, ExpertEpisodesLoadAsALeRobotDataset) {
   }
 }
 
-TEST_F(DemoGeneration, OneAndTwoThreadsWriteTheSameBytes) {
+// Per slot (each slot's frames rendered and encoded on its own thread) on 1 and 2 threads, and
+// lock-step (the batch's frames rendered in one call): the same dataset.
+TEST_F(DemoGeneration, OneAndTwoThreadsAndEitherScheduleWriteTheSameBytes) {
   Generate(scratch_ + "/one", 1);
-  Generate(scratch_ + "/two", 2);
-  const auto one = Files(scratch_ + "/one"), two = Files(scratch_ + "/two");
-  ASSERT_EQ(one.size(), two.size());
-  int compared_media = 0;
-  for (const auto& [path, bytes] : one) {
-    ASSERT_TRUE(two.count(path)) << path << " only with one thread";
-    EXPECT_TRUE(bytes == two.at(path)) << path << " differs between 1 and 2 threads";
-    const std::string extension = std::filesystem::path(path).extension().string();
-    compared_media += extension == ".parquet" || extension == ".mp4" ? 1 : 0;
+  const auto one = Files(scratch_ + "/one");
+  const std::vector<std::tuple<std::string, int, bool>> variants = {{"two", 2, false}, {"lock_step", 2, true},
+                                                                     {"lock_step_one", 1, true}};
+  for (const auto& [name, threads, lock_step] : variants) {
+    Generate(scratch_ + "/" + name, threads, lock_step);
+    const auto other = Files(scratch_ + "/" + name);
+    ASSERT_EQ(one.size(), other.size()) << name;
+    int compared_media = 0;
+    for (const auto& [path, bytes] : one) {
+      ASSERT_TRUE(other.count(path)) << path << " only with one thread per slot, not " << name;
+      EXPECT_TRUE(bytes == other.at(path)) << path << " differs between one thread per slot and " << name;
+      const std::string extension = std::filesystem::path(path).extension().string();
+      compared_media += extension == ".parquet" || extension == ".mp4" ? 1 : 0;
+    }
+    EXPECT_EQ(compared_media, 3 + 2) << "data, episodes and tasks tables and two mp4 files";
   }
-  EXPECT_EQ(compared_media, 3 + 2) << "data, episodes and tasks tables and two mp4 files";
 }
 
 }  // namespace
