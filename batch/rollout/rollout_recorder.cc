@@ -4,10 +4,10 @@
 
 #include <tbb/parallel_for.h>
 
+#include "batch/dataset/frame_capture.h"
+
 namespace tavis::batch {
 namespace {
-
-void Append(std::vector<float>& rows, const float* values, int size) { rows.insert(rows.end(), values, values + size); }
 
 bool Finite(const kinematics::Action& action) {
   for (double value : action) {
@@ -96,23 +96,13 @@ void RolloutRecorder::ActionChosen(const VecEnv&, int slot, const kinematics::Ac
 
 void RolloutRecorder::AppendState(int slot) {
   Slot& recording = slots_[static_cast<std::size_t>(slot)];
-  dataset::RecordedEpisode& episode = recording.episode;
-  for (double value : recording.action) episode.action.push_back(static_cast<float>(value));
-  Append(episode.state, proprioception_.state(slot), proprioception_.state_size());
-  Append(episode.left_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kLeft), 3);
-  Append(episode.left_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kLeft), 4);
-  Append(episode.right_eef_pos, proprioception_.eef_position(slot, kinematics::Side::kRight), 3);
-  Append(episode.right_eef_quat, proprioception_.eef_quaternion(slot, kinematics::Side::kRight), 4);
-  ++episode.frames;
+  dataset::AppendFrameState(proprioception_, slot, recording.action, &recording.episode);
 }
 
 void RolloutRecorder::AppendImage(int slot, int camera) {
   Slot& recording = slots_[static_cast<std::size_t>(slot)];
-  const render::ImageBatch& images = render_->images();
-  const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
-  recording.encoders[static_cast<std::size_t>(camera)].WriteFrame(images.rgb(slot, camera), size);
-  recording.episode.image_stats[static_cast<std::size_t>(camera)].AddFrame(images.rgb(slot, camera), images.width(camera),
-                                                                        images.height(camera));
+  dataset::AppendFrameImage(render_->images(), slot, camera, &recording.encoders[static_cast<std::size_t>(camera)],
+                            &recording.episode.image_stats[static_cast<std::size_t>(camera)]);
 }
 
 void RolloutRecorder::Stepped(const VecEnv& env) {
