@@ -17,6 +17,10 @@
 # steps (--steps), so each number of the table is reproducible by its command whatever else
 # shared the card. The first wave's cells are evaluated while the second wave trains.
 set -u
+if [ $# -ne 2 ] || [ ! -x "$1" ]; then
+  echo "usage: $0 TAVIS WORK (TAVIS: the tavis program; got '${1:-}')" >&2
+  exit 2
+fi
 T=$1
 W=$2
 STEPS=${STEPS:-1800}
