@@ -48,12 +48,11 @@ std::optional<double> ParseNumber(std::string_view field) {
   throw std::runtime_error(source + ":" + std::to_string(line_number) + ": " + what);
 }
 
-void CheckColumnCount(const std::vector<std::string_view>& fields, int columns,
-                      const std::string& source, int line_number) {
+void CheckColumnCount(const std::vector<std::string_view>& fields, int columns, const std::string& source,
+                      int line_number) {
   if (static_cast<int>(fields.size()) != columns) {
     FailAt(source, line_number,
-           "expected " + std::to_string(columns) + " comma-separated values, found " +
-               std::to_string(fields.size()));
+           "expected " + std::to_string(columns) + " comma-separated values, found " + std::to_string(fields.size()));
   }
 }
 
@@ -77,7 +76,8 @@ ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int
   while (std::getline(in, line)) {
     ++line_number;
     // Spreadsheet programs start a UTF-8 CSV with a byte order mark, invisible in an error message.
-    if (line_number == 1 && line.rfind(kUtf8ByteOrderMark, 0) == 0) line.erase(0, std::string_view(kUtf8ByteOrderMark).size());
+    if (line_number == 1 && line.rfind(kUtf8ByteOrderMark, 0) == 0)
+      line.erase(0, std::string_view(kUtf8ByteOrderMark).size());
     if (Trim(line).empty()) continue;
     const std::vector<std::string_view> fields = SplitFields(line);
     CheckColumnCount(fields, columns, source, line_number);
@@ -89,8 +89,8 @@ ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int
       if (!value || !std::isfinite(*value)) {
         FailAt(source, line_number,
                "column " + std::to_string(column + 1) + ": " +
-                   (value ? "non-finite or out-of-range value '" : "not a number: '") +
-                   std::string(fields[column]) + "'");
+                   (value ? "non-finite or out-of-range value '" : "not a number: '") + std::string(fields[column]) +
+                   "'");
       }
       trajectory.values.push_back(*value);
     }

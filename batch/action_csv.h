@@ -28,12 +28,10 @@ struct ActionTrajectory {
 // Parses CSV text; `source` names the input in error messages. Throws std::runtime_error
 // "SOURCE:LINE: what is wrong" on a wrong column count, a non-numeric or non-finite value, and
 // "SOURCE: no data rows" when there are none.
-ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source,
-                                int columns = kinematics::action::kSize);
+ActionTrajectory ParseActionCsv(std::istream& in, const std::string& source, int columns = kinematics::action::kSize);
 
 // Reads and parses a file; a file that cannot be opened throws "FILE: cannot open ...".
-ActionTrajectory ReadActionCsv(const std::filesystem::path& path,
-                               int columns = kinematics::action::kSize);
+ActionTrajectory ReadActionCsv(const std::filesystem::path& path, int columns = kinematics::action::kSize);
 
 // Writes one row per action, each value in the shortest form that reads back to the same double,
 // so ReadActionCsv returns the actions bit-exactly. Throws std::runtime_error "FILE: cannot

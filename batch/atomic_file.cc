@@ -18,7 +18,8 @@ void WriteFileAtomically(const std::filesystem::path& path, const std::string& t
   }
   std::error_code error;
   std::filesystem::rename(temporary, path, error);
-  if (error) throw std::runtime_error("cannot rename " + temporary.string() + " to " + path.string() + ": " + error.message());
+  if (error)
+    throw std::runtime_error("cannot rename " + temporary.string() + " to " + path.string() + ": " + error.message());
 }
 
 }  // namespace tavis::batch

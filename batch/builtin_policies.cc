@@ -44,7 +44,8 @@ class HoldPolicy : public PerEnvPolicy {
 // own DIR/episode_<i>.csv, read when the episode starts.
 class ReplayPolicy : public PerEnvPolicy {
  public:
-  ReplayPolicy(const std::string& actions, int num_envs) : folder_(std::filesystem::is_directory(actions) ? actions : "") {
+  ReplayPolicy(const std::string& actions, int num_envs)
+      : folder_(std::filesystem::is_directory(actions) ? actions : "") {
     if (folder_.empty()) {
       shared_ = ReadActionCsv(actions);
     } else {
@@ -60,7 +61,8 @@ class ReplayPolicy : public PerEnvPolicy {
     const std::filesystem::path path =
         std::filesystem::path(folder_) / ("episode_" + std::to_string(observation.state.episode[env]) + ".csv");
     if (!std::filesystem::exists(path)) {
-      throw std::runtime_error("policy 'replay': " + path.string() + " does not exist (the folder has no actions for episode " +
+      throw std::runtime_error("policy 'replay': " + path.string() +
+                               " does not exist (the folder has no actions for episode " +
                                std::to_string(observation.state.episode[env]) + ")");
     }
     per_env_[static_cast<std::size_t>(env)] = ReadActionCsv(path);
@@ -90,8 +92,11 @@ std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scen
 
 ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
                            scenarios::ExpertMode mode, int decide_every)
-    : expert_(MakeExpert(scenario, model, num_envs, mode)), decide_every_(decide_every), held_(static_cast<std::size_t>(num_envs)) {
-  if (decide_every < 1) throw std::invalid_argument("the expert must decide every >= 1 control ticks, got " + std::to_string(decide_every));
+    : expert_(MakeExpert(scenario, model, num_envs, mode)),
+      decide_every_(decide_every),
+      held_(static_cast<std::size_t>(num_envs)) {
+  if (decide_every < 1)
+    throw std::invalid_argument("the expert must decide every >= 1 control ticks, got " + std::to_string(decide_every));
 }
 
 void ExpertPolicy::ResetEnv(const Observation& observation, int env) {
@@ -122,7 +127,8 @@ std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenari
                                           const engine::WorldModel& model, int num_envs,
                                           const std::string& actions_file, scenarios::ExpertMode expert_mode) {
   CheckBuiltinPolicyName(name);
-  if (IsPolicy(name, PolicyKind::kExpert)) return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);
+  if (IsPolicy(name, PolicyKind::kExpert))
+    return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);
   if (IsPolicy(name, PolicyKind::kHold)) return std::make_unique<HoldPolicy>(num_envs);
   if (actions_file.empty()) {
     throw std::invalid_argument("policy 'replay' needs an actions file or folder (--actions FILE.csv | DIR/actions)");

@@ -10,7 +10,8 @@ CameraProtocol ParseCameraProtocol(const std::string& text) {
   if (text == "head-only") return CameraProtocol::kHeadOnly;
   if (text == "wrists-only") return CameraProtocol::kWristsOnly;
   if (text == "fixed-only") return CameraProtocol::kFixedOnly;
-  throw std::invalid_argument("unknown camera protocol '" + text + "' (known: head, fixed, head-only, wrists-only, fixed-only)");
+  throw std::invalid_argument("unknown camera protocol '" + text +
+                              "' (known: head, fixed, head-only, wrists-only, fixed-only)");
 }
 
 const char* ToString(CameraProtocol protocol) {

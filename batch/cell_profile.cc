@@ -41,7 +41,8 @@ double CellProfile::EstimatedSeconds(int on_threads) const {
     return seconds;
   }
   std::vector<EpisodeCost> dealt = episodes;
-  std::sort(dealt.begin(), dealt.end(), [](const EpisodeCost& a, const EpisodeCost& b) { return a.episode < b.episode; });
+  std::sort(dealt.begin(), dealt.end(),
+            [](const EpisodeCost& a, const EpisodeCost& b) { return a.episode < b.episode; });
   // Each thread's busy-until time, as a min-heap: the next episode goes to the first one free.
   std::vector<double> free_at(static_cast<std::size_t>(std::max(on_threads, 1)), 0.0);
   for (const EpisodeCost& cost : dealt) {
@@ -66,8 +67,8 @@ std::string FormatCellProfile(const CellProfile& profile) {
   std::string text;
   char line[256];
   const double work = profile.work_seconds();
-  std::snprintf(line, sizeof line, "profile: %.2f s wall on %d threads, %.2f s of measured work\n", profile.wall_seconds,
-                profile.threads, work);
+  std::snprintf(line, sizeof line, "profile: %.2f s wall on %d threads, %.2f s of measured work\n",
+                profile.wall_seconds, profile.threads, work);
   text += line;
   for (const auto& [name, seconds] : profile.stages) {
     std::snprintf(line, sizeof line, "  %-14s %8.3f s  %5.1f%%\n", name.c_str(), seconds,
@@ -76,11 +77,12 @@ std::string FormatCellProfile(const CellProfile& profile) {
   }
   if (profile.render_wall_seconds > 0.0) {
     const double held = profile.render_cpu_seconds + profile.render_idle_seconds;
-    std::snprintf(line, sizeof line,
-                  "  render calls: %.3f s wall (%s), %.3f s CPU, %.3f s idle inside them (%.1f%% of the thread time they held)\n",
-                  profile.render_wall_seconds, profile.per_slot ? "summed over the slots' threads" : "x all threads",
-                  profile.render_cpu_seconds, profile.render_idle_seconds,
-                  held > 0.0 ? 100.0 * profile.render_idle_seconds / held : 0.0);
+    std::snprintf(
+        line, sizeof line,
+        "  render calls: %.3f s wall (%s), %.3f s CPU, %.3f s idle inside them (%.1f%% of the thread time they held)\n",
+        profile.render_wall_seconds, profile.per_slot ? "summed over the slots' threads" : "x all threads",
+        profile.render_cpu_seconds, profile.render_idle_seconds,
+        held > 0.0 ? 100.0 * profile.render_idle_seconds / held : 0.0);
     text += line;
   }
   double longest = 0.0, total = 0.0;
@@ -93,13 +95,15 @@ std::string FormatCellProfile(const CellProfile& profile) {
                 longest);
   text += line;
   if (profile.per_slot) {
-    std::snprintf(line, sizeof line,
-                  "  critical path (unlimited threads): %.3f s = serial %.3f s + longest episode %.3f s (per-slot schedule)\n",
-                  profile.critical_path_seconds(), profile.serial_seconds, longest);
+    std::snprintf(
+        line, sizeof line,
+        "  critical path (unlimited threads): %.3f s = serial %.3f s + longest episode %.3f s (per-slot schedule)\n",
+        profile.critical_path_seconds(), profile.serial_seconds, longest);
   } else {
-    std::snprintf(line, sizeof line,
-                  "  critical path (unlimited threads): %.3f s = serial %.3f s + slowest env per section %.3f s (lock-step)\n",
-                  profile.critical_path_seconds(), profile.serial_seconds, profile.slowest_env_seconds);
+    std::snprintf(
+        line, sizeof line,
+        "  critical path (unlimited threads): %.3f s = serial %.3f s + slowest env per section %.3f s (lock-step)\n",
+        profile.critical_path_seconds(), profile.serial_seconds, profile.slowest_env_seconds);
   }
   text += line;
   for (int on_threads : {1, 2, 16}) {
@@ -133,7 +137,9 @@ std::string CellProfileJson(const CellProfile& profile) {
   json["estimates"] = estimates;
   nlohmann::json episodes = nlohmann::json::array();
   for (const EpisodeCost& cost : profile.episodes) {
-    episodes.push_back({{"episode", cost.episode}, {"slot", cost.slot}, {"control_ticks", cost.control_ticks},
+    episodes.push_back({{"episode", cost.episode},
+                        {"slot", cost.slot},
+                        {"control_ticks", cost.control_ticks},
                         {"seconds", cost.seconds}});
   }
   json["episodes"] = episodes;

@@ -9,9 +9,9 @@
 #include <stdexcept>
 
 #include "batch/atomic_file.h"
-#include "batch/json_error_text.h"
 #include "batch/cell_report.h"
 #include "batch/config_identity.h"
+#include "batch/json_error_text.h"
 #include "batch/output_folder.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
@@ -47,24 +47,25 @@ double ParseActionValue(const nlohmann::json& value) {
 }  // namespace
 
 nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
-  nlohmann::json settings = {{"task", config.task},
-                             {"robot", config.robot},
-                             {"split", scenarios::ToString(config.split)},
-                             {"camera", ToString(config.camera)},
-                             {"policy", config.policy},
-                             {"actions_file", config.actions_file},
-                             {"expert_hz", config.expert_hz},
-                             {"servers", config.servers},
-                             {"replan_steps", config.replan_steps},
-                             {"observation_keys", config.observation_keys},
-                             {"observation_dataset", config.observation_dataset},
-                             {"episodes", config.episodes},
-                             {"seed", config.seed},
-                             {"render_cameras", config.render_cameras},
-                             {"image_width", config.image_width},
-                             {"image_height", config.image_height},
-                             {"identity", ConfigIdentityJson(config.config_dir, config.robot,
-                                                             IsPolicy(config.policy, PolicyKind::kOpenpi) ? config.observation_keys : "")}};
+  nlohmann::json settings = {
+      {"task", config.task},
+      {"robot", config.robot},
+      {"split", scenarios::ToString(config.split)},
+      {"camera", ToString(config.camera)},
+      {"policy", config.policy},
+      {"actions_file", config.actions_file},
+      {"expert_hz", config.expert_hz},
+      {"servers", config.servers},
+      {"replan_steps", config.replan_steps},
+      {"observation_keys", config.observation_keys},
+      {"observation_dataset", config.observation_dataset},
+      {"episodes", config.episodes},
+      {"seed", config.seed},
+      {"render_cameras", config.render_cameras},
+      {"image_width", config.image_width},
+      {"image_height", config.image_height},
+      {"identity", ConfigIdentityJson(config.config_dir, config.robot,
+                                      IsPolicy(config.policy, PolicyKind::kOpenpi) ? config.observation_keys : "")}};
   // Only a cell that does not start at episode 0 names its start, so cells written before it
   // existed still resume.
   if (config.episode_start != 0) settings["episode_start"] = config.episode_start;
@@ -108,12 +109,14 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
   const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
   if (resume) {
     if (!fs::exists(cell_json)) throw std::invalid_argument("--resume: " + dir_ + " holds no cell (no cell.json)");
-    if (fs::exists(fs::path(dir_) / "summary.json")) throw std::invalid_argument("--resume: " + dir_ + " is complete (it has summary.json)");
+    if (fs::exists(fs::path(dir_) / "summary.json"))
+      throw std::invalid_argument("--resume: " + dir_ + " is complete (it has summary.json)");
     nlohmann::json was;
     try {
       std::ifstream(cell_json) >> was;
     } catch (const nlohmann::json::exception& error) {
-      throw std::invalid_argument(cell_json.string() + ": damaged cell file, not valid JSON: " + JsonErrorText(error.what()));
+      throw std::invalid_argument(cell_json.string() +
+                                  ": damaged cell file, not valid JSON: " + JsonErrorText(error.what()));
     }
     const std::string differences = SettingsDifference(was, settings);
     if (!differences.empty()) throw std::invalid_argument("--resume " + dir_ + " with other settings: " + differences);
@@ -135,7 +138,8 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
     if (fs::exists(episodes_path)) fs::resize_file(episodes_path, kept_bytes);
   } else {
     if (!HoldsNoResults(dir_)) {
-      throw std::invalid_argument(dir_ + " already holds results; give --overwrite to replace them or --resume to finish "
+      throw std::invalid_argument(dir_ +
+                                  " already holds results; give --overwrite to replace them or --resume to finish "
                                   "an interrupted cell");
     }
     fs::create_directories(dir_);
@@ -143,7 +147,8 @@ CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& 
     WriteFileAtomically(cell_json, settings.dump(2) + "\n");
   }
   episodes_ = std::fopen(episodes_path.c_str(), resume ? "ab" : "wb");
-  if (episodes_ == nullptr) throw std::runtime_error("cannot write " + episodes_path.string() + ": " + std::strerror(errno));
+  if (episodes_ == nullptr)
+    throw std::runtime_error("cannot write " + episodes_path.string() + ": " + std::strerror(errno));
 }
 
 CellRecordStream::~CellRecordStream() {

@@ -1,9 +1,9 @@
 // An evaluation cell's records on disk while the cell runs (`tavis eval`): DIR/cell.json (the
 // settings) is written first, so an unwritable DIR fails before any work; each episode's line is
 // appended to DIR/episodes.jsonl and flushed as soon as it and every earlier episode have ended
-// (with the episode's DIR/actions/episode_<i>.csv when its actions are kept for replay), so an interrupted cell keeps its complete
-// episodes; summary.json comes last (WriteCellSummary) and marks the cell complete. A resumed
-// cell keeps the complete lines and continues after them.
+// (with the episode's DIR/actions/episode_<i>.csv when its actions are kept for replay), so an interrupted cell keeps
+// its complete episodes; summary.json comes last (WriteCellSummary) and marks the cell complete. A resumed cell keeps
+// the complete lines and continues after them.
 #pragma once
 
 #include <cstdint>

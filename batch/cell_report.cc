@@ -15,15 +15,16 @@
 #include "batch/atomic_file.h"
 #include "batch/galt_summary.h"
 #include "batch/policy_kinds.h"
-#include "batch/stage_record.h"
 #include "batch/remote/value_json.h"
+#include "batch/stage_record.h"
 #include "batch/statistics.h"
 
 namespace tavis::batch {
 namespace {
 
 // The GALT summary over the successful episodes' results in `slot`, computed at `fps`.
-nlohmann::json GaltJson(const CellResult& result, std::optional<kinematics::GaltResult> EpisodeRecord::*slot, double fps) {
+nlohmann::json GaltJson(const CellResult& result, std::optional<kinematics::GaltResult> EpisodeRecord::*slot,
+                        double fps) {
   std::vector<kinematics::GaltResult> results;
   for (const EpisodeRecord& record : result.episodes) {
     if (record.*slot) results.push_back(*(record.*slot));
@@ -77,7 +78,8 @@ std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
       {"length_control_ticks", record.length_control_ticks},
       {"solver_messages", record.solver_messages},
   };
-  if (record.end == engine::EpisodeEnd::kInvalidAction) line["invalid_action"] = InvalidActionJson(record.invalid_action);
+  if (record.end == engine::EpisodeEnd::kInvalidAction)
+    line["invalid_action"] = InvalidActionJson(record.invalid_action);
   auto add_galt = [&line](const std::optional<kinematics::GaltResult>& galt, const std::string& prefix) {
     if (!galt) return;
     line[prefix + "_s"] = galt->galt_s ? nlohmann::json(*galt->galt_s) : nlohmann::json();
@@ -129,8 +131,9 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
       {"ends", EndCountsJson(result.episodes)},
       // Episodes the simulator failed (physics blew up): counted as failures in the success
       // rate, reported apart from the policy's.
-      {"simulator_faults", std::count_if(result.episodes.begin(), result.episodes.end(),
-                                         [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kPhysicsBlowUp; })},
+      {"simulator_faults",
+       std::count_if(result.episodes.begin(), result.episodes.end(),
+                     [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kPhysicsBlowUp; })},
       {"stages", StageFunnelJson(StageNames(config.task), result.episodes)},
       {"wall_s", result.wall_s},
       {"envs", result.envs},
@@ -148,8 +151,8 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
   if (IsPolicy(config.policy, PolicyKind::kExpert)) summary["expert_mode"] = scenarios::ToString(config.expert_mode);
   if (!config.perturbations.empty()) summary["perturbations"] = config.perturbations;
   // null under the fixed protocol, where no GALT is computed (as in the reference).
-  summary["galt"] = !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps)
-                                                          : nlohmann::json();
+  summary["galt"] =
+      !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps) : nlohmann::json();
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
   }
@@ -169,14 +172,15 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
     const std::vector<int>& batch_sizes = result.requests->envs_per_request;
     int64_t env_requests = 0;
     for (int envs : batch_sizes) env_requests += envs;
-    summary["requests"] = {{"count", result.requests->round_trip_ms.size()},
-                           {"env_requests", env_requests},
-                           {"mean_batch_size", batch_sizes.empty() ? 0.0 : static_cast<double>(env_requests) / batch_sizes.size()},
-                           {"policy_ticks", result.requests->policy_ticks},
-                           {"wait_s", result.requests->wait_ms / 1000.0},
-                           {"reconnects", result.requests->reconnects},
-                           {"round_trip", MillisecondsJson(result.requests->round_trip_ms)},
-                           {"server_infer", MillisecondsJson(result.requests->server_infer_ms)}};
+    summary["requests"] = {
+        {"count", result.requests->round_trip_ms.size()},
+        {"env_requests", env_requests},
+        {"mean_batch_size", batch_sizes.empty() ? 0.0 : static_cast<double>(env_requests) / batch_sizes.size()},
+        {"policy_ticks", result.requests->policy_ticks},
+        {"wait_s", result.requests->wait_ms / 1000.0},
+        {"reconnects", result.requests->reconnects},
+        {"round_trip", MillisecondsJson(result.requests->round_trip_ms)},
+        {"server_infer", MillisecondsJson(result.requests->server_infer_ms)}};
   }
   WriteFileAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
 }
@@ -188,8 +192,8 @@ std::string CellSummaryLine(const CellResult& result) {
   std::snprintf(line, sizeof(line),
                 "%s %s %s policy=%s camera=%s: success %d/%d = %.1f%% [%.1f, %.1f] (95%% Wilson), %.1f s",
                 result.config.task.c_str(), result.config.robot.c_str(), scenarios::ToString(result.config.split),
-                result.config.policy.c_str(), ToString(result.config.camera), result.successes, n, n > 0 ? 100.0 * result.successes / n : 0.0,
-                100.0 * ci.low, 100.0 * ci.high, result.wall_s);
+                result.config.policy.c_str(), ToString(result.config.camera), result.successes, n,
+                n > 0 ? 100.0 * result.successes / n : 0.0, 100.0 * ci.low, 100.0 * ci.high, result.wall_s);
   const auto invalid = [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kInvalidAction; };
   const auto first = std::find_if(result.episodes.begin(), result.episodes.end(), invalid);
   if (first == result.episodes.end()) return line;
@@ -197,7 +201,8 @@ std::string CellSummaryLine(const CellResult& result) {
   text += "; " + std::to_string(std::count_if(result.episodes.begin(), result.episodes.end(), invalid)) +
           " ended invalid_action (first: episode " + std::to_string(first->episode);
   if (first->invalid_action.entry >= 0) {
-    text += ", entry " + std::to_string(first->invalid_action.entry) + " = " + InvalidActionJson(first->invalid_action)["value"].dump();
+    text += ", entry " + std::to_string(first->invalid_action.entry) + " = " +
+            InvalidActionJson(first->invalid_action)["value"].dump();
   }
   return text + ": " + first->invalid_action.reason + ")";
 }

@@ -57,7 +57,8 @@ std::string FileHash(const std::string& path) {
 
 }  // namespace
 
-nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::string& robot, const std::string& observation_keys) {
+nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::string& robot,
+                                  const std::string& observation_keys) {
   nlohmann::json identity = {{"program_version", ProgramVersion()},
                              {"robot_config", YamlFileAsJson(configs::RobotConfigPath(config_dir, robot))}};
   if (!observation_keys.empty()) {
@@ -65,7 +66,8 @@ nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::stri
     // preset (observation_contract.h) is part of the program, whose version is recorded above.
     const bool is_file = std::filesystem::is_regular_file(observation_keys);
     const std::string path = is_file ? observation_keys : config_dir + "/policy_keys/" + observation_keys + ".yaml";
-    identity["observation_keys_config"] = std::filesystem::is_regular_file(path) ? "fnv1a:" + FileHash(path) : "built-in";
+    identity["observation_keys_config"] =
+        std::filesystem::is_regular_file(path) ? "fnv1a:" + FileHash(path) : "built-in";
   }
   return identity;
 }

@@ -13,6 +13,7 @@ namespace tavis::batch {
 // {"program_version": ..., "robot_config": <the robot YAML as JSON, scalars as their text>, and
 // with `observation_keys` (a preset name or a YAML file; empty: none) "observation_keys_config"}.
 // Throws std::invalid_argument naming the file when it cannot be read.
-nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::string& robot, const std::string& observation_keys = "");
+nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::string& robot,
+                                  const std::string& observation_keys = "");
 
 }  // namespace tavis::batch

@@ -19,7 +19,8 @@ EpisodeDriver::EpisodeDriver(VecEnv& env, Policy& policy, int64_t episodes, int6
       next_episode_(first_episode),
       proprioception_(env.model().robot, env.num_envs()) {
   if (episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(episodes));
-  if (first_episode < 0) throw std::invalid_argument("the first episode index must be >= 0, got " + std::to_string(first_episode));
+  if (first_episode < 0)
+    throw std::invalid_argument("the first episode index must be >= 0, got " + std::to_string(first_episode));
   const std::size_t slots = static_cast<std::size_t>(env.num_envs());
   prompts_.assign(slots, nullptr);
   acting_.assign(slots, 0);
@@ -77,7 +78,8 @@ void EpisodeDriver::Run() {
   const int ticks_per_policy_step = env_.model().physics.controls_per_policy();
   if (!policy_.cameras().empty() && hold_ticks % ticks_per_policy_step != 0) {
     throw std::invalid_argument("policy '" + policy_.name() + "' uses cameras but acts every " +
-                                std::to_string(hold_ticks) + " control ticks; it must act on policy ticks (a multiple of " +
+                                std::to_string(hold_ticks) +
+                                " control ticks; it must act on policy ticks (a multiple of " +
                                 std::to_string(ticks_per_policy_step) + "), where its images are rendered");
   }
   const int slots = env_.num_envs();
@@ -147,7 +149,8 @@ void EpisodeDriver::RunPerSlot(PerEnvPolicy& policy) {
   // One worker per thread, each on its own slot: the slots beyond the threads stay idle.
   const int workers = std::min(env_.num_envs(), tbb::this_task_arena::max_concurrency());
   parallel_seconds_ += WallSeconds([&] {
-    tbb::parallel_for(0, workers, 1, [&](int slot) { RunSlot(policy, slot); }, tbb::simple_partitioner());
+    tbb::parallel_for(
+        0, workers, 1, [&](int slot) { RunSlot(policy, slot); }, tbb::simple_partitioner());
   });
 }
 
@@ -248,8 +251,8 @@ void EpisodeDriver::FinishProfile(double wall_seconds) {
   // Lock-step render calls hold every thread; per slot they are part of their episodes' costs.
   profile_.render_seconds = profile_.per_slot ? 0.0 : render.held;
   profile_.stages.clear();
-  for (Stage name : {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask,
-                     Stage::kEndEpisodes}) {
+  for (Stage name :
+       {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask, Stage::kEndEpisodes}) {
     profile_.stages.emplace_back(ToString(name), stage[static_cast<int>(name)]);
   }
   profile_.stages.emplace_back(ToString(Stage::kReset), reset_seconds_);
@@ -261,8 +264,8 @@ void EpisodeDriver::FinishProfile(double wall_seconds) {
   profile_.stages.emplace_back("policy", policy_seconds_);
   profile_.stages.emplace_back("recording", recording_seconds_);
   // Lock-step sinks run outside the parallel sections, per-slot ones inside them.
-  profile_.stages.emplace_back("driver", profile_.per_slot ? outside_parallel
-                                                           : std::max(0.0, outside_parallel - recording_seconds_));
+  profile_.stages.emplace_back(
+      "driver", profile_.per_slot ? outside_parallel : std::max(0.0, outside_parallel - recording_seconds_));
 }
 
 void EpisodeDriver::CollectAndRefill() {
@@ -271,7 +274,8 @@ void EpisodeDriver::CollectAndRefill() {
   starts_.clear();
   // With cameras, episodes start only on ticks where the running ones are at a policy tick, so
   // that every render call draws all of them (rather than a third of them on every tick).
-  const bool deal_now = env_.renderer() == nullptr || lock_step_ticks_ % env_.model().physics.controls_per_policy() == 0;
+  const bool deal_now =
+      env_.renderer() == nullptr || lock_step_ticks_ % env_.model().physics.controls_per_policy() == 0;
   for (int slot = 0; slot < slots; ++slot) {
     started_[slot] = 0;
     if (state.episode[slot] < 0) {

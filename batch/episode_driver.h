@@ -148,9 +148,9 @@ class EpisodeDriver {
   ProgressCallback progress_;
   CameraProtocol protocol_ = CameraProtocol::kHead;
   bool lock_step_required_ = false;
-  std::mutex deal_mutex_;    // per slot: next_episode_
+  std::mutex deal_mutex_;              // per slot: next_episode_
   std::atomic<bool> stopping_{false};  // per slot: a worker failed
-  std::mutex finish_mutex_;  // per slot: episode ends, progress and the profile
+  std::mutex finish_mutex_;            // per slot: episode ends, progress and the profile
   ProprioceptionBatch proprioception_;
   // Per-slot buffers, sized once.
   std::vector<const char*> prompts_;
@@ -167,7 +167,7 @@ class EpisodeDriver {
   double recording_seconds_ = 0.0;        // wall time in sinks
   double policy_seconds_ = 0.0;
   double reset_seconds_ = 0.0;
-  std::vector<double> episode_seconds_;   // (slots) the running episode's cost so far
+  std::vector<double> episode_seconds_;  // (slots) the running episode's cost so far
   std::vector<uint8_t> all_slots_;
 };
 

@@ -39,7 +39,8 @@ void EpisodeRecorder::ActionChosen(const VecEnv& env, int slot, const kinematics
 std::optional<kinematics::GaltResult> EpisodeRecorder::Galt(const std::vector<kinematics::Action>& log, int stride,
                                                             double fps) const {
   if (stride <= 0 || log.empty()) return std::nullopt;
-  const kinematics::TrajectoryView every_tick{log.front().data(), static_cast<int>(log.size()), kinematics::action::kSize};
+  const kinematics::TrajectoryView every_tick{log.front().data(), static_cast<int>(log.size()),
+                                              kinematics::action::kSize};
   return kinematics::ComputeGalt(every_tick.Downsampled(stride), fps);
 }
 

@@ -33,9 +33,9 @@ struct EpisodeRecord {
   int64_t episode = 0;
   bool success = false;
   engine::EpisodeEnd end = engine::EpisodeEnd::kRunning;
-  int length_steps = 0;          // policy-rate (20 Hz) steps, as the reference counts them
-  int length_control_ticks = 0;  // 60 Hz control ticks
-  int solver_messages = 0;       // ODE solver messages (degenerate contacts), for diagnosis
+  int length_steps = 0;                  // policy-rate (20 Hz) steps, as the reference counts them
+  int length_control_ticks = 0;          // 60 Hz control ticks
+  int solver_messages = 0;               // ODE solver messages (degenerate contacts), for diagnosis
   engine::InvalidAction invalid_action;  // what ended it, when end is kInvalidAction
   // GALT of the commanded actions at the policy's action rate, for successful episodes only
   // (the reference computes it for those).
@@ -48,9 +48,9 @@ struct EpisodeRecord {
   std::string prompt;
   std::string target_object;
   scenarios::TargetFacts target;
-  std::vector<StageReached> stages;  // the task's stages, in declared order
+  std::vector<StageReached> stages;                // the task's stages, in declared order
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
-  std::vector<kinematics::Action> actions;  // every control tick's, with RecordSettings::keep_actions
+  std::vector<kinematics::Action> actions;         // every control tick's, with RecordSettings::keep_actions
 };
 
 struct RecordSettings {
@@ -91,8 +91,8 @@ class EpisodeRecorder : public EpisodeSink {
   // [slot]: made at the slot's first episode (the recorder learns the task from the env then);
   // each slot touches only its own.
   std::vector<std::optional<scenarios::StageProgress>> stage_progress_;
-  std::vector<std::string> prompts_;        // [slot] the running episode's prompt
-  std::vector<std::string> target_objects_;  // [slot]
+  std::vector<std::string> prompts_;             // [slot] the running episode's prompt
+  std::vector<std::string> target_objects_;      // [slot]
   std::vector<scenarios::TargetFacts> targets_;  // [slot]
   int64_t next_release_;
   std::map<int64_t, EpisodeRecord> waiting_;  // ended, after an episode still running

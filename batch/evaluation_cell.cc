@@ -1,8 +1,8 @@
 #include "batch/evaluation_cell.h"
 
 #include <algorithm>
-#include <optional>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <tuple>
 
@@ -18,7 +18,8 @@ namespace {
 
 void ValidatePolicy(const EvaluationCellConfig& config) {
   if (IsPolicy(config.policy, PolicyKind::kOpenpi)) {
-    if (config.servers.empty()) throw std::invalid_argument("policy 'openpi' needs a policy server (--server ws://HOST:PORT)");
+    if (config.servers.empty())
+      throw std::invalid_argument("policy 'openpi' needs a policy server (--server ws://HOST:PORT)");
     return;
   }
   try {
@@ -26,7 +27,8 @@ void ValidatePolicy(const EvaluationCellConfig& config) {
   } catch (const std::invalid_argument&) {
     throw std::invalid_argument("unknown policy '" + config.policy + "' (known: " + CellPolicyNames() + ")");
   }
-  if (!config.servers.empty()) throw std::invalid_argument("--server is for --policy openpi, not '" + config.policy + "'");
+  if (!config.servers.empty())
+    throw std::invalid_argument("--server is for --policy openpi, not '" + config.policy + "'");
 }
 
 void ValidateExpertMode(const EvaluationCellConfig& config) {
@@ -35,7 +37,6 @@ void ValidateExpertMode(const EvaluationCellConfig& config) {
                                 " is for --policy expert, not '" + config.policy + "'");
   }
 }
-
 
 struct ServedLayout {
   remote::ObservationKeys keys;
@@ -49,8 +50,9 @@ ServedLayout ServedKeys(const EvaluationCellConfig& config, int state_size) {
   ServedLayout layout;
   std::optional<remote::ObservationKeys> dataset;
   if (!config.observation_dataset.empty()) dataset = remote::LoadDatasetKeys(config.observation_dataset, state_size);
-  layout.keys = dataset && !config.observation_keys_given ? *dataset
-                                                          : remote::LoadObservationKeys(config.observation_keys, config.config_dir);
+  layout.keys = dataset && !config.observation_keys_given
+                    ? *dataset
+                    : remote::LoadObservationKeys(config.observation_keys, config.config_dir);
   if (config.image_width != 0) {
     layout.keys.image_width = config.image_width;
     layout.keys.image_height = config.image_height;
@@ -74,8 +76,8 @@ std::vector<std::string> CamerasToRender(const Policy& policy, const EvaluationC
 // What the recorder keeps: GALT sampled when the policy acted (every `hold_ticks` control ticks),
 // as the reference records actions at its policy rate, and for a policy acting faster also at the
 // 20 Hz policy rate; none under the fixed protocol, where there is no head to lead.
-RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks, const engine::PhysicsSettings& physics,
-                                 bool served) {
+RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks,
+                                 const engine::PhysicsSettings& physics, bool served) {
   RecordSettings settings;
   if (!UsesFixedView(config.camera)) {
     settings.galt_stride = hold_ticks;
@@ -97,7 +99,8 @@ RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ti
 std::string CellPolicyNames() { return PolicyNames(/*built_in_only=*/false); }
 
 void CheckEvaluationCell(const EvaluationCellConfig& config) {
-  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.episodes < 1)
+    throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
   if (config.episode_start < 0) {
     throw std::invalid_argument("--episode must be at least 0, got " + std::to_string(config.episode_start));
@@ -116,8 +119,8 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   }
   ValidateExpertMode(config);
   if ((config.image_width == 0) != (config.image_height == 0)) {
-    throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) + "x" +
-                                std::to_string(config.image_height));
+    throw std::invalid_argument("give both image dimensions or neither, got " + std::to_string(config.image_width) +
+                                "x" + std::to_string(config.image_height));
   }
   CameraSettings cameras;
   cameras.cameras = config.render_cameras;
@@ -127,19 +130,21 @@ void CheckEvaluationCell(const EvaluationCellConfig& config) {
   }
   ValidateCameraSettings(cameras);
   scenarios::FindScenario(config.task);
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const kinematics::RobotModel robot =
+      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   ResolvePerturbations(config.config_dir, config.perturbations);
   if (IsPolicy(config.policy, PolicyKind::kOpenpi)) {
     ServedKeys(config, static_cast<int>(robot.observation_state.size()));
   } else if (!config.observation_dataset.empty()) {
-    throw std::invalid_argument("--match-dataset '" + config.observation_dataset + "' applies to --policy openpi only, got --policy " +
-                                config.policy);
+    throw std::invalid_argument("--match-dataset '" + config.observation_dataset +
+                                "' applies to --policy openpi only, got --policy " + config.policy);
   }
 }
 
 std::vector<std::string> ServedLayoutDifferences(const EvaluationCellConfig& config) {
   if (!IsPolicy(config.policy, PolicyKind::kOpenpi) || config.observation_dataset.empty()) return {};
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const kinematics::RobotModel robot =
+      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   return ServedKeys(config, static_cast<int>(robot.observation_state.size())).differences;
 }
 
@@ -155,7 +160,8 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
                              const RecordCallback& on_record, const CellSinks& sinks) {
   CheckEvaluationCell(config);
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const kinematics::RobotModel robot =
+      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   const auto start = std::chrono::steady_clock::now();
 
   const int64_t end_episode = config.episode_start + config.episodes;
@@ -196,7 +202,8 @@ CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressC
     result.render_height = result.config.image_height;
     if (IsPolicy(config.policy, PolicyKind::kExpert)) {
       const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
-      policy = std::make_unique<ExpertPolicy>(scenario, env.model(), slots, config.expert_mode, control_hz / config.expert_hz);
+      policy = std::make_unique<ExpertPolicy>(scenario, env.model(), slots, config.expert_mode,
+                                              control_hz / config.expert_hz);
     } else {
       policy = MakeBuiltinPolicy(config.policy, scenario, env.model(), slots, config.actions_file, config.expert_mode);
     }

@@ -83,9 +83,9 @@ struct CellResult {
   int successes = 0;
   int envs = 0;  // the env slots that ran (at most the episodes to run)
   double wall_s = 0.0;
-  int64_t control_ticks = 0;  // env control ticks simulated, for throughput
-  double galt_fps = 0.0;      // rate of the action samples GALT was computed on
-  double galt_policy_rate_fps = 0.0;  // 0 when the policy acts at the policy rate
+  int64_t control_ticks = 0;                  // env control ticks simulated, for throughput
+  double galt_fps = 0.0;                      // rate of the action samples GALT was computed on
+  double galt_policy_rate_fps = 0.0;          // 0 when the policy acts at the policy rate
   std::vector<std::string> rendered_cameras;  // the policy's cameras, then the extra render_cameras
   int64_t rendered_images = 0;                // env-camera images rendered
   // A served policy's requests; its episodes' actions are kept for --policy replay
@@ -95,8 +95,8 @@ struct CellResult {
   std::string observation_keys_source;         // the request layout's preset, file or dataset
   // How the served layout differs from observation_dataset's (empty: it does not, or none given).
   std::vector<std::string> layout_differences;
-  std::optional<CellProfile> profile;          // with config.profile
-  bool per_slot = false;  // run on the driver's per-slot schedule (RunsPerSlot)
+  std::optional<CellProfile> profile;  // with config.profile
+  bool per_slot = false;               // run on the driver's per-slot schedule (RunsPerSlot)
 };
 
 // Policy names a cell accepts, for --help texts and errors: the built-in ones and "openpi".
@@ -112,8 +112,8 @@ void CheckEvaluationCell(const EvaluationCellConfig& config);
 // What a cell's recorder keeps for a policy acting every `hold_ticks` control ticks: GALT at that
 // rate (and at the 20 Hz policy rate for a faster policy) under the head protocol, the served
 // policy's actions for replay, every action with config.keep_actions.
-RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks, const engine::PhysicsSettings& physics,
-                                 bool served);
+RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks,
+                                 const engine::PhysicsSettings& physics, bool served);
 
 // How a served cell's layout differs from its observation_dataset's, one line each (empty when it
 // does not or no dataset is named). Throws as CheckEvaluationCell does.
@@ -137,7 +137,8 @@ using RecordCallback = std::function<void(const EpisodeRecord&)>;
 // rollout dataset), made once the env exists; `policy_cameras` are the cameras the policy sees
 // under the camera protocol (empty for one that takes no images). The sinks watch; what they do
 // must not change the records.
-using CellSinks = std::function<std::vector<EpisodeSink*>(const VecEnv& env, const std::vector<std::string>& policy_cameras)>;
+using CellSinks =
+    std::function<std::vector<EpisodeSink*>(const VecEnv& env, const std::vector<std::string>& policy_cameras)>;
 
 CellResult RunEvaluationCell(const EvaluationCellConfig& config, const ProgressCallback& progress = nullptr,
                              const RecordCallback& on_record = nullptr, const CellSinks& sinks = nullptr);

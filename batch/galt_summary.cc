@@ -28,15 +28,13 @@ GaltSummary SummarizeGalt(const std::vector<kinematics::GaltResult>& successful_
 nlohmann::json GaltSummaryJson(const GaltSummary& summary) {
   nlohmann::json reasons = nlohmann::json::object();
   for (int r = 0; r < kinematics::kGaltReasonCount; ++r) {
-    if (summary.reason_counts[r] > 0) reasons[kinematics::ToString(static_cast<kinematics::GaltReason>(r))] = summary.reason_counts[r];
+    if (summary.reason_counts[r] > 0)
+      reasons[kinematics::ToString(static_cast<kinematics::GaltReason>(r))] = summary.reason_counts[r];
   }
   auto optional_number = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
-  return {{"n_episodes", summary.n_episodes},
-          {"n_valid", summary.n_valid},
-          {"mean_s", optional_number(summary.mean_s)},
-          {"median_s", optional_number(summary.median_s)},
-          {"std_s", optional_number(summary.std_s)},
-          {"reasons", reasons}};
+  return {{"n_episodes", summary.n_episodes},          {"n_valid", summary.n_valid},
+          {"mean_s", optional_number(summary.mean_s)}, {"median_s", optional_number(summary.median_s)},
+          {"std_s", optional_number(summary.std_s)},   {"reasons", reasons}};
 }
 
 }  // namespace tavis::batch

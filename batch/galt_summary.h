@@ -22,9 +22,7 @@ struct GaltSummary {
   // Indexed by static_cast<int>(kinematics::GaltReason).
   std::array<int, kinematics::kGaltReasonCount> reason_counts{};
 
-  int count(kinematics::GaltReason reason) const {
-    return reason_counts[static_cast<std::size_t>(reason)];
-  }
+  int count(kinematics::GaltReason reason) const { return reason_counts[static_cast<std::size_t>(reason)]; }
 };
 
 // Summarises the GALT results of a cell's successful episodes; the reference computes GALT only

@@ -48,8 +48,7 @@ std::vector<kinematics::GaltResult> ComputeGaltEveryNth(const std::vector<kinema
 }
 
 std::vector<GaltValidationRow> GaltValidationRows(const std::string& robot,
-                                                  const std::vector<kinematics::TrajectoryView>& episodes,
-                                                  double fps,
+                                                  const std::vector<kinematics::TrajectoryView>& episodes, double fps,
                                                   const std::vector<kinematics::GaltResult>& at_fps) {
   const int stride = PolicyRateStride(fps);
   return {GaltValidationRow{robot, fps, 1, SummarizeGalt(at_fps)},

@@ -33,8 +33,7 @@ std::vector<kinematics::GaltResult> ComputeGaltEveryNth(const std::vector<kinema
 // The two rows of one robot: `at_fps` (the GALT of every episode at the dataset rate, already
 // computed for the per-episode output) and the episodes downsampled to 20 Hz.
 std::vector<GaltValidationRow> GaltValidationRows(const std::string& robot,
-                                                  const std::vector<kinematics::TrajectoryView>& episodes,
-                                                  double fps,
+                                                  const std::vector<kinematics::TrajectoryView>& episodes, double fps,
                                                   const std::vector<kinematics::GaltResult>& at_fps);
 
 // Markdown: | robot | rate | episodes | detected | mean s | median s |, e.g.

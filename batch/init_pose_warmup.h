@@ -10,7 +10,7 @@
 
 namespace tavis::batch {
 
-constexpr int kInitPoseWarmupPolicySteps = 10;  // max(5, int(0.5 * 20 Hz))
+constexpr int kInitPoseWarmupPolicySteps = 10;   // max(5, int(0.5 * 20 Hz))
 constexpr double kInitPosePositionNoise = 0.10;  // m
 constexpr double kInitPoseNeckNoise = 0.175;     // rad
 

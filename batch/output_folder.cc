@@ -28,9 +28,12 @@ namespace fs = std::filesystem;
 
 // What tavis writes at the top of each kind of folder. FILE.partial is an atomic write cut short.
 const std::set<std::string>& OwnEntries(OutputKind kind) {
-  static const std::set<std::string> cell = {"cell.json", "episodes.jsonl", "summary.json", "profile.json", "actions", "videos"};
-  static const std::set<std::string> dataset = {"meta", "data", "videos", ".tavis_spool", "INCOMPLETE", "tavis_demos.json"};
-  static const std::set<std::string> sweep = {"manifest.json", "cells", "summary.json", "tables", "figures", "report.html"};
+  static const std::set<std::string> cell = {"cell.json",    "episodes.jsonl", "summary.json",
+                                             "profile.json", "actions",        "videos"};
+  static const std::set<std::string> dataset = {"meta",         "data",       "videos",
+                                                ".tavis_spool", "INCOMPLETE", "tavis_demos.json"};
+  static const std::set<std::string> sweep = {"manifest.json", "cells",   "summary.json",
+                                              "tables",        "figures", "report.html"};
   switch (kind) {
     case OutputKind::kEvalCell: return cell;
     case OutputKind::kDataset: return dataset;
@@ -103,7 +106,8 @@ fs::path Resolved(const fs::path& path) {
 
 // The same file: the lock taken is on the file the path names now, not one removed meanwhile.
 bool SameFile(int fd, const fs::path& path) {
-  struct stat by_fd {}, by_path {};
+  struct stat by_fd {
+  }, by_path{};
   if (fstat(fd, &by_fd) != 0 || stat(path.c_str(), &by_path) != 0) return false;
   return by_fd.st_dev == by_path.st_dev && by_fd.st_ino == by_path.st_ino;
 }
@@ -123,20 +127,22 @@ void RequireUsableOutputPath(const fs::path& out, const std::string& option) {
   if (out.empty()) throw std::invalid_argument(option + " must name a folder, got an empty string");
   std::error_code error;
   if (fs::exists(out, error) && !fs::is_directory(out, error)) {
-    throw std::invalid_argument(option + " " + out.string() + " is a file, not a folder: tavis writes its results into a folder");
+    throw std::invalid_argument(option + " " + out.string() +
+                                " is a file, not a folder: tavis writes its results into a folder");
   }
   const fs::path target = Resolved(out);
   const fs::path cwd = Resolved(fs::current_path());
   // The working directory and every folder above it hold what the user works in.
   for (fs::path above = cwd;; above = above.parent_path()) {
     if (target == above) {
-      throw std::invalid_argument(option + " " + out.string() + " is the working directory or a folder above it (" + target.string() +
-                                  "): give a folder of its own for the results");
+      throw std::invalid_argument(option + " " + out.string() + " is the working directory or a folder above it (" +
+                                  target.string() + "): give a folder of its own for the results");
     }
     if (above == above.parent_path()) break;
   }
   if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0' && target == Resolved(home)) {
-    throw std::invalid_argument(option + " " + out.string() + " is the home folder: give a folder of its own for the results");
+    throw std::invalid_argument(option + " " + out.string() +
+                                " is the home folder: give a folder of its own for the results");
   }
 }
 
@@ -203,14 +209,16 @@ OutputLock::OutputLock(const fs::path& dir, const std::string& command) {
       const std::string holder = ReadHolder(fd);
       close(fd);
       if (reason == EWOULDBLOCK) {
-        throw std::invalid_argument(dir.string() + " is being written by " + holder +
-                                    "; two writers of one folder would mix their results: wait for it to end, or stop it");
+        throw std::invalid_argument(
+            dir.string() + " is being written by " + holder +
+            "; two writers of one folder would mix their results: wait for it to end, or stop it");
       }
       throw std::runtime_error("cannot lock " + path.string() + ": " + std::strerror(reason));
     }
     if (!SameFile(fd, path)) {
       close(fd);
-      if (!fs::exists(dir)) throw std::invalid_argument(dir.string() + " was removed by another process while being locked");
+      if (!fs::exists(dir))
+        throw std::invalid_argument(dir.string() + " was removed by another process while being locked");
       continue;
     }
     const std::string holder = HolderText(command) + "\n";
@@ -261,7 +269,9 @@ OutputReplacement::OutputReplacement(const fs::path& dir, const std::string& com
   std::error_code error;
   fs::remove_all(staging_, error);  // one left by an earlier run of this pid number: never a result
   fs::create_directory(staging_, error);
-  if (error) throw std::runtime_error("cannot create " + staging_.string() + " beside " + dir_.string() + ": " + error.message());
+  if (error)
+    throw std::runtime_error("cannot create " + staging_.string() + " beside " + dir_.string() + ": " +
+                             error.message());
   staging_lock_ = OutputLock(staging_, command);
 }
 
@@ -277,13 +287,14 @@ void OutputReplacement::SwapIn() {
   const fs::path& old = old_;
   std::error_code error;
   fs::rename(dir_, old, error);
-  if (error) throw std::runtime_error("cannot move " + dir_.string() + " aside to " + old.string() + ": " + error.message());
+  if (error)
+    throw std::runtime_error("cannot move " + dir_.string() + " aside to " + old.string() + ": " + error.message());
   fs::rename(staging_, dir_, error);
   if (error) {
     std::error_code ignored;
     fs::rename(old, dir_, ignored);
-    throw std::runtime_error("cannot move the new result " + staging_.string() + " to " + dir_.string() + ": " + error.message() +
-                             (ignored ? "; the old result is in " + old.string() : ""));
+    throw std::runtime_error("cannot move the new result " + staging_.string() + " to " + dir_.string() + ": " +
+                             error.message() + (ignored ? "; the old result is in " + old.string() : ""));
   }
   swapped_ = true;
   fs::remove_all(old, error);

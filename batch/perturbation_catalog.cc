@@ -95,13 +95,16 @@ const std::vector<std::string>& PerturbationAxisNames() {
 
 PerturbationChoice ParsePerturbationChoice(const std::string& text) {
   const std::size_t colon = text.find(':');
-  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size() || text.find(':', colon + 1) != std::string::npos) {
-    throw std::invalid_argument("perturbation '" + text + "' is not AXIS:LEVEL (axes: " + Join(PerturbationAxisNames()) + ")");
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size() ||
+      text.find(':', colon + 1) != std::string::npos) {
+    throw std::invalid_argument("perturbation '" + text +
+                                "' is not AXIS:LEVEL (axes: " + Join(PerturbationAxisNames()) + ")");
   }
   PerturbationChoice choice{text.substr(0, colon), text.substr(colon + 1)};
   const std::vector<std::string>& axes = PerturbationAxisNames();
   if (std::find(axes.begin(), axes.end(), choice.axis) == axes.end()) {
-    throw std::invalid_argument("perturbation '" + text + "': unknown axis '" + choice.axis + "' (axes: " + Join(axes) + ")");
+    throw std::invalid_argument("perturbation '" + text + "': unknown axis '" + choice.axis + "' (axes: " + Join(axes) +
+                                ")");
   }
   return choice;
 }
@@ -118,15 +121,18 @@ std::string PerturbationLabelSuffix(const std::vector<std::string>& choices) {
 std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_dir, const std::string& axis) {
   const auto keys = AxisKeys().find(axis);
   if (keys == AxisKeys().end()) {
-    throw std::invalid_argument("unknown perturbation axis '" + axis + "' (axes: " + Join(PerturbationAxisNames()) + ")");
+    throw std::invalid_argument("unknown perturbation axis '" + axis + "' (axes: " + Join(PerturbationAxisNames()) +
+                                ")");
   }
   const YamlValue root = YamlValue::LoadFile(AxisPath(config_dir, axis));
   const YamlValue axis_value = root.Required("axis");
-  if (axis_value.AsString() != axis) axis_value.Fail("the file of axis '" + axis + "' must say axis: " + axis + ", got " + axis_value.Text());
+  if (axis_value.AsString() != axis)
+    axis_value.Fail("the file of axis '" + axis + "' must say axis: " + axis + ", got " + axis_value.Text());
   root.Optional("description");
   std::vector<PerturbationLevel> levels;
   const YamlValue level_list = root.Required("levels");
-  if (!level_list.IsSequence() || level_list.Elements().empty()) level_list.Fail("must be a non-empty list of levels, got " + level_list.Text());
+  if (!level_list.IsSequence() || level_list.Elements().empty())
+    level_list.Fail("must be a non-empty list of levels, got " + level_list.Text());
   for (const YamlValue& entry : level_list.Elements()) {
     PerturbationLevel level;
     level.axis = axis;
@@ -148,14 +154,15 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
       const auto value = entry.Optional(key.name);
       if (!value) continue;
       key.read(*value, &level.effect);
-      level.settings[key.name] = value->IsSequence() ? nlohmann::ordered_json(value->AsDoubles())
-                                                     : nlohmann::ordered_json(value->AsDouble());
+      level.settings[key.name] =
+          value->IsSequence() ? nlohmann::ordered_json(value->AsDoubles()) : nlohmann::ordered_json(value->AsDouble());
     }
     entry.ExpectNoOtherKeys();
     if (level.settings.size() == 1) {
       std::string names;
       for (const LevelKey& key : keys->second) names += std::string(names.empty() ? "" : ", ") + key.name;
-      entry.Fail("level '" + level.name + "' sets none of its axis's keys (" + names + "), so it would be the base scene");
+      entry.Fail("level '" + level.name + "' sets none of its axis's keys (" + names +
+                 "), so it would be the base scene");
     }
     CheckRenderable(entry, level.effect);
     levels.push_back(std::move(level));
@@ -164,7 +171,8 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
   return levels;
 }
 
-std::vector<PerturbationLevel> ResolvePerturbations(const std::string& config_dir, const std::vector<std::string>& choices) {
+std::vector<PerturbationLevel> ResolvePerturbations(const std::string& config_dir,
+                                                    const std::vector<std::string>& choices) {
   std::vector<PerturbationLevel> chosen;
   for (const std::string& text : choices) {
     const PerturbationChoice choice = ParsePerturbationChoice(text);
@@ -186,8 +194,9 @@ std::vector<PerturbationLevel> ResolvePerturbations(const std::string& config_di
       }
     }
     if (!found) {
-      throw std::invalid_argument("perturbation '" + text + "': axis '" + choice.axis + "' has no level '" + choice.level +
-                                  "' (levels in " + AxisPath(config_dir, choice.axis) + ": " + Join(names) + ")");
+      throw std::invalid_argument("perturbation '" + text + "': axis '" + choice.axis + "' has no level '" +
+                                  choice.level + "' (levels in " + AxisPath(config_dir, choice.axis) + ": " +
+                                  Join(names) + ")");
     }
   }
   return chosen;
@@ -221,7 +230,8 @@ engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLe
 nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels) {
   nlohmann::json list = nlohmann::json::array();
   for (const PerturbationLevel& level : levels) {
-    list.push_back({{"axis", level.axis}, {"level", level.name}, {"settings", nlohmann::json::parse(level.settings.dump())}});
+    list.push_back(
+        {{"axis", level.axis}, {"level", level.name}, {"settings", nlohmann::json::parse(level.settings.dump())}});
   }
   return list;
 }

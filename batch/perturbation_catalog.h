@@ -47,7 +47,8 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
 
 // The levels `choices` ("AXIS:LEVEL" each) name, checked: an unknown axis or level (the error
 // lists the known ones) or an axis chosen twice throws std::invalid_argument.
-std::vector<PerturbationLevel> ResolvePerturbations(const std::string& config_dir, const std::vector<std::string>& choices);
+std::vector<PerturbationLevel> ResolvePerturbations(const std::string& config_dir,
+                                                    const std::vector<std::string>& choices);
 
 // The chosen levels' effects combined, the sensor noise keyed by `seed`.
 engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed);

@@ -49,7 +49,8 @@ void Blur(const std::vector<float>& kernel, int width, int height, uint8_t* rgb)
         float sum = 0.0f;
         for (int k = -radius; k <= radius; ++k) {
           const int xs = std::clamp(x + k, 0, width - 1);
-          sum += kernel[static_cast<std::size_t>(k + radius)] * rgb[(static_cast<std::size_t>(y) * width + xs) * 3 + ch];
+          sum +=
+              kernel[static_cast<std::size_t>(k + radius)] * rgb[(static_cast<std::size_t>(y) * width + xs) * 3 + ch];
         }
         rows[(static_cast<std::size_t>(y) * width + x) * 3 + ch] = sum;
       }
@@ -61,7 +62,8 @@ void Blur(const std::vector<float>& kernel, int width, int height, uint8_t* rgb)
         float sum = 0.0f;
         for (int k = -radius; k <= radius; ++k) {
           const int ys = std::clamp(y + k, 0, height - 1);
-          sum += kernel[static_cast<std::size_t>(k + radius)] * rows[(static_cast<std::size_t>(ys) * width + x) * 3 + ch];
+          sum +=
+              kernel[static_cast<std::size_t>(k + radius)] * rows[(static_cast<std::size_t>(ys) * width + x) * 3 + ch];
         }
         rgb[(static_cast<std::size_t>(y) * width + x) * 3 + ch] =
             static_cast<uint8_t>(std::clamp(std::lround(sum), 0L, 255L));
@@ -96,7 +98,7 @@ void AddNoise(uint64_t key, double stddev, std::size_t pixels, uint8_t* rgb) {
 }  // namespace
 
 render::CameraSpec PerturbedCameraSpec(render::CameraSpec spec, const engine::RenderPerturbation& perturbation) {
-  const double scale = spec.name == "head" ? perturbation.head_fov_scale
+  const double scale = spec.name == "head"    ? perturbation.head_fov_scale
                        : spec.name == "fixed" ? perturbation.fixed_fov_scale
                                               : 1.0;
   if (scale == 1.0) return spec;
@@ -122,7 +124,8 @@ RigidTransform PerturbedFixedCameraPose(const RigidTransform& X_WC, const engine
   // camera set up at a new viewpoint.
   const Vec3 rpy = perturbation.fixed_rotation_deg * kDegToRad;
   const Mat3 pan = Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()).toRotationMatrix();
-  const Mat3 tilt_roll = (Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) * Eigen::AngleAxisd(rpy.x(), Vec3::UnitX())).toRotationMatrix();
+  const Mat3 tilt_roll =
+      (Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) * Eigen::AngleAxisd(rpy.x(), Vec3::UnitX())).toRotationMatrix();
   return MakeTransform(X_WC.translation() + perturbation.fixed_offset_m, pan * X_WC.linear() * tilt_roll);
 }
 
@@ -131,7 +134,8 @@ Eigen::Vector3f BlackBodyTint(double kelvin) {
     throw std::invalid_argument("colour temperature " + std::to_string(kelvin) + " K is outside [1000, 40000] K");
   }
   constexpr double kWhiteK = 6500.0;
-  Eigen::Vector3d rgb(Planck(kRedM, kelvin) / Planck(kRedM, kWhiteK), Planck(kGreenM, kelvin) / Planck(kGreenM, kWhiteK),
+  Eigen::Vector3d rgb(Planck(kRedM, kelvin) / Planck(kRedM, kWhiteK),
+                      Planck(kGreenM, kelvin) / Planck(kGreenM, kWhiteK),
                       Planck(kBlueM, kelvin) / Planck(kBlueM, kWhiteK));
   // Rec. 709 luminance weights: the tinted light is as bright as the white one.
   rgb /= 0.2126 * rgb.x() + 0.7152 * rgb.y() + 0.0722 * rgb.z();
@@ -184,11 +188,12 @@ void ApplySensorPerturbationToEnv(const engine::RenderPerturbation& perturbation
     uint8_t* rgb = images->rgb(env, camera);
     if (!kernel.empty()) Blur(kernel, width, height, rgb);
     if (perturbation.noise_stddev > 0.0) {
-      const uint64_t episode_key = engine::DeriveKey(
-          perturbation.noise_seed, static_cast<uint64_t>(engine::RandomStreamId::kSensorNoise),
-          static_cast<uint64_t>(state.episode[static_cast<std::size_t>(env)]));
+      const uint64_t episode_key =
+          engine::DeriveKey(perturbation.noise_seed, static_cast<uint64_t>(engine::RandomStreamId::kSensorNoise),
+                            static_cast<uint64_t>(state.episode[static_cast<std::size_t>(env)]));
       const uint64_t tick = static_cast<uint64_t>(state.control_step[static_cast<std::size_t>(env)]);
-      const uint64_t key = engine::MixBits(episode_key ^ engine::MixBits(tick) ^ CameraKey(camera_names[static_cast<std::size_t>(camera)]));
+      const uint64_t key = engine::MixBits(episode_key ^ engine::MixBits(tick) ^
+                                           CameraKey(camera_names[static_cast<std::size_t>(camera)]));
       AddNoise(key, perturbation.noise_stddev, static_cast<std::size_t>(width) * height, rgb);
     }
   }

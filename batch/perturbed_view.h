@@ -38,7 +38,8 @@ Eigen::Vector3f BlackBodyTint(double kelvin);
 
 // Blurs, then adds noise to, the RGB image of every (env, camera) with enabled[env * cameras +
 // camera] != 0 (camera_names: the images' cameras in order); the noise of a pixel is a function
-// of (noise_seed, the env's episode index and control tick, the camera's name, pixel) only, so it repeats exactly for any thread count or slot.
+// of (noise_seed, the env's episode index and control tick, the camera's name, pixel) only, so it repeats exactly for
+// any thread count or slot.
 void ApplySensorPerturbation(const engine::RenderPerturbation& perturbation, const engine::BatchState& state,
                              const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
                              render::ImageBatch* images);

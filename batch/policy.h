@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "batch/proprioception.h"
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/action.h"
-#include "batch/proprioception.h"
 #include "render/image_batch.h"
 
 namespace tavis::batch {

@@ -13,7 +13,8 @@ ProprioceptionBatch::ProprioceptionBatch(const kinematics::RobotModel& robot, in
   for (int entry = 0; entry < state_size_; ++entry) {
     const kinematics::StateEntry& spec = robot.observation_state[static_cast<std::size_t>(entry)];
     for (int k = 0; k < kinematics::kNeckDof; ++k) {
-      if (spec.kind == kinematics::StateEntry::Kind::kJoint && spec.joint == robot.neck_joints[k]) neck_entries_[k] = entry;
+      if (spec.kind == kinematics::StateEntry::Kind::kJoint && spec.joint == robot.neck_joints[k])
+        neck_entries_[k] = entry;
     }
   }
   const std::size_t envs = static_cast<std::size_t>(num_envs);

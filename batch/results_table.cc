@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
-#include <functional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -31,19 +31,17 @@ std::string KebabCase(std::string name) {
 // "headcam"/"fixedcam" are the reference's spellings of the camera modes "head"/"fixed".
 std::string CameraMode(std::string name) {
   const std::string suffix = "cam";
-  const bool has_suffix = name.size() > suffix.size() &&
-                          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  const bool has_suffix =
+      name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
   if (has_suffix) name.resize(name.size() - suffix.size());
   return name;
 }
 
-std::string ReadString(const nlohmann::json& summary, const char* key,
-                       const std::string& source) {
+std::string ReadString(const nlohmann::json& summary, const char* key, const std::string& source) {
   const auto it = summary.find(key);
   if (it == summary.end()) throw std::runtime_error(source + ": missing key '" + key + "'");
   if (!it->is_string() || it->get<std::string>().empty()) {
-    throw std::runtime_error(source + ": key '" + key + "' must be a non-empty string, got " +
-                             it->dump());
+    throw std::runtime_error(source + ": key '" + key + "' must be a non-empty string, got " + it->dump());
   }
   return it->get<std::string>();
 }
@@ -55,8 +53,8 @@ int64_t ReadCount(const nlohmann::json& summary, const char* key, const std::str
   const auto it = summary.find(key);
   if (it == summary.end()) throw std::runtime_error(source + ": missing key '" + key + "'");
   if (!it->is_number_integer() || it->get<int64_t>() < 0 || it->get<int64_t>() > kMaxCount) {
-    throw std::runtime_error(source + ": key '" + key + "' must be an integer from 0 to " +
-                             std::to_string(kMaxCount) + ", got " + it->dump());
+    throw std::runtime_error(source + ": key '" + key + "' must be an integer from 0 to " + std::to_string(kMaxCount) +
+                             ", got " + it->dump());
   }
   return it->get<int64_t>();
 }
@@ -67,7 +65,8 @@ std::string SeedText(const nlohmann::json& seed, const std::string& source) {
   if (seed.is_number_unsigned() || (seed.is_number_integer() && seed.get<int64_t>() >= 0)) return seed.dump();
   if (seed.is_string()) {
     const std::string text = seed.get<std::string>();
-    if (!text.empty() && text.size() <= 20 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    if (!text.empty() && text.size() <= 20 &&
+        std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; })) {
       try {
         return std::to_string(std::stoull(text));
       } catch (const std::out_of_range&) {
@@ -90,7 +89,8 @@ void ReadRecords(const std::filesystem::path& path, CellCounts& cell) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const std::string where = path.string() + ":" + std::to_string(line_number);
     const nlohmann::json record = nlohmann::json::parse(line, nullptr, false);
-    if (record.is_discarded() || !record.is_object()) throw std::runtime_error(where + ": not a JSON object (a damaged record)");
+    if (record.is_discarded() || !record.is_object())
+      throw std::runtime_error(where + ": not a JSON object (a damaged record)");
     const auto success = record.find("success");
     if (success == record.end() || !success->is_boolean()) {
       throw std::runtime_error(where + ": a record needs \"success\": true or false");
@@ -104,9 +104,10 @@ void ReadRecords(const std::filesystem::path& path, CellCounts& cell) {
     lines.push_back(record.dump());  // keys sorted: the same record however it was spaced
   }
   if (episodes != cell.n_episodes || successes != cell.n_successful) {
-    throw std::runtime_error("cell " + path.parent_path().string() + ": episodes.jsonl holds " + std::to_string(episodes) +
-                             " episodes (" + std::to_string(successes) + " successful) but summary.json says n_episodes " +
-                             std::to_string(cell.n_episodes) + ", n_successful " + std::to_string(cell.n_successful));
+    throw std::runtime_error("cell " + path.parent_path().string() + ": episodes.jsonl holds " +
+                             std::to_string(episodes) + " episodes (" + std::to_string(successes) +
+                             " successful) but summary.json says n_episodes " + std::to_string(cell.n_episodes) +
+                             ", n_successful " + std::to_string(cell.n_successful));
   }
   std::sort(cell.record_keys.begin(), cell.record_keys.end());
   const auto twice = std::adjacent_find(cell.record_keys.begin(), cell.record_keys.end());
@@ -146,8 +147,8 @@ class DuplicateCellCheck {
     if (!cell.seed.empty()) {
       const auto [it, inserted] = seeds_.emplace(std::make_pair(group, cell.seed), cell.source);
       if (!inserted) {
-        throw std::runtime_error("duplicate cell (same task, robot, split, camera, seed and label): " + it->second + " and " +
-                                 cell.source);
+        throw std::runtime_error("duplicate cell (same task, robot, split, camera, seed and label): " + it->second +
+                                 " and " + cell.source);
       }
     }
     if (!cell.has_records) return;
@@ -199,8 +200,7 @@ const std::vector<std::string>& KnownSplitNames() {
 }
 
 // Sort key: the position in `known`, names not in it after all known ones, alphabetically.
-std::pair<std::size_t, std::string> OrderKey(const std::string& name,
-                                             const std::vector<std::string>& known) {
+std::pair<std::size_t, std::string> OrderKey(const std::string& name, const std::vector<std::string>& known) {
   const auto it = std::find(known.begin(), known.end(), name);
   return {static_cast<std::size_t>(it - known.begin()), name};
 }
@@ -214,10 +214,8 @@ bool ColumnBefore(const TableColumn& a, const TableColumn& b) {
     return names;
   }();
   static const std::vector<std::string>& cameras = CameraProtocolNames();
-  return std::make_tuple(OrderKey(a.robot, robots), OrderKey(a.split, splits),
-                         OrderKey(a.camera, cameras)) <
-         std::make_tuple(OrderKey(b.robot, robots), OrderKey(b.split, splits),
-                         OrderKey(b.camera, cameras));
+  return std::make_tuple(OrderKey(a.robot, robots), OrderKey(a.split, splits), OrderKey(a.camera, cameras)) <
+         std::make_tuple(OrderKey(b.robot, robots), OrderKey(b.split, splits), OrderKey(b.camera, cameras));
 }
 
 bool SameColumn(const TableColumn& a, const TableColumn& b) {
@@ -317,14 +315,14 @@ CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<s
   return cell;
 }
 
-std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder, const std::vector<std::string>& known_robots,
-                                        const CellLabeller& label_of) {
+std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder,
+                                        const std::vector<std::string>& known_robots, const CellLabeller& label_of) {
   if (!std::filesystem::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": not a directory");
   }
   std::vector<std::filesystem::path> paths;
-  for (auto entry = std::filesystem::recursive_directory_iterator(folder); entry != std::filesystem::recursive_directory_iterator();
-       ++entry) {
+  for (auto entry = std::filesystem::recursive_directory_iterator(folder);
+       entry != std::filesystem::recursive_directory_iterator(); ++entry) {
     if (entry->is_directory() && IsTemporaryOutputFolder(entry->path())) entry.disable_recursion_pending();
     const bool sweep_summary = std::filesystem::exists(entry->path().parent_path() / "manifest.json");
     if (entry->is_regular_file() && entry->path().filename() == "summary.json" && !sweep_summary) {
@@ -366,9 +364,8 @@ ResultsTable BuildResultsTable(const std::vector<CellCounts>& cells, const std::
       continue;
     }
     if (policy_source && policy_source->policy != cell.policy) {
-      throw std::runtime_error("cells of one table name different policies: '" +
-                               policy_source->policy + "' in " + policy_source->source + ", '" +
-                               cell.policy + "' in " + cell.source);
+      throw std::runtime_error("cells of one table name different policies: '" + policy_source->policy + "' in " +
+                               policy_source->source + ", '" + cell.policy + "' in " + cell.source);
     }
     policy_source = &cell;
     const TableColumn column{cell.robot, cell.split, cell.camera};
@@ -376,16 +373,14 @@ ResultsTable BuildResultsTable(const std::vector<CellCounts>& cells, const std::
                      [&](const TableColumn& c) { return SameColumn(c, column); })) {
       table.columns.push_back(column);
     }
-    RateCell& pooled =
-        pooled_by_key[key_of(static_cast<std::size_t>(task - table.tasks.begin()), column)];
+    RateCell& pooled = pooled_by_key[key_of(static_cast<std::size_t>(task - table.tasks.begin()), column)];
     pooled.n_successful += cell.n_successful;
     pooled.n_episodes += cell.n_episodes;
   }
   if (table.columns.empty()) throw std::runtime_error("no cell results for suite " + suite);
   std::sort(table.columns.begin(), table.columns.end(), ColumnBefore);
 
-  table.cells.assign(table.tasks.size(),
-                     std::vector<std::optional<RateCell>>(table.columns.size()));
+  table.cells.assign(table.tasks.size(), std::vector<std::optional<RateCell>>(table.columns.size()));
   table.task_average.resize(table.columns.size());
   table.pooled.resize(table.columns.size());
   for (std::size_t c = 0; c < table.columns.size(); ++c) {
@@ -409,8 +404,8 @@ ResultsTable BuildResultsTable(const std::vector<CellCounts>& cells, const std::
 
 std::string FormatMarkdown(const ResultsTable& table, bool with_intervals) {
   std::ostringstream out;
-  out << "**" << SuiteTitle(table.suite) << "**: success rate (%)"
-      << (with_intervals ? " [95% Wilson interval]" : "") << "\n\n";
+  out << "**" << SuiteTitle(table.suite) << "**: success rate (%)" << (with_intervals ? " [95% Wilson interval]" : "")
+      << "\n\n";
   out << "| task |";
   for (const TableColumn& column : table.columns) out << " " << column.label() << " |";
   out << "\n|:---|";
@@ -432,12 +427,11 @@ std::string FormatMarkdown(const ResultsTable& table, bool with_intervals) {
   // The suite means of a column without every task are easy to misread: name those columns.
   std::string incomplete;
   for (std::size_t c = 0; c < table.columns.size(); ++c) {
-    const auto evaluated = std::count_if(table.cells.begin(), table.cells.end(),
-                                         [c](const auto& row) { return row[c].has_value(); });
+    const auto evaluated =
+        std::count_if(table.cells.begin(), table.cells.end(), [c](const auto& row) { return row[c].has_value(); });
     if (static_cast<std::size_t>(evaluated) == table.tasks.size()) continue;
-    incomplete += (incomplete.empty() ? "" : "; ") + table.columns[c].label() + " (" +
-                  std::to_string(evaluated) + " of " + std::to_string(table.tasks.size()) +
-                  " tasks)";
+    incomplete += (incomplete.empty() ? "" : "; ") + table.columns[c].label() + " (" + std::to_string(evaluated) +
+                  " of " + std::to_string(table.tasks.size()) + " tasks)";
   }
   if (!incomplete.empty()) {
     out << "\nSuite means over the evaluated tasks only: " << incomplete << ".\n";

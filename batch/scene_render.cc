@@ -6,9 +6,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include "batch/perturbed_view.h"
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/gripper_geometry.h"
-#include "batch/perturbed_view.h"
 #include "render/batch_renderer.h"
 #include "render/camera.h"
 #include "render/palette.h"
@@ -72,7 +72,8 @@ std::vector<std::string> ParseCameraList(const std::string& text) {
   std::vector<std::string> cameras;
   std::istringstream in(text);
   for (std::string name; std::getline(in, name, ',');) {
-    if (name.empty()) throw std::invalid_argument("empty camera name in '" + text + "' (known: " + KnownCameras() + ")");
+    if (name.empty())
+      throw std::invalid_argument("empty camera name in '" + text + "' (known: " + KnownCameras() + ")");
     cameras.push_back(name);
   }
   if (!text.empty() && text.back() == ',') {
@@ -133,8 +134,8 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
 
   for (const std::string& name : settings.cameras) {
     int mount = -1;
-    layout.cameras.push_back(PerturbedCameraSpec(SpecOf(name, robot, settings.width, settings.height, &mount),
-                                                 model.view_perturbation));
+    layout.cameras.push_back(
+        PerturbedCameraSpec(SpecOf(name, robot, settings.width, settings.height, &mount), model.view_perturbation));
     camera_mount->push_back(mount);
   }
   // The task's shadow light (multi-shelf-scan has its own); the dome light is shared.
@@ -152,7 +153,8 @@ SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const Ca
       perturbation_(model.view_perturbation) {
   ValidateCameraSettings(settings_);
   if (settings_.cameras.empty()) throw std::invalid_argument("SceneRender: no camera to render");
-  if (num_envs_ < 1) throw std::invalid_argument("SceneRender: num_envs = " + std::to_string(num_envs_) + " must be positive");
+  if (num_envs_ < 1)
+    throw std::invalid_argument("SceneRender: num_envs = " + std::to_string(num_envs_) + " must be positive");
   render::RenderOptions options;
   options.with_depth = settings_.with_depth;
   options.with_object_id = settings_.with_object_id;
@@ -177,7 +179,8 @@ SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const Ca
       rgb_[env * instances + i] = layout().instances[i].appearance.rgb;
     }
     for (int c = 0; c < num_cameras(); ++c) {
-      if (camera_mount_[static_cast<std::size_t>(c)] < 0) X_WC_[Index(static_cast<int>(env), c)] = PerturbedFixedCameraPose(render::FixedCameraPose(), perturbation_);
+      if (camera_mount_[static_cast<std::size_t>(c)] < 0)
+        X_WC_[Index(static_cast<int>(env), c)] = PerturbedFixedCameraPose(render::FixedCameraPose(), perturbation_);
     }
   }
 }
@@ -212,11 +215,10 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
     const InstanceSource& source = sources_[i];
     RigidTransform& X_WI = X_WI_[first + i];
     switch (source.source) {
-      case Source::kStatic:
-        break;
+      case Source::kStatic: break;
       case Source::kRobotShape:
-        X_WI = source.index == kinematics::kBaseLink ? X_WB * source.X_local
-                                                     : X_WB * X_BL[source.index] * source.X_local;
+        X_WI =
+            source.index == kinematics::kBaseLink ? X_WB * source.X_local : X_WB * X_BL[source.index] * source.X_local;
         break;
       case Source::kFingerJaw: {
         // The jaws are drawn symmetric about the pad centre at the measured gap. In the physics
@@ -237,8 +239,8 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
         visible_[first + i] = state.object_enabled_at(env, source.index);
         // A negative colour means the palette's (engine/batch_state.h).
         const float* rgb = state.object_rgb_row(env, source.index);
-        rgb_[first + i] = rgb[0] >= 0.0f ? Eigen::Vector3f(rgb[0], rgb[1], rgb[2])
-                                         : layout().instances[i].appearance.rgb;
+        rgb_[first + i] =
+            rgb[0] >= 0.0f ? Eigen::Vector3f(rgb[0], rgb[1], rgb[2]) : layout().instances[i].appearance.rgb;
         break;
       }
     }
@@ -246,7 +248,8 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
   for (int c = 0; c < num_cameras(); ++c) {
     const int mount = camera_mount_[static_cast<std::size_t>(c)];
     if (mount >= 0) X_WC_[Index(env, c)] = X_WB * kinematics::CameraPose(robot_, mount, X_BL);
-    if (mount >= 0 && perturbation_.moves_cameras()) X_WC_[Index(env, c)] = X_WC_[Index(env, c)] * camera_offset_[static_cast<std::size_t>(c)];
+    if (mount >= 0 && perturbation_.moves_cameras())
+      X_WC_[Index(env, c)] = X_WC_[Index(env, c)] * camera_offset_[static_cast<std::size_t>(c)];
   }
 }
 

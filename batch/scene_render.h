@@ -110,15 +110,15 @@ class SceneRender {
   std::unique_ptr<render::ImageBatch> images_;
 
   // Per-tick buffers, sized once.
-  std::vector<RigidTransform> X_BL_;     // [env][link] link poses in the base frame
-  std::vector<RigidTransform> X_WI_;     // [env][instance]
-  std::vector<uint8_t> visible_;         // [env][instance]
-  std::vector<Eigen::Vector3f> rgb_;     // [env][instance] the palette's, or the task's object colour
-  std::vector<RigidTransform> X_WC_;     // [env][camera]
-  std::vector<uint8_t> enabled_;         // [env][camera] the caller's blocked flags
-  std::vector<uint8_t> tick_enabled_;    // [env][camera] enabled and rendered this call
-  engine::RenderPerturbation perturbation_;       // the model's camera, lighting and sensor perturbations
-  std::vector<RigidTransform> camera_offset_;    // [camera] its perturbed mount in its own frame
+  std::vector<RigidTransform> X_BL_;           // [env][link] link poses in the base frame
+  std::vector<RigidTransform> X_WI_;           // [env][instance]
+  std::vector<uint8_t> visible_;               // [env][instance]
+  std::vector<Eigen::Vector3f> rgb_;           // [env][instance] the palette's, or the task's object colour
+  std::vector<RigidTransform> X_WC_;           // [env][camera]
+  std::vector<uint8_t> enabled_;               // [env][camera] the caller's blocked flags
+  std::vector<uint8_t> tick_enabled_;          // [env][camera] enabled and rendered this call
+  engine::RenderPerturbation perturbation_;    // the model's camera, lighting and sensor perturbations
+  std::vector<RigidTransform> camera_offset_;  // [camera] its perturbed mount in its own frame
 };
 
 }  // namespace tavis::batch

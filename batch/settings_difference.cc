@@ -3,7 +3,8 @@
 namespace tavis::batch {
 namespace {
 
-void AddDifferences(const nlohmann::json& was, const nlohmann::json& now, const std::string& prefix, std::string* differences) {
+void AddDifferences(const nlohmann::json& was, const nlohmann::json& now, const std::string& prefix,
+                    std::string* differences) {
   for (const auto& [key, value] : now.items()) {
     if (was.contains(key) && was.at(key) == value) continue;
     // Nested settings (a robot file's content) name the key that changed, not the whole file.
@@ -11,8 +12,8 @@ void AddDifferences(const nlohmann::json& was, const nlohmann::json& now, const 
       AddDifferences(was.at(key), value, prefix + key + ".", differences);
       continue;
     }
-    *differences += (differences->empty() ? "" : ", ") + prefix + key + " " + (was.contains(key) ? was.at(key).dump() : "unset") +
-                    " -> " + value.dump();
+    *differences += (differences->empty() ? "" : ", ") + prefix + key + " " +
+                    (was.contains(key) ? was.at(key).dump() : "unset") + " -> " + value.dump();
   }
 }
 

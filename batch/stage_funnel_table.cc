@@ -11,7 +11,8 @@ namespace {
 
 std::string Percent(int64_t count, int64_t total) {
   char text[32];
-  std::snprintf(text, sizeof(text), "%.1f", total > 0 ? 100.0 * static_cast<double>(count) / static_cast<double>(total) : 0.0);
+  std::snprintf(text, sizeof(text), "%.1f",
+                total > 0 ? 100.0 * static_cast<double>(count) / static_cast<double>(total) : 0.0);
   return text;
 }
 
@@ -42,14 +43,17 @@ CellFunnel ReadCellFunnel(const std::string& summary_path) {
 std::string FormatFunnelMarkdown(const ResultsTable& table, const std::vector<CellCounts>& cells) {
   std::string text =
       "\n## Stage funnel\n\n"
-      "| task | column | episodes | stages reached (%, each with every stage before it) | success % | simulator faults |\n"
+      "| task | column | episodes | stages reached (%, each with every stage before it) | success % | simulator faults "
+      "|\n"
       "|---|---|---|---|---|---|\n";
   for (const std::string& task : table.tasks) {
     for (const TableColumn& column : table.columns) {
       int64_t episodes = 0, successes = 0, faults = 0;
       std::vector<CellFunnel> funnels;
       for (const CellCounts& cell : cells) {
-        if (cell.task != task || cell.robot != column.robot || cell.split != column.split || cell.camera != column.camera) continue;
+        if (cell.task != task || cell.robot != column.robot || cell.split != column.split ||
+            cell.camera != column.camera)
+          continue;
         funnels.push_back(ReadCellFunnel(cell.source));
         episodes += cell.n_episodes;
         successes += cell.n_successful;
@@ -74,8 +78,9 @@ std::string FormatFunnelMarkdown(const ResultsTable& table, const std::vector<Ce
       for (const FunnelCount& step : stages) {
         reached += (reached.empty() ? "" : " → ") + step.stage + " " + Percent(step.reached, episodes);
       }
-      text += "| " + task + " | " + column.label() + " | " + std::to_string(episodes) + " | " + (reached.empty() ? "-" : reached) +
-              " | " + Percent(successes, episodes) + " | " + std::to_string(faults) + " |\n";
+      text += "| " + task + " | " + column.label() + " | " + std::to_string(episodes) + " | " +
+              (reached.empty() ? "-" : reached) + " | " + Percent(successes, episodes) + " | " +
+              std::to_string(faults) + " |\n";
     }
   }
   text +=

@@ -61,7 +61,8 @@ std::vector<std::string> StageNames(const std::string& task) {
   return names;
 }
 
-std::vector<FunnelStep> StageFunnel(const std::vector<std::string>& stages, const std::vector<EpisodeRecord>& episodes) {
+std::vector<FunnelStep> StageFunnel(const std::vector<std::string>& stages,
+                                    const std::vector<EpisodeRecord>& episodes) {
   std::vector<FunnelStep> funnel;
   for (const std::string& stage : stages) funnel.push_back({stage, 0});
   for (const EpisodeRecord& record : episodes) {

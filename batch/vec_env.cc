@@ -55,7 +55,8 @@ VecEnv::VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario,
                                 " joints; the simulator supports at most " + std::to_string(kMaxRobotLinks) + " and " +
                                 std::to_string(kMaxRobotJoints));
   }
-  if (num_envs < 1) throw std::invalid_argument("the number of envs must be at least 1, got " + std::to_string(num_envs));
+  if (num_envs < 1)
+    throw std::invalid_argument("the number of envs must be at least 1, got " + std::to_string(num_envs));
   state_.Allocate(num_envs, model_.robot.num_joints(), model_.num_objects());
   worlds_.resize(num_envs);
   tbb::parallel_for(0, num_envs, [&](int env) { worlds_[env] = std::make_unique<engine::PhysicsWorld>(model_); });
@@ -101,7 +102,8 @@ void VecEnv::TimedRender(int env, Body&& body) {
   const int64_t cpu_start = batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds();
   body();
   const int64_t cpu = (batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds()) - cpu_start;
-  const int64_t wall = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+  const int64_t wall =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
   stage_nanoseconds_[static_cast<int>(Stage::kRender)] += wall;
   render_cpu_nanoseconds_ += cpu;
   render_held_nanoseconds_ += batch ? wall * tbb::this_task_arena::max_concurrency() : wall;
@@ -109,7 +111,8 @@ void VecEnv::TimedRender(int env, Body&& body) {
 }
 
 VecEnv::RenderTimes VecEnv::render_times() const {
-  return {1e-9 * static_cast<double>(render_cpu_nanoseconds_.load()), 1e-9 * static_cast<double>(render_held_nanoseconds_.load())};
+  return {1e-9 * static_cast<double>(render_cpu_nanoseconds_.load()),
+          1e-9 * static_cast<double>(render_held_nanoseconds_.load())};
 }
 
 void VecEnv::EnableStageTiming(bool enabled) {
@@ -134,9 +137,8 @@ std::array<double, kNumStages> VecEnv::stage_seconds() const {
 }
 
 void VecEnv::Reset(const std::vector<EpisodeStart>& starts) {
-  Timed(Stage::kReset, [&] {
-    tbb::parallel_for(0, static_cast<int>(starts.size()), [&](int i) { TimedResetOne(starts[i]); });
-  });
+  Timed(Stage::kReset,
+        [&] { tbb::parallel_for(0, static_cast<int>(starts.size()), [&](int i) { TimedResetOne(starts[i]); }); });
 }
 
 void VecEnv::ResetEnv(int env, int64_t episode) {
@@ -155,7 +157,8 @@ void VecEnv::ResetOne(const EpisodeStart& start) {
   state_.episode[env] = start.episode;
   state_.end[env] = engine::EpisodeEnd::kRunning;
   state_.control_step[env] = 0;
-  state_.task_rng[env] = engine::RandomStream(seed_, engine::RandomStreamId::kTask, static_cast<uint64_t>(start.episode));
+  state_.task_rng[env] =
+      engine::RandomStream(seed_, engine::RandomStreamId::kTask, static_cast<uint64_t>(start.episode));
   state_.invalid_action[env] = engine::InvalidAction();
   state_.images_current[env] = 0;
   const std::vector<double> q_default = robot.DefaultPositions();
@@ -293,7 +296,8 @@ void VecEnv::ServoNeck(EnvRange envs) {
     if (!state_.running(env)) continue;
     double* q = state_.q_row(env);
     const double* q_target = state_.q_target_row(env);
-    for (int joint : robot.neck_joints) q[joint] += std::clamp(blend * (q_target[joint] - q[joint]), -max_move, max_move);
+    for (int joint : robot.neck_joints)
+      q[joint] += std::clamp(blend * (q_target[joint] - q[joint]), -max_move, max_move);
   }
 }
 

@@ -144,10 +144,10 @@ class VecEnv {
   void ControlTick(EnvRange envs, const std::vector<kinematics::Action>& actions);
   // Stages. Each acts on the running envs of its range.
   void ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& actions);  // validate, IK, targets
-  void StepPhysics(EnvRange envs);   // ODE substeps toward the targets; reads the state back
-  void ServoNeck(EnvRange envs);     // the neck follows its target kinematically
-  void UpdateTask(EnvRange envs);    // the episode's clock and the task's own update
-  void EndEpisodes(EnvRange envs);   // blow-up, success, time-out
+  void StepPhysics(EnvRange envs);  // ODE substeps toward the targets; reads the state back
+  void ServoNeck(EnvRange envs);    // the neck follows its target kinematically
+  void UpdateTask(EnvRange envs);   // the episode's clock and the task's own update
+  void EndEpisodes(EnvRange envs);  // blow-up, success, time-out
   void ResetOne(const EpisodeStart& start);
   // ResetOne and ControlTick of one env, its CPU time added to the env's cost with stage timing.
   void TimedResetOne(const EpisodeStart& start);
@@ -168,9 +168,9 @@ class VecEnv {
   std::vector<std::unique_ptr<engine::PhysicsWorld>> worlds_;
   std::unique_ptr<SceneRender> renderer_;
   // Per-tick scratch, sized once.
-  std::vector<uint8_t> physics_sane_;                 // (num_envs) this tick's physics stayed finite
-  std::vector<uint8_t> render_env_;                   // (num_envs) this tick's render flags
-  std::vector<kinematics::Action> warmup_actions_;    // (num_envs) ood-init-pose warm-up actions
+  std::vector<uint8_t> physics_sane_;               // (num_envs) this tick's physics stayed finite
+  std::vector<uint8_t> render_env_;                 // (num_envs) this tick's render flags
+  std::vector<kinematics::Action> warmup_actions_;  // (num_envs) ood-init-pose warm-up actions
   std::atomic<int64_t> rendered_images_{0};
   bool stage_timing_ = false;
   std::array<std::atomic<int64_t>, kNumStages> stage_nanoseconds_{};

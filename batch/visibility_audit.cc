@@ -70,8 +70,8 @@ class VisibilityMeter {
       for (int c = 0; c < cameras; ++c) enabled_[env * cameras + c] = object[env] >= 0 && scene_.camera_enabled(env, c);
       if (object[env] < 0) return;
       const double* pose = state.object_pose_row(env, object[env]);
-      X_WI_[first + object[env]] = MakeTransform(Vec3(pose[0], pose[1], pose[2]),
-                                                 Quat(pose[3], pose[4], pose[5], pose[6]).normalized().toRotationMatrix());
+      X_WI_[first + object[env]] = MakeTransform(
+          Vec3(pose[0], pose[1], pose[2]), Quat(pose[3], pose[4], pose[5], pose[6]).normalized().toRotationMatrix());
       PlaceCameras(state, env);
     });
     render::RenderInputs inputs;
@@ -113,7 +113,8 @@ class VisibilityMeter {
     const RigidTransform X_WB = MakeTransform(robot_.root_world, Mat3::Identity());
     for (int c = 0; c < num_cameras(); ++c) {
       const int mount = camera_mount_[static_cast<std::size_t>(c)];
-      X_WC_[env * num_cameras() + c] = mount < 0 ? render::FixedCameraPose() : X_WB * kinematics::CameraPose(robot_, mount, X_BL);
+      X_WC_[env * num_cameras() + c] =
+          mount < 0 ? render::FixedCameraPose() : X_WB * kinematics::CameraPose(robot_, mount, X_BL);
     }
   }
 
@@ -122,23 +123,24 @@ class VisibilityMeter {
   SceneRender scene_;
   std::unique_ptr<render::BatchRenderer> alone_;
   std::unique_ptr<render::ImageBatch> alone_images_;
-  std::vector<int> camera_mount_;  // [camera]: robot camera index, -1 for the fixed camera
-  std::vector<RigidTransform> X_BL_;   // [env][link]
-  std::vector<RigidTransform> X_WI_;   // [env][object]
-  std::vector<uint8_t> visible_;       // [env][object]
-  std::vector<RigidTransform> X_WC_;   // [env][camera]
-  std::vector<uint8_t> enabled_;       // [env][camera]
-  std::vector<uint8_t> render_env_;    // [env]
+  std::vector<int> camera_mount_;     // [camera]: robot camera index, -1 for the fixed camera
+  std::vector<RigidTransform> X_BL_;  // [env][link]
+  std::vector<RigidTransform> X_WI_;  // [env][object]
+  std::vector<uint8_t> visible_;      // [env][object]
+  std::vector<RigidTransform> X_WC_;  // [env][camera]
+  std::vector<uint8_t> enabled_;      // [env][camera]
+  std::vector<uint8_t> render_env_;   // [env]
 };
 
 // Episodes in which the object reaches kVisibleFraction in the camera; `moment` gives an
 // episode's fractions, or null when they were never measured.
 template <typename Moment>
 int CountVisible(const AuditResult& result, int object, int camera, Moment moment) {
-  return static_cast<int>(std::count_if(result.episodes.begin(), result.episodes.end(), [&](const EpisodeAudit& episode) {
-    const CameraFractions* fractions = moment(episode.objects[static_cast<std::size_t>(object)]);
-    return fractions != nullptr && (*fractions)[static_cast<std::size_t>(camera)] >= kVisibleFraction;
-  }));
+  return static_cast<int>(
+      std::count_if(result.episodes.begin(), result.episodes.end(), [&](const EpisodeAudit& episode) {
+        const CameraFractions* fractions = moment(episode.objects[static_cast<std::size_t>(object)]);
+        return fractions != nullptr && (*fractions)[static_cast<std::size_t>(camera)] >= kVisibleFraction;
+      }));
 }
 
 // Samples each audited object's visibility at the episode's reset and at the expert's first
@@ -220,11 +222,11 @@ class AuditSink : public EpisodeSink {
   AuditResult& result_;
   std::vector<int> cue_index_;  // object index of each audited cue
   int num_audited_ = 1;
-  std::vector<int> measured_;                     // [slot] object measured, -1: none
-  std::vector<double> fractions_;                 // [slot][camera]
-  std::vector<uint8_t> fresh_;                    // [slot] dealt, not yet measured at reset
-  std::vector<uint32_t> pending_;                 // [slot] audited objects still to fixate, as bits
-  std::vector<std::vector<uint8_t>> fixating_;    // [audited][slot] fixated on this tick
+  std::vector<int> measured_;                   // [slot] object measured, -1: none
+  std::vector<double> fractions_;               // [slot][camera]
+  std::vector<uint8_t> fresh_;                  // [slot] dealt, not yet measured at reset
+  std::vector<uint32_t> pending_;               // [slot] audited objects still to fixate, as bits
+  std::vector<std::vector<uint8_t>> fixating_;  // [audited][slot] fixated on this tick
 };
 
 }  // namespace
@@ -234,9 +236,8 @@ int AuditResult::VisibleAtReset(int object, int camera) const {
 }
 
 int AuditResult::VisibleAtFixation(int object, int camera) const {
-  return CountVisible(*this, object, camera, [](const ObjectAudit& audit) {
-    return audit.at_fixation ? &*audit.at_fixation : nullptr;
-  });
+  return CountVisible(*this, object, camera,
+                      [](const ObjectAudit& audit) { return audit.at_fixation ? &*audit.at_fixation : nullptr; });
 }
 
 int AuditResult::Fixated(int object) const {
@@ -246,11 +247,14 @@ int AuditResult::Fixated(int object) const {
 }
 
 AuditResult RunVisibilityAudit(const AuditConfig& config, const ProgressCallback& progress) {
-  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.episodes < 1)
+    throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
-  if (scenario.make_expert == nullptr) throw std::invalid_argument("task '" + config.task + "' has no scripted expert to audit");
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  if (scenario.make_expert == nullptr)
+    throw std::invalid_argument("task '" + config.task + "' has no scripted expert to audit");
+  const kinematics::RobotModel robot =
+      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   const auto start = std::chrono::steady_clock::now();
 
   const int slots = std::min(config.envs, config.episodes);

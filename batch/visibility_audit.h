@@ -50,8 +50,8 @@ struct EpisodeAudit {
 
 struct AuditResult {
   AuditConfig config;
-  std::vector<std::string> objects;  // "target", then the cue's model name if the task has one
-  std::vector<std::string> cameras;  // SceneCameraNames()
+  std::vector<std::string> objects;    // "target", then the cue's model name if the task has one
+  std::vector<std::string> cameras;    // SceneCameraNames()
   std::vector<EpisodeAudit> episodes;  // ordered by episode index
   double wall_s = 0.0;
 

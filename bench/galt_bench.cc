@@ -39,8 +39,7 @@ std::vector<double> SyntheticEpisode(std::mt19937& rng) {
     const double head = std::min(1.0, static_cast<double>(t) / head_settle);
     row[action::kNeckYaw] = head * yaw + jitter(rng);
     row[action::kNeckPitch] = head * pitch + jitter(rng);
-    const double reach = std::clamp(static_cast<double>(t - reach_onset) / (grasp - reach_onset),
-                                    0.0, 1.0);
+    const double reach = std::clamp(static_cast<double>(t - reach_onset) / (grasp - reach_onset), 0.0, 1.0);
     const double lift = std::clamp(static_cast<double>(t - grasp) / (lift_end - grasp), 0.0, 1.0);
     row[ee + 0] = 0.2 + 0.25 * reach;
     row[ee + 1] = 0.1 * reach;
@@ -55,22 +54,20 @@ std::vector<double> SyntheticEpisode(std::mt19937& rng) {
 }
 
 void BM_GaltBatch(benchmark::State& state) {
-  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
-                              static_cast<std::size_t>(state.range(0)));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   std::mt19937 rng(42);
   std::vector<std::vector<double>> distinct;
   for (int i = 0; i < kDistinctEpisodes; ++i) distinct.push_back(SyntheticEpisode(rng));
   std::vector<TrajectoryView> episodes;
   for (int i = 0; i < kEpisodes; ++i) {
-    episodes.push_back({distinct[static_cast<std::size_t>(i % kDistinctEpisodes)].data(), kSteps,
-                        action::kSize});
+    episodes.push_back({distinct[static_cast<std::size_t>(i % kDistinctEpisodes)].data(), kSteps, action::kSize});
   }
 
   int valid = 0;
   for (auto _ : state) {
     const std::vector<GaltResult> results = ComputeGaltBatch(episodes, kFps);
-    valid = static_cast<int>(std::count_if(results.begin(), results.end(),
-                                           [](const GaltResult& r) { return r.galt_s.has_value(); }));
+    valid = static_cast<int>(
+        std::count_if(results.begin(), results.end(), [](const GaltResult& r) { return r.galt_s.has_value(); }));
     benchmark::DoNotOptimize(valid);
   }
   state.SetItemsProcessed(state.iterations() * kEpisodes);

@@ -41,7 +41,8 @@ struct BenchScene {
   RigidTransform X_W_left_hand;
   RigidTransform X_W_right_hand;
 
-  void Add(const ShapeGeometry& shape, const std::string& look, int32_t object_id, const RigidTransform& X, int jitter) {
+  void Add(const ShapeGeometry& shape, const std::string& look, int32_t object_id, const RigidTransform& X,
+           int jitter) {
     layout.instances.push_back({shape, PaletteAppearance(look), object_id});
     X_WI.push_back(X);
     jitter_scale.push_back(jitter);
@@ -60,7 +61,8 @@ Mat3 RestHandRotation(double side) {
 
 // Reference §6.1 wrist-camera mount on the hand link.
 RigidTransform WristCameraPose(const RigidTransform& X_W_hand) {
-  return X_W_hand * At(Vec3(0.15, 0.0, 0.05), QuatFromWxyz(0.4617486, 0.0, 0.8870108, 0.0).normalized().toRotationMatrix());
+  return X_W_hand *
+         At(Vec3(0.15, 0.0, 0.05), QuatFromWxyz(0.4617486, 0.0, 0.8870108, 0.0).normalized().toRotationMatrix());
 }
 
 BenchScene MakeBenchScene(int width, int height) {
@@ -68,7 +70,8 @@ BenchScene MakeBenchScene(int width, int height) {
   scene.Add(MakePlane(), "floor", kBackgroundObjectId, RigidTransform::Identity(), 0);
   scene.Add(MakeBox(Vec3(0.9, 1.2, 0.04)), "table", kBackgroundObjectId, At(Vec3(0.6, -0.1, 0.98)), 0);
   for (const double x : {0.2, 1.0}) {
-    for (const double y : {-0.65, 0.45}) scene.Add(MakeBox(Vec3(0.05, 0.05, 0.96)), "table", kBackgroundObjectId, At(Vec3(x, y, 0.48)), 0);
+    for (const double y : {-0.65, 0.45})
+      scene.Add(MakeBox(Vec3(0.05, 0.05, 0.96)), "table", kBackgroundObjectId, At(Vec3(x, y, 0.48)), 0);
   }
   // Torso, neck, head.
   scene.Add(MakeBox(Vec3(0.18, 0.3, 0.42)), "robot_link", kBackgroundObjectId, At(Vec3(-0.06, 0.0, 1.15)), 0);
@@ -119,9 +122,7 @@ BenchScene MakeBenchScene(int width, int height) {
 class BenchInputs {
  public:
   explicit BenchInputs(const BenchScene& scene)
-      : scene_(scene),
-        X_WI_(scene.X_WI.size() * kEnvs),
-        X_WC_(scene.layout.cameras.size() * kEnvs) {}
+      : scene_(scene), X_WI_(scene.X_WI.size() * kEnvs), X_WC_(scene.layout.cameras.size() * kEnvs) {}
 
   const RenderInputs& Update(int64_t tick) {
     const std::size_t n_instances = scene_.X_WI.size();
@@ -136,7 +137,8 @@ class BenchInputs {
         if (jitter == 2) X.pretranslate(object_shift).rotate(Eigen::AngleAxisd(0.2 * std::sin(phase), Vec3::UnitZ()));
         X_WI_[static_cast<std::size_t>(env) * n_instances + i] = X;
       }
-      const Mat3 head = Eigen::AngleAxisd((45.0 + 3.0 * std::sin(phase)) * kPi / 180.0, Vec3::UnitY()).toRotationMatrix();
+      const Mat3 head =
+          Eigen::AngleAxisd((45.0 + 3.0 * std::sin(phase)) * kPi / 180.0, Vec3::UnitY()).toRotationMatrix();
       RigidTransform* cameras = &X_WC_[static_cast<std::size_t>(env) * 4];
       cameras[0] = At(Vec3(0.105, 0.0, 1.454), head);
       cameras[1] = FixedCameraPose();
@@ -148,7 +150,10 @@ class BenchInputs {
     return inputs_;
   }
 
-  void RenderOnly(const std::vector<uint8_t>& cameras) { render_camera_ = cameras; inputs_.render_camera = render_camera_; }
+  void RenderOnly(const std::vector<uint8_t>& cameras) {
+    render_camera_ = cameras;
+    inputs_.render_camera = render_camera_;
+  }
 
  private:
   const BenchScene& scene_;
@@ -165,7 +170,8 @@ void WriteContactSheetIfRequested(const BenchScene& scene, BatchRenderer* render
   renderer->Render(inputs->Update(0), &images);
   std::vector<LabelledImage> views;
   for (int c = 0; c < images.n_cameras(); ++c) {
-    views.push_back({scene.layout.cameras[static_cast<std::size_t>(c)].name, images.height(c), images.width(c), images.rgb(0, c)});
+    views.push_back(
+        {scene.layout.cameras[static_cast<std::size_t>(c)].name, images.height(c), images.width(c), images.rgb(0, c)});
   }
   WritePng(path, MakeContactSheet(views));
 }

@@ -33,7 +33,8 @@ std::vector<std::vector<std::uint8_t>> SceneFrames(int width, int height) {
       for (int x = 0; x < width; ++x) {
         const bool box = x >= box_x && x < box_x + width / 8 && y >= box_y && y < box_y + height / 8;
         const int shade = 60 + 120 * y / height + noise(rng);
-        std::uint8_t* pixel = &frame[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3];
+        std::uint8_t* pixel =
+            &frame[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3];
         pixel[0] = static_cast<std::uint8_t>(box ? 200 : shade);
         pixel[1] = static_cast<std::uint8_t>(box ? 40 : shade - 10);
         pixel[2] = static_cast<std::uint8_t>(box ? 50 : shade - 30);
@@ -66,8 +67,18 @@ void BM_EncodeStream(benchmark::State& state, VideoCodec codec) {
   std::remove(path.c_str());
 }
 
-BENCHMARK_CAPTURE(BM_EncodeStream, h264, VideoCodec::kH264)->Args({640, 480})->Args({224, 224})->MinTime(3.0)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_EncodeStream, av1, VideoCodec::kAv1)->Args({640, 480})->Args({224, 224})->MinTime(3.0)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EncodeStream, h264, VideoCodec::kH264)
+    ->Args({640, 480})
+    ->Args({224, 224})
+    ->MinTime(3.0)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EncodeStream, av1, VideoCodec::kAv1)
+    ->Args({640, 480})
+    ->Args({224, 224})
+    ->MinTime(3.0)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace tavis::dataset

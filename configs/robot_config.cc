@@ -65,8 +65,8 @@ RigidTransform ReadXyzRpy(const YamlValue& entry) {
 }
 
 // Adds a link and returns its index; the parent must already be known (parents-first order).
-int AddLink(RobotModel& robot, std::map<std::string, int>& link_index, const YamlValue& entry,
-            const std::string& name, const std::string& parent) {
+int AddLink(RobotModel& robot, std::map<std::string, int>& link_index, const YamlValue& entry, const std::string& name,
+            const std::string& parent) {
   if (link_index.count(name)) entry.Fail("link '" + name + "' is defined twice");
   kinematics::Link link;
   link.name = name;
@@ -80,8 +80,7 @@ int AddLink(RobotModel& robot, std::map<std::string, int>& link_index, const Yam
   return robot.num_links() - 1;
 }
 
-int LookUp(const std::map<std::string, int>& index, const std::string& name, const YamlValue& where,
-           const char* what) {
+int LookUp(const std::map<std::string, int>& index, const std::string& name, const YamlValue& where, const char* what) {
   auto it = index.find(name);
   if (it == index.end()) where.Fail(std::string("unknown ") + what + " '" + name + "'");
   return it->second;
@@ -114,7 +113,8 @@ void ReadFramesAndJoints(const YamlValue& root, RobotModel& robot, std::map<std:
   for (const YamlValue& entry : root.Required("joints").Elements()) {
     kinematics::Joint joint;
     joint.name = entry.String("name");
-    if (!joint_names.insert(joint.name).second) entry.Required("name").Fail("joint '" + joint.name + "' is defined twice");
+    if (!joint_names.insert(joint.name).second)
+      entry.Required("name").Fail("joint '" + joint.name + "' is defined twice");
     const int link = AddLink(robot, link_index, entry, entry.String("child"), entry.String("parent"));
     robot.links[link].origin = ReadXyzRpy(entry);
     robot.links[link].mass = entry.Double("mass", kMass);
@@ -130,8 +130,8 @@ void ReadFramesAndJoints(const YamlValue& root, RobotModel& robot, std::map<std:
     }
     if (joint.default_position < joint.lower || joint.default_position > joint.upper) {
       entry.Required("default").Fail("default position " + Number(joint.default_position) +
-                                     " outside the joint limits [" + Number(joint.lower) + ", " +
-                                     Number(joint.upper) + "]");
+                                     " outside the joint limits [" + Number(joint.lower) + ", " + Number(joint.upper) +
+                                     "]");
     }
     entry.ExpectNoOtherKeys();
     robot.joints.push_back(joint);
@@ -202,8 +202,8 @@ kinematics::GripperSpec ReadGripper(const YamlValue& entry) {
   housing.ExpectNoOtherKeys();
   // The fingers travel (open - closed) / 2 each: zero travel is a slider with no range.
   if (!(g.closed_gap < g.open_gap)) {
-    entry.Required("closed_gap").Fail("closed_gap " + Number(g.closed_gap) + " is not below open_gap " +
-                                      Number(g.open_gap));
+    entry.Required("closed_gap")
+        .Fail("closed_gap " + Number(g.closed_gap) + " is not below open_gap " + Number(g.open_gap));
   }
   // The visual fingers run from the housing's bottom face (the grippers approach along -z) down
   // to the pads; pads reaching into the housing leave them no length.
@@ -392,8 +392,8 @@ RobotModel LoadRobotModel(const std::string& path) {
       entry.Required("name").Fail("camera '" + camera.name + "' is defined twice");
     }
     camera.link = LookUp(link_index, entry.String("parent"), entry, "link");
-    camera.X_LC = MakeTransform(entry.Vector3("xyz", kPosition),
-                                ReadQuatWxyz(entry.Required("quat_wxyz")).toRotationMatrix());
+    camera.X_LC =
+        MakeTransform(entry.Vector3("xyz", kPosition), ReadQuatWxyz(entry.Required("quat_wxyz")).toRotationMatrix());
     camera.focal_length_mm = entry.Double("focal_length_mm", kFocalLength);
     camera.near_m = entry.Double("near", kClipDistance);
     camera.far_m = entry.Double("far", kClipDistance);
@@ -403,7 +403,8 @@ RobotModel LoadRobotModel(const std::string& path) {
     entry.ExpectNoOtherKeys();
     robot.cameras.push_back(camera);
   }
-  for (const YamlValue& entry : root.Required("shapes").Elements()) robot.shapes.push_back(ReadShape(entry, link_index));
+  for (const YamlValue& entry : root.Required("shapes").Elements())
+    robot.shapes.push_back(ReadShape(entry, link_index));
   root.ExpectNoOtherKeys();
   return robot;
 }

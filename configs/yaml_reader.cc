@@ -1,12 +1,12 @@
 #include "configs/yaml_reader.h"
 
+#include <yaml-cpp/yaml.h>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <sstream>
-#include <yaml-cpp/yaml.h>
 
 #include "configs/input_file.h"
 
@@ -161,8 +161,8 @@ double YamlValue::AsDouble(const Range& range) const {
   const double value = AsDouble();
   const bool below = range.min_excluded ? !(value > range.min) : !(value >= range.min);
   if (below || !(value <= range.max)) {
-    Fail("got " + Text() + ", expected a value in " + (range.min_excluded ? "(" : "[") + FormatBound(range.min) +
-         ", " + FormatBound(range.max) + "]" + (*range.unit ? std::string(" ") + range.unit : "") +
+    Fail("got " + Text() + ", expected a value in " + (range.min_excluded ? "(" : "[") + FormatBound(range.min) + ", " +
+         FormatBound(range.max) + "]" + (*range.unit ? std::string(" ") + range.unit : "") +
          (*range.why ? std::string(" (") + range.why + ")" : ""));
   }
   return value;

@@ -16,8 +16,9 @@ const char* ToString(EpisodeEnd end) {
 }
 
 bool ParseEpisodeEnd(const std::string& text, EpisodeEnd* end) {
-  for (EpisodeEnd candidate : {EpisodeEnd::kRunning, EpisodeEnd::kSuccess, EpisodeEnd::kTimeOut, EpisodeEnd::kPhysicsBlowUp,
-                               EpisodeEnd::kInvalidAction, EpisodeEnd::kStopped, EpisodeEnd::kGaveUp}) {
+  for (EpisodeEnd candidate :
+       {EpisodeEnd::kRunning, EpisodeEnd::kSuccess, EpisodeEnd::kTimeOut, EpisodeEnd::kPhysicsBlowUp,
+        EpisodeEnd::kInvalidAction, EpisodeEnd::kStopped, EpisodeEnd::kGaveUp}) {
     if (text == ToString(candidate)) {
       *end = candidate;
       return true;

@@ -60,16 +60,16 @@ struct BatchState {
   // (num_envs x num_objects x 3) linear RGB a task gives an object (the cue card's red or green,
   // the light turning green); negative: the object's palette colour.
   std::vector<float> object_rgb;
-  std::vector<TaskVars> task;           // (num_envs) the task's variables
-  std::vector<int> control_step;        // (num_envs) control ticks since the episode's reset
+  std::vector<TaskVars> task;     // (num_envs) the task's variables
+  std::vector<int> control_step;  // (num_envs) control ticks since the episode's reset
   // (num_envs) control_step at the policy's first observation: the ticks the reset's warm-up
   // held (ood-init-pose), 0 otherwise. A served request counts its `step` from here.
   std::vector<int> policy_start_tick;
-  std::vector<int64_t> episode;         // (num_envs) episode index in the slot, -1 when idle
-  std::vector<EpisodeEnd> end;          // (num_envs) kRunning until the episode ends
+  std::vector<int64_t> episode;               // (num_envs) episode index in the slot, -1 when idle
+  std::vector<EpisodeEnd> end;                // (num_envs) kRunning until the episode ends
   std::vector<InvalidAction> invalid_action;  // (num_envs) set when end is kInvalidAction
-  std::vector<uint8_t> images_current;  // (num_envs) the env's camera images show its current state
-  std::vector<RandomStream> task_rng;   // (num_envs) the episode's task stream
+  std::vector<uint8_t> images_current;        // (num_envs) the env's camera images show its current state
+  std::vector<RandomStream> task_rng;         // (num_envs) the episode's task stream
 
   void Allocate(int envs, int joints, int objects);
 

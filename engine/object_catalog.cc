@@ -8,20 +8,25 @@ namespace {
 ObjectSpec ScaledCylinder(const std::string& name, double diameter_mm, double height_mm, double real_mass_kg) {
   const double radius = 0.5 * diameter_mm * 1e-3 * kYcbScale;
   const double height = height_mm * 1e-3 * kYcbScale;
-  return {name, {ShapeKind::kCylinder, Vec3(radius, radius, height)},
-          real_mass_kg * kYcbScale * kYcbScale * kYcbScale, Material::kObject, name};
+  return {name,
+          {ShapeKind::kCylinder, Vec3(radius, radius, height)},
+          real_mass_kg * kYcbScale * kYcbScale * kYcbScale,
+          Material::kObject,
+          name};
 }
 
 ObjectSpec ScaledBox(const std::string& name, Vec3 size_mm, double real_mass_kg) {
-  return {name, {ShapeKind::kBox, size_mm * 1e-3 * kYcbScale},
-          real_mass_kg * kYcbScale * kYcbScale * kYcbScale, Material::kObject, name};
+  return {name,
+          {ShapeKind::kBox, size_mm * 1e-3 * kYcbScale},
+          real_mass_kg * kYcbScale * kYcbScale * kYcbScale,
+          Material::kObject,
+          name};
 }
 
 }  // namespace
 
 const std::vector<std::string>& TavisHeadObjectNames() {
-  static const std::vector<std::string> names = {"soup_can", "meat_can", "tuna_fish_can", "gelatin_box",
-                                                 "pudding_box"};
+  static const std::vector<std::string> names = {"soup_can", "meat_can", "tuna_fish_can", "gelatin_box", "pudding_box"};
   return names;
 }
 

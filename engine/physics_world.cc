@@ -163,11 +163,13 @@ void PhysicsWorld::ReadState(double* q, double* gripper_gap, double* object_pose
     const ArmParts& arm = s.arms[side];
     for (int m : arm.motors) {
       const ArmJointMotor& motor = s.motors[m];
-      q[motor.joint_index] = arm.links_kinematic() ? s.q_kinematic[motor.joint_index] : dJointGetHingeAngle(motor.joint);
+      q[motor.joint_index] =
+          arm.links_kinematic() ? s.q_kinematic[motor.joint_index] : dJointGetHingeAngle(motor.joint);
     }
-    gripper_gap[side] = arm.fingers_kinematic() ? s.gripper.GapFromClosing(arm.closing[0], arm.closing[1])
-                                      : s.gripper.GapFromClosing(dJointGetSliderPosition(s.fingers[side][0].slider),
-                                                                 dJointGetSliderPosition(s.fingers[side][1].slider));
+    gripper_gap[side] = arm.fingers_kinematic()
+                            ? s.gripper.GapFromClosing(arm.closing[0], arm.closing[1])
+                            : s.gripper.GapFromClosing(dJointGetSliderPosition(s.fingers[side][0].slider),
+                                                       dJointGetSliderPosition(s.fingers[side][1].slider));
   }
   for (size_t i = 0; i < s.object_body.size(); ++i) {
     if (s.object_body[i] == nullptr) {  // kinematic: the task's pose stands, and it is at rest

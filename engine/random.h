@@ -46,7 +46,8 @@ class RandomStream {
   std::vector<int> Sample(int n, int k) {
     std::vector<int> order(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) order[static_cast<size_t>(i)] = i;
-    for (int i = 0; i < k; ++i) std::swap(order[static_cast<size_t>(i)], order[static_cast<size_t>(i + UniformInt(n - i))]);
+    for (int i = 0; i < k; ++i)
+      std::swap(order[static_cast<size_t>(i)], order[static_cast<size_t>(i + UniformInt(n - i))]);
     return order;
   }
   uint32_t counter() const { return static_cast<uint32_t>(counter_); }

@@ -16,8 +16,8 @@ constexpr double kMaxQuaternionComponent = 1e6;
 constexpr double kMinQuaternionNorm = 1e-6;
 
 struct ActionDefect {
-  int entry = -1;          // index in the 19-D action; -1: none
-  double value = 0.0;      // the entry's value
+  int entry = -1;           // index in the 19-D action; -1: none
+  double value = 0.0;       // the entry's value
   const char* reason = "";  // static text: "not finite", "position beyond 10 m", ...
 
   bool found() const { return entry >= 0; }

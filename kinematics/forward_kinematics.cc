@@ -39,7 +39,8 @@ std::vector<int> LinksMovedByArm(const RobotModel& robot, Side side) {
   std::vector<int> links;
   for (int i = 0; i < robot.num_links(); ++i) {
     const Link& link = robot.links[i];
-    const bool own_joint = link.joint >= 0 && std::find(arm.joints.begin(), arm.joints.end(), link.joint) != arm.joints.end();
+    const bool own_joint =
+        link.joint >= 0 && std::find(arm.joints.begin(), arm.joints.end(), link.joint) != arm.joints.end();
     moved[i] = own_joint || (link.parent >= 0 && moved[link.parent]);
     if (moved[i]) links.push_back(i);
   }

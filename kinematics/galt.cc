@@ -33,15 +33,14 @@ struct StepCounts {
 
 StepCounts Discretise(const GaltParams& params, double fps) {
   return {std::max(1, RoundHalfEven(params.k_fix_s * fps)),
-          std::max(1, RoundHalfEven(params.min_stable_for_onset_s * fps)),
-          RoundHalfEven(params.lookback_s * fps), RoundHalfEven(params.forward_slack_s * fps)};
+          std::max(1, RoundHalfEven(params.min_stable_for_onset_s * fps)), RoundHalfEven(params.lookback_s * fps),
+          RoundHalfEven(params.forward_slack_s * fps)};
 }
 
 // _velocity (spec 11.2) at one step, without materialising the array: the L2 norm of the forward
 // difference times fps, the last step repeating the one before. Squares are summed left to
 // right and the square root is taken before scaling, as numpy does.
-double SpeedAt(const TrajectoryView& trajectory, const std::array<int, 3>& columns, int step,
-               double fps) {
+double SpeedAt(const TrajectoryView& trajectory, const std::array<int, 3>& columns, int step, double fps) {
   const int from = std::min(step, trajectory.num_steps - 2);
   double sum_of_squares = 0.0;
   for (const int column : columns) {
@@ -72,9 +71,8 @@ int LastGripperEvent(const TrajectoryView& trajectory, int column) {
 // _backward_search_hand_onset (spec 11.2): walking back from the anchor, the first run of
 // min_stable slow steps ends the search; the onset is the step after that run, and the search
 // fails (no further runs are considered) when that step is the anchor itself.
-std::optional<int> BackwardSearchHandOnset(const TrajectoryView& trajectory,
-                                           const std::array<int, 3>& ee_columns, int anchor,
-                                           double fps, double v_hand_thresh, int min_stable) {
+std::optional<int> BackwardSearchHandOnset(const TrajectoryView& trajectory, const std::array<int, 3>& ee_columns,
+                                           int anchor, double fps, double v_hand_thresh, int min_stable) {
   int stable_run = 0;
   for (int step = anchor - 1; step >= 0; --step) {
     if (SpeedAt(trajectory, ee_columns, step, fps) < v_hand_thresh) {
@@ -93,9 +91,8 @@ std::optional<int> BackwardSearchHandOnset(const TrajectoryView& trajectory,
 // _find_settled_intervals + the candidate choice of _match_head_arrival (spec 11.2): settled
 // interval starts in [window_begin, window_end) are runs of >= k slow neck steps, cut at the
 // window edges. The preferred start is the latest one <= anchor, else the earliest after it.
-std::optional<int> BestSettledStart(const TrajectoryView& trajectory,
-                                    const std::array<int, 3>& neck_columns, int anchor,
-                                    double fps, double v_sac_thresh, int fixation_persistence,
+std::optional<int> BestSettledStart(const TrajectoryView& trajectory, const std::array<int, 3>& neck_columns,
+                                    int anchor, double fps, double v_sac_thresh, int fixation_persistence,
                                     int window_begin, int window_end) {
   window_begin = std::max(0, window_begin);
   window_end = std::min(trajectory.num_steps, window_end);
@@ -122,12 +119,11 @@ std::optional<int> BestSettledStart(const TrajectoryView& trajectory,
 
 // np.max(np.abs(a - b)) >= margin over the neck joints; a NaN difference makes numpy's maximum
 // NaN and the comparison false.
-bool NeckFarFrom(const TrajectoryView& trajectory, const std::array<int, 3>& neck_columns,
-                 int step, int reference_step, double margin) {
+bool NeckFarFrom(const TrajectoryView& trajectory, const std::array<int, 3>& neck_columns, int step, int reference_step,
+                 double margin) {
   bool far = false;
   for (const int column : neck_columns) {
-    const double distance =
-        std::fabs(trajectory.at(step, column) - trajectory.at(reference_step, column));
+    const double distance = std::fabs(trajectory.at(step, column) - trajectory.at(reference_step, column));
     if (std::isnan(distance)) return false;
     far = far || distance >= margin;
   }
@@ -136,8 +132,7 @@ bool NeckFarFrom(const TrajectoryView& trajectory, const std::array<int, 3>& nec
 
 // _refine_arrival_by_position (spec 11.2): the earliest step from which the neck stayed within
 // the margin of its settled position; not limited to the search window.
-int RefineArrivalByPosition(const TrajectoryView& trajectory,
-                            const std::array<int, 3>& neck_columns, int settled_step,
+int RefineArrivalByPosition(const TrajectoryView& trajectory, const std::array<int, 3>& neck_columns, int settled_step,
                             double margin) {
   for (int step = settled_step - 1; step >= 0; --step) {
     if (NeckFarFrom(trajectory, neck_columns, step, settled_step, margin)) return step + 1;
@@ -155,28 +150,26 @@ struct AnchorOutcome {
   bool valid() const { return reason == GaltReason::kOk || reason == GaltReason::kOkPostAnchor; }
 };
 
-AnchorOutcome EvaluateAnchor(const TrajectoryView& trajectory, const std::array<int, 3>& ee_columns,
-                             int anchor, double fps, const GaltParams& params,
-                             const ActionLayout& layout, const StepCounts& counts) {
+AnchorOutcome EvaluateAnchor(const TrajectoryView& trajectory, const std::array<int, 3>& ee_columns, int anchor,
+                             double fps, const GaltParams& params, const ActionLayout& layout,
+                             const StepCounts& counts) {
   AnchorOutcome outcome;
   outcome.anchor = anchor;
-  outcome.hand_onset = BackwardSearchHandOnset(trajectory, ee_columns, anchor, fps,
-                                               params.v_hand_thresh, counts.min_stable);
+  outcome.hand_onset =
+      BackwardSearchHandOnset(trajectory, ee_columns, anchor, fps, params.v_hand_thresh, counts.min_stable);
   if (!outcome.hand_onset) {
     outcome.reason = GaltReason::kNoHandOnset;
     return outcome;
   }
   // _match_head_arrival: window [anchor - lookback, anchor + slack] inclusive.
   const std::optional<int> settled =
-      BestSettledStart(trajectory, layout.neck, anchor, fps, params.v_sac_thresh,
-                       counts.fixation_persistence, anchor - counts.lookback,
-                       anchor + counts.slack + 1);
+      BestSettledStart(trajectory, layout.neck, anchor, fps, params.v_sac_thresh, counts.fixation_persistence,
+                       anchor - counts.lookback, anchor + counts.slack + 1);
   if (!settled) {
     outcome.reason = GaltReason::kNoFixation;
     return outcome;
   }
-  const int head_arrival =
-      RefineArrivalByPosition(trajectory, layout.neck, *settled, params.arrival_margin_rad);
+  const int head_arrival = RefineArrivalByPosition(trajectory, layout.neck, *settled, params.arrival_margin_rad);
   outcome.head_arrival = head_arrival;
   const double galt_s = static_cast<double>(anchor - head_arrival) / fps;
   if (galt_s < params.outlier_min_s) {
@@ -214,14 +207,10 @@ int ArbitrationPriority(GaltReason reason) {
   switch (reason) {
     case GaltReason::kNoFixation:
     case GaltReason::kOutlierLow:
-    case GaltReason::kOutlierHigh:
-      return 3;
-    case GaltReason::kNoHandOnset:
-      return 2;
-    case GaltReason::kNoGrasp:
-      return 1;
-    default:
-      return 0;
+    case GaltReason::kOutlierHigh: return 3;
+    case GaltReason::kNoHandOnset: return 2;
+    case GaltReason::kNoGrasp: return 1;
+    default: return 0;
   }
 }
 
@@ -242,8 +231,8 @@ std::array<ArmChannels, 2> ArmsInReferenceOrder(const ActionLayout& layout) {
           ArmChannels{Side::kRight, layout.right_ee_xyz, layout.right_gripper}};
 }
 
-GaltResult ComputeGaltUnchecked(const TrajectoryView& trajectory, double fps,
-                                const GaltParams& params, const ActionLayout& layout) {
+GaltResult ComputeGaltUnchecked(const TrajectoryView& trajectory, double fps, const GaltParams& params,
+                                const ActionLayout& layout) {
   if (trajectory.num_steps < kMinSteps) return InvalidResult(GaltReason::kTooShort);
   const StepCounts counts = Discretise(params, fps);
 
@@ -252,8 +241,7 @@ GaltResult ComputeGaltUnchecked(const TrajectoryView& trajectory, double fps,
   for (std::size_t i = 0; i < arms.size(); ++i) {
     const int anchor = LastGripperEvent(trajectory, arms[i].gripper_column);
     if (anchor >= 0) {
-      outcomes[i] = EvaluateAnchor(trajectory, arms[i].ee_columns, anchor, fps, params, layout,
-                                   counts);
+      outcomes[i] = EvaluateAnchor(trajectory, arms[i].ee_columns, anchor, fps, params, layout, counts);
     }
   }
 
@@ -265,14 +253,12 @@ GaltResult ComputeGaltUnchecked(const TrajectoryView& trajectory, double fps,
   // Python's max() keeps the first (left) reason on equal priority.
   const GaltReason left_reason = outcomes[0].reason;
   const GaltReason right_reason = outcomes[1].reason;
-  return InvalidResult(ArbitrationPriority(right_reason) > ArbitrationPriority(left_reason)
-                           ? right_reason
-                           : left_reason);
+  return InvalidResult(ArbitrationPriority(right_reason) > ArbitrationPriority(left_reason) ? right_reason
+                                                                                            : left_reason);
 }
 
 std::vector<GaltResult> ComputeGaltEventsUnchecked(const TrajectoryView& trajectory, double fps,
-                                                   const GaltParams& params,
-                                                   const ActionLayout& layout) {
+                                                   const GaltParams& params, const ActionLayout& layout) {
   if (trajectory.num_steps < kMinSteps) return {InvalidResult(GaltReason::kTooShort)};
   const StepCounts counts = Discretise(params, fps);
 
@@ -284,24 +270,21 @@ std::vector<GaltResult> ComputeGaltEventsUnchecked(const TrajectoryView& traject
   for (const ArmChannels& arm : ArmsInReferenceOrder(layout)) {
     for (int step = 1; step < trajectory.num_steps; ++step) {
       if (!IsGripperEvent(trajectory, arm.gripper_column, step)) continue;
-      const AnchorOutcome outcome =
-          EvaluateAnchor(trajectory, arm.ee_columns, step, fps, params, layout, counts);
+      const AnchorOutcome outcome = EvaluateAnchor(trajectory, arm.ee_columns, step, fps, params, layout, counts);
       events.push_back({step, ResultFromOutcome(arm.arm, outcome, fps)});
     }
   }
   if (events.empty()) return {InvalidResult(GaltReason::kNoGrasp)};
 
   // Left-arm events were appended first, so a stable sort keeps them first on equal steps.
-  std::stable_sort(events.begin(), events.end(),
-                   [](const Event& a, const Event& b) { return a.step < b.step; });
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.step < b.step; });
   std::vector<GaltResult> results;
   results.reserve(events.size());
   for (Event& event : events) results.push_back(std::move(event.result));
   return results;
 }
 
-void ValidateBatch(const std::vector<TrajectoryView>& episodes, double fps,
-                   const ActionLayout& layout) {
+void ValidateBatch(const std::vector<TrajectoryView>& episodes, double fps, const ActionLayout& layout) {
   for (std::size_t i = 0; i < episodes.size(); ++i) {
     try {
       ValidateGaltInput(episodes[i], fps, layout);
@@ -314,10 +297,9 @@ void ValidateBatch(const std::vector<TrajectoryView>& episodes, double fps,
 // Runs compute(i) for every episode index in parallel; each writes only its own slot.
 template <typename Compute>
 void ForEachEpisodeParallel(std::size_t count, const Compute& compute) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) compute(i);
-                    });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) compute(i);
+  });
 }
 
 }  // namespace
@@ -334,24 +316,15 @@ bool ParseGaltReason(const std::string& text, GaltReason* reason) {
 
 const char* ToString(GaltReason reason) {
   switch (reason) {
-    case GaltReason::kOk:
-      return "ok";
-    case GaltReason::kOkPostAnchor:
-      return "ok_post_anchor";
-    case GaltReason::kNoGrasp:
-      return "no_grasp";
-    case GaltReason::kNoHandOnset:
-      return "no_hand_onset";
-    case GaltReason::kNoFixation:
-      return "no_fixation";
-    case GaltReason::kOutlierLow:
-      return "outlier_low";
-    case GaltReason::kOutlierHigh:
-      return "outlier_high";
-    case GaltReason::kAmbiguousArms:
-      return "ambiguous_arms";
-    case GaltReason::kTooShort:
-      return "too_short";
+    case GaltReason::kOk: return "ok";
+    case GaltReason::kOkPostAnchor: return "ok_post_anchor";
+    case GaltReason::kNoGrasp: return "no_grasp";
+    case GaltReason::kNoHandOnset: return "no_hand_onset";
+    case GaltReason::kNoFixation: return "no_fixation";
+    case GaltReason::kOutlierLow: return "outlier_low";
+    case GaltReason::kOutlierHigh: return "outlier_high";
+    case GaltReason::kAmbiguousArms: return "ambiguous_arms";
+    case GaltReason::kTooShort: return "too_short";
   }
   return "unknown";
 }
@@ -362,15 +335,13 @@ void ValidateGaltInput(const TrajectoryView& trajectory, double fps, const Actio
   }
   if (trajectory.num_steps < 0 || trajectory.row_stride <= 0 ||
       (trajectory.num_steps > 0 && trajectory.data == nullptr)) {
-    throw std::invalid_argument("GALT: malformed trajectory view (" +
-                                std::to_string(trajectory.num_steps) + " steps, row stride " +
-                                std::to_string(trajectory.row_stride) + ")");
+    throw std::invalid_argument("GALT: malformed trajectory view (" + std::to_string(trajectory.num_steps) +
+                                " steps, row stride " + std::to_string(trajectory.row_stride) + ")");
   }
   const auto check_column = [&](int column, const char* channel) {
     if (column < 0 || column >= trajectory.row_stride) {
-      throw std::invalid_argument(std::string("GALT: layout column ") + channel + " = " +
-                                  std::to_string(column) + " is outside a row of " +
-                                  std::to_string(trajectory.row_stride) + " values");
+      throw std::invalid_argument(std::string("GALT: layout column ") + channel + " = " + std::to_string(column) +
+                                  " is outside a row of " + std::to_string(trajectory.row_stride) + " values");
     }
   };
   for (const int column : layout.left_ee_xyz) check_column(column, "left_ee_xyz");
@@ -386,8 +357,8 @@ GaltResult ComputeGalt(const TrajectoryView& trajectory, double fps, const GaltP
   return ComputeGaltUnchecked(trajectory, fps, params, layout);
 }
 
-std::vector<GaltResult> ComputeGaltEvents(const TrajectoryView& trajectory, double fps,
-                                          const GaltParams& params, const ActionLayout& layout) {
+std::vector<GaltResult> ComputeGaltEvents(const TrajectoryView& trajectory, double fps, const GaltParams& params,
+                                          const ActionLayout& layout) {
   ValidateGaltInput(trajectory, fps, layout);
   return ComputeGaltEventsUnchecked(trajectory, fps, params, layout);
 }
@@ -396,15 +367,13 @@ std::vector<GaltResult> ComputeGaltBatch(const std::vector<TrajectoryView>& epis
                                          const GaltParams& params, const ActionLayout& layout) {
   ValidateBatch(episodes, fps, layout);
   std::vector<GaltResult> results(episodes.size());
-  ForEachEpisodeParallel(episodes.size(), [&](std::size_t i) {
-    results[i] = ComputeGaltUnchecked(episodes[i], fps, params, layout);
-  });
+  ForEachEpisodeParallel(episodes.size(),
+                         [&](std::size_t i) { results[i] = ComputeGaltUnchecked(episodes[i], fps, params, layout); });
   return results;
 }
 
-std::vector<std::vector<GaltResult>> ComputeGaltEventsBatch(
-    const std::vector<TrajectoryView>& episodes, double fps, const GaltParams& params,
-    const ActionLayout& layout) {
+std::vector<std::vector<GaltResult>> ComputeGaltEventsBatch(const std::vector<TrajectoryView>& episodes, double fps,
+                                                            const GaltParams& params, const ActionLayout& layout) {
   ValidateBatch(episodes, fps, layout);
   std::vector<std::vector<GaltResult>> results(episodes.size());
   ForEachEpisodeParallel(episodes.size(), [&](std::size_t i) {

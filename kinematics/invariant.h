@@ -18,9 +18,9 @@ namespace tavis::internal {
 
 // TAVIS_INVARIANT(index < size, "object index in range"): cheap enough for the hot loop (one
 // predictable branch).
-#define TAVIS_INVARIANT(condition, message)                                                     \
-  do {                                                                                          \
-    if (__builtin_expect(!(condition), 0)) {                                                    \
-      ::tavis::internal::InvariantFailed(#condition, message, __FILE__, __LINE__);              \
-    }                                                                                           \
+#define TAVIS_INVARIANT(condition, message)                                        \
+  do {                                                                             \
+    if (__builtin_expect(!(condition), 0)) {                                       \
+      ::tavis::internal::InvariantFailed(#condition, message, __FILE__, __LINE__); \
+    }                                                                              \
   } while (false)

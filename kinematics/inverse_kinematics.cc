@@ -15,8 +15,8 @@ Vec6 IkPoseError(const RobotModel& robot, Side side, const RigidTransform* X_BL,
   return error;
 }
 
-std::array<double, kArmDof> IkStep(const RobotModel& robot, Side side, const double* q,
-                                   const RigidTransform* X_BL, const PoseTarget& target) {
+std::array<double, kArmDof> IkStep(const RobotModel& robot, Side side, const double* q, const RigidTransform* X_BL,
+                                   const PoseTarget& target) {
   using Vector7 = Eigen::Matrix<double, kArmDof, 1>;
   const ArmSpec& arm = robot.arm(side);
   const ArmJacobian J_full = ComputeArmJacobian(robot, side, X_BL);

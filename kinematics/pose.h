@@ -50,8 +50,7 @@ inline Vec3 AxisAngleVector(const Quat& q_in) {
   const Quat q = q_in.w() < 0 ? Quat(-q_in.w(), -q_in.x(), -q_in.y(), -q_in.z()) : q_in;
   const double half_angle = std::atan2(q.vec().norm(), q.w());
   const double angle = 2.0 * half_angle;
-  const double sin_half_over_angle =
-      std::abs(angle) > 1e-6 ? std::sin(half_angle) / angle : 0.5 - angle * angle / 48.0;
+  const double sin_half_over_angle = std::abs(angle) > 1e-6 ? std::sin(half_angle) / angle : 0.5 - angle * angle / 48.0;
   return q.vec() / sin_half_over_angle;
 }
 

@@ -6,8 +6,7 @@ namespace tavis::kinematics {
 namespace {
 
 template <typename Named>
-int FindByName(const std::vector<Named>& items, const std::string& name, const char* what,
-               const std::string& robot) {
+int FindByName(const std::vector<Named>& items, const std::string& name, const char* what, const std::string& robot) {
   for (size_t i = 0; i < items.size(); ++i) {
     if (items[i].name == name) return static_cast<int>(i);
   }
@@ -16,9 +15,7 @@ int FindByName(const std::vector<Named>& items, const std::string& name, const c
 
 }  // namespace
 
-int RobotModel::LinkIndex(const std::string& link_name) const {
-  return FindByName(links, link_name, "link", name);
-}
+int RobotModel::LinkIndex(const std::string& link_name) const { return FindByName(links, link_name, "link", name); }
 
 int RobotModel::JointIndex(const std::string& joint_name) const {
   return FindByName(joints, joint_name, "joint", name);

@@ -23,13 +23,13 @@ struct Link {
   std::string name;
   int parent = -1;  // -1 (kBaseLink): the robot's base link
   RigidTransform origin = RigidTransform::Identity();
-  int joint = -1;  // index into the joint vector, -1 for a fixed frame
+  int joint = -1;     // index into the joint vector, -1 for a fixed frame
   double mass = 0.0;  // kg, actuated links only; at least kMinBodyMass
 };
 
 struct Joint {
   std::string name;
-  int link = -1;  // the child link this joint moves
+  int link = -1;              // the child link this joint moves
   Vec3 axis = Vec3::UnitZ();  // unit length
   double lower = 0.0;
   double upper = 0.0;
@@ -89,10 +89,10 @@ struct ArmSpec {
 struct StateEntry {
   enum class Kind { kJoint, kUnsimulated, kGripperGap };
   Kind kind = Kind::kJoint;
-  std::string name;    // the reference's joint name (kJoint: ours), for documentation and errors
-  int joint = -1;      // kJoint: index in RobotModel::joints
+  std::string name;         // the reference's joint name (kJoint: ours), for documentation and errors
+  int joint = -1;           // kJoint: index in RobotModel::joints
   Side side = Side::kLeft;  // kGripperGap
-  double value = 0.0;  // kUnsimulated: its constant position
+  double value = 0.0;       // kUnsimulated: its constant position
 };
 
 struct RobotModel {

@@ -21,14 +21,10 @@ struct Shape {
 // Half extents of the shape's bounding box in its own frame.
 inline Vec3 BoundingHalfSize(const Shape& shape) {
   switch (shape.kind) {
-    case ShapeKind::kCylinder:
-      return Vec3(shape.Radius(), shape.Radius(), 0.5 * shape.Length());
-    case ShapeKind::kCapsule:
-      return Vec3(shape.Radius(), shape.Radius(), 0.5 * shape.Length() + shape.Radius());
-    case ShapeKind::kSphere:
-      return Vec3::Constant(shape.Radius());
-    case ShapeKind::kBox:
-      break;
+    case ShapeKind::kCylinder: return Vec3(shape.Radius(), shape.Radius(), 0.5 * shape.Length());
+    case ShapeKind::kCapsule: return Vec3(shape.Radius(), shape.Radius(), 0.5 * shape.Length() + shape.Radius());
+    case ShapeKind::kSphere: return Vec3::Constant(shape.Radius());
+    case ShapeKind::kBox: break;
   }
   return 0.5 * shape.size;
 }

@@ -58,8 +58,8 @@ int TilesAcross(int pixels) { return (pixels + kTileSize - 1) / kTileSize; }
 void RequireSize(const char* array, std::size_t size, std::size_t expected, const char* shape, bool optional) {
   if (size == expected || (optional && size == 0)) return;
   std::ostringstream message;
-  message << "RenderInputs." << array << " has " << size << " elements, expected " << expected << " (" << shape
-          << ")" << (optional ? " or none" : "");
+  message << "RenderInputs." << array << " has " << size << " elements, expected " << expected << " (" << shape << ")"
+          << (optional ? " or none" : "");
   throw std::invalid_argument(message.str());
 }
 
@@ -148,15 +148,15 @@ struct BatchRenderer::Impl {
   internal::LightingModel lighting;
   internal::SrgbEncoder encoder;
   int packet_width;
-  std::vector<CameraRaster> rasters;        // [camera]
-  std::vector<int> tiles_x;                 // [camera]
-  std::vector<int64_t> tiles_per_camera;    // [camera]
+  std::vector<CameraRaster> rasters;      // [camera]
+  std::vector<int> tiles_x;               // [camera]
+  std::vector<int64_t> tiles_per_camera;  // [camera]
 
   // Per-tick state, sized once here so that Render does not allocate.
-  std::vector<CameraFrame> camera_frames;   // [env][camera]
-  std::vector<uint8_t> camera_active;       // [env][camera]: rendered, enabled and with a finite pose
-  std::vector<int> rendered_cameras;        // the first n_rendered entries are this tick's cameras
-  std::vector<int64_t> rendered_tile_start; // prefix sums of their tile counts
+  std::vector<CameraFrame> camera_frames;    // [env][camera]
+  std::vector<uint8_t> camera_active;        // [env][camera]: rendered, enabled and with a finite pose
+  std::vector<int> rendered_cameras;         // the first n_rendered entries are this tick's cameras
+  std::vector<int64_t> rendered_tile_start;  // prefix sums of their tile counts
   int n_rendered = 0;
 };
 
@@ -178,8 +178,9 @@ void BatchRenderer::Impl::CheckShapes(const RenderInputs& inputs, const ImageBat
     matches = images->width(c) == camera.width && images->height(c) == camera.height;
   }
   if (!matches) {
-    throw std::invalid_argument("BatchRenderer::Render: the ImageBatch does not match this renderer's envs, cameras "
-                                "and options; create it with MakeImageBatch()");
+    throw std::invalid_argument(
+        "BatchRenderer::Render: the ImageBatch does not match this renderer's envs, cameras "
+        "and options; create it with MakeImageBatch()");
   }
 }
 
@@ -240,37 +241,39 @@ RenderStats BatchRenderer::Impl::ForEachTile(const TileFunction& trace_tile) con
   std::atomic<int64_t> primary_rays{0};
   std::atomic<int64_t> shadow_rays{0};
   std::atomic<int64_t> primary_hits{0};
-  tbb::parallel_for(tbb::blocked_range<int64_t>(0, tiles_per_env * n_envs), [&](const tbb::blocked_range<int64_t>& items) {
-    const internal::FlushDenormalsScope flush_denormals;
-    TileCounts sum;
-    for (int64_t item = items.begin(); item != items.end(); ++item) {
-      const int env = static_cast<int>(item / tiles_per_env);
-      const int64_t env_tile = item % tiles_per_env;
-      int r = 0;
-      while (rendered_tile_start[static_cast<std::size_t>(r) + 1] <= env_tile) ++r;
-      const int camera = rendered_cameras[static_cast<std::size_t>(r)];
-      const int tile = static_cast<int>(env_tile - rendered_tile_start[static_cast<std::size_t>(r)]);
-      const CameraRaster& raster = rasters[static_cast<std::size_t>(camera)];
-      const int across = tiles_x[static_cast<std::size_t>(camera)];
-      TileRect rect;
-      rect.x0 = (tile % across) * kTileSize;
-      rect.y0 = (tile / across) * kTileSize;
-      rect.x1 = std::min(rect.x0 + kTileSize, raster.width);
-      rect.y1 = std::min(rect.y0 + kTileSize, raster.height);
-      const TileCounts counts = trace_tile(env, camera, rect);
-      sum.primary_rays += counts.primary_rays;
-      sum.shadow_rays += counts.shadow_rays;
-      sum.primary_hits += counts.primary_hits;
-    }
-    primary_rays += sum.primary_rays;
-    shadow_rays += sum.shadow_rays;
-    primary_hits += sum.primary_hits;
-  });
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, tiles_per_env * n_envs),
+                    [&](const tbb::blocked_range<int64_t>& items) {
+                      const internal::FlushDenormalsScope flush_denormals;
+                      TileCounts sum;
+                      for (int64_t item = items.begin(); item != items.end(); ++item) {
+                        const int env = static_cast<int>(item / tiles_per_env);
+                        const int64_t env_tile = item % tiles_per_env;
+                        int r = 0;
+                        while (rendered_tile_start[static_cast<std::size_t>(r) + 1] <= env_tile) ++r;
+                        const int camera = rendered_cameras[static_cast<std::size_t>(r)];
+                        const int tile = static_cast<int>(env_tile - rendered_tile_start[static_cast<std::size_t>(r)]);
+                        const CameraRaster& raster = rasters[static_cast<std::size_t>(camera)];
+                        const int across = tiles_x[static_cast<std::size_t>(camera)];
+                        TileRect rect;
+                        rect.x0 = (tile % across) * kTileSize;
+                        rect.y0 = (tile / across) * kTileSize;
+                        rect.x1 = std::min(rect.x0 + kTileSize, raster.width);
+                        rect.y1 = std::min(rect.y0 + kTileSize, raster.height);
+                        const TileCounts counts = trace_tile(env, camera, rect);
+                        sum.primary_rays += counts.primary_rays;
+                        sum.shadow_rays += counts.shadow_rays;
+                        sum.primary_hits += counts.primary_hits;
+                      }
+                      primary_rays += sum.primary_rays;
+                      shadow_rays += sum.shadow_rays;
+                      primary_hits += sum.primary_hits;
+                    });
   return RenderStats{primary_rays.load(), shadow_rays.load(), primary_hits.load()};
 }
 
 BatchRenderer::BatchRenderer(const SceneLayout& layout, int n_envs, const RenderOptions& options) {
-  if (n_envs <= 0) throw std::invalid_argument("BatchRenderer: n_envs = " + std::to_string(n_envs) + " must be positive");
+  if (n_envs <= 0)
+    throw std::invalid_argument("BatchRenderer: n_envs = " + std::to_string(n_envs) + " must be positive");
   ValidateSceneLayout(layout);
   impl_ = std::make_unique<Impl>(layout, n_envs, options);
 }
@@ -353,7 +356,8 @@ RenderStats BatchRenderer::CastPrimaryRaysOnly(const RenderInputs& inputs) {
   impl.CheckShapes(inputs, nullptr);
   impl.PrepareTick(inputs);
   return impl.ForEachTile([&](int env, int camera, const TileRect& rect) {
-    const std::size_t index = static_cast<std::size_t>(env) * impl.layout.cameras.size() + static_cast<std::size_t>(camera);
+    const std::size_t index =
+        static_cast<std::size_t>(env) * impl.layout.cameras.size() + static_cast<std::size_t>(camera);
     if (impl.camera_active[index] == 0) return TileCounts{};
     return internal::CastPrimaryTile(impl.packet_width, impl.ViewOf(env, inputs),
                                      impl.rasters[static_cast<std::size_t>(camera)], impl.camera_frames[index], rect);

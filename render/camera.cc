@@ -43,7 +43,8 @@ void ValidateCamera(const CameraSpec& camera) {
     fail("focal_length_mm", camera.focal_length_mm, "must be positive and finite");
   if (!std::isfinite(camera.horizontal_aperture_mm) || camera.horizontal_aperture_mm <= 0.0)
     fail("horizontal_aperture_mm", camera.horizontal_aperture_mm, "must be positive and finite");
-  if (!std::isfinite(camera.near_m) || camera.near_m <= 0.0) fail("near_m", camera.near_m, "must be positive and finite");
+  if (!std::isfinite(camera.near_m) || camera.near_m <= 0.0)
+    fail("near_m", camera.near_m, "must be positive and finite");
   if (!std::isfinite(camera.far_m) || camera.far_m <= camera.near_m)
     fail("far_m", camera.far_m, "must be finite and beyond near_m");
 }
@@ -58,9 +59,9 @@ RigidTransform CameraLookAt(const Vec3& eye, const Vec3& target, const Vec3& up)
     throw std::invalid_argument(message.str());
   }
   Mat3 R;
-  R.col(0) = view.normalized();               // forward
-  R.col(1) = side.normalized();               // image-left
-  R.col(2) = R.col(0).cross(R.col(1));        // image-up
+  R.col(0) = view.normalized();         // forward
+  R.col(1) = side.normalized();         // image-left
+  R.col(2) = R.col(0).cross(R.col(1));  // image-up
   return MakeTransform(eye, R);
 }
 
@@ -88,7 +89,8 @@ CameraSpec WristCameraSpec(const std::string& name, int width, int height) {
 CameraSpec FixedCameraSpec(int width, int height) { return MakeSpec("fixed", width, height, 6.05, 0.1, 5.0); }
 
 RigidTransform FixedCameraPose() {
-  return MakeTransform(Vec3(0.2, 0.0, 1.43), QuatFromWxyz(0.9238795, 0.0, 0.3826834, 0.0).normalized().toRotationMatrix());
+  return MakeTransform(Vec3(0.2, 0.0, 1.43),
+                       QuatFromWxyz(0.9238795, 0.0, 0.3826834, 0.0).normalized().toRotationMatrix());
 }
 
 }  // namespace tavis::render

@@ -56,9 +56,9 @@ void ValidateCamera(const CameraSpec& camera);
 RigidTransform CameraLookAt(const Vec3& eye, const Vec3& target, const Vec3& up = Vec3::UnitZ());
 
 // The reference benchmark's cameras at any resolution (640x480 in the reference).
-CameraSpec HeadCameraSpec(int width = 640, int height = 480);   // 15 mm, clip 0.15-10 m
+CameraSpec HeadCameraSpec(int width = 640, int height = 480);  // 15 mm, clip 0.15-10 m
 CameraSpec WristCameraSpec(const std::string& name, int width = 640,
-                           int height = 480);                  // 21 mm, clip 0.10-1.0 m
+                           int height = 480);                   // 21 mm, clip 0.10-1.0 m
 CameraSpec FixedCameraSpec(int width = 640, int height = 480);  // 6.05 mm, clip 0.1-5.0 m
 
 // World pose of the fixed workspace camera in the env frame: (0.2, 0, 1.43), pitched 45 deg down.

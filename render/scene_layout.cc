@@ -52,7 +52,8 @@ void ValidateSceneLayout(const SceneLayout& layout) {
     if (!IsUnitColour(instance.appearance.rgb))
       throw std::invalid_argument(what + ": rgb " + Describe(instance.appearance.rgb) + " must be in [0, 1]");
     if (!IsUnitColour(instance.appearance.label_rgb))
-      throw std::invalid_argument(what + ": label_rgb " + Describe(instance.appearance.label_rgb) + " must be in [0, 1]");
+      throw std::invalid_argument(what + ": label_rgb " + Describe(instance.appearance.label_rgb) +
+                                  " must be in [0, 1]");
     if (instance.object_id < kBackgroundObjectId)
       throw std::invalid_argument(what + ": object_id = " + std::to_string(instance.object_id) + " must be >= -1");
   }

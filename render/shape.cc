@@ -45,8 +45,8 @@ void ValidateShape(const ShapeGeometry& shape, const std::string& what) {
   const Vec3& s = shape.size;
   auto fail = [&](const char* reason) {
     std::ostringstream message;
-    message << what << ": " << ShapeKindName(shape.kind) << " size (" << s.x() << ", " << s.y()
-            << ", " << s.z() << ") " << reason;
+    message << what << ": " << ShapeKindName(shape.kind) << " size (" << s.x() << ", " << s.y() << ", " << s.z() << ") "
+            << reason;
     throw std::invalid_argument(message.str());
   };
   if (!s.allFinite()) fail("is not finite");

@@ -22,9 +22,7 @@ struct ShapeGeometry {
   Vec3 size = Vec3::Zero();
 
   // Identical shapes share one acceleration structure; equality is exact on purpose.
-  bool operator==(const ShapeGeometry& other) const {
-    return kind == other.kind && size == other.size;
-  }
+  bool operator==(const ShapeGeometry& other) const { return kind == other.kind && size == other.size; }
 };
 
 ShapeGeometry MakeBox(const Vec3& extents);

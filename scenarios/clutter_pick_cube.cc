@@ -6,8 +6,8 @@
 
 #include "engine/object_catalog.h"
 #include "scenarios/expert/arm_planner.h"
-#include "scenarios/object_placement.h"
 #include "scenarios/expert/pick_expert.h"
+#include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
@@ -16,7 +16,8 @@ namespace {
 constexpr int kRedCube = 5;  // index in the world's object list, after the five YCB objects
 
 void Layout(engine::WorldModel& model) {
-  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  for (const std::string& name : engine::TavisHeadObjectNames())
+    model.objects.push_back(engine::MakeCatalogObject(name));
   model.objects.push_back(engine::MakeCatalogObject("red_cube"));
   model.static_parts.push_back(engine::MakeTable());
 }
@@ -40,7 +41,8 @@ namespace {
 
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
-  const std::vector<Placement> placements = SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_objects(), rng);
+  const std::vector<Placement> placements =
+      SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_objects(), rng);
   // sample_trial: random.sample(TAVIS_HEAD_OBJECT_NAMES, 4); the one left out is hidden. The
   // hidden object's sampled pose still constrained the others, as in the reference.
   const int hidden = rng.Sample(static_cast<int>(engine::TavisHeadObjectNames().size()), 4)[4];
@@ -63,9 +65,10 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 // hand on the cube's side looks down at it from its own side, the wrist camera along the hand's
 // approach, tilted as the table grasps are; the other hand keeps still. Of the lines of sight
 // turned inward from straight ahead, the first the arm can reach is taken (none: both keep still).
-std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, const engine::BatchState& state, int env) {
-  constexpr double kLookDistance = 0.22;  // m, from the cube to the pads' centre
-  constexpr double kLookTilt = 0.8;       // rad, of the line of sight from straight down
+std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, const engine::BatchState& state,
+                                             int env) {
+  constexpr double kLookDistance = 0.22;                                 // m, from the cube to the pads' centre
+  constexpr double kLookTilt = 0.8;                                      // rad, of the line of sight from straight down
   constexpr std::array<double, 4> kInwardTurns = {1.05, 0.5, 1.5, 0.0};  // rad
   const kinematics::RobotModel& robot = model.robot;
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
@@ -101,8 +104,19 @@ std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int n
 }  // namespace
 
 ScenarioDef ClutterPickCube() {
-  ScenarioDef def{"clutter-pick-cube", "ClutterPickCubeTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset,
-                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  ScenarioDef def{"clutter-pick-cube",
+                  "ClutterPickCubeTask",
+                  Suite::kTavisHead,
+                  LiftAbove(kHeadLiftSuccessZ),
+                  &Layout,
+                  &Reset,
+                  /*update=*/nullptr,
+                  &Prompt,
+                  &MakeExpert,
+                  /*cue_objects=*/{},
+                  /*black_cameras=*/{},
+                  /*stages=*/{},
+                  /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
   return def;
 }

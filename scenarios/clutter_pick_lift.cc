@@ -4,13 +4,12 @@
 
 #include "engine/object_catalog.h"
 #include "scenarios/clutter_pick_cube.h"
-#include "scenarios/object_placement.h"
 #include "scenarios/expert/pick_expert.h"
+#include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
-
 
 // Reference 4.4, in TAVIS_HEAD_OBJECT_NAMES order.
 constexpr TargetPrompts kPrompts = {{
@@ -27,7 +26,8 @@ constexpr TargetPrompts kPrompts = {{
 }};
 
 void Layout(engine::WorldModel& model) {
-  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  for (const std::string& name : engine::TavisHeadObjectNames())
+    model.objects.push_back(engine::MakeCatalogObject(name));
   model.static_parts.push_back(engine::MakeTable());
 }
 
@@ -56,8 +56,19 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ClutterPickLift() {
-  ScenarioDef def{"clutter-pick-lift", "ClutterPickLiftTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset,
-                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  ScenarioDef def{"clutter-pick-lift",
+                  "ClutterPickLiftTask",
+                  Suite::kTavisHead,
+                  LiftAbove(kHeadLiftSuccessZ),
+                  &Layout,
+                  &Reset,
+                  /*update=*/nullptr,
+                  &Prompt,
+                  &MakeExpert,
+                  /*cue_objects=*/{},
+                  /*black_cameras=*/{},
+                  /*stages=*/{},
+                  /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
   return def;
 }

@@ -1,8 +1,8 @@
 #include "scenarios/conditional_pick.h"
 
 #include "engine/object_catalog.h"
-#include "scenarios/object_placement.h"
 #include "scenarios/expert/pick_expert.h"
+#include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
@@ -13,7 +13,8 @@ constexpr const char* kCardName = "cue_card";
 constexpr double kCardZ = 1.002;
 
 void Layout(engine::WorldModel& model) {
-  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  for (const std::string& name : engine::TavisHeadObjectNames())
+    model.objects.push_back(engine::MakeCatalogObject(name));
   engine::ObjectSpec card;
   card.name = kCardName;
   card.shape = {ShapeKind::kBox, Vec3(0.08, 0.05, 0.003)};
@@ -45,8 +46,8 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
   const int right = order[1];
   const bool card_is_red = rng.UniformInt(2) == 0;
   for (int object = 0; object < num_ycb; ++object) state.object_enabled_at(env, object) = 0;
-  for (const auto& [object, x, y] : {std::tuple{left, zones.left_x, zones.left_y},
-                                     std::tuple{right, zones.right_x, zones.right_y}}) {
+  for (const auto& [object, x, y] :
+       {std::tuple{left, zones.left_x, zones.left_y}, std::tuple{right, zones.right_x, zones.right_y}}) {
     const double px = rng.Uniform(x.low, x.high);
     const double py = rng.Uniform(y.low, y.high);
     const double yaw = rng.Uniform(-M_PI, M_PI);
@@ -84,8 +85,19 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef ConditionalPick() {
-  ScenarioDef def{"conditional-pick", "ConditionalPickTask", Suite::kTavisHead, LiftAbove(kHeadLiftSuccessZ), &Layout, &Reset,
-                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{kCardName}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  ScenarioDef def{"conditional-pick",
+                  "ConditionalPickTask",
+                  Suite::kTavisHead,
+                  LiftAbove(kHeadLiftSuccessZ),
+                  &Layout,
+                  &Reset,
+                  /*update=*/nullptr,
+                  &Prompt,
+                  &MakeExpert,
+                  /*cue_objects=*/{kCardName},
+                  /*black_cameras=*/{},
+                  /*stages=*/{},
+                  /*target_facts=*/nullptr};
   def.stages = PickStages(def.success, kCardName);
   def.target_facts = &Facts;
   return def;

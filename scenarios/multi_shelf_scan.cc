@@ -6,8 +6,8 @@
 
 #include "engine/object_catalog.h"
 #include "kinematics/shape.h"
-#include "scenarios/object_placement.h"
 #include "scenarios/expert/pick_expert.h"
+#include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
@@ -51,11 +51,11 @@ engine::StaticPart Panel(const std::string& name, const Vec3& size, const Vec3& 
 }
 
 void Layout(engine::WorldModel& model) {
-  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  for (const std::string& name : engine::TavisHeadObjectNames())
+    model.objects.push_back(engine::MakeCatalogObject(name));
   const Vec3 board(kDepth, kWidth, kBoard);
   for (std::size_t shelf = 0; shelf < kShelfZ.size(); ++shelf) {
-    model.static_parts.push_back(
-        Panel("shelf_board_" + std::to_string(shelf), board, {kCentreX, 0.0, kShelfZ[shelf]}));
+    model.static_parts.push_back(Panel("shelf_board_" + std::to_string(shelf), board, {kCentreX, 0.0, kShelfZ[shelf]}));
   }
   model.static_parts.push_back(Panel("shelf_board_top", board, {kCentreX, 0.0, kTopZ}));
   const Vec3 side(kDepth, kBoard, kUnitSpan);
@@ -126,8 +126,19 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef MultiShelfScan() {
-  ScenarioDef def{"multi-shelf-scan", "MultiShelfScanTask", Suite::kTavisHead, PullOutPast(kSuccessMaxX), &Layout, &Reset,
-                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  ScenarioDef def{"multi-shelf-scan",
+                  "MultiShelfScanTask",
+                  Suite::kTavisHead,
+                  PullOutPast(kSuccessMaxX),
+                  &Layout,
+                  &Reset,
+                  /*update=*/nullptr,
+                  &Prompt,
+                  &MakeExpert,
+                  /*cue_objects=*/{},
+                  /*black_cameras=*/{},
+                  /*stages=*/{},
+                  /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
   def.target_facts = &Facts;
   return def;

@@ -4,8 +4,7 @@
 
 namespace tavis::scenarios {
 
-std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, int count,
-                                                 engine::RandomStream& rng) {
+std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, int count, engine::RandomStream& rng) {
   constexpr int kMaxTries = 5000;
   std::vector<Placement> accepted;
   accepted.reserve(count);

@@ -28,8 +28,7 @@ struct Placement {
 // For each of `count` objects in order, up to 5000 tries: draw x, y, z, roll, pitch, yaw (all
 // six, even for constant ranges); accept the first object, the last try, or a pose whose 3-D
 // distance to every accepted one is strictly greater than min_separation.
-std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, int count,
-                                                 engine::RandomStream& rng);
+std::vector<Placement> SampleSeparatedPlacements(const PlacementRanges& ranges, int count, engine::RandomStream& rng);
 
 // Writes an object's pose, standing on its base turned `yaw` about the vertical (the
 // reference's place_object; our primitives are modelled z-up), and enables it.

@@ -1,13 +1,12 @@
 #include "scenarios/occluded_reach.h"
 
 #include "engine/object_catalog.h"
-#include "scenarios/object_placement.h"
 #include "scenarios/expert/pick_expert.h"
+#include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
 namespace {
-
 
 engine::StaticPart ScreenPart(const std::string& name, const Vec3& size, const Vec3& centre,
                               const std::string& appearance) {
@@ -21,7 +20,8 @@ engine::StaticPart ScreenPart(const std::string& name, const Vec3& size, const V
 }
 
 void Layout(engine::WorldModel& model) {
-  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  for (const std::string& name : engine::TavisHeadObjectNames())
+    model.objects.push_back(engine::MakeCatalogObject(name));
   model.static_parts.push_back(engine::MakeTable());
   model.static_parts.push_back(ScreenPart("screen_base", {0.15, 0.10, 0.02}, {0.27, 0.0, 1.01}, "screen_frame"));
   model.static_parts.push_back(ScreenPart("screen_post", {0.03, 0.03, 0.10}, {0.27, 0.0, 1.07}, "screen_frame"));
@@ -43,7 +43,9 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   state.task[env].target = target;
 }
 
-const char* Prompt(const engine::BatchState&, int) { return "Reach around the screen and pick up the object behind it."; }
+const char* Prompt(const engine::BatchState&, int) {
+  return "Reach around the screen and pick up the object behind it.";
+}
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
@@ -59,8 +61,19 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef OccludedReach() {
-  ScenarioDef def{"occluded-reach", "OccludedReachTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset,
-                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  ScenarioDef def{"occluded-reach",
+                  "OccludedReachTask",
+                  Suite::kTavisHands,
+                  LiftAbove(kHandsLiftSuccessZ),
+                  &Layout,
+                  &Reset,
+                  /*update=*/nullptr,
+                  &Prompt,
+                  &MakeExpert,
+                  /*cue_objects=*/{},
+                  /*black_cameras=*/{},
+                  /*stages=*/{},
+                  /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
   return def;
 }

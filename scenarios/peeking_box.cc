@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "engine/object_catalog.h"
-#include "scenarios/object_placement.h"
 #include "scenarios/expert/pick_expert.h"
+#include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
@@ -36,7 +36,8 @@ constexpr int kWallNegY = kNumYcb + 4;
 constexpr double kHalfWidth = 0.074;  // box-local y of the side walls' centres
 
 void Layout(engine::WorldModel& model) {
-  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  for (const std::string& name : engine::TavisHeadObjectNames())
+    model.objects.push_back(engine::MakeCatalogObject(name));
   for (const Wall& wall : kWalls) {
     engine::ObjectSpec spec;
     spec.name = wall.name;
@@ -152,8 +153,13 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 }  // namespace
 
 ScenarioDef PeekingBox() {
-  ScenarioDef def{"peeking-box", "PeekingBoxTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset,
-                  /*update=*/nullptr, &Prompt, &MakeExpert, /*cue_objects=*/{}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  ScenarioDef def{
+      "peeking-box",           "PeekingBoxTask", Suite::kTavisHands, LiftAbove(kHandsLiftSuccessZ), &Layout, &Reset,
+      /*update=*/nullptr,      &Prompt,          &MakeExpert,
+      /*cue_objects=*/{},
+      /*black_cameras=*/{},
+      /*stages=*/{},
+      /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
   def.target_facts = &Facts;
   return def;

@@ -14,8 +14,8 @@ namespace tavis::scenarios {
 
 const std::vector<ScenarioDef>& AllScenarios() {
   static const std::vector<ScenarioDef> scenarios = {
-      ClutterPickLift(), ClutterPickCube(), ConditionalPick(), WaitThenAct(), MultiShelfScan(),
-      PeekingBox(),      OccludedReach(),   BlockedClutterPickCube(),
+      ClutterPickLift(), ClutterPickCube(), ConditionalPick(), WaitThenAct(),
+      MultiShelfScan(),  PeekingBox(),      OccludedReach(),   BlockedClutterPickCube(),
   };
   return scenarios;
 }

@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-
 namespace tavis::scenarios {
 
 struct StageDef {
@@ -23,7 +22,8 @@ struct StageDef {
     // plus kGripMargin (something between them), its tool centre point within distance_m of the
     // target's box.
     kTargetGrasped,
-    // While grasped (as kTargetGrasped within 2 cm), the target moved distance_m in the success rule's direction (up for a lift,
+    // While grasped (as kTargetGrasped within 2 cm), the target moved distance_m in the success rule's direction (up
+    // for a lift,
     // toward the robot for a pull-out) from the furthest-back place it has been in the episode,
     // or is past the success rule's threshold.
     kTargetRaised,

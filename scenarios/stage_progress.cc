@@ -10,7 +10,10 @@
 namespace tavis::scenarios {
 
 StageProgress::StageProgress(const ScenarioDef& scenario, const engine::WorldModel& model)
-    : scenario_(scenario), model_(model), first_ticks_(scenario.stages.size(), -1), best_gaze_error_(scenario.stages.size(), 0.0) {
+    : scenario_(scenario),
+      model_(model),
+      first_ticks_(scenario.stages.size(), -1),
+      best_gaze_error_(scenario.stages.size(), 0.0) {
   CheckFitsRobotBuffers(model.robot);
   for (const StageDef& stage : scenario.stages) {
     if (stage.kind != StageDef::Kind::kCueFixated) {
@@ -48,14 +51,17 @@ void StageProgress::Observe(const engine::BatchState& state, int env) {
       JointPositions q{};
       std::copy(state.q_row(env), state.q_row(env) + model_.robot.num_joints(), q.begin());
       const std::array<double, 3> neck = FixationNeckAngles(model_.robot, q.data(), cue);
-      for (int k = 0; k < 3; ++k) q[static_cast<std::size_t>(model_.robot.neck_joints[static_cast<std::size_t>(k)])] = neck[static_cast<std::size_t>(k)];
+      for (int k = 0; k < 3; ++k)
+        q[static_cast<std::size_t>(model_.robot.neck_joints[static_cast<std::size_t>(k)])] =
+            neck[static_cast<std::size_t>(k)];
       best_gaze_error_[i] = GazeError(model_.robot, q.data(), cue);
     }
   }
   furthest_back_ = pull_out ? std::max(furthest_back_, back) : std::min(furthest_back_, back);
   for (std::size_t i = 0; i < scenario_.stages.size(); ++i) {
     if (first_ticks_[i] >= 0) continue;
-    if (Reached(scenario_.stages[i], cue_objects_[i], best_gaze_error_[i], state, env)) first_ticks_[i] = state.control_step[env];
+    if (Reached(scenario_.stages[i], cue_objects_[i], best_gaze_error_[i], state, env))
+      first_ticks_[i] = state.control_step[env];
   }
 }
 
@@ -88,17 +94,17 @@ bool StageProgress::Grasping(double reach_m, const engine::BatchState& state, in
   return false;
 }
 
-bool StageProgress::Reached(const StageDef& stage, int cue_object, double best_gaze_error, const engine::BatchState& state,
-                            int env) const {
+bool StageProgress::Reached(const StageDef& stage, int cue_object, double best_gaze_error,
+                            const engine::BatchState& state, int env) const {
   switch (stage.kind) {
     case StageDef::Kind::kCueFixated:
-      return GazeError(model_.robot, state.q_row(env), state.ObjectPosition(env, cue_object)) <= best_gaze_error + stage.max_angle_rad;
+      return GazeError(model_.robot, state.q_row(env), state.ObjectPosition(env, cue_object)) <=
+             best_gaze_error + stage.max_angle_rad;
     case StageDef::Kind::kTargetApproached: {
       const std::array<double, 2> distances = HandDistances(state, env);
       return std::min(distances[0], distances[1]) <= stage.distance_m;
     }
-    case StageDef::Kind::kTargetGrasped:
-      return Grasping(stage.distance_m, state, env);
+    case StageDef::Kind::kTargetGrasped: return Grasping(stage.distance_m, state, env);
     case StageDef::Kind::kTargetRaised: {
       if (!Grasping(kGraspReach, state, env)) return false;
       const Vec3 target = state.ObjectPosition(env, state.target(env));

@@ -28,7 +28,8 @@ class StageProgress {
   const std::vector<int>& first_ticks() const { return first_ticks_; }
 
  private:
-  bool Reached(const StageDef& stage, int cue_object, double best_gaze_error, const engine::BatchState& state, int env) const;
+  bool Reached(const StageDef& stage, int cue_object, double best_gaze_error, const engine::BatchState& state,
+               int env) const;
   // Distance from a hand's tool centre point to the target's bounding box, per hand.
   std::array<double, 2> HandDistances(const engine::BatchState& state, int env) const;
   // A hand closing on something with its tool centre point within reach_m of the target's box.
@@ -41,7 +42,7 @@ class StageProgress {
   // Per stage: for a cue, the smallest gaze error the neck's limits allow (rad), found at the
   // episode's first tick; 0 for other kinds.
   std::vector<double> best_gaze_error_;
-  double furthest_back_ = 0.0;   // the target's lowest z (lift) or largest x (pull-out) so far
+  double furthest_back_ = 0.0;  // the target's lowest z (lift) or largest x (pull-out) so far
   bool seen_target_ = false;
 };
 

@@ -21,7 +21,7 @@ bool ScenarioDef::Succeeded(const engine::BatchState& state, int env) const {
   const int target = state.target(env);
   const Vec3 position = state.ObjectPosition(env, target);
   const bool placed = success.kind == SuccessRule::Kind::kLiftAbove ? position.z() > success.threshold_m
-                                                                     : position.x() < success.threshold_m;
+                                                                    : position.x() < success.threshold_m;
   return placed && state.ObjectLinearVelocity(env, target).norm() < success.max_speed_mps;
 }
 

@@ -8,9 +8,9 @@
 
 namespace tavis::scenarios {
 
-inline constexpr double kObjectDropZ = 1.1;            // m: objects start here and settle on the table top (1.0 m)
-inline constexpr double kHeadLiftSuccessZ = 1.2;       // m: TAVIS-Head lifts succeed above this
-inline constexpr double kHandsLiftSuccessZ = 1.25;     // m: TAVIS-Hands lifts (peeking-box, occluded-reach)
+inline constexpr double kObjectDropZ = 1.1;             // m: objects start here and settle on the table top (1.0 m)
+inline constexpr double kHeadLiftSuccessZ = 1.2;        // m: TAVIS-Head lifts succeed above this
+inline constexpr double kHandsLiftSuccessZ = 1.25;      // m: TAVIS-Hands lifts (peeking-box, occluded-reach)
 inline constexpr double kExpertLiftPastSuccess = 0.07;  // m: the expert lifts this far past the success height
 
 // Tasks that name their target in the prompt (clutter-pick-lift, multi-shelf-scan): three

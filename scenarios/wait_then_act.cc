@@ -1,8 +1,8 @@
 #include "scenarios/wait_then_act.h"
 
 #include "engine/object_catalog.h"
-#include "scenarios/object_placement.h"
 #include "scenarios/expert/pick_expert.h"
+#include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
 
 namespace tavis::scenarios {
@@ -20,7 +20,8 @@ void SetLightColour(engine::BatchState& state, int env, bool green) {
 }
 
 void Layout(engine::WorldModel& model) {
-  for (const std::string& name : engine::TavisHeadObjectNames()) model.objects.push_back(engine::MakeCatalogObject(name));
+  for (const std::string& name : engine::TavisHeadObjectNames())
+    model.objects.push_back(engine::MakeCatalogObject(name));
   engine::ObjectSpec light;
   light.name = kLightName;
   light.shape = {ShapeKind::kSphere, Vec3::Constant(0.03)};
@@ -70,7 +71,9 @@ void Update(const engine::WorldModel& model, engine::BatchState& state, int env)
   }
 }
 
-const char* Prompt(const engine::BatchState&, int) { return "Watch the red light. When it turns green, pick up the object."; }
+const char* Prompt(const engine::BatchState&, int) {
+  return "Watch the red light. When it turns green, pick up the object.";
+}
 
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
   PickExpertSettings settings;
@@ -85,8 +88,19 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 ScenarioDef WaitThenAct() {
   SuccessRule success = LiftAbove(kHeadLiftSuccessZ);
   success.after_go = true;  // lifted before the light turns green does not count
-  ScenarioDef def{"wait-then-act", "WaitThenActTask", Suite::kTavisHead, success, &Layout, &Reset, &Update, &Prompt,
-                  &MakeExpert, /*cue_objects=*/{kLightName}, /*black_cameras=*/{}, /*stages=*/{}, /*target_facts=*/nullptr};
+  ScenarioDef def{"wait-then-act",
+                  "WaitThenActTask",
+                  Suite::kTavisHead,
+                  success,
+                  &Layout,
+                  &Reset,
+                  &Update,
+                  &Prompt,
+                  &MakeExpert,
+                  /*cue_objects=*/{kLightName},
+                  /*black_cameras=*/{},
+                  /*stages=*/{},
+                  /*target_facts=*/nullptr};
   def.stages = PickStages(def.success, kLightName);
   return def;
 }

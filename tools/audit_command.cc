@@ -10,9 +10,9 @@
 #include <tuple>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <nlohmann/json.hpp>
 
 #include "batch/visibility_audit.h"
 #include "configs/robot_config.h"
@@ -97,8 +97,11 @@ nlohmann::json CellJson(const batch::AuditResult& result) {
     }
     episodes.push_back({{"episode", episode.episode}, {"objects", objects}});
   }
-  return {{"task", result.config.task}, {"robot", result.config.robot}, {"wall_s", result.wall_s},
-          {"summary", summary},         {"episodes", episodes}};
+  return {{"task", result.config.task},
+          {"robot", result.config.robot},
+          {"wall_s", result.wall_s},
+          {"summary", summary},
+          {"episodes", episodes}};
 }
 
 // DIR/audit.json; nothing else in DIR is touched.
@@ -126,7 +129,8 @@ void RunAudit(AuditOptions options, bool task_or_robot_given) {
   // Every input is checked before anything is simulated.
   config.split = scenarios::ParseSplit(options.split);
   std::tie(config.image_width, config.image_height) = ParseImageSize(options.image_size);
-  if (options.all && task_or_robot_given) throw std::invalid_argument("--all audits every task on both robots; drop --task and --robot");
+  if (options.all && task_or_robot_given)
+    throw std::invalid_argument("--all audits every task on both robots; drop --task and --robot");
   scenarios::FindScenario(config.task);
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
@@ -186,9 +190,7 @@ void RegisterAuditCommand(CLI::App& app) {
   audit->add_option("--out", options->out, "Directory for audit.json (created if missing; no other file is written)");
   AddConfigDirOption(*audit, options->audit.config_dir);
   audit->add_flag("--quiet", options->quiet, "No progress lines on stderr");
-  audit->callback([options, audit] {
-    RunAudit(*options, audit->count("--task") + audit->count("--robot") > 0);
-  });
+  audit->callback([options, audit] { RunAudit(*options, audit->count("--task") + audit->count("--robot") > 0); });
 }
 
 }  // namespace tavis::tools

@@ -8,9 +8,9 @@
 #include <tuple>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <nlohmann/json.hpp>
 
 #include "batch/atomic_file.h"
 #include "batch/dataset/demo_generation.h"
@@ -52,17 +52,20 @@ batch::OutputLock PrepareOutput(const std::string& out, bool overwrite, bool res
   if (overwrite && resume) throw std::invalid_argument("give --overwrite or --resume, not both");
   if (resume) {
     if (!fs::exists(fs::path(out) / kIncompleteMarker)) {
-      throw std::invalid_argument("--resume: " + out + " holds no interrupted recording (no " + kIncompleteMarker + " marker)");
+      throw std::invalid_argument("--resume: " + out + " holds no interrupted recording (no " + kIncompleteMarker +
+                                  " marker)");
     }
     return batch::OutputLock(out, "demos");
   }
   if (!batch::HoldsNoResults(out)) {
     if (!overwrite) {
-      throw std::invalid_argument("--out " + out + " is not empty; give --overwrite to replace the dataset tavis wrote there, or "
+      throw std::invalid_argument("--out " + out +
+                                  " is not empty; give --overwrite to replace the dataset tavis wrote there, or "
                                   "--resume to finish an interrupted recording");
     }
-    batch::RequireEmptyOrOwn(out, batch::OutputKind::kDataset,
-                             "--overwrite replaces only a dataset tavis wrote: move those files away or give another --out");
+    batch::RequireEmptyOrOwn(
+        out, batch::OutputKind::kDataset,
+        "--overwrite replaces only a dataset tavis wrote: move those files away or give another --out");
   }
   batch::OutputLock lock = batch::CreateAndLockOutput(out, "demos");
   if (!batch::HoldsNoResults(out)) *replacement = std::make_unique<batch::OutputReplacement>(out, "demos");
@@ -111,7 +114,8 @@ nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const Demos
 
 void RunDemos(DemosOptions options) {
   dataset::DemoConfig& config = options.config;
-  if (!options.task.empty() && !options.suite.empty()) throw std::invalid_argument("give either --task or --suite, not both");
+  if (!options.task.empty() && !options.suite.empty())
+    throw std::invalid_argument("give either --task or --suite, not both");
   if (!options.suite.empty()) {
     for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(options.suite))) {
       config.tasks.push_back(scenario->name);
@@ -127,7 +131,8 @@ void RunDemos(DemosOptions options) {
   config.video.codec = dataset::ParseVideoCodec(options.codec);
   config.version = dataset::ParseDatasetVersion(options.format);
   if (config.out.empty()) {
-    config.out = "datasets/tavis-" + (options.suite.empty() ? config.tasks.front() : options.suite) + "-" + config.robot;
+    config.out =
+        "datasets/tavis-" + (options.suite.empty() ? config.tasks.front() : options.suite) + "-" + config.robot;
   }
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
@@ -141,15 +146,18 @@ void RunDemos(DemosOptions options) {
   // Until the dataset is finished the folder says so: its files are still FILE.partial and it has
   // no meta/info.json, so no loader takes it for a dataset.
   const std::filesystem::path marker = std::filesystem::path(config.out) / kIncompleteMarker;
-  batch::WriteFileAtomically(marker, "tavis demos is writing this dataset, or was interrupted: it is complete once "
-                                     "meta/info.json exists and this file is gone.\n");
+  batch::WriteFileAtomically(marker,
+                             "tavis demos is writing this dataset, or was interrupted: it is complete once "
+                             "meta/info.json exists and this file is gone.\n");
 
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
-  const dataset::DemoProgress progress = [&options, &reporter](const std::string& task, int64_t written, int64_t wanted) {
+  const dataset::DemoProgress progress = [&options, &reporter](const std::string& task, int64_t written,
+                                                               int64_t wanted) {
     if (!options.quiet) reporter.Update(task + " (written)", written, wanted);
   };
   const dataset::DemoReport report = dataset::GenerateDemos(config, progress);
-  batch::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json", ReportJson(report, options).dump(2) + "\n");
+  batch::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json",
+                             ReportJson(report, options).dump(2) + "\n");
   std::filesystem::remove(marker);
   if (replacement) {
     replacement->SwapIn();
@@ -158,33 +166,36 @@ void RunDemos(DemosOptions options) {
   for (const dataset::DemoTaskReport& task : report.tasks) {
     int64_t failed = 0;
     for (const auto& [end, count] : task.failures) failed += count;
-    std::printf("%s %s %s: %lld episodes written, %lld failed of %lld attempts\n", task.task.c_str(), config.robot.c_str(),
-                options.split.c_str(), static_cast<long long>(task.written), static_cast<long long>(failed),
-                static_cast<long long>(task.attempts));
+    std::printf("%s %s %s: %lld episodes written, %lld failed of %lld attempts\n", task.task.c_str(),
+                config.robot.c_str(), options.split.c_str(), static_cast<long long>(task.written),
+                static_cast<long long>(failed), static_cast<long long>(task.attempts));
   }
-  std::printf("%s dataset: %lld episodes, %lld frames at %d fps, %.1f MB (%.2f MB per episode), %.1f s "
-              "(simulate %.1f, render %.1f, encode %.1f, write %.1f) -> %s\n",
-              options.format.c_str(), static_cast<long long>(report.episodes), static_cast<long long>(report.frames), config.fps,
-              static_cast<double>(report.bytes) / 1e6, static_cast<double>(report.bytes) / 1e6 / static_cast<double>(report.episodes),
-              report.wall_s, report.simulate_s, report.render_s, report.encode_s, report.write_s + report.capture_s,
-              config.out.c_str());
+  std::printf(
+      "%s dataset: %lld episodes, %lld frames at %d fps, %.1f MB (%.2f MB per episode), %.1f s "
+      "(simulate %.1f, render %.1f, encode %.1f, write %.1f) -> %s\n",
+      options.format.c_str(), static_cast<long long>(report.episodes), static_cast<long long>(report.frames),
+      config.fps, static_cast<double>(report.bytes) / 1e6,
+      static_cast<double>(report.bytes) / 1e6 / static_cast<double>(report.episodes), report.wall_s, report.simulate_s,
+      report.render_s, report.encode_s, report.write_s + report.capture_s, config.out.c_str());
 }
 
 }  // namespace
 
 void RegisterDemosCommand(CLI::App& app) {
   auto options = std::make_shared<DemosOptions>();
-  CLI::App* demos = app.add_subcommand(
-      "demos", "Record scripted-expert demonstrations as a LeRobot dataset (v3.0, or v2.1 for openpi).\n"
-               "Successful episodes only, in episode order; failures are counted in DIR/tavis_demos.json.\n"
-               "Load it with LeRobot: LeRobotDataset(\"tavis/NAME\", root=DIR).");
+  CLI::App* demos =
+      app.add_subcommand("demos",
+                         "Record scripted-expert demonstrations as a LeRobot dataset (v3.0, or v2.1 for openpi).\n"
+                         "Successful episodes only, in episode order; failures are counted in DIR/tavis_demos.json.\n"
+                         "Load it with LeRobot: LeRobotDataset(\"tavis/NAME\", root=DIR).");
   demos->add_option("--task", options->task, "Task (" + scenarios::KnownTasks() + "); default clutter-pick-cube");
   demos->add_option("--suite", options->suite, "Every task of a suite in one dataset: " + scenarios::KnownSuites());
   demos->add_option("--robot", options->config.robot, "Robot: gr1t2 or reachy2")->capture_default_str();
   demos->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
-  demos->add_option("--expert-mode", options->expert_mode,
-                    "How the scripted expert's head leads: gaze-first (looks at the cue and the target, then acts)\n"
-                    "or head-still (neck still at its reset pose, hands act as soon as the task allows)")
+  demos
+      ->add_option("--expert-mode", options->expert_mode,
+                   "How the scripted expert's head leads: gaze-first (looks at the cue and the target, then acts)\n"
+                   "or head-still (neck still at its reset pose, hands act as soon as the task allows)")
       ->capture_default_str();
   demos->add_option("--perturb", options->config.perturbations,
                     "AXIS:LEVEL: record every episode under this perturbation level (configs/perturbations/AXIS.yaml,\n"
@@ -192,25 +203,31 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_option("--episodes", options->config.episodes, "Episodes written per task")
       ->check(IntegerIn(1, 10000000))
       ->capture_default_str();
-  demos->add_option("--max-attempts", options->config.max_attempts,
-                    "Episodes tried per task before giving up (0: 2 x --episodes + 20)")
+  demos
+      ->add_option("--max-attempts", options->config.max_attempts,
+                   "Episodes tried per task before giving up (0: 2 x --episodes + 20)")
       ->check(IntegerIn(0, 100000000))
       ->capture_default_str();
   AddSeedOption(*demos, options->config.seed, "Seed: episode i draws its randomness from (seed, i)");
   demos->add_option("--fps", options->config.fps, "Frame rate: 60 (the reference's datasets) or 20 (the policy rate)")
       ->capture_default_str();
-  demos->add_option("--expert-hz", options->config.expert_hz,
-                    "How often the expert's action may change: 60 (every control tick) or 20 (held for three ticks,\n"
-                    "as a 20 Hz learned policy acts; its action rows served back at 20 Hz replay the episode exactly)")
+  demos
+      ->add_option("--expert-hz", options->config.expert_hz,
+                   "How often the expert's action may change: 60 (every control tick) or 20 (held for three ticks,\n"
+                   "as a 20 Hz learned policy acts; its action rows served back at 20 Hz replay the episode exactly)")
       ->capture_default_str();
-  demos->add_option("--image-size", options->image_size, "Camera image size WIDTHxHEIGHT (even)")->capture_default_str();
+  demos->add_option("--image-size", options->image_size, "Camera image size WIDTHxHEIGHT (even)")
+      ->capture_default_str();
   demos->add_option("--cameras", options->cameras, "Comma-separated cameras (head, fixed, left_wrist, right_wrist)")
       ->capture_default_str();
-  demos->add_option("--codec", options->codec, "Video codec: h264 (decodes everywhere) or av1 (LeRobot's default, libsvtav1)")
+  demos
+      ->add_option("--codec", options->codec,
+                   "Video codec: h264 (decodes everywhere) or av1 (LeRobot's default, libsvtav1)")
       ->capture_default_str();
-  demos->add_option("--crf", options->config.video.crf,
-                    "Video quality: the encoder's constant rate factor, lower is closer to the rendered images\n"
-                    "(-1: the codec's default, h264 23, av1 30; up to 51 for h264, 63 for av1)")
+  demos
+      ->add_option("--crf", options->config.video.crf,
+                   "Video quality: the encoder's constant rate factor, lower is closer to the rendered images\n"
+                   "(-1: the codec's default, h264 23, av1 30; up to 51 for h264, 63 for av1)")
       ->check(IntegerIn(-1, 63))
       ->capture_default_str();
   demos->add_option("--format", options->format, "Dataset format: v3.0 or v2.1 (one file per episode, for openpi)")
@@ -221,7 +238,8 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_option("--threads", options->threads, "Worker threads (0 = all cores; the dataset does not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
-  demos->add_option("--out", options->config.out, "Dataset folder (default datasets/tavis-<task|suite>-<robot>); must be empty");
+  demos->add_option("--out", options->config.out,
+                    "Dataset folder (default datasets/tavis-<task|suite>-<robot>); must be empty");
   demos->add_flag("--overwrite", options->overwrite,
                   "Replace the dataset in --out (only a folder tavis wrote as a dataset; the new one is built\n"
                   "beside it and replaces it once complete)");
@@ -229,7 +247,8 @@ void RegisterDemosCommand(CLI::App& app) {
                   "Finish an interrupted recording in --out (same settings): the episodes it had kept are\n"
                   "reused, the rest is recorded again");
   AddConfigDirOption(*demos, options->config.config_dir);
-  demos->add_flag("--quiet", options->quiet, "No progress (episodes written, rate, ETA; a status line on a terminal, else a line per tenth)");
+  demos->add_flag("--quiet", options->quiet,
+                  "No progress (episodes written, rate, ETA; a status line on a terminal, else a line per tenth)");
   demos->callback([options, demos] {
     if (demos->count("--out") > 0 && options->config.out.empty()) {
       throw std::invalid_argument("--out must name a folder, got an empty string");

@@ -18,17 +18,17 @@
 #include "batch/cell_profile.h"
 #include "batch/cell_record_stream.h"
 #include "batch/cell_report.h"
+#include "batch/dataset/video/video_log.h"
 #include "batch/evaluation_cell.h"
 #include "batch/output_folder.h"
+#include "batch/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
-#include "batch/dataset/video/video_log.h"
 #include "batch/rollout/cell_recording.h"
 #include "batch/rollout/cell_videos.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
-#include "batch/perturbation_catalog.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
@@ -53,7 +53,7 @@ struct EvalOptions {
   bool quiet = false;
   bool overwrite = false;
   bool resume = false;
-  bool one_episode = false;  // --episode I
+  bool one_episode = false;            // --episode I
   batch::EpisodeVideoSettings videos;  // --videos N and how they look
   std::string video_cameras;
   std::string video_size = "320x240";
@@ -70,7 +70,8 @@ batch::OutputLock PrepareRolloutDataset(const std::string& root, const std::stri
   if (fs::exists(root) && fs::exists(cell_out) && fs::equivalent(root, cell_out)) {
     throw std::invalid_argument("--record " + root + " is the cell's --out: give the dataset a folder of its own");
   }
-  if (!batch::HoldsNoResults(root)) throw std::invalid_argument("--record " + root + " already holds files: give a new or empty folder");
+  if (!batch::HoldsNoResults(root))
+    throw std::invalid_argument("--record " + root + " already holds files: give a new or empty folder");
   batch::OutputLock lock = batch::CreateAndLockOutput(root, "eval");
   batch::WriteOutputMarker(root, batch::OutputKind::kDataset);
   return lock;
@@ -78,8 +79,9 @@ batch::OutputLock PrepareRolloutDataset(const std::string& root, const std::stri
 
 std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split, bool one_episode) {
   // A head-still expert's cell must not take the place of the gaze-first one.
-  const std::string mode =
-      cell.expert_mode == scenarios::ExpertMode::kGazeFirst ? "" : std::string("-") + scenarios::ToString(cell.expert_mode);
+  const std::string mode = cell.expert_mode == scenarios::ExpertMode::kGazeFirst
+                               ? ""
+                               : std::string("-") + scenarios::ToString(cell.expert_mode);
   // One chosen episode (--episode I) must not take the place of its full cell either.
   const std::string only = one_episode ? "_ep" + std::to_string(cell.episode_start) : "";
   // Nor may a perturbed cell take the place of its base cell.
@@ -88,8 +90,8 @@ std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const st
     const batch::PerturbationChoice parsed = batch::ParsePerturbationChoice(choice);
     perturbed += "_p-" + parsed.axis + "-" + parsed.level;
   }
-  return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + mode + "_s" +
-         std::to_string(cell.seed) + only + perturbed;
+  return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + mode +
+         "_s" + std::to_string(cell.seed) + only + perturbed;
 }
 
 // One cell into `out`: its records streamed as episodes end (an interrupted cell keeps them and
@@ -101,17 +103,20 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   std::optional<batch::OutputLock> record_lock;
   if (!options.record.root.empty()) record_lock.emplace(PrepareRolloutDataset(options.record.root, out));
   for (const std::string& difference : batch::ServedLayoutDifferences(cell)) {
-    std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": " << difference << "\n";
+    std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": "
+              << difference << "\n";
   }
   namespace fs = std::filesystem;
-  if (options.resume && !fs::is_directory(out)) throw std::invalid_argument("--resume: " + out + " does not exist: there is no cell to finish");
+  if (options.resume && !fs::is_directory(out))
+    throw std::invalid_argument("--resume: " + out + " does not exist: there is no cell to finish");
   // --overwrite replaces only a cell tavis wrote, and builds the new one beside it: the old one
   // goes only once the new one has recorded an episode, so a run that fails before (an
   // unreachable server, a missing file, too little memory) leaves it as it was.
   const bool replace = options.overwrite && !batch::HoldsNoResults(out);
   if (replace) {
-    batch::RequireEmptyOrOwn(out, batch::OutputKind::kEvalCell,
-                             "--overwrite replaces only a cell tavis wrote: move those files away or give another --out");
+    batch::RequireEmptyOrOwn(
+        out, batch::OutputKind::kEvalCell,
+        "--overwrite replaces only a cell tavis wrote: move those files away or give another --out");
   }
   const bool created = !fs::exists(out);
   batch::OutputLock lock = batch::CreateAndLockOutput(out, "eval");
@@ -159,7 +164,9 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
     };
   }
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
-  const batch::ProgressCallback progress = [&reporter](int64_t done, int64_t total) { reporter.Update("", done, total); };
+  const batch::ProgressCallback progress = [&reporter](int64_t done, int64_t total) {
+    reporter.Update("", done, total);
+  };
   try {
     result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record, sinks);
   } catch (...) {
@@ -182,12 +189,13 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
   if (recording) {
     recording->Finish();
-    std::cout << "recorded " << recording->episodes() << " episodes (" << recording->frames() << " frames) as a LeRobot v3.0 dataset -> "
-              << options.record.root << "\n";
+    std::cout << "recorded " << recording->episodes() << " episodes (" << recording->frames()
+              << " frames) as a LeRobot v3.0 dataset -> " << options.record.root << "\n";
   }
   if (videos.videos_written() > 0) {
-    std::cout << videos.videos_written() << (options.videos.format == batch::VideoFormat::kMp4 ? " videos" : " frame folders")
-              << " -> " << (fs::path(out) / "videos").string() << "\n";
+    std::cout << videos.videos_written()
+              << (options.videos.format == batch::VideoFormat::kMp4 ? " videos" : " frame folders") << " -> "
+              << (fs::path(out) / "videos").string() << "\n";
   }
   if (result.profile) {
     std::cout << batch::FormatCellProfile(*result.profile);
@@ -211,7 +219,8 @@ void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int 
   for (const std::string& task : tasks) {
     cell.task = task;
     try {
-      const batch::CellResult result = RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, options.split, false));
+      const batch::CellResult result =
+          RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, options.split, false));
       rate_sum += static_cast<double>(result.successes) / static_cast<double>(result.episodes.size());
       successes += result.successes;
       episodes += static_cast<int>(result.episodes.size());
@@ -224,8 +233,8 @@ void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int 
   if (cells > 0) {
     std::printf("%s %s %s policy=%s camera=%s: suite mean over %d tasks %.1f%% (task average), %.1f%% pooled (%d/%d)\n",
                 options.suite.c_str(), cell.robot.c_str(), options.split.c_str(), cell.policy.c_str(),
-                batch::ToString(cell.camera), cells,
-                100.0 * rate_sum / cells, 100.0 * successes / episodes, successes, episodes);
+                batch::ToString(cell.camera), cells, 100.0 * rate_sum / cells, 100.0 * successes / episodes, successes,
+                episodes);
   }
   if (!failed.empty()) {
     std::string names;
@@ -253,22 +262,27 @@ void RunEval(const EvalOptions& options) {
     return;
   }
   scenarios::FindScenario(cell.task);  // fail fast on an unknown task, before any work
-  RunCell(cell, options, threads, options.out.empty() ? "results/" + DefaultCellDirName(cell, options.split, options.one_episode) : options.out);
+  RunCell(
+      cell, options, threads,
+      options.out.empty() ? "results/" + DefaultCellDirName(cell, options.split, options.one_episode) : options.out);
 }
 
 }  // namespace
 
 void RegisterEvalCommand(CLI::App& app) {
   auto options = std::make_shared<EvalOptions>();
-  CLI::App* eval = app.add_subcommand(
-      "eval", "Run one evaluation cell: N episodes of a task with a policy, batched over parallel envs.\n"
-              "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
-              "rate with its 95% Wilson interval, wall time, throughput).");
+  CLI::App* eval =
+      app.add_subcommand("eval",
+                         "Run one evaluation cell: N episodes of a task with a policy, batched over parallel envs.\n"
+                         "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
+                         "rate with its 95% Wilson interval, wall time, throughput).");
   eval->add_option("--task", options->cell.task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
-  eval->add_option("--suite", options->suite,
-                   "Run every task of a suite instead of one task: " + scenarios::KnownSuites() + "; cells go to\n"
-                   "OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed> (OUT defaults to results/<suite>), then the\n"
-                   "suite mean is printed as a task average and pooled over episodes");
+  eval->add_option(
+      "--suite", options->suite,
+      "Run every task of a suite instead of one task: " + scenarios::KnownSuites() +
+          "; cells go to\n"
+          "OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed> (OUT defaults to results/<suite>), then the\n"
+          "suite mean is printed as a task average and pooled over episodes");
   eval->add_option("--robot", options->cell.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
       ->capture_default_str();
   eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
@@ -280,8 +294,9 @@ void RegisterEvalCommand(CLI::App& app) {
                    "black); head is head + wrists, fixed is fixed + wrists; every set pairs with head")
       ->capture_default_str();
   eval->add_option("--policy", options->cell.policy,
-                   "Policy (" + batch::CellPolicyNames() + "); openpi: a policy served over openpi's websocket\n"
-                   "protocol (--server), acting at 20 Hz on the cameras its --keys name")
+                   "Policy (" + batch::CellPolicyNames() +
+                       "); openpi: a policy served over openpi's websocket\n"
+                       "protocol (--server), acting at 20 Hz on the cameras its --keys name")
       ->capture_default_str();
   eval->add_option("--expert-mode", options->expert_mode,
                    "For --policy expert: gaze-first (looks at the cue and the target, then acts) or head-still\n"
@@ -302,11 +317,13 @@ void RegisterEvalCommand(CLI::App& app) {
                    "(0: the whole chunk, as openpi's ActionChunkBroker; its LIBERO example uses 5)")
       ->check(IntegerIn(0, 1000000))
       ->capture_default_str();
-  eval->add_option("--keys", options->cell.observation_keys,
-                   "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() + ") or a\n"
-                   "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
-                   "hwc/chw images, image size, letterbox). tavis: the dataset's keys (observation.images.OBS_HEAD,\n"
-                   "..., observation.state, prompt and task) at 320x240 (docs/observation.md)")
+  eval->add_option(
+          "--keys", options->cell.observation_keys,
+          "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() +
+              ") or a\n"
+              "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
+              "hwc/chw images, image size, letterbox). tavis: the dataset's keys (observation.images.OBS_HEAD,\n"
+              "..., observation.state, prompt and task) at 320x240 (docs/observation.md)")
       ->capture_default_str();
   eval->add_option("--match-dataset", options->cell.observation_dataset,
                    "For --policy openpi: serve the layout of the LeRobot dataset DIR the policy was trained on (its\n"
@@ -335,10 +352,11 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--actions", options->cell.actions_file,
                    "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
                    "episode; or a folder of episode_<i>.csv (a served cell's DIR/actions), episode i playing its own");
-  eval->add_option("--expert-hz", options->cell.expert_hz,
-                   "For --policy expert: 60 (its action may change every control tick) or 20 (held for three ticks, as\n"
-                   "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv, which\n"
-                   "--policy replay --actions DIR/actions plays back exactly)")
+  eval->add_option(
+          "--expert-hz", options->cell.expert_hz,
+          "For --policy expert: 60 (its action may change every control tick) or 20 (held for three ticks, as\n"
+          "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv, which\n"
+          "--policy replay --actions DIR/actions plays back exactly)")
       ->capture_default_str();
   eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")
       ->check(IntegerIn(1, 100000000))
@@ -349,7 +367,8 @@ void RegisterEvalCommand(CLI::App& app) {
       ->check(IntegerIn(0, 100000000))
       ->excludes("--episodes");
   AddSeedOption(*eval, options->cell.seed, "Seed: episode i draws its randomness from (seed, i)");
-  eval->add_option("--envs", options->cell.envs, "Parallel env slots stepped lock-step, for a served policy (default: 32, or 6 per\n"
+  eval->add_option("--envs", options->cell.envs,
+                   "Parallel env slots stepped lock-step, for a served policy (default: 32, or 6 per\n"
                    "thread when that is more: 96 on 16 threads); a built-in policy runs one slot per thread instead,\n"
                    "rendered or not (results do not depend on it)")
       ->check(IntegerIn(1, 4096));
@@ -374,7 +393,8 @@ void RegisterEvalCommand(CLI::App& app) {
   eval->add_option("--video-cameras", options->video_cameras,
                    "For --videos: the cameras shown, comma-separated (head, fixed, left_wrist, right_wrist); default:\n"
                    "the policy's cameras under --camera (head or fixed, and the wrists), then the fixed camera");
-  eval->add_option("--video-size", options->video_size, "For --videos: each camera's size in the frame, WIDTHxHEIGHT, even")
+  eval->add_option("--video-size", options->video_size,
+                   "For --videos: each camera's size in the frame, WIDTHxHEIGHT, even")
       ->capture_default_str();
   eval->add_option("--video-format", options->video_format,
                    "For --videos: mp4 (H.264), or png (DIR/videos/episode_<i>/frame_<k>.png, one per policy step and\n"
@@ -389,9 +409,11 @@ void RegisterEvalCommand(CLI::App& app) {
                    "(the observation contract's head or fixed, and the wrists, for a policy that takes no images)");
   eval->add_option("--record-size", options->record_size, "For --record: the stored images' size, WIDTHxHEIGHT")
       ->capture_default_str();
-  eval->add_option("--out", options->out, "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
+  eval->add_option("--out", options->out,
+                   "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   AddConfigDirOption(*eval, options->cell.config_dir);
-  eval->add_flag("--quiet", options->quiet, "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
+  eval->add_flag("--quiet", options->quiet,
+                 "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
   eval->add_flag("--profile", options->cell.profile,
                  "Time every stage (actions/IK, physics, neck, task, reset, render, policy, recording) and\n"
                  "episode; print the shares, the critical path (unlimited threads) and thread-count\n"
@@ -407,8 +429,8 @@ void RegisterEvalCommand(CLI::App& app) {
       throw std::invalid_argument("--out must name a folder, got an empty string");
     }
     if (eval->count("--actions") > 0 && !batch::IsPolicy(options->cell.policy, batch::PolicyKind::kReplay)) {
-      throw std::invalid_argument("--actions '" + options->cell.actions_file + "' applies to --policy replay only, got --policy " +
-                                  options->cell.policy);
+      throw std::invalid_argument("--actions '" + options->cell.actions_file +
+                                  "' applies to --policy replay only, got --policy " + options->cell.policy);
     }
     if (!batch::IsPolicy(options->cell.policy, batch::PolicyKind::kOpenpi)) {
       for (const char* served_only : {"--serving", "--keys", "--replan-steps", "--match-dataset", "--server-timeout",
@@ -443,7 +465,8 @@ void RegisterEvalCommand(CLI::App& app) {
     if (eval->count("--record") > 0) {
       if (options->record.root.empty()) throw std::invalid_argument("--record must name a folder, got an empty string");
       if (!options->suite.empty()) throw std::invalid_argument("--record writes one cell's dataset, not a --suite's");
-      if (options->resume) throw std::invalid_argument("--record cannot --resume: the dataset holds the episodes of one run");
+      if (options->resume)
+        throw std::invalid_argument("--record cannot --resume: the dataset holds the episodes of one run");
       if (!options->record_cameras.empty()) options->record.cameras = batch::ParseCameraList(options->record_cameras);
       std::tie(options->record.width, options->record.height) = ParseImageSize(options->record_size);
       batch::ValidateRolloutDatasetSettings(options->record);

@@ -76,8 +76,7 @@ nlohmann::ordered_json ResultJson(nlohmann::ordered_json line, const std::option
   if (event) line["event"] = *event;
   line["galt_s"] = OptionalSeconds(result.galt_s);
   line["reason"] = kinematics::ToString(result.reason);
-  line["arm"] = result.arm ? nlohmann::json(kinematics::Name(*result.arm))
-                           : nlohmann::json(nullptr);
+  line["arm"] = result.arm ? nlohmann::json(kinematics::Name(*result.arm)) : nlohmann::json(nullptr);
   line["t_head_arrival_s"] = OptionalSeconds(result.t_head_arrival_s);
   line["t_hand_arrival_s"] = OptionalSeconds(result.t_hand_arrival_s);
   line["t_hand_onset_s"] = OptionalSeconds(result.t_hand_onset_s);
@@ -85,15 +84,13 @@ nlohmann::ordered_json ResultJson(nlohmann::ordered_json line, const std::option
   return line;
 }
 
-void PrintGalt(const std::string& file, const batch::ActionTrajectory& trajectory,
-               const GaltOptions& options) {
+void PrintGalt(const std::string& file, const batch::ActionTrajectory& trajectory, const GaltOptions& options) {
   if (!options.multi_event) {
     const kinematics::GaltResult result = kinematics::ComputeGalt(trajectory.view(), options.fps);
     std::cout << ResultJson({{"file", file}}, std::nullopt, result).dump() << "\n";
     return;
   }
-  const std::vector<kinematics::GaltResult> events =
-      kinematics::ComputeGaltEvents(trajectory.view(), options.fps);
+  const std::vector<kinematics::GaltResult> events = kinematics::ComputeGaltEvents(trajectory.view(), options.fps);
   for (std::size_t i = 0; i < events.size(); ++i) {
     std::cout << ResultJson({{"file", file}}, static_cast<int>(i), events[i]).dump() << "\n";
   }
@@ -112,8 +109,8 @@ void RunGaltOnFiles(const GaltOptions& options) {
   }
   std::cout.flush();
   if (failed > 0) {
-    throw std::runtime_error("galt: " + std::to_string(failed) + " of " +
-                             std::to_string(options.files.size()) + " files could not be read");
+    throw std::runtime_error("galt: " + std::to_string(failed) + " of " + std::to_string(options.files.size()) +
+                             " files could not be read");
   }
 }
 
@@ -139,8 +136,8 @@ nlohmann::json TaskJson(const std::vector<std::string>& tasks) {
   return joined;
 }
 
-void WriteTableJson(const std::string& path, const dataset::DatasetInfo& info, const GaltOptions& options,
-                    double fps, const std::vector<batch::GaltValidationRow>& rows) {
+void WriteTableJson(const std::string& path, const dataset::DatasetInfo& info, const GaltOptions& options, double fps,
+                    const std::vector<batch::GaltValidationRow>& rows) {
   nlohmann::ordered_json json;
   json["dataset"] = options.dataset;
   json["codebase_version"] = info.codebase_version;
@@ -167,7 +164,8 @@ void RunGaltOnDataset(const GaltOptions& options) {
     for (std::size_t i = 0; i < results.size(); ++i) {
       const dataset::EpisodeActions& episode = actions.episodes[i];
       std::cout << ResultJson({{"episode", episode.episode_index}, {"task", TaskJson(episode.tasks)}}, std::nullopt,
-                              results[i]).dump()
+                              results[i])
+                       .dump()
                 << "\n";
     }
     std::cout << "\n";
@@ -202,7 +200,8 @@ void RegisterGaltCommand(CLI::App& app) {
   // Bounded: a rate far outside what a robot records at (1e9, 1e-300) gives confident nonsense
   // and overflows the step counts derived from it.
   command->add_option_function<std::string>(
-      "--fps", [options](const std::string& text) { options->fps = ParseNumberInRange("--fps", text, kMinFps, kMaxFps); },
+      "--fps",
+      [options](const std::string& text) { options->fps = ParseNumberInRange("--fps", text, kMinFps, kMaxFps); },
       "Sampling rate of the rows in Hz, 1 to 1000 (20 for policies); required with CSV files, "
       "with --dataset it overrides meta/info.json's fps");
   command->add_flag("--multi-event", options->multi_event,

@@ -18,7 +18,8 @@ std::pair<int, int> ParseImageSize(const std::string& text) {
   int height = 0;
   char trailing = 0;
   if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &trailing) != 2 || width < 1 || height < 1) {
-    throw std::invalid_argument("--image-size '" + text + "' must be WIDTHxHEIGHT with positive integers, e.g. 224x224");
+    throw std::invalid_argument("--image-size '" + text +
+                                "' must be WIDTHxHEIGHT with positive integers, e.g. 224x224");
   }
   return {width, height};
 }
@@ -37,7 +38,8 @@ uint64_t ParseSeed(const std::string& text) {
 CLI::Option* AddSeedOption(CLI::App& command, uint64_t& seed, const std::string& help) {
   // A function option: CLI11's own unsigned conversion clamps 2^64 and more to 2^64 - 1.
   return command
-      .add_option_function<std::string>("--seed", [&seed](const std::string& text) { seed = ParseSeed(text); }, help)
+      .add_option_function<std::string>(
+          "--seed", [&seed](const std::string& text) { seed = ParseSeed(text); }, help)
       ->default_str(std::to_string(seed));
 }
 
@@ -105,7 +107,8 @@ CLI::Validator IntegerIn(int64_t low, int64_t high) {
         } catch (const std::exception&) {
           used = 0;
         }
-        if (used != text.size() || text.empty() || value < low || value > high) return "must be " + range + ", got '" + text + "'";
+        if (used != text.size() || text.empty() || value < low || value > high)
+          return "must be " + range + ", got '" + text + "'";
         return "";
       },
       range);
@@ -124,7 +127,8 @@ CLI::Validator NumberIn(double low, double high) {
         } catch (const std::exception&) {
           used = 0;
         }
-        if (used != text.size() || text.empty() || !(value >= low && value <= high)) return "must be " + range + ", got '" + text + "'";
+        if (used != text.size() || text.empty() || !(value >= low && value <= high))
+          return "must be " + range + ", got '" + text + "'";
         return "";
       },
       range);

@@ -14,8 +14,9 @@ int Tenth(int64_t done, int64_t total) { return total > 0 && done < total ? stat
 
 std::string FormatProgress(int64_t done, int64_t total, int64_t done_here, double elapsed_seconds) {
   const double rate = elapsed_seconds > 0 ? static_cast<double>(done_here) / elapsed_seconds : 0.0;
-  const std::string eta =
-      done >= total ? "0s" : rate > 0 ? batch::sweep::FormatDuration(static_cast<double>(total - done) / rate) : "-";
+  const std::string eta = done >= total ? "0s"
+                          : rate > 0    ? batch::sweep::FormatDuration(static_cast<double>(total - done) / rate)
+                                        : "-";
   char text[128];
   std::snprintf(text, sizeof(text), "%lld/%lld episodes, %.1f episodes/s, ETA %s", static_cast<long long>(done),
                 static_cast<long long>(total), rate, eta.c_str());
@@ -44,9 +45,9 @@ void ProgressReporter::Update(const std::string& label, int64_t done, int64_t to
     drawn_ = false;
   }
   const bool last = done >= total;
-  const std::string text = (label_.empty() ? "" : label_ + ": ") +
-                           FormatProgress(done, total, done - done_at_start_,
-                                          std::chrono::duration<double>(now - start_).count());
+  const std::string text =
+      (label_.empty() ? "" : label_ + ": ") +
+      FormatProgress(done, total, done - done_at_start_, std::chrono::duration<double>(now - start_).count());
   if (style_ == Style::kStatusLine) {
     if (!last && drawn_ && now - last_draw_ < std::chrono::milliseconds(250)) return;
     drawn_ = true;

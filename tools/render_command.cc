@@ -45,7 +45,8 @@ std::vector<std::string> WriteViews(const batch::SceneRender& scene, const std::
   std::vector<std::string> paths;
   const render::ImageBatch& images = scene.images();
   for (int c = 0; c < scene.num_cameras(); ++c) {
-    const std::string path = (dir / (prefix + "_" + scene.settings().cameras[static_cast<std::size_t>(c)] + ".png")).string();
+    const std::string path =
+        (dir / (prefix + "_" + scene.settings().cameras[static_cast<std::size_t>(c)] + ".png")).string();
     render::WritePng(path, images.height(c), images.width(c), images.rgb(0, c));
     paths.push_back(path);
   }
@@ -108,11 +109,13 @@ void RunRender(const RenderCommandOptions& options) {
   // Every input is checked before anything is simulated or written.
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(options.task);
   const scenarios::Split split = scenarios::ParseSplit(options.split);
-  if (options.episode < 0) throw std::invalid_argument("--episode " + std::to_string(options.episode) + " must be >= 0");
+  if (options.episode < 0)
+    throw std::invalid_argument("--episode " + std::to_string(options.episode) + " must be >= 0");
   if (options.steps < 0) throw std::invalid_argument("--steps " + std::to_string(options.steps) + " must be >= 0");
   RequirePositive("--width", options.width);
   RequirePositive("--height", options.height);
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(options.config_dir, options.robot));
+  const kinematics::RobotModel robot =
+      configs::LoadRobotModel(configs::RobotConfigPath(options.config_dir, options.robot));
 
   engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
   batch::ApplyPerturbations(options.config_dir, options.perturbations, options.seed, &model);
@@ -123,7 +126,8 @@ void RunRender(const RenderCommandOptions& options) {
   settings.height = options.height;
   // Tasks still without a scripted expert are shown with the robot holding its reset pose.
   const bool has_expert = scenario.make_expert != nullptr;
-  std::unique_ptr<batch::Policy> policy = batch::MakeBuiltinPolicy(batch::PolicyName(has_expert ? batch::PolicyKind::kExpert : batch::PolicyKind::kHold), scenario, env.model(), 1);
+  std::unique_ptr<batch::Policy> policy = batch::MakeBuiltinPolicy(
+      batch::PolicyName(has_expert ? batch::PolicyKind::kExpert : batch::PolicyKind::kHold), scenario, env.model(), 1);
 
   const std::filesystem::path dir(options.out);
   std::filesystem::create_directories(dir);
@@ -163,8 +167,12 @@ void RegisterRenderCommand(CLI::App& app) {
       ->check(IntegerIn(0, 1000000000))
       ->capture_default_str();
   render->add_option("--out", options->out, "Output directory (created if missing)")->required();
-  render->add_option("--width", options->width, "Image width in pixels")->check(IntegerIn(1, 8192))->capture_default_str();
-  render->add_option("--height", options->height, "Image height in pixels")->check(IntegerIn(1, 8192))->capture_default_str();
+  render->add_option("--width", options->width, "Image width in pixels")
+      ->check(IntegerIn(1, 8192))
+      ->capture_default_str();
+  render->add_option("--height", options->height, "Image height in pixels")
+      ->check(IntegerIn(1, 8192))
+      ->capture_default_str();
   render->add_option("--steps", options->steps, "Control ticks (60 Hz) of the expert before the second render")
       ->check(IntegerIn(0, 1000000))
       ->capture_default_str();

@@ -4,9 +4,9 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,9 +55,11 @@ void RunSweepCommand(const SweepOptions& options) {
   batch::sweep::SweepRunOptions run;
   run.spec_yaml = ReadSpecText(options.spec_file);
   run.config_dir = options.config_dir;
-  const batch::sweep::SweepSpec spec = batch::sweep::ParseSweepSpec(run.spec_yaml, options.spec_file, options.config_dir);
+  const batch::sweep::SweepSpec spec =
+      batch::sweep::ParseSweepSpec(run.spec_yaml, options.spec_file, options.config_dir);
   run.shard = batch::sweep::ParseShard(options.shard);
-  run.out_dir = options.out.empty() ? "results/" + std::filesystem::path(options.spec_file).stem().string() : options.out;
+  run.out_dir =
+      options.out.empty() ? "results/" + std::filesystem::path(options.spec_file).stem().string() : options.out;
   run.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   run.concurrent_cells = options.concurrent_cells;
   // A status line rewritten in place only makes sense on a terminal; a log gets the cell lines.
@@ -65,7 +67,9 @@ void RunSweepCommand(const SweepOptions& options) {
   run.videos = options.videos;
   batch::sweep::RunSweep(spec, run);
   std::cout << (run.shard.count == 1 ? "sweep complete: " : "shard " + options.shard + " complete: ") << run.out_dir
-            << (run.shard.count == 1 ? " (summary.json, tables/, report.html)" : " (merge the shards with `tavis sweep merge`)") << "\n";
+            << (run.shard.count == 1 ? " (summary.json, tables/, report.html)"
+                                     : " (merge the shards with `tavis sweep merge`)")
+            << "\n";
 }
 
 }  // namespace
@@ -73,36 +77,44 @@ void RunSweepCommand(const SweepOptions& options) {
 void RegisterSweepCommand(CLI::App& app) {
   auto options = std::make_shared<SweepOptions>();
   CLI::App* sweep = app.add_subcommand(
-      "sweep", "Run the evaluation cells a sweep spec names (configs/sweeps/*.yaml) into one folder: cells/<id>/\n"
-               "(each as `tavis eval` writes it), manifest.json, summary.json, tables/ (Markdown, CSV, LaTeX) and\n"
-               "report.html. Rerun the same command to finish an interrupted sweep: complete cells are skipped,\n"
-               "interrupted ones continue after their complete episodes.");
+      "sweep",
+      "Run the evaluation cells a sweep spec names (configs/sweeps/*.yaml) into one folder: cells/<id>/\n"
+      "(each as `tavis eval` writes it), manifest.json, summary.json, tables/ (Markdown, CSV, LaTeX) and\n"
+      "report.html. Rerun the same command to finish an interrupted sweep: complete cells are skipped,\n"
+      "interrupted ones continue after their complete episodes.");
   sweep->add_option("spec", options->spec_file, "The sweep spec (YAML)");
   sweep->add_option("--out", options->out, "Output folder (default results/<spec name>)");
   sweep->add_option("--threads", options->threads, "Cores to use (0 = all; results do not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
-  sweep->add_option("--concurrent-cells", options->concurrent_cells,
-                    "Cells run at once, sharing the cores (0 = when every cell runs a built-in policy, one per 4\n"
-                    "threads, at least one; otherwise as many as --threads; 1 runs them one after the other; results\n"
-                    "do not depend on it)")
+  sweep
+      ->add_option("--concurrent-cells", options->concurrent_cells,
+                   "Cells run at once, sharing the cores (0 = when every cell runs a built-in policy, one per 4\n"
+                   "threads, at least one; otherwise as many as --threads; 1 runs them one after the other; results\n"
+                   "do not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
-  sweep->add_option("--shard", options->shard,
-                    "Run shard I of N (0 <= I < N): the cells whose position in the spec's order is I mod N; the\n"
-                    "shards' folders are then combined by `tavis sweep merge` (e.g. one Slurm array task each)")
+  sweep
+      ->add_option("--shard", options->shard,
+                   "Run shard I of N (0 <= I < N): the cells whose position in the spec's order is I mod N; the\n"
+                   "shards' folders are then combined by `tavis sweep merge` (e.g. one Slurm array task each)")
       ->capture_default_str();
-  sweep->add_option("--videos", options->videos,
-                    "Film each cell's first N episodes into cells/<id>/videos/episode_<i>.mp4, as `tavis eval --videos`\n"
-                    "does (in place of the spec's `videos:`; the records do not change)")
+  sweep
+      ->add_option(
+          "--videos", options->videos,
+          "Film each cell's first N episodes into cells/<id>/videos/episode_<i>.mp4, as `tavis eval --videos`\n"
+          "does (in place of the spec's `videos:`; the records do not change)")
       ->check(IntegerIn(0, 100000000));
-  sweep->add_flag("--quiet", options->quiet, "No status line: one line per finished cell with the counts (the default when stderr is not a terminal)");
+  sweep->add_flag(
+      "--quiet", options->quiet,
+      "No status line: one line per finished cell with the counts (the default when stderr is not a terminal)");
   AddConfigDirOption(*sweep, options->config_dir);
 
   auto merge_options = std::make_shared<MergeOptions>();
   CLI::App* merge = sweep->add_subcommand(
-      "merge", "Combine the output folders of every shard of one sweep into OUT, with the whole sweep's results;\n"
-               "refuses shards of different specs or program versions, and missing or incomplete shards");
+      "merge",
+      "Combine the output folders of every shard of one sweep into OUT, with the whole sweep's results;\n"
+      "refuses shards of different specs or program versions, and missing or incomplete shards");
   merge->add_option("shards", merge_options->shards, "The shards' output folders")->required();
   merge->add_option("--out", merge_options->out, "The merged output folder (new or empty)")->required();
   AddConfigDirOption(*merge, merge_options->config_dir);
@@ -114,8 +126,10 @@ void RegisterSweepCommand(CLI::App& app) {
 
   sweep->callback([options, sweep, merge] {
     if (merge->parsed()) return;
-    if (options->spec_file.empty()) throw std::invalid_argument("sweep needs a spec file: tavis sweep SPEC.yaml --out DIR");
-    if (sweep->count("--out") > 0 && options->out.empty()) throw std::invalid_argument("--out must name a folder, got an empty string");
+    if (options->spec_file.empty())
+      throw std::invalid_argument("sweep needs a spec file: tavis sweep SPEC.yaml --out DIR");
+    if (sweep->count("--out") > 0 && options->out.empty())
+      throw std::invalid_argument("--out must name a folder, got an empty string");
     RunSweepCommand(*options);
   });
 }

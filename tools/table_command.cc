@@ -2,8 +2,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -45,7 +45,8 @@ std::string CellLabel(const batch::CellCounts& cell) {
 
 // The cells the table pools: those of --label, or all of them when they share one label or
 // --pool-labels declares the pooling; anything else is refused, naming the labels.
-std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<batch::CellCounts>& cells, const TableOptions& options) {
+std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<batch::CellCounts>& cells,
+                                               const TableOptions& options) {
   std::map<std::string, int> counts;
   std::vector<batch::CellCounts> kept;
   for (const batch::CellCounts& cell : cells) {
@@ -53,13 +54,15 @@ std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<batch::CellCoun
     if (options.label.empty() || cell.label == options.label) kept.push_back(cell);
   }
   std::string labels;
-  for (const auto& [label, n] : counts) labels += (labels.empty() ? "" : ", ") + label + " (" + std::to_string(n) + " cells)";
+  for (const auto& [label, n] : counts)
+    labels += (labels.empty() ? "" : ", ") + label + " (" + std::to_string(n) + " cells)";
   if (!options.label.empty() && kept.empty()) {
     throw std::invalid_argument("--label " + options.label + ": no cell has this label (labels: " + labels + ")");
   }
   if (options.label.empty() && counts.size() > 1 && !options.pool_labels) {
     throw std::invalid_argument("the cells under " + options.in_dir + " come from " + std::to_string(counts.size()) +
-                                " policy labels: " + labels + "; choose one with --label L, or pass --pool-labels to pool them");
+                                " policy labels: " + labels +
+                                "; choose one with --label L, or pass --pool-labels to pool them");
   }
   return kept;
 }
@@ -72,7 +75,8 @@ void WriteFile(const std::string& path, const std::string& text) {
 }
 
 void RunTable(const TableOptions& options) {
-  if (!options.label.empty() && options.pool_labels) throw std::invalid_argument("--label and --pool-labels exclude each other");
+  if (!options.label.empty() && options.pool_labels)
+    throw std::invalid_argument("--label and --pool-labels exclude each other");
   // Two labels may evaluate the same cell and seed (two checkpoints): the label is part of the
   // duplicate check.
   const std::vector<batch::CellCounts> cells = CellsOfOneLabel(
@@ -92,25 +96,30 @@ void RunTable(const TableOptions& options) {
   WriteFile(options.out_prefix + ".md",
             batch::FormatMarkdown(table, with_intervals) + batch::FormatFunnelMarkdown(table, cells));
   WriteFile(options.out_prefix + ".csv", batch::FormatCsv(table, with_intervals));
-  std::cout << "wrote " << options.out_prefix << ".md and " << options.out_prefix << ".csv ("
-            << table.tasks.size() << " tasks x " << table.columns.size() << " columns)\n";
+  std::cout << "wrote " << options.out_prefix << ".md and " << options.out_prefix << ".csv (" << table.tasks.size()
+            << " tasks x " << table.columns.size() << " columns)\n";
 }
 
 }  // namespace
 
 void RegisterTableCommand(CLI::App& app) {
   auto options = std::make_shared<TableOptions>();
-  CLI::App* command = app.add_subcommand(
-      "table", "Success-rate table (paper layout) from the summary.json files under a folder");
-  command->add_option("--in", options->in_dir, "Folder searched recursively for cells' summary.json (eval cells, a sweep's folder)")
+  CLI::App* command =
+      app.add_subcommand("table", "Success-rate table (paper layout) from the summary.json files under a folder");
+  command
+      ->add_option("--in", options->in_dir,
+                   "Folder searched recursively for cells' summary.json (eval cells, a sweep's folder)")
       ->required();
   command->add_option("--suite", options->suite, "Suite whose tasks form the rows: " + scenarios::KnownSuites())
       ->required();
-  command->add_option("--out", options->out_prefix, "Output prefix: writes PREFIX.md, PREFIX.csv (its folder is created if missing)")
+  command
+      ->add_option("--out", options->out_prefix,
+                   "Output prefix: writes PREFIX.md, PREFIX.csv (its folder is created if missing)")
       ->required();
   command->add_flag("--no-ci", options->no_intervals, "Omit the 95% Wilson intervals");
   command->add_option("--label", options->label, "Only the cells of this policy label (a sweep cell's policy.json)");
-  command->add_flag("--pool-labels", options->pool_labels, "Pool the cells of different policy labels (refused otherwise)");
+  command->add_flag("--pool-labels", options->pool_labels,
+                    "Pool the cells of different policy labels (refused otherwise)");
   command->footer(
       "Each summary.json needs task, robot, split, n_episodes and n_successful; camera (head or\n"
       "fixed, default head) and policy are optional. An episodes.jsonl beside it must hold those\n"
@@ -118,7 +127,8 @@ void RegisterTableCommand(CLI::App& app) {
       "a sweep's own summary.json (beside manifest.json) is not a cell; a cell without episodes is\n"
       "left out with a note. Cells sharing task, robot, split and camera\n"
       "(e.g. several seeds) are pooled; cells of different policy labels (policy.json next to the\n"
-      "summary, else the policy's name) are refused unless --label picks one or --pool-labels. Rows: the suite's tasks, then the suite mean as the task\n"
+      "summary, else the policy's name) are refused unless --label picks one or --pool-labels. Rows: the suite's "
+      "tasks, then the suite mean as the task\n"
       "average and pooled over episodes (with the Wilson interval of the pooled counts).");
   command->callback([options] { RunTable(*options); });
 }

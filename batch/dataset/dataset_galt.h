@@ -13,7 +13,7 @@ namespace tavis::dataset {
 
 struct DatasetGalt {
   DatasetActions actions;
-  double fps = 0.0;                              // the rate GALT ran at
+  double fps = 0.0;                               // the rate GALT ran at
   std::vector<kinematics::TrajectoryView> views;  // one per episode, into actions' values
   std::vector<kinematics::GaltResult> results;    // one per episode, in episode order
 };

@@ -24,7 +24,7 @@ DatasetLayout LayoutOf(const std::string& version, const fs::path& file) {
 }  // namespace
 
 std::vector<fs::path> ParquetFilesUnder(const fs::path& root, const std::string& dir_prefix,
-                                  const std::string& file_prefix) {
+                                        const std::string& file_prefix) {
   std::vector<fs::path> files;
   if (!fs::is_directory(root)) return files;
   for (const fs::directory_entry& dir : fs::directory_iterator(root)) {
@@ -79,8 +79,8 @@ DatasetInfo ReadDatasetInfo(const fs::path& dataset_dir) {
 
 std::vector<fs::path> DataFiles(const fs::path& dataset_dir, DatasetLayout layout) {
   const fs::path data = dataset_dir / "data";
-  std::vector<fs::path> files = layout == DatasetLayout::kV30 ? ParquetFilesUnder(data, "", "")
-                                                              : ParquetFilesUnder(data, "chunk-", "episode_");
+  std::vector<fs::path> files =
+      layout == DatasetLayout::kV30 ? ParquetFilesUnder(data, "", "") : ParquetFilesUnder(data, "chunk-", "episode_");
   if (files.empty()) {
     Fail(data, layout == DatasetLayout::kV30 ? "no data files data/*/*.parquet"
                                              : "no data files data/chunk-*/episode_*.parquet");

@@ -16,7 +16,7 @@ enum class DatasetLayout {
 };
 
 struct DatasetInfo {
-  std::string codebase_version;           // as written, "v3.0" or "v2.1"
+  std::string codebase_version;  // as written, "v3.0" or "v2.1"
   DatasetLayout layout = DatasetLayout::kV30;
   double fps = 0.0;                       // frames per second of the data rows
   std::optional<std::string> robot_type;  // null in info.json (as TAVIS writes it) -> nullopt

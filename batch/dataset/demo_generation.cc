@@ -10,13 +10,13 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/builtin_policies.h"
+#include "batch/config_identity.h"
 #include "batch/dataset/demo_recorder.h"
 #include "batch/dataset/episode_spool.h"
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/episode_driver.h"
-#include "batch/scene_render.h"
-#include "batch/config_identity.h"
 #include "batch/perturbation_catalog.h"
+#include "batch/scene_render.h"
 #include "batch/settings_difference.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -62,7 +62,8 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
                                 {"identity", batch::ConfigIdentityJson(config.config_dir, config.robot)}};
   // Only a perturbed recording names its perturbations, so an unperturbed spool resumes as before.
   if (!config.perturbations.empty()) {
-    fingerprint["perturbations"] = batch::PerturbationsJson(batch::ResolvePerturbations(config.config_dir, config.perturbations));
+    fingerprint["perturbations"] =
+        batch::PerturbationsJson(batch::ResolvePerturbations(config.config_dir, config.perturbations));
   }
   return fingerprint;
 }
@@ -71,7 +72,8 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
 void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   const nlohmann::json progress = spool.LoadProgress();
   if (progress.is_null()) {
-    throw std::invalid_argument("--resume: " + config.out + " holds no interrupted recording (no " + spool.dir() + "/progress.json)");
+    throw std::invalid_argument("--resume: " + config.out + " holds no interrupted recording (no " + spool.dir() +
+                                "/progress.json)");
   }
   if (!progress.contains("settings") || !progress["settings"].is_object()) {
     throw std::runtime_error(spool.dir() + "/progress.json: damaged spool file, no \"settings\" object");
@@ -83,7 +85,8 @@ void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   was.erase("max_attempts");
   now.erase("max_attempts");
   const std::string differences = batch::SettingsDifference(was, now);
-  if (!differences.empty()) throw std::invalid_argument("--resume with other settings than the interrupted recording: " + differences);
+  if (!differences.empty())
+    throw std::invalid_argument("--resume with other settings than the interrupted recording: " + differences);
 }
 
 // Files an interrupted run left unfinished (FILE.partial) outside the spool: they are written again.
@@ -91,7 +94,8 @@ void RemovePartialFiles(const std::string& root, const std::string& spool) {
   std::vector<std::filesystem::path> partial;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
     const std::string path = entry.path().string();
-    if (entry.is_regular_file() && entry.path().extension() == ".partial" && path.rfind(spool, 0) != 0) partial.push_back(entry.path());
+    if (entry.is_regular_file() && entry.path().extension() == ".partial" && path.rfind(spool, 0) != 0)
+      partial.push_back(entry.path());
   }
   for (const std::filesystem::path& path : partial) std::filesystem::remove(path);
 }
@@ -113,14 +117,17 @@ void ValidateDemoConfig(const DemoConfig& config) {
       throw std::invalid_argument("task '" + task + "' has no scripted expert to record");
     }
   }
-  if (config.episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
-  if (config.max_attempts < 0) throw std::invalid_argument("--max-attempts must be >= 0, got " + std::to_string(config.max_attempts));
+  if (config.episodes < 1)
+    throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.max_attempts < 0)
+    throw std::invalid_argument("--max-attempts must be >= 0, got " + std::to_string(config.max_attempts));
   if (config.max_attempts > 0 && config.max_attempts < config.episodes) {
     throw std::invalid_argument("--max-attempts " + std::to_string(config.max_attempts) + " is below --episodes " +
                                 std::to_string(config.episodes));
   }
   if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
-  if (config.fps != 60 && config.fps != 20) throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
+  if (config.fps != 60 && config.fps != 20)
+    throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
   if (config.expert_hz != 60 && config.expert_hz != 20) {
     throw std::invalid_argument("--expert-hz must be 60 or 20, got " + std::to_string(config.expert_hz));
   }
@@ -138,7 +145,8 @@ void ValidateDemoConfig(const DemoConfig& config) {
 
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
   ValidateDemoConfig(config);
-  const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const kinematics::RobotModel robot =
+      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
   const Clock::time_point start = Clock::now();
 
   DatasetLayout layout;
@@ -188,8 +196,8 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     batch::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
     batch::VecEnv env(std::move(model), scenario, config.split, slots, config.seed);
     const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
-    const auto expert =
-        std::make_unique<batch::ExpertPolicy>(scenario, env.model(), slots, config.expert_mode, control_hz / config.expert_hz);
+    const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, env.model(), slots, config.expert_mode,
+                                                              control_hz / config.expert_hz);
     DemoRecording recording;
     recording.cameras = config.cameras;
     recording.video = layout.video;
@@ -229,10 +237,11 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     }
     report.tasks.push_back(task);
     if (task.written < config.episodes) {
-      throw std::runtime_error("task " + task.task + ": only " + std::to_string(task.written) + " of " +
-                               std::to_string(config.episodes) + " episodes succeeded in " + std::to_string(task.attempts) +
-                               " attempts (--max-attempts); the episodes recorded so far are kept: --resume with a larger "
-                               "--max-attempts finishes the dataset");
+      throw std::runtime_error(
+          "task " + task.task + ": only " + std::to_string(task.written) + " of " + std::to_string(config.episodes) +
+          " episodes succeeded in " + std::to_string(task.attempts) +
+          " attempts (--max-attempts); the episodes recorded so far are kept: --resume with a larger "
+          "--max-attempts finishes the dataset");
     }
   }
   const Clock::time_point finish_start = Clock::now();
@@ -243,7 +252,8 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   report.frames = writer->frames();
   report.bytes = DirectoryBytes(config.out);
   report.wall_s = SecondsSince(start);
-  report.simulate_s = std::max(0.0, report.wall_s - report.render_s - report.encode_s - report.capture_s - report.write_s);
+  report.simulate_s =
+      std::max(0.0, report.wall_s - report.render_s - report.encode_s - report.capture_s - report.write_s);
   return report;
 }
 

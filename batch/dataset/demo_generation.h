@@ -25,20 +25,20 @@ struct DemoConfig {
   scenarios::Split split = scenarios::Split::kId;
   // How the expert's head leads: gaze-first (the reference's teleoperators), or head-still.
   scenarios::ExpertMode expert_mode = scenarios::ExpertMode::kGazeFirst;
-  int episodes = 100;      // written per task
-  int max_attempts = 0;    // per task; 0: 2 * episodes + 20
+  int episodes = 100;    // written per task
+  int max_attempts = 0;  // per task; 0: 2 * episodes + 20
   uint64_t seed = 0;
-  int envs = 8;            // parallel env slots
+  int envs = 8;  // parallel env slots
   // Steps the slots lock-step rather than each on its own thread (the dataset is the same; tests
   // compare the two schedules).
   bool lock_step = false;
-  int fps = 60;            // 60 (the reference's) or 20
+  int fps = 60;  // 60 (the reference's) or 20
   // How often the expert's commanded action may change: 60 Hz (every control tick, the
   // reference's teleoperation rate) or 20 Hz (held for three ticks, as a learned 20 Hz policy
   // acts: served back at 20 Hz, the action rows reproduce the episode; batch::ExpertPolicy).
   int expert_hz = 60;
   std::vector<std::string> cameras = {"head", "fixed", "left_wrist", "right_wrist"};
-  VideoSettings video;     // size and codec; fps is set from `fps`
+  VideoSettings video;  // size and codec; fps is set from `fps`
   DatasetVersion version = DatasetVersion::kV30;
   std::string config_dir;  // holds robots/*.yaml
   // Perturbation levels, "AXIS:LEVEL" each (batch/perturbation_catalog.h): every episode is
@@ -55,7 +55,7 @@ struct DemoTaskReport {
   int64_t written = 0;
   int64_t attempts = 0;
   std::map<std::string, int64_t> failures;  // by how the episode ended
-  int64_t surplus = 0;  // successes past N in the last round, not written
+  int64_t surplus = 0;                      // successes past N in the last round, not written
 };
 
 struct DemoReport {

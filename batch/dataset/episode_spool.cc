@@ -6,11 +6,11 @@
 #include <stdexcept>
 
 #include "batch/atomic_file.h"
-#include "batch/json_error_text.h"
 #include "batch/dataset/episode_rows.h"
 #include "batch/dataset/parquet/parquet_reader.h"
 #include "batch/dataset/parquet/parquet_writer.h"
 #include "batch/dataset/video/encoded_episode_file.h"
+#include "batch/json_error_text.h"
 
 namespace tavis::dataset {
 namespace {
@@ -21,7 +21,8 @@ nlohmann::json ReadJson(const std::filesystem::path& path) {
   try {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& error) {
-    throw std::runtime_error(path.string() + ": damaged spool file, not valid JSON: " + batch::JsonErrorText(error.what()));
+    throw std::runtime_error(path.string() +
+                             ": damaged spool file, not valid JSON: " + batch::JsonErrorText(error.what()));
   }
 }
 
@@ -34,8 +35,8 @@ T Field(const nlohmann::json& record, const char* key, const std::filesystem::pa
   try {
     return record.at(key).get<T>();
   } catch (const nlohmann::json::exception& error) {
-    throw std::runtime_error(path.string() + ": damaged spool file, \"" + key + "\" is " + record.at(key).dump(-1).substr(0, 80) +
-                             ": " + batch::JsonErrorText(error.what()));
+    throw std::runtime_error(path.string() + ": damaged spool file, \"" + key + "\" is " +
+                             record.at(key).dump(-1).substr(0, 80) + ": " + batch::JsonErrorText(error.what()));
   }
 }
 
@@ -66,7 +67,8 @@ void EpisodeSpool::Save(const RecordedEpisode& episode, const std::map<std::stri
   nlohmann::json histograms = nlohmann::json::array();
   for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
     SaveEncodedEpisode(episode.videos[camera], dir + "/" + layout_.cameras[camera] + ".packets");
-    histograms.push_back({{"frames", episode.image_stats[camera].frames()}, {"histogram", episode.image_stats[camera].histogram()}});
+    histograms.push_back(
+        {{"frames", episode.image_stats[camera].frames()}, {"histogram", episode.image_stats[camera].histogram()}});
   }
   const nlohmann::json record = {{"source_episode", episode.source_episode},
                                  {"task_index", episode.task_index},
@@ -87,8 +89,9 @@ SpooledEpisode EpisodeSpool::Load(int64_t n) const {
   episode.source_episode = Field<int64_t>(record, "source_episode", record_path);
   episode.task_index = Field<int>(record, "task_index", record_path);
   if (episode.task_index < 0 || static_cast<std::size_t>(episode.task_index) >= layout_.tasks.size()) {
-    throw std::runtime_error(record_path.string() + ": damaged spool file, \"task_index\" " + std::to_string(episode.task_index) +
-                             " is not one of the recording's " + std::to_string(layout_.tasks.size()) + " tasks");
+    throw std::runtime_error(record_path.string() + ": damaged spool file, \"task_index\" " +
+                             std::to_string(episode.task_index) + " is not one of the recording's " +
+                             std::to_string(layout_.tasks.size()) + " tasks");
   }
   episode.prompt = Field<std::string>(record, "prompt", record_path);
   episode.frames = Field<int64_t>(record, "frames", record_path);
@@ -104,20 +107,22 @@ SpooledEpisode EpisodeSpool::Load(int64_t n) const {
   episode.right_eef_pos = ReadVectors(data, "observation.right_eef_pos");
   episode.right_eef_quat = ReadVectors(data, "observation.right_eef_quat");
   if (data.num_rows() != episode.frames) {
-    throw std::runtime_error(dir + ": data.parquet has " + std::to_string(data.num_rows()) + " frames, episode.json says " +
-                             std::to_string(episode.frames));
+    throw std::runtime_error(dir + ": data.parquet has " + std::to_string(data.num_rows()) +
+                             " frames, episode.json says " + std::to_string(episode.frames));
   }
   const nlohmann::json histograms = Field<nlohmann::json>(record, "image_histograms", record_path);
   if (!histograms.is_array() || histograms.size() != layout_.cameras.size()) {
-    throw std::runtime_error(record_path.string() + ": damaged spool file, \"image_histograms\" needs one entry per camera (" +
+    throw std::runtime_error(record_path.string() +
+                             ": damaged spool file, \"image_histograms\" needs one entry per camera (" +
                              std::to_string(layout_.cameras.size()) + ")");
   }
   VideoSettings settings = layout_.video;
   settings.fps = layout_.fps;
   for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
     episode.videos.push_back(LoadEncodedEpisode(dir + "/" + layout_.cameras[camera] + ".packets", settings));
-    episode.image_stats.push_back(ImageStats::FromHistogram(Field<int64_t>(histograms[camera], "frames", record_path),
-                                                            Field<ImageStats::Histogram>(histograms[camera], "histogram", record_path)));
+    episode.image_stats.push_back(
+        ImageStats::FromHistogram(Field<int64_t>(histograms[camera], "frames", record_path),
+                                  Field<ImageStats::Histogram>(histograms[camera], "histogram", record_path)));
   }
   return spooled;
 }

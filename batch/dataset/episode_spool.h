@@ -2,8 +2,8 @@
 // after the last of them instead of starting over (the dataset's own files are complete only at
 // the end). Episode n of the dataset lives in SPOOL/episode_<n>/: data.parquet (its frames, as
 // the dataset stores them), one CAMERA.packets per camera (its encoded video as the encoder made
-// it, appended later without decoding: encoded_episode_file.h) and episode.json, written last, so an episode is in the spool once episode.json
-// exists. progress.json says where the recording stands. The spool is removed once the dataset
+// it, appended later without decoding: encoded_episode_file.h) and episode.json, written last, so an episode is in the
+// spool once episode.json exists. progress.json says where the recording stands. The spool is removed once the dataset
 // is finished.
 #pragma once
 

@@ -16,8 +16,8 @@ double Quantile(const std::vector<double>& sorted, double level) {
 }
 
 void Resize(FeatureStats& stats, std::size_t dims) {
-  for (std::vector<double>* field : {&stats.min, &stats.max, &stats.mean, &stats.std, &stats.q01, &stats.q10, &stats.q50,
-                                     &stats.q90, &stats.q99}) {
+  for (std::vector<double>* field :
+       {&stats.min, &stats.max, &stats.mean, &stats.std, &stats.q01, &stats.q10, &stats.q50, &stats.q90, &stats.q99}) {
     field->assign(dims, 0.0);
   }
 }

@@ -14,7 +14,7 @@ namespace tavis::dataset {
 
 struct FeatureStats {
   std::vector<double> min, max, mean, std, q01, q10, q50, q90, q99;  // (dims)
-  int64_t count = 0;  // rows, or frames for an image feature
+  int64_t count = 0;                                                 // rows, or frames for an image feature
 };
 
 // The quantile levels, in the order of FeatureStats' q fields.

@@ -24,7 +24,8 @@ void AppendFrameState(const batch::ProprioceptionBatch& proprioception, int slot
 void AppendFrameImage(const render::ImageBatch& images, int slot, int camera, EpisodeEncoder* encoder,
                       ImageStats* stats) {
   const uint8_t* rgb = images.rgb(slot, camera);
-  const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
+  const std::size_t size =
+      static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
   encoder->WriteFrame(rgb, size);
   stats->AddFrame(rgb, images.width(camera), images.height(camera));
 }

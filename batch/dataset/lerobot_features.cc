@@ -33,33 +33,34 @@ std::vector<VectorFeature> VectorFeatures(const DatasetLayout& layout) {
 
 nlohmann::json FeaturesJson(const DatasetLayout& layout) {
   nlohmann::json features = nlohmann::json::object();
-  const nlohmann::json action_names = {"left_eef_x", "left_eef_y", "left_eef_z", "left_eef_qw", "left_eef_qx",
-                                       "left_eef_qy", "left_eef_qz", "right_eef_x", "right_eef_y", "right_eef_z",
+  const nlohmann::json action_names = {"left_eef_x",   "left_eef_y",   "left_eef_z",   "left_eef_qw",  "left_eef_qx",
+                                       "left_eef_qy",  "left_eef_qz",  "right_eef_x",  "right_eef_y",  "right_eef_z",
                                        "right_eef_qw", "right_eef_qx", "right_eef_qy", "right_eef_qz", "neck_roll",
-                                       "neck_pitch", "neck_yaw", "left_gripper", "right_gripper"};
+                                       "neck_pitch",   "neck_yaw",     "left_gripper", "right_gripper"};
   const nlohmann::json xyz = {"x", "y", "z"}, wxyz = {"w", "x", "y", "z"};
   for (const VectorFeature& feature : VectorFeatures(layout)) {
     nlohmann::json names = feature.name == "action" ? action_names
-                           : feature.name == std::string(batch::contract::kStateKey) ? nlohmann::json(layout.state_names)
-                           : feature.size == 3 ? xyz : wxyz;
+                           : feature.name == std::string(batch::contract::kStateKey)
+                               ? nlohmann::json(layout.state_names)
+                           : feature.size == 3 ? xyz
+                                               : wxyz;
     features[feature.name] = {{"dtype", "float32"}, {"shape", {feature.size}}, {"names", names}};
     if (feature.name != "action") continue;
     // The cameras follow the action, as in the reference's info.json.
     for (const std::string& camera : layout.cameras) {
-      features[CameraVideoKey(camera)] = {
-          {"dtype", "video"},
-          {"shape", {layout.video.height, layout.video.width, 3}},
-          {"names", {"height", "width", "channels"}},
-          {"info",
-           {{"video.height", layout.video.height},
-            {"video.width", layout.video.width},
-            {"video.codec", VideoCodecName(layout.video.codec)},
-            {"video.pix_fmt", "yuv420p"},
-            {"video.is_depth_map", false},
-            {"video.fps", layout.fps},
-            {"video.channels", 3},
-            {"has_audio", false},
-            {"is_depth_map", false}}}};
+      features[CameraVideoKey(camera)] = {{"dtype", "video"},
+                                          {"shape", {layout.video.height, layout.video.width, 3}},
+                                          {"names", {"height", "width", "channels"}},
+                                          {"info",
+                                           {{"video.height", layout.video.height},
+                                            {"video.width", layout.video.width},
+                                            {"video.codec", VideoCodecName(layout.video.codec)},
+                                            {"video.pix_fmt", "yuv420p"},
+                                            {"video.is_depth_map", false},
+                                            {"video.fps", layout.fps},
+                                            {"video.channels", 3},
+                                            {"has_audio", false},
+                                            {"is_depth_map", false}}}};
     }
   }
   features["language_instruction"] = {{"dtype", "string"}, {"shape", {1}}, {"names", nullptr}};

@@ -46,7 +46,8 @@ struct VectorFeature {
 std::vector<VectorFeature> VectorFeatures(const DatasetLayout& layout);
 
 // LeRobot's five bookkeeping features.
-inline const std::vector<std::string> kIndexFeatures = {"timestamp", "frame_index", "episode_index", "index", "task_index"};
+inline const std::vector<std::string> kIndexFeatures = {"timestamp", "frame_index", "episode_index", "index",
+                                                        "task_index"};
 
 // info.json's "features": every feature's dtype, shape and names (video features with their info).
 nlohmann::json FeaturesJson(const DatasetLayout& layout);

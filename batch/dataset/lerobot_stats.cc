@@ -75,7 +75,8 @@ DatasetStats EpisodeStats(const RecordedEpisode& episode, const DatasetLayout& l
   for (const VectorFeature& feature : VectorFeatures(layout)) {
     NumericStats values(feature.size);
     const std::vector<float>& rows = VectorOf(episode, feature.name);
-    for (int64_t frame = 0; frame < episode.frames; ++frame) values.Add(&rows[static_cast<std::size_t>(frame * feature.size)]);
+    for (int64_t frame = 0; frame < episode.frames; ++frame)
+      values.Add(&rows[static_cast<std::size_t>(frame * feature.size)]);
     stats.numeric.emplace(feature.name, std::move(values));
   }
   NumericStats timestamp(1), frame_index(1), episode_number(1), index(1), task_index(1);

@@ -30,7 +30,8 @@ DatasetStats EpisodeStats(const RecordedEpisode& episode, const DatasetLayout& l
                           int64_t first_index);
 
 // The names of the statistics, in the order the episodes table's stats/<feature>/<stat> columns use.
-inline const std::vector<std::string> kStatNames = {"min", "max", "mean", "std", "count", "q01", "q10", "q50", "q90", "q99"};
+inline const std::vector<std::string> kStatNames = {"min", "max", "mean", "std", "count",
+                                                    "q01", "q10", "q50",  "q90", "q99"};
 
 // The values of one statistic of `stats` (count as a one-entry list).
 std::vector<double> StatValues(const FeatureStats& stats, const std::string& stat);

@@ -36,8 +36,8 @@ class V21Writer : public DatasetWriter {
     WriteEpisodeRows(writer, episode, layout_, index, frames_);
     writer.Close();
     for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
-      const std::filesystem::path video =
-          std::filesystem::path(root_) / "videos" / chunk / CameraVideoKey(layout_.cameras[camera]) / (std::string(name) + ".mp4");
+      const std::filesystem::path video = std::filesystem::path(root_) / "videos" / chunk /
+                                          CameraVideoKey(layout_.cameras[camera]) / (std::string(name) + ".mp4");
       std::filesystem::create_directories(video.parent_path());
       VideoSettings settings = layout_.video;
       settings.fps = layout_.fps;
@@ -79,8 +79,10 @@ class V21Writer : public DatasetWriter {
         {"fps", layout_.fps},
         {"splits", {{"train", "0:" + std::to_string(episodes_)}}},
         {"data_path", "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"},
-        {"video_path", layout_.cameras.empty() ? nlohmann::json()
-                                               : nlohmann::json("videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4")},
+        {"video_path",
+         layout_.cameras.empty()
+             ? nlohmann::json()
+             : nlohmann::json("videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4")},
         {"features", FeaturesJson(layout_)}};
     batch::WriteFileAtomically(root_ + "/meta/info.json", info.dump(2) + "\n");
   }

@@ -2,9 +2,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <stdexcept>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -26,7 +26,8 @@ constexpr double kMegabyte = 1024.0 * 1024.0;
 
 // info.json's file size limits: LeRobot 0.4.3 reads them as ints, so whole numbers are written so.
 nlohmann::json Megabytes(double size) {
-  return size == static_cast<double>(static_cast<int64_t>(size)) ? nlohmann::json(static_cast<int64_t>(size)) : nlohmann::json(size);
+  return size == static_cast<double>(static_cast<int64_t>(size)) ? nlohmann::json(static_cast<int64_t>(size))
+                                                                 : nlohmann::json(size);
 }
 
 // A (chunk, file) cursor, advanced as LeRobot's update_chunk_file_indices does.
@@ -118,7 +119,8 @@ class V30Writer : public DatasetWriter {
   FileIndex DataFileFor(int64_t frames) {
     if (data_) {
       const double per_frame = static_cast<double>(data_->bytes_written()) / static_cast<double>(data_->num_rows());
-      if ((static_cast<double>(data_->bytes_written()) + per_frame * static_cast<double>(frames)) / kMegabyte >= layout_.data_files_size_mb) {
+      if ((static_cast<double>(data_->bytes_written()) + per_frame * static_cast<double>(frames)) / kMegabyte >=
+          layout_.data_files_size_mb) {
         data_->Close();
         data_.reset();
         data_index_.Advance();
@@ -134,13 +136,15 @@ class V30Writer : public DatasetWriter {
 
   CameraFile& VideoFileFor(std::size_t camera, int64_t episode_bytes) {
     CameraFile& file = cameras_[camera];
-    if (file.writer && static_cast<double>(file.writer->bytes_written() + episode_bytes) / kMegabyte >= layout_.video_files_size_mb) {
+    if (file.writer &&
+        static_cast<double>(file.writer->bytes_written() + episode_bytes) / kMegabyte >= layout_.video_files_size_mb) {
       file.writer->Close();
       file.writer.reset();
       file.index.Advance();
     }
     if (!file.writer) {
-      const std::string path = root_ + "/" + Numbered("videos/" + CameraVideoKey(layout_.cameras[camera]) + "/", file.index, "mp4");
+      const std::string path =
+          root_ + "/" + Numbered("videos/" + CameraVideoKey(layout_.cameras[camera]) + "/", file.index, "mp4");
       std::filesystem::create_directories(std::filesystem::path(path).parent_path());
       VideoSettings settings = layout_.video;
       settings.fps = layout_.fps;
@@ -167,7 +171,8 @@ class V30Writer : public DatasetWriter {
     for (const auto& [feature, stats] : rows_.front().numeric_stats) {
       for (const std::string& stat : kStatNames) {
         const bool count = stat == "count";
-        columns.push_back(ColumnSpec::List("stats/" + feature + "/" + stat, count ? ValueType::kInt64 : ValueType::kDouble,
+        columns.push_back(ColumnSpec::List("stats/" + feature + "/" + stat,
+                                           count ? ValueType::kInt64 : ValueType::kDouble,
                                            {count ? 1 : stats.min.size()}));
       }
     }
@@ -203,9 +208,12 @@ class V30Writer : public DatasetWriter {
     rows.Add("dataset_to_index", column([](const EpisodeRow& row) { return row.from_index + row.length; }));
     for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
       const std::string prefix = "videos/" + CameraVideoKey(layout_.cameras[camera]) + "/";
-      rows.Add(prefix + "chunk_index", column([camera](const EpisodeRow& row) { return int64_t{row.video[camera].chunk}; }));
-      rows.Add(prefix + "file_index", column([camera](const EpisodeRow& row) { return int64_t{row.video[camera].file}; }));
-      rows.Add(prefix + "from_timestamp", column([camera](const EpisodeRow& row) { return row.from_timestamp[camera]; }));
+      rows.Add(prefix + "chunk_index",
+               column([camera](const EpisodeRow& row) { return int64_t{row.video[camera].chunk}; }));
+      rows.Add(prefix + "file_index",
+               column([camera](const EpisodeRow& row) { return int64_t{row.video[camera].file}; }));
+      rows.Add(prefix + "from_timestamp",
+               column([camera](const EpisodeRow& row) { return row.from_timestamp[camera]; }));
       rows.Add(prefix + "to_timestamp", column([camera](const EpisodeRow& row) { return row.to_timestamp[camera]; }));
     }
     AddStatsColumns(rows);
@@ -248,9 +256,9 @@ class V30Writer : public DatasetWriter {
          R"("numpy_type": "object", "metadata": {"encoding": "UTF-8"}}], "columns": [{"name": "task_index", )"
          R"("field_name": "task_index", "pandas_type": "int64", "numpy_type": "int64", "metadata": null}, {"name": "task", )"
          R"("field_name": "task", "pandas_type": "unicode", "numpy_type": "object", "metadata": null}]})"}};
-    ParquetWriter writer(root_ + "/meta/tasks.parquet",
-                         {ColumnSpec::Scalar("task_index", ValueType::kInt64), ColumnSpec::Scalar("task", ValueType::kString)},
-                         options);
+    ParquetWriter writer(
+        root_ + "/meta/tasks.parquet",
+        {ColumnSpec::Scalar("task_index", ValueType::kInt64), ColumnSpec::Scalar("task", ValueType::kString)}, options);
     RowGroupBuilder rows = writer.NewRowGroup(layout_.tasks.size());
     std::vector<int64_t> index;
     for (std::size_t i = 0; i < layout_.tasks.size(); ++i) index.push_back(static_cast<int64_t>(i));
@@ -261,20 +269,22 @@ class V30Writer : public DatasetWriter {
   }
 
   nlohmann::json InfoJson() const {
-    return {{"codebase_version", "v3.0"},
-            {"robot_type", layout_.robot_type},
-            {"total_episodes", episodes()},
-            {"total_frames", frames_},
-            {"total_tasks", layout_.tasks.size()},
-            {"chunks_size", kChunksSize},
-            {"data_files_size_in_mb", Megabytes(layout_.data_files_size_mb)},
-            {"video_files_size_in_mb", Megabytes(layout_.video_files_size_mb)},
-            {"fps", layout_.fps},
-            {"splits", {{"train", "0:" + std::to_string(episodes())}}},
-            {"data_path", "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"},
-            {"video_path", layout_.cameras.empty() ? nlohmann::json()
-                                                   : nlohmann::json("videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4")},
-            {"features", FeaturesJson(layout_)}};
+    return {
+        {"codebase_version", "v3.0"},
+        {"robot_type", layout_.robot_type},
+        {"total_episodes", episodes()},
+        {"total_frames", frames_},
+        {"total_tasks", layout_.tasks.size()},
+        {"chunks_size", kChunksSize},
+        {"data_files_size_in_mb", Megabytes(layout_.data_files_size_mb)},
+        {"video_files_size_in_mb", Megabytes(layout_.video_files_size_mb)},
+        {"fps", layout_.fps},
+        {"splits", {{"train", "0:" + std::to_string(episodes())}}},
+        {"data_path", "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"},
+        {"video_path", layout_.cameras.empty()
+                           ? nlohmann::json()
+                           : nlohmann::json("videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4")},
+        {"features", FeaturesJson(layout_)}};
   }
 
   std::string root_;

@@ -19,12 +19,12 @@ struct RecordedEpisode {
   std::string prompt;          // language_instruction, the same on every frame
   int64_t frames = 0;
   // Row-major (frames x size) float32, in the dataset's feature order.
-  std::vector<float> action;             // 19, the canonical action
-  std::vector<float> state;              // the robot's observation.state
+  std::vector<float> action;                         // 19, the canonical action
+  std::vector<float> state;                          // the robot's observation.state
   std::vector<float> left_eef_pos, right_eef_pos;    // 3, canonical frame
   std::vector<float> left_eef_quat, right_eef_quat;  // 4, world frame (w, x, y, z)
-  std::vector<EncodedEpisode> videos;    // per recorded camera, in the dataset's camera order
-  std::vector<ImageStats> image_stats;   // per recorded camera
+  std::vector<EncodedEpisode> videos;                // per recorded camera, in the dataset's camera order
+  std::vector<ImageStats> image_stats;               // per recorded camera
 };
 
 }  // namespace tavis::dataset

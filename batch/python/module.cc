@@ -46,7 +46,8 @@ py::dict Pixels(const py::object& self, const render::ImageBatch* images) {
   for (int camera = 0; camera < images->n_cameras(); ++camera) {
     const py::ssize_t height = images->height(camera);
     const py::ssize_t width = images->width(camera);
-    const py::ssize_t env_stride = images->n_envs() > 1 ? images->rgb(1, camera) - images->rgb(0, camera) : height * width * 3;
+    const py::ssize_t env_stride =
+        images->n_envs() > 1 ? images->rgb(1, camera) - images->rgb(0, camera) : height * width * 3;
     pixels[py::str(env.camera_names()[static_cast<std::size_t>(camera)])] =
         View(u8, {images->n_envs(), height, width, 3}, {env_stride, width * 3, 3, 1}, images->rgb(0, camera), self);
   }
@@ -56,8 +57,8 @@ py::dict Pixels(const py::object& self, const render::ImageBatch* images) {
 py::array AgentPos(const py::object& self) {
   const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
   const py::ssize_t row = env.state_size();
-  return View(py::dtype::of<float>(), {env.num_envs(), row}, {row * static_cast<py::ssize_t>(sizeof(float)), sizeof(float)},
-              env.agent_pos(), self);
+  return View(py::dtype::of<float>(), {env.num_envs(), row},
+              {row * static_cast<py::ssize_t>(sizeof(float)), sizeof(float)}, env.agent_pos(), self);
 }
 
 // The actions as a contiguous (num_envs x 19) float64 buffer; ValueError for another shape or a
@@ -65,7 +66,8 @@ py::array AgentPos(const py::object& self) {
 std::vector<double> Actions(const PythonVecEnv& env, const py::handle& actions) {
   if (!py::isinstance<py::array>(actions)) {
     throw py::value_error("actions must be a numpy array of shape (" + std::to_string(env.num_envs()) + ", " +
-                          std::to_string(kActionSize) + "), got " + py::type::of(actions).attr("__name__").cast<std::string>());
+                          std::to_string(kActionSize) + "), got " +
+                          py::type::of(actions).attr("__name__").cast<std::string>());
   }
   const py::array array = py::reinterpret_borrow<py::array>(actions);
   const py::dtype dtype = array.dtype();
@@ -74,9 +76,10 @@ std::vector<double> Actions(const PythonVecEnv& env, const py::handle& actions) 
   }
   if (array.ndim() != 2 || array.shape(0) != env.num_envs() || array.shape(1) != kActionSize) {
     std::string shape;
-    for (py::ssize_t axis = 0; axis < array.ndim(); ++axis) shape += (axis ? ", " : "") + std::to_string(array.shape(axis));
-    throw py::value_error("actions must have shape (" + std::to_string(env.num_envs()) + ", " + std::to_string(kActionSize) +
-                          "), got (" + shape + ")");
+    for (py::ssize_t axis = 0; axis < array.ndim(); ++axis)
+      shape += (axis ? ", " : "") + std::to_string(array.shape(axis));
+    throw py::value_error("actions must have shape (" + std::to_string(env.num_envs()) + ", " +
+                          std::to_string(kActionSize) + "), got (" + shape + ")");
   }
   const auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
   return std::vector<double>(values.data(), values.data() + values.size());
@@ -283,12 +286,14 @@ PYBIND11_MODULE(_tavis, m) {
            [](const PythonVecEnv& env) {
              const Exclusive use(env, "episode_json_lines");
              std::vector<std::string> lines;
-             for (const auto& [episode, record] : env.records()) lines.push_back(EpisodeJsonLine(record, env.config().seed));
+             for (const auto& [episode, record] : env.records())
+               lines.push_back(EpisodeJsonLine(record, env.config().seed));
              return lines;
            })
       .def(
           "write_results",
-          [](const PythonVecEnv& env, const std::string& out_dir, const std::string& policy, int64_t first, int64_t count) {
+          [](const PythonVecEnv& env, const std::string& out_dir, const std::string& policy, int64_t first,
+             int64_t count) {
             const Exclusive use(env, "write_results");
             py::gil_scoped_release release;
             env.WriteResults(out_dir, policy, first, count);

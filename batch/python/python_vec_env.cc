@@ -47,18 +47,20 @@ void CheckImageMemory(const PythonVecEnvConfig& config) {
     char sizes[96];
     std::snprintf(sizes, sizeof(sizes), "need %.1f GiB; this machine has %.1f GiB", bytes / kGiB, memory / kGiB);
     throw OutOfMemory("the images of " + std::to_string(config.num_envs) + " envs x " +
-                      std::to_string(config.cameras.size()) + " cameras at " + std::to_string(config.image_height) + "x" +
-                      std::to_string(config.image_width) + " " + sizes);
+                      std::to_string(config.cameras.size()) + " cameras at " + std::to_string(config.image_height) +
+                      "x" + std::to_string(config.image_width) + " " + sizes);
   }
 }
 
 const PythonVecEnvConfig& Checked(const PythonVecEnvConfig& config) {
-  if (config.num_envs < 1) throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(config.num_envs));
+  if (config.num_envs < 1)
+    throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(config.num_envs));
   if (config.num_envs > kMaxPythonEnvs) {
-    throw std::invalid_argument("num_envs must be at most " + std::to_string(kMaxPythonEnvs) + " (as tavis eval --envs), got " +
-                                std::to_string(config.num_envs));
+    throw std::invalid_argument("num_envs must be at most " + std::to_string(kMaxPythonEnvs) +
+                                " (as tavis eval --envs), got " + std::to_string(config.num_envs));
   }
-  if (config.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores), got " + std::to_string(config.threads));
+  if (config.threads < 0)
+    throw std::invalid_argument("threads must be >= 0 (0: all cores), got " + std::to_string(config.threads));
   if (config.control_ticks_per_step < 0) {
     throw std::invalid_argument("control_ticks_per_step must be >= 1 (0: the policy rate's), got " +
                                 std::to_string(config.control_ticks_per_step));
@@ -293,10 +295,10 @@ std::shared_ptr<Policy> PythonVecEnv::MakePolicy(const std::string& name, const 
   AsUnknownName([&] { CheckBuiltinPolicyName(name); });
   std::shared_ptr<Policy> policy = MakeBuiltinPolicy(name, scenario_, env_.model(), num_envs(), actions_file);
   if (policy->control_ticks_per_action() != ticks_per_step_) {
-    throw std::invalid_argument("policy '" + name + "' acts every " + std::to_string(policy->control_ticks_per_action()) +
-                                " control ticks but the env steps " + std::to_string(ticks_per_step_) +
-                                "; make the env with control_ticks_per_step=" +
-                                std::to_string(policy->control_ticks_per_action()));
+    throw std::invalid_argument(
+        "policy '" + name + "' acts every " + std::to_string(policy->control_ticks_per_action()) +
+        " control ticks but the env steps " + std::to_string(ticks_per_step_) +
+        "; make the env with control_ticks_per_step=" + std::to_string(policy->control_ticks_per_action()));
   }
   if (!policy->cameras().empty()) throw std::invalid_argument("built-in policy '" + name + "' uses cameras");
   arena_.execute([&] {
@@ -311,7 +313,8 @@ std::shared_ptr<Policy> PythonVecEnv::MakePolicy(const std::string& name, const 
 void PythonVecEnv::Act(Policy& policy, double* actions) {
   const auto is_this = [&](const std::shared_ptr<Policy>& mine) { return mine.get() == &policy; };
   if (std::none_of(policies_.begin(), policies_.end(), is_this)) {
-    throw std::invalid_argument("policy '" + policy.name() + "' was made by another env (make it with this env's make_policy)");
+    throw std::invalid_argument("policy '" + policy.name() +
+                                "' was made by another env (make it with this env's make_policy)");
   }
   ActInto(policy, actions);
   acted_ = &policy;
@@ -328,11 +331,13 @@ void PythonVecEnv::ActInto(Policy& policy, double* actions) {
   for (int env = 0; env < num_envs(); ++env) acting[env] = env_.state().running(env) ? 1 : 0;
   arena_.execute([&] { policy.Act(MakeObservation(), acting, chosen); });
   for (int env = 0; env < num_envs(); ++env) {
-    std::copy(chosen[env].begin(), chosen[env].end(), actions + static_cast<std::size_t>(env) * kinematics::action::kSize);
+    std::copy(chosen[env].begin(), chosen[env].end(),
+              actions + static_cast<std::size_t>(env) * kinematics::action::kSize);
   }
 }
 
-void PythonVecEnv::WriteResults(const std::string& out_dir, const std::string& policy, int64_t first, int64_t count) const {
+void PythonVecEnv::WriteResults(const std::string& out_dir, const std::string& policy, int64_t first,
+                                int64_t count) const {
   if (first < 0 || count < 1) {
     throw std::invalid_argument("episodes to write: first >= 0 and count >= 1, got first " + std::to_string(first) +
                                 ", count " + std::to_string(count));
@@ -353,8 +358,8 @@ void PythonVecEnv::WriteResults(const std::string& out_dir, const std::string& p
   for (int64_t episode = first; episode < first + count; ++episode) {
     const auto record = records_.find(episode);
     if (record == records_.end()) {
-      throw std::invalid_argument("episode " + std::to_string(episode) + " has not ended (episodes ended: " +
-                                  std::to_string(records_.size()) + ")");
+      throw std::invalid_argument("episode " + std::to_string(episode) +
+                                  " has not ended (episodes ended: " + std::to_string(records_.size()) + ")");
     }
     result.episodes.push_back(record->second);
     result.successes += record->second.success ? 1 : 0;

@@ -167,8 +167,8 @@ class PythonVecEnv {
   std::unique_ptr<render::ImageBatch> final_images_;
   int64_t next_episode_ = 0;
   bool was_reset_ = false;
-  double busy_s_ = 0.0;         // time spent resetting and stepping, for the summary's wall_s
-  int64_t control_ticks_ = 0;   // env control ticks simulated
+  double busy_s_ = 0.0;        // time spent resetting and stepping, for the summary's wall_s
+  int64_t control_ticks_ = 0;  // env control ticks simulated
   // Per-env buffers, sized once.
   std::vector<const char*> prompts_;
   std::vector<EpisodeStart> starts_;

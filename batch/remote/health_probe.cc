@@ -27,7 +27,8 @@ Probe ProbeOnce(const WebSocketUrl& server, Deadline deadline) {
     return {std::nullopt, error.what()};  // not listening (yet)
   }
   try {
-    const std::string request = "GET /healthz HTTP/1.1\r\nHost: " + server.Authority() + "\r\nConnection: close\r\n\r\n";
+    const std::string request =
+        "GET /healthz HTTP/1.1\r\nHost: " + server.Authority() + "\r\nConnection: close\r\n\r\n";
     socket->SendAll(reinterpret_cast<const std::uint8_t*>(request.data()), request.size(), deadline);
     const HttpResponseStart response = ReadHttpResponseStart(*socket, deadline);
     if (response.head.status == 200) return {Readiness::kHealthy, ""};
@@ -53,7 +54,8 @@ Readiness WaitForHealthz(const WebSocketUrl& server, std::chrono::milliseconds t
     const Probe probe = ProbeOnce(server, deadline);
     if (probe.ready) return *probe.ready;
     failure = probe.failure;
-    std::this_thread::sleep_for(std::min<Clock::duration>(retry_interval, std::max<Clock::duration>(deadline - Clock::now(), Clock::duration::zero())));
+    std::this_thread::sleep_for(std::min<Clock::duration>(
+        retry_interval, std::max<Clock::duration>(deadline - Clock::now(), Clock::duration::zero())));
   } while (Clock::now() < deadline);
   const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start).count();
   throw RemoteTimeout("policy server " + server.Authority() + " not ready: /healthz did not answer 200 within " +

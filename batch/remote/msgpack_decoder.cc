@@ -154,11 +154,13 @@ class Decoder {
     const Value* shape = FindBinKey(map, "shape");
     if (data == nullptr || !data->is<Binary>()) throw MsgpackError("__ndarray__ map needs bin 'data'", start);
     if (dtype == nullptr || !dtype->is<std::string>()) throw MsgpackError("__ndarray__ map needs str 'dtype'", start);
-    if (shape == nullptr || !shape->is<Value::Array>()) throw MsgpackError("__ndarray__ map needs array 'shape'", start);
+    if (shape == nullptr || !shape->is<Value::Array>())
+      throw MsgpackError("__ndarray__ map needs array 'shape'", start);
     NdArray array{dtype->as<std::string>("dtype"), {}, data->as<Binary>("data").bytes};
     for (const Value& dimension : shape->as<Value::Array>("shape")) {
       const auto* size = dimension.get_if<std::int64_t>();
-      if (size == nullptr) throw MsgpackError("__ndarray__ shape entry is " + dimension.TypeName() + ", not int", start);
+      if (size == nullptr)
+        throw MsgpackError("__ndarray__ shape entry is " + dimension.TypeName() + ", not int", start);
       array.shape.push_back(*size);
     }
     try {

@@ -19,7 +19,8 @@ const Value* Value::Find(std::string_view key) const {
       return &entry.value;
     }
     if (const Binary* bytes = entry.key.get_if<Binary>();
-        bytes != nullptr && std::string_view(reinterpret_cast<const char*>(bytes->bytes.data()), bytes->bytes.size()) == key) {
+        bytes != nullptr &&
+        std::string_view(reinterpret_cast<const char*>(bytes->bytes.data()), bytes->bytes.size()) == key) {
       return &entry.value;
     }
   }

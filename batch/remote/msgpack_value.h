@@ -32,8 +32,8 @@ class Value {
   using Map = std::vector<MapEntry>;  // in wire order, as Python dicts keep insertion order
   // Integers that fit int64 are int64 whichever way they were written, so equal numbers compare
   // equal; uint64 holds only those above INT64_MAX.
-  using Storage = std::variant<std::nullptr_t, bool, std::int64_t, std::uint64_t, float, double, std::string,
-                               Binary, Array, Map, NdArray>;
+  using Storage = std::variant<std::nullptr_t, bool, std::int64_t, std::uint64_t, float, double, std::string, Binary,
+                               Array, Map, NdArray>;
 
   Value() : storage_(nullptr) {}
   Value(std::nullptr_t) : storage_(nullptr) {}
@@ -51,16 +51,20 @@ class Value {
 
   const Storage& storage() const { return storage_; }
   template <typename T>
-  const T* get_if() const { return std::get_if<T>(&storage_); }
+  const T* get_if() const {
+    return std::get_if<T>(&storage_);
+  }
   template <typename T>
-  bool is() const { return std::holds_alternative<T>(storage_); }
+  bool is() const {
+    return std::holds_alternative<T>(storage_);
+  }
 
   // The alternative T; throws std::invalid_argument "<what>: expected <T>, got <actual>".
   template <typename T>
   const T& as(std::string_view what) const {
     if (const T* value = get_if<T>()) return *value;
-    throw std::invalid_argument(std::string(what) + ": expected " + TypeNameOf(Value(T{}).storage_.index()) +
-                                ", got " + TypeName());
+    throw std::invalid_argument(std::string(what) + ": expected " + TypeNameOf(Value(T{}).storage_.index()) + ", got " +
+                                TypeName());
   }
 
   // Python's name for the type held: "None", "bool", "int", "float32", "float", "str", "bytes",

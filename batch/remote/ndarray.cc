@@ -34,10 +34,10 @@ std::vector<double> ElementsAsDoubles(const NdArray& array) {
 
 std::size_t DtypeItemSize(const std::string& dtype) {
   const auto bad = [&dtype]() {
-    return std::invalid_argument("ndarray dtype '" + dtype +
-                                 "' is not a numpy dtype string like '<f4' or '|u1'");
+    return std::invalid_argument("ndarray dtype '" + dtype + "' is not a numpy dtype string like '<f4' or '|u1'");
   };
-  if (dtype.size() < 3 || dtype.size() > 12 || std::string_view("<>|=").find(dtype[0]) == std::string_view::npos) throw bad();
+  if (dtype.size() < 3 || dtype.size() > 12 || std::string_view("<>|=").find(dtype[0]) == std::string_view::npos)
+    throw bad();
   std::size_t size = 0;
   for (std::size_t i = 2; i < dtype.size(); ++i) {
     if (dtype[i] < '0' || dtype[i] > '9') throw bad();
@@ -53,8 +53,8 @@ std::size_t ElementCount(const std::vector<std::int64_t>& shape) {
   for (const std::int64_t dimension : shape) {
     if (dimension < 0) throw std::invalid_argument("ndarray dimension " + std::to_string(dimension) + " is negative");
     if (dimension != 0 && count > kLimit / static_cast<std::size_t>(dimension)) {
-      throw std::invalid_argument("ndarray shape has more than 2^62 elements (dimension " +
-                                  std::to_string(dimension) + ")");
+      throw std::invalid_argument("ndarray shape has more than 2^62 elements (dimension " + std::to_string(dimension) +
+                                  ")");
     }
     count *= static_cast<std::size_t>(dimension);
   }

@@ -54,15 +54,19 @@ ObservationKeys ReadKeys(const configs::YamlValue& root, std::string source) {
   }
   cameras.ExpectNoOtherKeys();
   const auto listed = [&keys](const char* name) {
-    return std::any_of(keys.cameras.begin(), keys.cameras.end(), [name](const auto& entry) { return entry.first == name; });
+    return std::any_of(keys.cameras.begin(), keys.cameras.end(),
+                       [name](const auto& entry) { return entry.first == name; });
   };
-  if (listed("fixed") && !listed("head")) cameras.Fail("fixed replaces head under the fixed protocol: give head a key too");
-  if (keys.PolicyCameras().empty()) cameras.Fail("no camera for the policy (give at least one of head, left_wrist, right_wrist)");
+  if (listed("fixed") && !listed("head"))
+    cameras.Fail("fixed replaces head under the fixed protocol: give head a key too");
+  if (keys.PolicyCameras().empty())
+    cameras.Fail("no camera for the policy (give at least one of head, left_wrist, right_wrist)");
   keys.state = ReadKeyPath(root.Required("state"));
   keys.prompt = ReadKeyPath(root.Required("prompt"));
   if (const auto task = root.Optional("task")) keys.task = ReadKeyPath(*task);
   const std::string layout = root.String("image_layout");
-  if (layout != "hwc" && layout != "chw") root.Required("image_layout").Fail("expected hwc or chw, got '" + layout + "'");
+  if (layout != "hwc" && layout != "chw")
+    root.Required("image_layout").Fail("expected hwc or chw, got '" + layout + "'");
   keys.image_layout = layout == "hwc" ? ImageLayout::kHwc : ImageLayout::kChw;
   keys.image_width = root.Int("image_width");
   keys.image_height = root.Int("image_height");
@@ -75,13 +79,15 @@ ObservationKeys ReadKeys(const configs::YamlValue& root, std::string source) {
 
   // The fixed camera may share head's key (it replaces head); any other overlap loses a value.
   std::vector<std::pair<std::string, KeyPath>> sent = keys.cameras;
-  sent.erase(std::remove_if(sent.begin(), sent.end(), [](const auto& entry) { return entry.first == "fixed"; }), sent.end());
+  sent.erase(std::remove_if(sent.begin(), sent.end(), [](const auto& entry) { return entry.first == "fixed"; }),
+             sent.end());
   sent.emplace_back("state", keys.state);
   sent.emplace_back("prompt", keys.prompt);
   if (!keys.task.empty()) sent.emplace_back("task", keys.task);
   for (const auto& [name, path] : sent) {
     for (const char* field : kRequestFields) {
-      if (path.front() == field) root.Fail(name + " uses the key '" + field + "', which every request carries as a request field");
+      if (path.front() == field)
+        root.Fail(name + " uses the key '" + field + "', which every request carries as a request field");
     }
   }
   for (std::size_t i = 0; i < sent.size(); ++i) {
@@ -151,19 +157,21 @@ void WritePolicyImage(const render::ImageBatch& images, int env, int camera, con
 }
 
 // The images of `camera` for `envs`, stacked on a leading axis when `stacked`.
-NdArray PolicyImages(const render::ImageBatch& images, const std::vector<int>& envs, int camera, const ObservationKeys& keys,
-                     bool stacked) {
+NdArray PolicyImages(const render::ImageBatch& images, const std::vector<int>& envs, int camera,
+                     const ObservationKeys& keys, bool stacked) {
   std::vector<std::int64_t> shape = ImageShape(images, camera, keys);
   const std::size_t size = ElementCount(shape);
   std::vector<std::uint8_t> pixels(size * envs.size(), 0);
-  for (std::size_t i = 0; i < envs.size(); ++i) WritePolicyImage(images, envs[i], camera, keys, pixels.data() + i * size);
+  for (std::size_t i = 0; i < envs.size(); ++i)
+    WritePolicyImage(images, envs[i], camera, keys, pixels.data() + i * size);
   if (stacked) shape.insert(shape.begin(), static_cast<std::int64_t>(envs.size()));
   return MakeUint8Array(std::move(shape), std::move(pixels));
 }
 
 template <typename T>
 NdArray VectorArray(const char* dtype, const std::vector<T>& values) {
-  NdArray array{dtype, {static_cast<std::int64_t>(values.size())}, std::vector<std::uint8_t>(values.size() * sizeof(T))};
+  NdArray array{
+      dtype, {static_cast<std::int64_t>(values.size())}, std::vector<std::uint8_t>(values.size() * sizeof(T))};
   if (!values.empty()) std::memcpy(array.data.data(), values.data(), array.data.size());
   return array;
 }
@@ -175,9 +183,10 @@ const char* PromptOf(const batch::Observation& observation, int env) {
 
 // The entries of a request for `envs`: one env's values, or with `stacked` every value on a
 // leading env axis.
-std::vector<std::pair<KeyPath, Value>> RequestEntries(const batch::Observation& observation, const ObservationKeys& keys,
-                                                      const std::vector<std::string>& cameras, const std::vector<int>& envs,
-                                                      bool stacked) {
+std::vector<std::pair<KeyPath, Value>> RequestEntries(const batch::Observation& observation,
+                                                      const ObservationKeys& keys,
+                                                      const std::vector<std::string>& cameras,
+                                                      const std::vector<int>& envs, bool stacked) {
   if (observation.images == nullptr || observation.proprioception == nullptr) {
     throw std::logic_error("a served policy needs the images and proprioception of the episode driver");
   }
@@ -296,7 +305,8 @@ std::pair<int, int> RenderSize(const ObservationKeys& keys) {
 ObservationKeys LoadDatasetKeys(const std::string& dataset_dir, int state_size) {
   const std::string path = (std::filesystem::path(dataset_dir) / "meta" / "info.json").string();
   std::ifstream in(path);
-  if (!in) throw std::invalid_argument("dataset '" + dataset_dir + "': cannot open " + path + " (not a LeRobot dataset?)");
+  if (!in)
+    throw std::invalid_argument("dataset '" + dataset_dir + "': cannot open " + path + " (not a LeRobot dataset?)");
   nlohmann::json info;
   try {
     info = nlohmann::json::parse(in);
@@ -321,23 +331,28 @@ ObservationKeys LoadDatasetKeys(const std::string& dataset_dir, int state_size) 
     }
     const int feature_height = IntAt(shape[0], where + "[0]"), feature_width = IntAt(shape[1], where + "[1]");
     if (width != 0 && (feature_width != width || feature_height != height)) {
-      throw std::invalid_argument(where + " is " + std::to_string(feature_width) + "x" + std::to_string(feature_height) +
-                                  " but another camera of the dataset is " + std::to_string(width) + "x" +
-                                  std::to_string(height) + ": one size is served to every camera");
+      throw std::invalid_argument(where + " is " + std::to_string(feature_width) + "x" +
+                                  std::to_string(feature_height) + " but another camera of the dataset is " +
+                                  std::to_string(width) + "x" + std::to_string(height) +
+                                  ": one size is served to every camera");
     }
     width = feature_width;
     height = feature_height;
     keys.cameras.emplace_back(camera, KeyPath{key});
   }
   if (keys.PolicyCameras().empty()) {
-    throw std::invalid_argument(path + ": no image feature of a policy camera (observation.images.OBS_HEAD, OBS_WRIST_LEFT, "
+    throw std::invalid_argument(path +
+                                ": no image feature of a policy camera (observation.images.OBS_HEAD, OBS_WRIST_LEFT, "
                                 "OBS_WRIST_RIGHT)");
   }
-  const bool has_fixed = std::any_of(keys.cameras.begin(), keys.cameras.end(), [](const auto& e) { return e.first == "fixed"; });
-  const bool has_head = std::any_of(keys.cameras.begin(), keys.cameras.end(), [](const auto& e) { return e.first == "head"; });
+  const bool has_fixed =
+      std::any_of(keys.cameras.begin(), keys.cameras.end(), [](const auto& e) { return e.first == "fixed"; });
+  const bool has_head =
+      std::any_of(keys.cameras.begin(), keys.cameras.end(), [](const auto& e) { return e.first == "head"; });
   if (has_fixed && !has_head) {
     // A fixed-camera-only dataset: the fixed camera is the scene camera the policy reads.
-    throw std::invalid_argument(path + ": has observation.images.OBS_FIXED but no OBS_HEAD; record the dataset with both");
+    throw std::invalid_argument(path +
+                                ": has observation.images.OBS_FIXED but no OBS_HEAD; record the dataset with both");
   }
   keys.image_width = width;
   keys.image_height = height;
@@ -347,8 +362,9 @@ ObservationKeys LoadDatasetKeys(const std::string& dataset_dir, int state_size) 
     throw std::invalid_argument(path + ": features.observation.state.shape must be [D], got " + state_shape.dump());
   }
   if (state_shape[0].get<int>() != state_size) {
-    throw std::invalid_argument(path + ": observation.state has " + state_shape[0].dump() + " entries, but this robot's has " +
-                                std::to_string(state_size) + " (a dataset of another robot?)");
+    throw std::invalid_argument(path + ": observation.state has " + state_shape[0].dump() +
+                                " entries, but this robot's has " + std::to_string(state_size) +
+                                " (a dataset of another robot?)");
   }
   return keys;
 }
@@ -382,7 +398,8 @@ std::vector<std::string> LayoutDifferences(const ObservationKeys& served, const 
                           std::to_string(served.image_height) + ", " + expected.source + " has " +
                           std::to_string(expected.image_width) + "x" + std::to_string(expected.image_height));
   }
-  if (served.image_layout != expected.image_layout) differences.push_back("image layout: served and expected differ (hwc/chw)");
+  if (served.image_layout != expected.image_layout)
+    differences.push_back("image layout: served and expected differ (hwc/chw)");
   if (served.letterbox != expected.letterbox) {
     differences.push_back(std::string("letterbox: served ") + (served.letterbox ? "letterboxed" : "full-frame") + ", " +
                           expected.source + (expected.letterbox ? " letterboxed" : " full-frame"));

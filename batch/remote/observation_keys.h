@@ -37,8 +37,8 @@ using KeyPath = std::vector<std::string>;  // one entry: a top-level key; more: 
 enum class ImageLayout { kHwc, kChw };
 
 struct ObservationKeys {
-  std::string source;                                     // the preset's name or the file's path
-  std::vector<std::pair<std::string, KeyPath>> cameras;   // in the order of batch::SceneCameraNames()
+  std::string source;                                    // the preset's name or the file's path
+  std::vector<std::pair<std::string, KeyPath>> cameras;  // in the order of batch::SceneCameraNames()
   KeyPath state;
   KeyPath prompt;
   KeyPath task;  // empty: the instruction travels under `prompt` only

@@ -29,9 +29,9 @@ ActionChunk ReadActionChunk(const Value& reply);
 std::vector<ActionChunk> ReadBatchedActionChunks(const Value& reply, int envs);
 
 struct ReplyTimings {
-  std::optional<double> server_infer_ms;    // server_timing.infer_ms
+  std::optional<double> server_infer_ms;       // server_timing.infer_ms
   std::optional<double> server_prev_total_ms;  // server_timing.prev_total_ms, from the 2nd request on
-  std::optional<double> policy_infer_ms;    // policy_timing.infer_ms
+  std::optional<double> policy_infer_ms;       // policy_timing.infer_ms
 };
 
 // The timings present in the reply; absent or non-numeric entries stay empty.

@@ -76,8 +76,8 @@ InferResult OpenpiSession::Infer(const Value& observation) {
       return {std::move(reply), MillisecondsBetween(start, end), reconnected};
     } catch (const MessageTooLarge& error) {
       client_.reset();  // the rest of the oversize reply is still on the wire: the next request reconnects
-      throw MalformedReply("reply over the limit of " + std::to_string(options_.max_reply_bytes) + " bytes (--max-reply-mb): " +
-                           error.what());
+      throw MalformedReply("reply over the limit of " + std::to_string(options_.max_reply_bytes) +
+                           " bytes (--max-reply-mb): " + error.what());
     } catch (const ConnectionLost&) {
       if (reconnected) throw;
     } catch (const RemoteTimeout&) {

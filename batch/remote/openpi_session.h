@@ -21,8 +21,8 @@ namespace tavis::remote {
 inline constexpr std::uint64_t kDefaultMaxReplyBytes = std::uint64_t{16} << 20;
 
 struct OpenpiSessionOptions {
-  std::string url;                     // ws://HOST:PORT
-  std::optional<std::string> api_key;  // sent as "Authorization: Api-Key <key>", as openpi's client does
+  std::string url;                                    // ws://HOST:PORT
+  std::optional<std::string> api_key;                 // sent as "Authorization: Api-Key <key>", as openpi's client does
   std::chrono::milliseconds connect_timeout{10'000};  // TCP connect, handshake and metadata
   // Send plus reply; generous because a server's first inference may compile its model.
   std::chrono::milliseconds reply_timeout{300'000};
@@ -32,7 +32,7 @@ struct OpenpiSessionOptions {
 };
 
 struct InferResult {
-  Value reply;             // the decoded reply map ("actions", "server_timing", ...)
+  Value reply;                 // the decoded reply map ("actions", "server_timing", ...)
   double round_trip_ms = 0.0;  // from the request's first byte sent to the reply's last byte read
   bool reconnected = false;    // this request needed a new connection (the previous one had closed)
 };

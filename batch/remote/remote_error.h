@@ -14,8 +14,7 @@ namespace tavis::remote {
 class MsgpackError : public std::runtime_error {
  public:
   MsgpackError(const std::string& what, std::size_t offset)
-      : std::runtime_error("msgpack: " + what + " at byte offset " + std::to_string(offset)),
-        offset_(offset) {}
+      : std::runtime_error("msgpack: " + what + " at byte offset " + std::to_string(offset)), offset_(offset) {}
   std::size_t offset() const { return offset_; }
 
  private:

@@ -70,7 +70,8 @@ RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
     : options_(std::move(options)), queues_(static_cast<std::size_t>(num_envs)) {
   if (options_.servers.empty()) throw std::invalid_argument("a served policy needs at least one server URL");
   if (options_.replan_steps < 0) {
-    throw std::invalid_argument("--replan-steps must be >= 0 (0: the whole chunk), got " + std::to_string(options_.replan_steps));
+    throw std::invalid_argument("--replan-steps must be >= 0 (0: the whole chunk), got " +
+                                std::to_string(options_.replan_steps));
   }
   const int sessions = options_.mode == ServingMode::kPerEnv ? num_envs : static_cast<int>(options_.servers.size());
   for (int i = 0; i < sessions; ++i) {
@@ -80,10 +81,11 @@ RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
   if (options_.mode == ServingMode::kBatched) {
     for (std::size_t i = 0; i < sessions_.size(); ++i) {
       if (!DeclaresBatchedRequests(sessions_[i]->metadata())) {
-        throw std::invalid_argument("policy server " + options_.servers[i] + " does not declare \"" +
-                                    batch::contract::kBatchedRequestsMetadata +
-                                    "\": true in its metadata, so it may not understand batched requests; serve it with "
-                                    "--serving serial or per-env");
+        throw std::invalid_argument(
+            "policy server " + options_.servers[i] + " does not declare \"" +
+            batch::contract::kBatchedRequestsMetadata +
+            "\": true in its metadata, so it may not understand batched requests; serve it with "
+            "--serving serial or per-env");
       }
     }
   }
@@ -104,7 +106,8 @@ void RemotePolicy::Reset(const batch::Observation&, const std::vector<uint8_t>& 
     try {
       sessions_[i]->ServiceKeepalive();
     } catch (const std::runtime_error& error) {
-      throw std::runtime_error("policy 'openpi', server " + options_.servers[i % options_.servers.size()] + ": " + error.what());
+      throw std::runtime_error("policy 'openpi', server " + options_.servers[i % options_.servers.size()] + ": " +
+                               error.what());
     }
   }
 }
@@ -182,8 +185,8 @@ void RemotePolicy::Act(const batch::Observation& observation, const std::vector<
           for (int env : exchange.envs) faults_.push_back({env, "server " + *exchange.server + ": " + error.what()});
           continue;
         } catch (const std::exception& error) {
-          throw std::runtime_error("policy 'openpi', " + EnvContext(observation, exchange.envs, *exchange.server) + ": " +
-                                   error.what());
+          throw std::runtime_error("policy 'openpi', " + EnvContext(observation, exchange.envs, *exchange.server) +
+                                   ": " + error.what());
         }
       }
       TakeReply(observation, exchange);
@@ -206,7 +209,8 @@ void RemotePolicy::TakeReply(const batch::Observation&, Exchange& exchange) {
   const InferResult& result = exchange.result;
   timings_.round_trip_ms.push_back(result.round_trip_ms);
   timings_.envs_per_request.push_back(static_cast<int>(exchange.envs.size()));
-  if (const auto server_ms = ReadReplyTimings(result.reply).server_infer_ms) timings_.server_infer_ms.push_back(*server_ms);
+  if (const auto server_ms = ReadReplyTimings(result.reply).server_infer_ms)
+    timings_.server_infer_ms.push_back(*server_ms);
   std::vector<ActionChunk> chunks;
   try {
     if (options_.mode == ServingMode::kBatched) {
@@ -216,8 +220,9 @@ void RemotePolicy::TakeReply(const batch::Observation&, Exchange& exchange) {
     }
     const ActionChunk& chunk = chunks.front();
     if (chunk.dim != kinematics::action::kSize || chunk.horizon < 1) {
-      throw std::invalid_argument("reply actions are " + std::to_string(chunk.horizon) + " x " + std::to_string(chunk.dim) +
-                                  ", expected H x " + std::to_string(kinematics::action::kSize) + " with H >= 1");
+      throw std::invalid_argument("reply actions are " + std::to_string(chunk.horizon) + " x " +
+                                  std::to_string(chunk.dim) + ", expected H x " +
+                                  std::to_string(kinematics::action::kSize) + " with H >= 1");
     }
   } catch (const std::invalid_argument& error) {
     for (int env : exchange.envs) faults_.push_back({env, "server " + *exchange.server + ": " + error.what()});

@@ -50,9 +50,9 @@ struct RemotePolicyOptions {
   // ActionChunkBroker does; its LIBERO example re-plans every 5.
   int replan_steps = 0;
   ServingMode mode = ServingMode::kSerial;
-  ObservationKeys keys;  // the request's layout (LoadObservationKeys)
+  ObservationKeys keys;                                           // the request's layout (LoadObservationKeys)
   batch::CameraProtocol protocol = batch::CameraProtocol::kHead;  // which of head/fixed is sent
-  std::chrono::milliseconds ready_timeout{60'000};  // per server, for /healthz to answer
+  std::chrono::milliseconds ready_timeout{60'000};                // per server, for /healthz to answer
   std::chrono::milliseconds reply_timeout{300'000};
   std::uint64_t max_reply_bytes = kDefaultMaxReplyBytes;  // OpenpiSessionOptions::max_reply_bytes
 };

@@ -58,7 +58,8 @@ TcpSocket TcpSocket::Connect(const std::string& host, int port, Deadline deadlin
   const std::unique_ptr<addrinfo, decltype(&freeaddrinfo)> addresses(found, &freeaddrinfo);
   int last_error = 0;
   for (const addrinfo* address = found; address != nullptr; address = address->ai_next) {
-    const int descriptor = socket(address->ai_family, address->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, address->ai_protocol);
+    const int descriptor =
+        socket(address->ai_family, address->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, address->ai_protocol);
     if (descriptor < 0) {
       last_error = errno;
       continue;

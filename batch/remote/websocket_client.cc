@@ -60,9 +60,9 @@ WebSocketClient::~WebSocketClient() {
 
 void WebSocketClient::SendFrame(Opcode opcode, const std::uint8_t* payload, std::size_t size, Deadline deadline) {
   const std::uint32_t mask_bits = mask_generator_();
-  const std::array<std::uint8_t, 4> mask{static_cast<std::uint8_t>(mask_bits), static_cast<std::uint8_t>(mask_bits >> 8),
-                                         static_cast<std::uint8_t>(mask_bits >> 16),
-                                         static_cast<std::uint8_t>(mask_bits >> 24)};
+  const std::array<std::uint8_t, 4> mask{
+      static_cast<std::uint8_t>(mask_bits), static_cast<std::uint8_t>(mask_bits >> 8),
+      static_cast<std::uint8_t>(mask_bits >> 16), static_cast<std::uint8_t>(mask_bits >> 24)};
   std::vector<std::uint8_t> frame;
   frame.reserve(size + 14);
   AppendClientFrame(opcode, payload, size, mask, frame);
@@ -111,15 +111,14 @@ std::optional<WebSocketMessage> WebSocketClient::Handle(WebSocketEvent& event) {
     case WebSocketEvent::Kind::kPing:
       SendFrame(Opcode::kPong, event.payload.data(), event.payload.size(), Clock::now() + kControlSendTime);
       return std::nullopt;
-    case WebSocketEvent::Kind::kPong:
-      return std::nullopt;
-    case WebSocketEvent::Kind::kClose:
-      break;
+    case WebSocketEvent::Kind::kPong: return std::nullopt;
+    case WebSocketEvent::Kind::kClose: break;
   }
   if (open_) {
     // Echo the status (section 5.5.1); a close without one is answered without one.
     std::vector<std::uint8_t> status;
-    if (event.close_code != kNoStatusReceived) status = {static_cast<std::uint8_t>(event.close_code >> 8), static_cast<std::uint8_t>(event.close_code & 0xff)};
+    if (event.close_code != kNoStatusReceived)
+      status = {static_cast<std::uint8_t>(event.close_code >> 8), static_cast<std::uint8_t>(event.close_code & 0xff)};
     try {
       SendFrame(Opcode::kClose, status.data(), status.size(), Clock::now() + kControlSendTime);
     } catch (const ConnectionLost&) {

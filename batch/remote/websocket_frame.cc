@@ -13,9 +13,7 @@ constexpr std::uint8_t kReservedBits = 0x70;
 constexpr std::uint8_t kMaskBit = 0x80;
 constexpr std::size_t kMaxControlPayload = 125;
 
-bool IsKnownOpcode(std::uint8_t opcode) {
-  return opcode <= 0x2 || (opcode >= 0x8 && opcode <= 0xA);
-}
+bool IsKnownOpcode(std::uint8_t opcode) { return opcode <= 0x2 || (opcode >= 0x8 && opcode <= 0xA); }
 
 WebSocketProtocolError FrameError(const std::string& what, std::uint64_t offset) {
   return WebSocketProtocolError("websocket frame at stream byte " + std::to_string(offset) + ": " + what);
@@ -33,7 +31,8 @@ void AppendClientFrame(Opcode opcode, const std::uint8_t* payload, std::size_t s
     for (int shift = 8; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(size >> shift));
   } else {
     out.push_back(kMaskBit | 127);
-    for (int shift = 56; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(size) >> shift));
+    for (int shift = 56; shift >= 0; shift -= 8)
+      out.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(size) >> shift));
   }
   out.insert(out.end(), mask.begin(), mask.end());
   const std::size_t start = out.size();
@@ -65,7 +64,8 @@ std::size_t ParseServerFrame(const std::uint8_t* data, std::size_t size, std::ui
   if ((second & kMaskBit) != 0) throw FrameError("masked frame from the server", stream_offset);
   const bool fin = (first & kFinBit) != 0;
   const bool control = opcode >= 0x8;
-  if (control && !fin) throw FrameError("fragmented control frame (opcode " + std::to_string(opcode) + ")", stream_offset);
+  if (control && !fin)
+    throw FrameError("fragmented control frame (opcode " + std::to_string(opcode) + ")", stream_offset);
 
   std::uint64_t length = second & 0x7f;
   std::size_t header = 2;

@@ -65,9 +65,9 @@ std::optional<WebSocketEvent> WebSocketReader::Next() {
         throw WebSocketProtocolError("websocket data frame at stream byte " + std::to_string(offset) +
                                      " while a fragmented message is still open");
       }
-      open_message_ = WebSocketEvent{
-          frame.opcode == Opcode::kText ? WebSocketEvent::Kind::kText : WebSocketEvent::Kind::kBinary,
-          std::move(frame.payload), 0};
+      open_message_ =
+          WebSocketEvent{frame.opcode == Opcode::kText ? WebSocketEvent::Kind::kText : WebSocketEvent::Kind::kBinary,
+                         std::move(frame.payload), 0};
     }
     if (frame.fin) {
       std::optional<WebSocketEvent> message = std::move(open_message_);

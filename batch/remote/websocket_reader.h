@@ -35,8 +35,8 @@ class WebSocketReader {
  private:
   std::uint64_t max_message_bytes_;
   std::vector<std::uint8_t> buffer_;
-  std::size_t read_position_ = 0;      // bytes of buffer_ already consumed
-  std::uint64_t stream_position_ = 0;  // bytes of the stream consumed, for error messages
+  std::size_t read_position_ = 0;               // bytes of buffer_ already consumed
+  std::uint64_t stream_position_ = 0;           // bytes of the stream consumed, for error messages
   std::optional<WebSocketEvent> open_message_;  // a fragmented message waiting for its FIN frame
 };
 

@@ -18,7 +18,8 @@ WebSocketUrl ParseWebSocketUrl(const std::string& url) {
   if (url.rfind(scheme, 0) != 0) throw bad("expected ws://HOST:PORT");
   WebSocketUrl parsed;
   const std::size_t path_start = url.find('/', scheme.size());
-  std::string authority = url.substr(scheme.size(), path_start == std::string::npos ? std::string::npos : path_start - scheme.size());
+  std::string authority =
+      url.substr(scheme.size(), path_start == std::string::npos ? std::string::npos : path_start - scheme.size());
   if (path_start != std::string::npos) parsed.path = url.substr(path_start);
 
   std::string port_text;

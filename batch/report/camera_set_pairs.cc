@@ -19,7 +19,8 @@ Json CameraSetPairRows(const std::vector<CellEpisodes>& cells) {
   std::vector<RowKey> order;
   for (const CellEpisodes& cell : cells) {
     const std::string camera = ToString(cell.config.camera);
-    const SeedKey seed_key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split), cell.config.seed};
+    const SeedKey seed_key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split),
+                           cell.config.seed};
     std::vector<bool>& successes = outcomes[seed_key][camera];
     for (const EpisodeRecord& record : cell.episodes) successes.push_back(record.success);
     const RowKey row_key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split), camera};
@@ -46,30 +47,42 @@ Json CameraSetPairRows(const std::vector<CellEpisodes>& cells) {
     const double n = static_cast<double>(counts.pairs());
     const double head_rate = static_cast<double>(counts.both + counts.first_only) / n;
     const double set_rate = static_cast<double>(counts.both + counts.second_only) / n;
-    rows.push_back({{"task", task}, {"robot", robot}, {"split", split}, {"camera", camera}, {"pairs", counts.pairs()},
-                    {"both", counts.both}, {"head_only", counts.first_only}, {"set_only", counts.second_only},
-                    {"neither", counts.neither}, {"head_rate", head_rate}, {"set_rate", set_rate},
-                    {"difference", head_rate - set_rate}, {"mcnemar_p", McNemarExactP(counts.first_only, counts.second_only)}});
+    rows.push_back({{"task", task},
+                    {"robot", robot},
+                    {"split", split},
+                    {"camera", camera},
+                    {"pairs", counts.pairs()},
+                    {"both", counts.both},
+                    {"head_only", counts.first_only},
+                    {"set_only", counts.second_only},
+                    {"neither", counts.neither},
+                    {"head_rate", head_rate},
+                    {"set_rate", set_rate},
+                    {"difference", head_rate - set_rate},
+                    {"mcnemar_p", McNemarExactP(counts.first_only, counts.second_only)}});
   }
   return rows;
 }
 
 TextTable CameraSetPairTable(const Json& summary) {
-  TextTable table{"paired_camera_sets", "Camera sets vs head on matched episodes",
-                  {"policy", "task", "robot", "split", "camera set", "pairs", "head %", "set %", "both", "head only", "set only",
-                   "neither", "McNemar p"},
+  TextTable table{"paired_camera_sets",
+                  "Camera sets vs head on matched episodes",
+                  {"policy", "task", "robot", "split", "camera set", "pairs", "head %", "set %", "both", "head only",
+                   "set only", "neither", "McNemar p"},
                   {},
                   ""};
   for (const Json& row : summary["paired_camera_sets"]) {
     table.rows.push_back({row["label"], row["task"], row["robot"], row["split"], row["camera"],
-                          std::to_string(row["pairs"].get<int64_t>()), Percent(row["head_rate"]), Percent(row["set_rate"]),
-                          std::to_string(row["both"].get<int64_t>()), std::to_string(row["head_only"].get<int64_t>()),
+                          std::to_string(row["pairs"].get<int64_t>()), Percent(row["head_rate"]),
+                          Percent(row["set_rate"]), std::to_string(row["both"].get<int64_t>()),
+                          std::to_string(row["head_only"].get<int64_t>()),
                           std::to_string(row["set_only"].get<int64_t>()), std::to_string(row["neither"].get<int64_t>()),
                           PValue(row["mcnemar_p"])});
   }
-  table.note = "Episode i has the same scene under every camera set, so the episodes pair with the head cell's: McNemar's "
-               "exact two-sided test on the discordant pairs. head-only: wrist images black; wrists-only: head image black "
-               "(the head still moves); fixed-only: the fixed camera, wrist images black.";
+  table.note =
+      "Episode i has the same scene under every camera set, so the episodes pair with the head cell's: McNemar's "
+      "exact two-sided test on the discordant pairs. head-only: wrist images black; wrists-only: head image black "
+      "(the head still moves); fixed-only: the fixed camera, wrist images black.";
   return table;
 }
 

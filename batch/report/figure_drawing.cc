@@ -47,7 +47,8 @@ struct BarGroup {
 // whiskers, each bar's value above it; a legend of the series names in order. Bars, groups and the
 // canvas are as wide as their labels need (Canvas::TextWidth), so no label overlaps another or
 // runs off the canvas.
-Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups, const std::vector<std::string>& series) {
+Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups,
+                   const std::vector<std::string>& series) {
   constexpr double kValueSize = 8, kGroupSize = 10, kLegendSize = 11, kTitleSize = 13;
   const double left = 50, top = 40, height = 220, gap = 24;
   const double bar_width = std::max(24.0, Canvas::TextWidth("100.0", kValueSize) + 4);
@@ -56,7 +57,8 @@ Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups
   double width = gap;
   for (const BarGroup& group : groups) {
     double group_width = bar_width * static_cast<double>(group.bars.size());
-    for (const std::string& line : group.label) group_width = std::max(group_width, Canvas::TextWidth(line, kGroupSize) + 4);
+    for (const std::string& line : group.label)
+      group_width = std::max(group_width, Canvas::TextWidth(line, kGroupSize) + 4);
     label_lines = std::max(label_lines, group.label.size());
     group_widths.push_back(group_width);
     width += group_width + gap;
@@ -65,7 +67,8 @@ Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups
   double legend_width = 0;
   for (const std::string& name : series) legend_width = std::max(legend_width, Canvas::TextWidth(name, kLegendSize));
   const double legend_left = left + width + 12;
-  const double canvas_width = std::max(legend_left + 14 + legend_width + 10, left + Canvas::TextWidth(title, kTitleSize) + 10);
+  const double canvas_width =
+      std::max(legend_left + 14 + legend_width + 10, left + Canvas::TextWidth(title, kTitleSize) + 10);
   Canvas canvas(std::max(640, static_cast<int>(std::ceil(canvas_width))),
                 static_cast<int>(top + height + 14 * static_cast<double>(label_lines) + 16));
   canvas.Text(left, 18, title, kTitleSize);
@@ -77,7 +80,8 @@ Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups
     const double bars_left = x + (group_widths[g] - bars_width) / 2;
     for (std::size_t b = 0; b < group.bars.size(); ++b) {
       const Bar& bar = group.bars[b];
-      const std::size_t s = static_cast<std::size_t>(std::find(series.begin(), series.end(), bar.series) - series.begin());
+      const std::size_t s =
+          static_cast<std::size_t>(std::find(series.begin(), series.end(), bar.series) - series.begin());
       const std::string colour = Colour(s);
       const double bx = bars_left + bar_width * static_cast<double>(b);
       if (bar.value.is_null()) {
@@ -100,8 +104,8 @@ Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups
       canvas.Text(bx + bar_width / 2, label_y, PercentText(mean), kValueSize, Canvas::Anchor::kMiddle);
     }
     for (std::size_t line = 0; line < group.label.size(); ++line) {
-      canvas.Text(x + group_widths[g] / 2, top + height + 15 + 13 * static_cast<double>(line), group.label[line], kGroupSize,
-                  Canvas::Anchor::kMiddle);
+      canvas.Text(x + group_widths[g] / 2, top + height + 15 + 13 * static_cast<double>(line), group.label[line],
+                  kGroupSize, Canvas::Anchor::kMiddle);
     }
     x += group_widths[g] + gap;
   }
@@ -113,14 +117,17 @@ Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups
   return canvas;
 }
 
-std::vector<std::string> GroupName(const Json& bar) { return {bar["robot"].get<std::string>(), bar["suite"].get<std::string>()}; }
+std::vector<std::string> GroupName(const Json& bar) {
+  return {bar["robot"].get<std::string>(), bar["suite"].get<std::string>()};
+}
 
 // Label positions near `wanted` (ascending order not needed) that keep `spacing` apart and stay
 // within [low, high]: equal rates (several tasks at 100 %) get a label each instead of one blot.
 std::vector<double> SpreadLabels(const std::vector<double>& wanted, double spacing, double low, double high) {
   std::vector<std::size_t> order(wanted.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&wanted](std::size_t a, std::size_t b) { return wanted[a] < wanted[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&wanted](std::size_t a, std::size_t b) { return wanted[a] < wanted[b]; });
   std::vector<double> placed(wanted.size());
   double previous = low - spacing;
   for (const std::size_t i : order) previous = placed[i] = std::max(wanted[i], previous + spacing);
@@ -141,8 +148,10 @@ Figure HeadVsFixed(const Json& figure) {
   // columns, then a column of task labels wide enough for the longest.
   const double axis_width = 200, label_gap = 24, panel_gap = 50, left = 50, top = 40, height = 240;
   const double panel = axis_width + label_gap + label_width + panel_gap;
-  const std::string title = "Fig. 3a: head vs fixed camera, id split, per task (" + figure["policy"].get<std::string>() + ")";
-  const double width = std::max(left + panel * static_cast<double>(robots.size()), left + Canvas::TextWidth(title, kTitleSize) + 10);
+  const std::string title =
+      "Fig. 3a: head vs fixed camera, id split, per task (" + figure["policy"].get<std::string>() + ")";
+  const double width =
+      std::max(left + panel * static_cast<double>(robots.size()), left + Canvas::TextWidth(title, kTitleSize) + 10);
   Canvas canvas(std::max(640, static_cast<int>(std::ceil(width))), static_cast<int>(top + height + 50));
   canvas.Text(left, 18, title, kTitleSize);
   for (std::size_t r = 0; r < robots.size(); ++r) {
@@ -180,8 +189,10 @@ Figure HeadVsFixed(const Json& figure) {
       canvas.Text(label_x, label_y[t], point["task"].get<std::string>(), kLabelSize, Canvas::Anchor::kStart, colour);
     }
   }
-  return {"fig3a_head_vs_fixed", "Figure 3a: success rate with the head camera and with the fixed camera, id split; a line per task pairs them",
-          std::move(canvas)};
+  return {
+      "fig3a_head_vs_fixed",
+      "Figure 3a: success rate with the head camera and with the fixed camera, id split; a line per task pairs them",
+      std::move(canvas)};
 }
 
 Figure SingleVsMulti(const Json& figure) {
@@ -200,12 +211,15 @@ Figure Splits(const Json& figure) {
   const std::vector<std::string> splits = {"id", "ood-spatial", "ood-init-pose"};
   for (const Json& bar : figure["bars"]) {
     BarGroup group{GroupName(bar), {}};
-    for (const std::string& split : splits) group.bars.push_back({split, bar[split], {{"suite", bar["suite"]}, {"robot", bar["robot"]}}});
+    for (const std::string& split : splits)
+      group.bars.push_back({split, bar[split], {{"suite", bar["suite"]}, {"robot", bar["robot"]}}});
     groups.push_back(group);
   }
-  return {"fig3c_splits", "Figure 3c: suite means (head camera) of " + figure["policy"].get<std::string>() + " per split",
-          GroupedBars("Fig. 3c: suite mean, head: id / ood-spatial / ood-init-pose (" + figure["policy"].get<std::string>() + ")", groups,
-                      splits)};
+  return {"fig3c_splits",
+          "Figure 3c: suite means (head camera) of " + figure["policy"].get<std::string>() + " per split",
+          GroupedBars("Fig. 3c: suite mean, head: id / ood-spatial / ood-init-pose (" +
+                          figure["policy"].get<std::string>() + ")",
+                      groups, splits)};
 }
 
 Figure Ablation(const Json& figure) {
@@ -213,10 +227,12 @@ Figure Ablation(const Json& figure) {
   std::vector<std::string> series;
   BarGroup mean{{"mean over robots"}, {}};
   for (const Json& arm : figure["arms"]) {
-    const std::string name = arm["arm"].get<std::string>() + " (" + arm["label"].get<std::string>() + ", " + arm["task"].get<std::string>() +
-                             ", " + arm["camera"].get<std::string>() + ")";
+    const std::string name = arm["arm"].get<std::string>() + " (" + arm["label"].get<std::string>() + ", " +
+                             arm["task"].get<std::string>() + ", " + arm["camera"].get<std::string>() + ")";
     series.push_back(name);
-    const Json value = arm["mean_over_robots"].is_null() ? Json() : Json({{"mean", arm["mean_over_robots"]}, {"std", 0.0}, {"checkpoints", 1}});
+    const Json value = arm["mean_over_robots"].is_null()
+                           ? Json()
+                           : Json({{"mean", arm["mean_over_robots"]}, {"std", 0.0}, {"checkpoints", 1}});
     mean.bars.push_back({name, value, {{"arm", arm["arm"]}, {"robot", "mean"}}});
   }
   groups.push_back(mean);
@@ -238,7 +254,9 @@ Figure Ablation(const Json& figure) {
     }
     groups.push_back(group);
   }
-  return {"fig3d_ablation", "Figure 3d: the active-vision ablation, id split: no AV (fixed camera), full AV (head + wrists), wrist only (head blocked)",
+  return {"fig3d_ablation",
+          "Figure 3d: the active-vision ablation, id split: no AV (fixed camera), full AV (head + wrists), wrist only "
+          "(head blocked)",
           GroupedBars("Fig. 3d: no-AV / full-AV / wrist-only", groups, series)};
 }
 
@@ -255,7 +273,8 @@ std::vector<double> RoundTicks(double low, double high) {
     }
   }
   std::vector<double> ticks;
-  for (double k = std::ceil(low / step - 1e-9); k * step <= high + step * 1e-9; k += 1.0) ticks.push_back(k * step + 0.0);  // + 0.0: no "-0"
+  for (double k = std::ceil(low / step - 1e-9); k * step <= high + step * 1e-9; k += 1.0)
+    ticks.push_back(k * step + 0.0);  // + 0.0: no "-0"
   return ticks;
 }
 
@@ -263,7 +282,8 @@ std::vector<double> RoundTicks(double low, double high) {
 // labelled ticks (numbers only: `axis_title` names the unit below them) and the count scale (0 and
 // the tallest bin).
 void HistogramPanel(Canvas& canvas, double left, double top, double width, double height, double low, double high,
-                    const std::vector<std::pair<std::string, std::vector<int>>>& series, const std::string& axis_title) {
+                    const std::vector<std::pair<std::string, std::vector<int>>>& series,
+                    const std::string& axis_title) {
   const int bins = series.empty() ? 1 : static_cast<int>(series[0].second.size());
   int most = 1;
   for (const auto& [name, counts] : series) most = std::max(most, *std::max_element(counts.begin(), counts.end()));
@@ -287,8 +307,11 @@ void HistogramPanel(Canvas& canvas, double left, double top, double width, doubl
       const double x0 = left + width * b / bins, x1 = left + width * (b + 1) / bins;
       const double y = bottom - height * counts[static_cast<std::size_t>(b)] / most;
       canvas.Rect(x0, y, x1 - x0, bottom - y, colour, 0.2, "",
-                  {{"series", series[s].first}, {"bin", std::to_string(b)}, {"low", Num(low + (high - low) * b / bins)},
-                   {"high", Num(low + (high - low) * (b + 1) / bins)}, {"count", std::to_string(counts[static_cast<std::size_t>(b)])}});
+                  {{"series", series[s].first},
+                   {"bin", std::to_string(b)},
+                   {"low", Num(low + (high - low) * b / bins)},
+                   {"high", Num(low + (high - low) * (b + 1) / bins)},
+                   {"count", std::to_string(counts[static_cast<std::size_t>(b)])}});
       canvas.Line(x0, previous, x0, y, colour);
       canvas.Line(x0, y, x1, y, colour);
       previous = y;
@@ -297,7 +320,9 @@ void HistogramPanel(Canvas& canvas, double left, double top, double width, doubl
   }
 }
 
-double XOf(double value, double left, double width, double low, double high) { return left + width * (value - low) / (high - low); }
+double XOf(double value, double left, double width, double low, double high) {
+  return left + width * (value - low) / (high - low);
+}
 
 std::string Seconds2(double value) {
   char text[32];
@@ -308,7 +333,8 @@ std::string Seconds2(double value) {
 // A histogram's legend entry: "NAME (n = N, K outside the window)".
 std::string CountText(const std::string& name, const Json& part) {
   std::string text = name + " (n = " + std::to_string(part["n"].get<int>());
-  if (part["n_outside_window"].get<int>() > 0) text += ", " + std::to_string(part["n_outside_window"].get<int>()) + " outside the window";
+  if (part["n_outside_window"].get<int>() > 0)
+    text += ", " + std::to_string(part["n_outside_window"].get<int>()) + " outside the window";
   return text + ")";
 }
 
@@ -320,8 +346,10 @@ Figure GaltFigure(const Json& figure) {
   const std::string reference = figure["reference"].is_null() ? "no reference" : figure["reference"].get<std::string>();
   char window[32];
   std::snprintf(window, sizeof(window), "%.1f", figure["window_s"].get<double>());
-  const std::string title = "Fig. 4: GALT per TAVIS-Head task (id, head camera, successful episodes), window [-0.5, " + std::string(window) + "] s";
-  const std::string subtitle = figure["policy"].get<std::string>() + " (blue) vs " + reference + " (orange); dashed: medians";
+  const std::string title = "Fig. 4: GALT per TAVIS-Head task (id, head camera, successful episodes), window [-0.5, " +
+                            std::string(window) + "] s";
+  const std::string subtitle =
+      figure["policy"].get<std::string>() + " (blue) vs " + reference + " (orange); dashed: medians";
   // Each panel's legend: per series its name, counts and median.
   std::vector<std::vector<std::pair<std::string, std::size_t>>> legends;
   double legend_width = 0;
@@ -331,7 +359,7 @@ Figure GaltFigure(const Json& figure) {
     for (const char* which : {"policy", "reference"}) {
       const Json& part = row[which];
       if (!part.is_null()) {
-        const std::string name = std::string(which) == "policy" ? figure["policy"].get<std::string>()
+        const std::string name = std::string(which) == "policy"      ? figure["policy"].get<std::string>()
                                  : row["reference_source"].is_null() ? std::string("reference")
                                                                      : row["reference_source"].get<std::string>();
         lines.push_back({CountText(name, part), s});
@@ -339,7 +367,8 @@ Figure GaltFigure(const Json& figure) {
       }
       ++s;
     }
-    for (const auto& [text, colour] : lines) legend_width = std::max(legend_width, Canvas::TextWidth(text, kLegendSize));
+    for (const auto& [text, colour] : lines)
+      legend_width = std::max(legend_width, Canvas::TextWidth(text, kLegendSize));
     legends.push_back(lines);
   }
   const double legend_left = left + panel_width + 14;
@@ -351,17 +380,21 @@ Figure GaltFigure(const Json& figure) {
   for (std::size_t t = 0; t < tasks.size(); ++t) {
     const Json& row = tasks[t];
     const double y0 = top + pitch * static_cast<double>(t) + 20;
-    std::vector<std::pair<std::string, std::vector<int>>> series = {{"policy", row["policy"]["counts"].get<std::vector<int>>()}};
-    if (!row["reference"].is_null()) series.push_back({"reference", row["reference"]["counts"].get<std::vector<int>>()});
+    std::vector<std::pair<std::string, std::vector<int>>> series = {
+        {"policy", row["policy"]["counts"].get<std::vector<int>>()}};
+    if (!row["reference"].is_null())
+      series.push_back({"reference", row["reference"]["counts"].get<std::vector<int>>()});
     std::string panel_title = row["task"].get<std::string>() + ": n = " + std::to_string(row["policy"]["n"].get<int>());
     if (!row["reference"].is_null()) panel_title += " vs " + std::to_string(row["reference"]["n"].get<int>());
     if (!row["relative_median_difference"].is_null()) {
       char text[64];
-      std::snprintf(text, sizeof(text), ", |delta median| / median = %.1f%%", 100.0 * row["relative_median_difference"].get<double>());
+      std::snprintf(text, sizeof(text), ", |delta median| / median = %.1f%%",
+                    100.0 * row["relative_median_difference"].get<double>());
       panel_title += text;
     }
     canvas.Text(left, y0 - 8, panel_title, kPanelTitleSize);
-    HistogramPanel(canvas, left, y0, panel_width, panel_height, low, high, series, "GALT (s), " + Num(kGaltFigureBins) + " bins");
+    HistogramPanel(canvas, left, y0, panel_width, panel_height, low, high, series,
+                   "GALT (s), " + Num(kGaltFigureBins) + " bins");
     int s = 0;
     for (const char* which : {"policy", "reference"}) {
       const Json& part = row[which];
@@ -374,11 +407,12 @@ Figure GaltFigure(const Json& figure) {
       ++s;
     }
     for (std::size_t line = 0; line < legends[t].size(); ++line) {
-      canvas.Text(legend_left, y0 + 12 + 14 * static_cast<double>(line), legends[t][line].first, kLegendSize, Canvas::Anchor::kStart,
-                  Colour(legends[t][line].second));
+      canvas.Text(legend_left, y0 + 12 + 14 * static_cast<double>(line), legends[t][line].first, kLegendSize,
+                  Canvas::Anchor::kStart, Colour(legends[t][line].second));
     }
   }
-  return {"fig4_galt", "Figure 4: GALT per TAVIS-Head task, policy vs reference, 20 bins, medians dashed", std::move(canvas)};
+  return {"fig4_galt", "Figure 4: GALT per TAVIS-Head task, policy vs reference, 20 bins, medians dashed",
+          std::move(canvas)};
 }
 
 }  // namespace
@@ -395,8 +429,9 @@ std::vector<Figure> DrawPaperFigures(const Json& figures) {
 }
 
 Figure DrawHistogram(const std::string& name, const std::string& caption,
-                     const std::vector<std::pair<std::string, std::vector<double>>>& series, double low, double high, int bins,
-                     const std::string& axis_title, const std::optional<std::pair<double, std::string>>& marker) {
+                     const std::vector<std::pair<std::string, std::vector<double>>>& series, double low, double high,
+                     int bins, const std::string& axis_title,
+                     const std::optional<std::pair<double, std::string>>& marker) {
   constexpr double kLegendSize = 11;
   const double left = 40, top = 20, width = 480, height = 140;
   std::vector<std::pair<std::string, std::vector<int>>> counts;
@@ -411,10 +446,12 @@ Figure DrawHistogram(const std::string& name, const std::string& caption,
     legends.push_back(legend + ")");
     legend_width = std::max(legend_width, Canvas::TextWidth(legends.back(), kLegendSize));
   }
-  Canvas canvas(static_cast<int>(std::ceil(left + width + 14 + legend_width + 10)), static_cast<int>(top + height + 36));
+  Canvas canvas(static_cast<int>(std::ceil(left + width + 14 + legend_width + 10)),
+                static_cast<int>(top + height + 36));
   HistogramPanel(canvas, left, top, width, height, low, high, counts, axis_title);
   for (std::size_t s = 0; s < legends.size(); ++s) {
-    canvas.Text(left + width + 14, top + 12 + 14 * static_cast<double>(s), legends[s], kLegendSize, Canvas::Anchor::kStart, Colour(s));
+    canvas.Text(left + width + 14, top + 12 + 14 * static_cast<double>(s), legends[s], kLegendSize,
+                Canvas::Anchor::kStart, Colour(s));
   }
   if (marker && marker->first >= low && marker->first <= high) {
     const double x = XOf(marker->first, left, width, low, high);

@@ -28,7 +28,8 @@ std::vector<Figure> DrawPaperFigures(const nlohmann::ordered_json& figures);
 // an optional dashed vertical marker (position, label); `axis_title` names the values' axis (e.g.
 // "GALT (s)"). Values outside [low, high] are not drawn; the legend counts them.
 Figure DrawHistogram(const std::string& name, const std::string& caption,
-                     const std::vector<std::pair<std::string, std::vector<double>>>& series, double low, double high, int bins,
-                     const std::string& axis_title, const std::optional<std::pair<double, std::string>>& marker);
+                     const std::vector<std::pair<std::string, std::vector<double>>>& series, double low, double high,
+                     int bins, const std::string& axis_title,
+                     const std::optional<std::pair<double, std::string>>& marker);
 
 }  // namespace tavis::batch::report

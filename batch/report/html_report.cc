@@ -49,12 +49,13 @@ std::string SuccessPlot(const Json& suite, const std::string& robot) {
   std::ostringstream svg;
   svg << "<figure><figcaption>" << Escape(policy + ": " + suite["title"].get<std::string>() + ", " + robot)
       << ": success rate with 95% Wilson interval (filled: head, hollow: fixed)</figcaption>\n"
-      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << left + width + 20 << "\" height=\"" << height << "\">\n";
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << left + width + 20 << "\" height=\"" << height
+      << "\">\n";
   for (int percent = 0; percent <= 100; percent += 25) {
     const double x = left + width * percent / 100.0;
     svg << "<line x1=\"" << x << "\" y1=\"" << top - 6 << "\" x2=\"" << x << "\" y2=\"" << height - 8
-        << "\" stroke=\"#ddd\"/><text x=\"" << x << "\" y=\"" << top - 10 << "\" font-size=\"10\" text-anchor=\"middle\">" << percent
-        << "%</text>\n";
+        << "\" stroke=\"#ddd\"/><text x=\"" << x << "\" y=\"" << top - 10
+        << "\" font-size=\"10\" text-anchor=\"middle\">" << percent << "%</text>\n";
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& row = rows[i];
@@ -63,11 +64,13 @@ std::string SuccessPlot(const Json& suite, const std::string& robot) {
     const double high = left + width * row.rate["ci_high"].get<double>();
     const double x = left + width * row.rate["success_rate"].get<double>();
     const char* colour = SplitColour(row.split);
-    svg << "<text x=\"" << left - 6 << "\" y=\"" << y + 3 << "\" font-size=\"10\" text-anchor=\"end\">" << Escape(row.label)
-        << "</text><line x1=\"" << low << "\" y1=\"" << y << "\" x2=\"" << high << "\" y2=\"" << y << "\" stroke=\"" << colour
-        << "\" stroke-width=\"2\"/><circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"4\" class=\"success-point\" stroke=\"" << colour << "\" fill=\""
+    svg << "<text x=\"" << left - 6 << "\" y=\"" << y + 3 << "\" font-size=\"10\" text-anchor=\"end\">"
+        << Escape(row.label) << "</text><line x1=\"" << low << "\" y1=\"" << y << "\" x2=\"" << high << "\" y2=\"" << y
+        << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/><circle cx=\"" << x << "\" cy=\"" << y
+        << "\" r=\"4\" class=\"success-point\" stroke=\"" << colour << "\" fill=\""
         << (row.camera == "head" ? colour : "white") << "\"><title>" << Escape(row.label) << ": "
-        << Percent(row.rate["success_rate"]) << "% " << PercentInterval(row.rate["ci_low"], row.rate["ci_high"]) << "</title></circle>\n";
+        << Percent(row.rate["success_rate"]) << "% " << PercentInterval(row.rate["ci_low"], row.rate["ci_high"])
+        << "</title></circle>\n";
   }
   svg << "</svg></figure>\n";
   return svg.str();
@@ -104,7 +107,8 @@ std::string HtmlTable(const TextTable& table) {
 }
 
 std::string FigureHtml(const Figure& figure) {
-  return "<figure><figcaption>" + Escape(figure.caption) + "</figcaption>\n" + figure.canvas.Svg(figure.name) + "</figure>\n";
+  return "<figure><figcaption>" + Escape(figure.caption) + "</figcaption>\n" + figure.canvas.Svg(figure.name) +
+         "</figure>\n";
 }
 
 std::string Field(const std::string& cell, const std::string& field, const std::string& text) {
@@ -119,7 +123,8 @@ std::string CellTable(const Json& summary) {
           "<th>ci low %</th><th>ci high %</th><th>successful length mean s</th><th>GALT mean s</th></tr>\n";
   for (const Json& cell : summary["cells"]) {
     const std::string id = cell["id"];
-    html << "<tr><td>" << Escape(id) << "</td>" << Field(id, "label", cell["label"].get<std::string>()) << Field(id, "n_episodes", std::to_string(cell["n_episodes"].get<int64_t>()))
+    html << "<tr><td>" << Escape(id) << "</td>" << Field(id, "label", cell["label"].get<std::string>())
+         << Field(id, "n_episodes", std::to_string(cell["n_episodes"].get<int64_t>()))
          << Field(id, "n_successful", std::to_string(cell["n_successful"].get<int64_t>()))
          << Field(id, "success_rate", Percent(cell["success_rate"])) << Field(id, "ci_low", Percent(cell["ci_low"]))
          << Field(id, "ci_high", Percent(cell["ci_high"]))
@@ -135,8 +140,10 @@ std::string PolicyList(const Json& summary) {
   std::ostringstream html;
   html << "<ul id=\"policies\">\n";
   for (const Json& label : summary["labels"]) {
-    html << "<li><b>" << Escape(label["label"].get<std::string>()) << "</b>: policy " << Escape(label["policy"].get<std::string>());
-    if (!label["seed_group"].get<std::string>().empty()) html << ", seed group " << Escape(label["seed_group"].get<std::string>());
+    html << "<li><b>" << Escape(label["label"].get<std::string>()) << "</b>: policy "
+         << Escape(label["policy"].get<std::string>());
+    if (!label["seed_group"].get<std::string>().empty())
+      html << ", seed group " << Escape(label["seed_group"].get<std::string>());
     for (const Json& cell : summary["cells"]) {
       if (cell["label"] == label["label"] && !cell["server_metadata"].empty()) {
         html << ", server metadata <code>" << Escape(cell["server_metadata"].dump()) << "</code>";
@@ -153,28 +160,33 @@ std::string PolicyList(const Json& summary) {
 
 std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>TAVIS sweep report</title>\n<style>\n"
-          "body{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}table{border-collapse:collapse;margin:0.5em 0}"
-          "td,th{border:1px solid #ccc;padding:2px 6px;font-size:12px;text-align:right}td:first-child{text-align:left}"
-          "figure{margin:1em 0}figcaption{font-weight:bold;font-size:13px}.note{font-size:12px;color:#555}"
-          "pre{background:#f6f6f6;padding:0.5em;font-size:11px;overflow:auto}\n</style></head><body>\n"
-       << "<h1>TAVIS sweep report</h1>\n<p>" << summary["cells"].size() << " cells of " << summary["labels"].size()
-       << " policies, " << summary["spec"]["episodes"] << " episodes per cell; program " << Escape(manifest.value("version", ""))
-       << ". Cells of different policies are never pooled.</p>\n"
-       << PolicyList(summary) << "<h2>Success rates</h2>\n";
+  html
+      << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>TAVIS sweep report</title>\n<style>\n"
+         "body{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}table{border-collapse:collapse;margin:0."
+         "5em 0}"
+         "td,th{border:1px solid #ccc;padding:2px 6px;font-size:12px;text-align:right}td:first-child{text-align:left}"
+         "figure{margin:1em 0}figcaption{font-weight:bold;font-size:13px}.note{font-size:12px;color:#555}"
+         "pre{background:#f6f6f6;padding:0.5em;font-size:11px;overflow:auto}\n</style></head><body>\n"
+      << "<h1>TAVIS sweep report</h1>\n<p>" << summary["cells"].size() << " cells of " << summary["labels"].size()
+      << " policies, " << summary["spec"]["episodes"] << " episodes per cell; program "
+      << Escape(manifest.value("version", "")) << ". Cells of different policies are never pooled.</p>\n"
+      << PolicyList(summary) << "<h2>Success rates</h2>\n";
   const std::vector<std::string> robots = Robots(summary);
   for (const Json& suite : summary["success"]) {
     for (const std::string& robot : robots) html << SuccessPlot(suite, robot);
   }
   html << "<h2>The paper's figures</h2>\n";
   for (const Figure& figure : DrawPaperFigures(summary["figures"])) html << FigureHtml(figure);
-  html << "<h2>GALT distributions per policy and robot (id split, head camera, successful episodes, the detector's window "
+  html << "<h2>GALT distributions per policy and robot (id split, head camera, successful episodes, the detector's "
+          "window "
           "[-0.5, 4.0] s)</h2>\n";
   for (const Json& label : summary["labels"]) {
     for (const std::string& robot : robots) {
       std::vector<double> values;
       for (const Json& cell : summary["cells"]) {
-        if (cell["label"] != label["label"] || cell["robot"] != robot || cell["split"] != "id" || cell["galt"].is_null()) continue;
+        if (cell["label"] != label["label"] || cell["robot"] != robot || cell["split"] != "id" ||
+            cell["galt"].is_null())
+          continue;
         for (const Json& value : cell["galt"]["values_s"]) values.push_back(value);
       }
       if (values.empty()) continue;
@@ -183,8 +195,9 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
       const std::string name = label["label"].get<std::string>() + " " + robot;
       html << FigureHtml(DrawHistogram("galt_" + label["label"].get<std::string>() + "_" + robot, name + ": GALT (s)",
                                        {{name + " head", values}}, kGaltFigureLow, 4.0, 18, "GALT (s)",
-                                       HumanGalt(robot) > 0 ? std::make_optional(std::make_pair(HumanGalt(robot), std::string(marker)))
-                                                            : std::nullopt));
+                                       HumanGalt(robot) > 0
+                                           ? std::make_optional(std::make_pair(HumanGalt(robot), std::string(marker)))
+                                           : std::nullopt));
     }
   }
   html << "<h2>Successful-episode length distributions</h2>\n";
@@ -204,15 +217,16 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
       const std::string name = label["label"].get<std::string>() + " " + robot;
       if (!series.empty()) {
         html << FigureHtml(DrawHistogram("length_" + label["label"].get<std::string>() + "_" + robot,
-                                         name + ": length of successful episodes (s)", series, 0.0, upper, 24, "length (s)", std::nullopt));
+                                         name + ": length of successful episodes (s)", series, 0.0, upper, 24,
+                                         "length (s)", std::nullopt));
       }
     }
   }
   html << "<h2>Tables</h2>\n";
   for (const TextTable& table : SweepTables(summary)) html << HtmlTable(table);
   html << CellTable(summary);
-  html << "<h2>Spec</h2>\n<pre id=\"spec\">" << Escape(summary["spec"].dump(2)) << "</pre>\n<h2>Manifest</h2>\n<pre id=\"manifest\">"
-       << Escape(manifest.dump(2)) << "</pre>\n</body></html>\n";
+  html << "<h2>Spec</h2>\n<pre id=\"spec\">" << Escape(summary["spec"].dump(2))
+       << "</pre>\n<h2>Manifest</h2>\n<pre id=\"manifest\">" << Escape(manifest.dump(2)) << "</pre>\n</body></html>\n";
   return html.str();
 }
 

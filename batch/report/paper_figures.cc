@@ -40,8 +40,8 @@ class Lookup {
   }
 
   // A suite's task average (task empty) or one task's rate.
-  std::optional<Value> Rate(const std::string& name, const std::string& suite, const std::string& task, const std::string& robot,
-                            const std::string& split, const std::string& camera) const {
+  std::optional<Value> Rate(const std::string& name, const std::string& suite, const std::string& task,
+                            const std::string& robot, const std::string& split, const std::string& camera) const {
     if (const Json* group = Group(name)) {
       for (const Json& row : (*group)[task.empty() ? "suite_means" : "rows"]) {
         if (row["suite"] == suite && row["robot"] == robot && row["split"] == split && row["camera"] == camera &&
@@ -57,7 +57,8 @@ class Lookup {
         if (column["robot"] != robot || column["split"] != split || column["camera"] != camera) continue;
         if (task.empty()) return Value{column["task_average"].get<double>(), 0.0, 1};
         for (const Json& row : column["tasks"]) {
-          if (row["task"] == task && row.contains("success_rate")) return Value{row["success_rate"].get<double>(), 0.0, 1};
+          if (row["task"] == task && row.contains("success_rate"))
+            return Value{row["success_rate"].get<double>(), 0.0, 1};
         }
       }
     }
@@ -69,7 +70,8 @@ class Lookup {
   std::vector<std::string> Tasks(const std::string& suite) const {
     std::vector<std::string> tasks;
     for (const Json& cell : summary_["cells"]) {
-      if (cell["suite"] == suite && std::find(tasks.begin(), tasks.end(), cell["task"]) == tasks.end()) tasks.push_back(cell["task"]);
+      if (cell["suite"] == suite && std::find(tasks.begin(), tasks.end(), cell["task"]) == tasks.end())
+        tasks.push_back(cell["task"]);
     }
     return tasks;
   }
@@ -79,8 +81,8 @@ class Lookup {
     const std::vector<std::string> labels = Labels(name);
     std::vector<double> values;
     for (const Json& cell : summary_["cells"]) {
-      if (std::find(labels.begin(), labels.end(), cell["label"]) == labels.end() || cell["task"] != task || cell["split"] != split ||
-          cell["galt"].is_null()) {
+      if (std::find(labels.begin(), labels.end(), cell["label"]) == labels.end() || cell["task"] != task ||
+          cell["split"] != split || cell["galt"].is_null()) {
         continue;
       }
       for (const Json& value : cell["galt"]["values_s"]) values.push_back(value);
@@ -118,7 +120,11 @@ Json HeadVsFixed(const Lookup& lookup, const std::string& name) {
         const auto head = lookup.Rate(name, suite, task, robot, "id", "head");
         const auto fixed = lookup.Rate(name, suite, task, robot, "id", "fixed");
         if (head && fixed) {
-          points.push_back({{"suite", suite}, {"task", task}, {"robot", robot}, {"head", ValueJson(head)}, {"fixed", ValueJson(fixed)}});
+          points.push_back({{"suite", suite},
+                            {"task", task},
+                            {"robot", robot},
+                            {"head", ValueJson(head)},
+                            {"fixed", ValueJson(fixed)}});
         }
       }
     }
@@ -135,7 +141,8 @@ Json SingleVsMulti(const Lookup& lookup, const Json& pair) {
     for (const std::string& robot : lookup.Robots()) {
       const auto a = lookup.Rate(single, suite, "", robot, "id", "head");
       const auto b = lookup.Rate(multi, suite, "", robot, "id", "head");
-      if (a && b) bars.push_back({{"suite", suite}, {"robot", robot}, {"single", ValueJson(a)}, {"multi", ValueJson(b)}});
+      if (a && b)
+        bars.push_back({{"suite", suite}, {"robot", robot}, {"single", ValueJson(a)}, {"multi", ValueJson(b)}});
     }
   }
   if (bars.empty()) return nullptr;
@@ -197,7 +204,9 @@ Json HistogramJson(const std::vector<double>& all, double window, double high) {
   for (const double value : all) {
     if (value >= kGaltFigureLow && value <= window) kept.push_back(value);
   }
-  Json json = {{"n", kept.size()}, {"n_outside_window", all.size() - kept.size()}, {"median", nullptr},
+  Json json = {{"n", kept.size()},
+               {"n_outside_window", all.size() - kept.size()},
+               {"median", nullptr},
                {"counts", HistogramCounts(kept, kGaltFigureLow, high, kGaltFigureBins)}};
   if (!kept.empty()) json["median"] = Median(kept);
   return json;
@@ -225,22 +234,30 @@ Json GaltFigure(const Lookup& lookup, const Json& choices, const std::string& na
     } else if (!reference.is_null() && reference["tasks"].contains(task)) {
       reference_values = reference["tasks"][task].get<std::vector<double>>();
     }
-    Json row = {{"task", task}, {"policy", HistogramJson(values, window, high)}, {"reference", nullptr},
-                {"reference_source", ReferenceSource(choices, reference, task)}, {"relative_median_difference", nullptr}};
+    Json row = {{"task", task},
+                {"policy", HistogramJson(values, window, high)},
+                {"reference", nullptr},
+                {"reference_source", ReferenceSource(choices, reference, task)},
+                {"relative_median_difference", nullptr}};
     if (!reference_values.empty()) {
       row["reference"] = HistogramJson(reference_values, window, high);
       const Json& m_policy = row["policy"]["median"];
       const Json& m_reference = row["reference"]["median"];
       if (!m_policy.is_null() && !m_reference.is_null() && m_reference.get<double>() != 0.0) {
-        row["relative_median_difference"] = std::abs(m_policy.get<double>() - m_reference.get<double>()) / std::abs(m_reference.get<double>());
+        row["relative_median_difference"] =
+            std::abs(m_policy.get<double>() - m_reference.get<double>()) / std::abs(m_reference.get<double>());
       }
     }
     tasks.push_back(row);
   }
   if (tasks.empty()) return nullptr;
-  const Json reference_name = reference_label ? Json(choices["galt_reference"]) : reference.is_null() ? Json() : reference["source"];
-  return {{"policy", name}, {"reference", reference_name}, {"split", "id"}, {"camera", "head"}, {"window_s", window},
-          {"bins", {{"low", kGaltFigureLow}, {"high", high}, {"count", kGaltFigureBins}}}, {"tasks", tasks}};
+  const Json reference_name = reference_label       ? Json(choices["galt_reference"])
+                              : reference.is_null() ? Json()
+                                                    : reference["source"];
+  return {{"policy", name},     {"reference", reference_name},
+          {"split", "id"},      {"camera", "head"},
+          {"window_s", window}, {"bins", {{"low", kGaltFigureLow}, {"high", high}, {"count", kGaltFigureBins}}},
+          {"tasks", tasks}};
 }
 
 // The mean over bars of one field's mean (null when none has it).
@@ -284,7 +301,8 @@ Json HeadlineJson(const Json& figures) {
   if (figures.is_null()) return headline;
   if (!figures["fig3d"].is_null()) {
     headline["q1_ablation"] = Json::object();
-    for (const Json& arm : figures["fig3d"]["arms"]) headline["q1_ablation"][arm["arm"].get<std::string>()] = arm["mean_over_robots"];
+    for (const Json& arm : figures["fig3d"]["arms"])
+      headline["q1_ablation"][arm["arm"].get<std::string>()] = arm["mean_over_robots"];
   }
   const auto per_suite = [](const Json& bars, const std::vector<const char*>& fields) {
     Json result = Json::array();
@@ -303,8 +321,10 @@ Json HeadlineJson(const Json& figures) {
     }
     return result;
   };
-  if (!figures["fig3b"].is_null()) headline["q2_single_vs_multi"] = per_suite(figures["fig3b"]["bars"], {"single", "multi"});
-  if (!figures["fig3c"].is_null()) headline["q3_splits"] = per_suite(figures["fig3c"]["bars"], {"id", "ood-spatial", "ood-init-pose"});
+  if (!figures["fig3b"].is_null())
+    headline["q2_single_vs_multi"] = per_suite(figures["fig3b"]["bars"], {"single", "multi"});
+  if (!figures["fig3c"].is_null())
+    headline["q3_splits"] = per_suite(figures["fig3c"]["bars"], {"id", "ood-spatial", "ood-init-pose"});
   return headline;
 }
 

@@ -73,8 +73,10 @@ std::string PaperTable1Latex(const Json& summary, const std::string& label) {
     }
   }
   std::ostringstream out;
-  out << "% Table 1 layout; needs \\usepackage{booktabs}\n\\begin{table*}\n\\centering\n\\caption{Success rate (\\%) of "
-      << Escaped(label) << " per task, robot, split and camera (96 episodes per cell in the paper); suite mean: the task average.}\n"
+  out << "% Table 1 layout; needs \\usepackage{booktabs}\n\\begin{table*}\n\\centering\n\\caption{Success rate (\\%) "
+         "of "
+      << Escaped(label)
+      << " per task, robot, split and camera (96 episodes per cell in the paper); suite mean: the task average.}\n"
       << "\\begin{tabular}{l" << std::string(columns.size(), 'c') << "}\n\\toprule\n";
   // Header rows: robots, splits, cameras, each spanning its columns.
   const auto spans = [&](auto key, auto title) {
@@ -95,7 +97,8 @@ std::string PaperTable1Latex(const Json& summary, const std::string& label) {
   spans([](const Column& c) { return c.robot; }, [](const Column& c) { return RobotTitle(c.robot); });
   spans([](const Column& c) { return c.robot + c.split; }, [](const Column& c) { return SplitTitle(c.split); });
   out << "Task";
-  for (const Column& column : columns) out << " & " << (column.camera == "head" ? "Head" : column.camera == "fixed" ? "Fixed" : Escaped(column.camera));
+  for (const Column& column : columns)
+    out << " & " << (column.camera == "head" ? "Head" : column.camera == "fixed" ? "Fixed" : Escaped(column.camera));
   out << " \\\\\n\\midrule\n";
   for (const Json* suite : suites) {
     for (const Json& row : (*suite)["columns"][0]["tasks"]) {

@@ -34,7 +34,8 @@ Json PerturbationPairRows(const std::vector<CellEpisodes>& cells) {
     const bool suffixed = !suffix.empty() && label.size() > suffix.size() &&
                           label.compare(label.size() - suffix.size(), suffix.size(), suffix) == 0;
     const std::string base_label = suffixed ? label.substr(0, label.size() - suffix.size()) : label;
-    const RowKey key{base_label, cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split), ToString(cell.config.camera)};
+    const RowKey key{base_label, cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split),
+                     ToString(cell.config.camera)};
     const std::string perturbation = Joined(cell.config.perturbations);
     std::vector<bool>& successes = outcomes[key][perturbation][cell.config.seed];
     for (const EpisodeRecord& record : cell.episodes) successes.push_back(record.success);
@@ -63,30 +64,43 @@ Json PerturbationPairRows(const std::vector<CellEpisodes>& cells) {
     const double base_rate = static_cast<double>(counts.both + counts.first_only) / n;
     const double perturbed_rate = static_cast<double>(counts.both + counts.second_only) / n;
     const auto& [label, task, robot, split, camera] = key;
-    rows.push_back({{"label", label}, {"perturbation", perturbation}, {"task", task}, {"robot", robot}, {"split", split},
-                    {"camera", camera}, {"pairs", counts.pairs()}, {"both", counts.both}, {"base_only", counts.first_only},
-                    {"perturbed_only", counts.second_only}, {"neither", counts.neither}, {"base_rate", base_rate},
-                    {"perturbed_rate", perturbed_rate}, {"difference", perturbed_rate - base_rate},
+    rows.push_back({{"label", label},
+                    {"perturbation", perturbation},
+                    {"task", task},
+                    {"robot", robot},
+                    {"split", split},
+                    {"camera", camera},
+                    {"pairs", counts.pairs()},
+                    {"both", counts.both},
+                    {"base_only", counts.first_only},
+                    {"perturbed_only", counts.second_only},
+                    {"neither", counts.neither},
+                    {"base_rate", base_rate},
+                    {"perturbed_rate", perturbed_rate},
+                    {"difference", perturbed_rate - base_rate},
                     {"mcnemar_p", McNemarExactP(counts.first_only, counts.second_only)}});
   }
   return rows;
 }
 
 TextTable PerturbationPairTable(const Json& summary) {
-  TextTable table{"paired_perturbations", "Perturbations vs the base scene on matched episodes",
-                  {"policy", "perturbation", "task", "robot", "split", "camera", "pairs", "base %", "perturbed %", "both",
-                   "base only", "perturbed only", "neither", "McNemar p"},
+  TextTable table{"paired_perturbations",
+                  "Perturbations vs the base scene on matched episodes",
+                  {"policy", "perturbation", "task", "robot", "split", "camera", "pairs", "base %", "perturbed %",
+                   "both", "base only", "perturbed only", "neither", "McNemar p"},
                   {},
                   ""};
   for (const Json& row : summary["paired_perturbations"]) {
     table.rows.push_back({row["label"], row["perturbation"], row["task"], row["robot"], row["split"], row["camera"],
-                          std::to_string(row["pairs"].get<int64_t>()), Percent(row["base_rate"]), Percent(row["perturbed_rate"]),
-                          std::to_string(row["both"].get<int64_t>()), std::to_string(row["base_only"].get<int64_t>()),
-                          std::to_string(row["perturbed_only"].get<int64_t>()), std::to_string(row["neither"].get<int64_t>()),
-                          PValue(row["mcnemar_p"])});
+                          std::to_string(row["pairs"].get<int64_t>()), Percent(row["base_rate"]),
+                          Percent(row["perturbed_rate"]), std::to_string(row["both"].get<int64_t>()),
+                          std::to_string(row["base_only"].get<int64_t>()),
+                          std::to_string(row["perturbed_only"].get<int64_t>()),
+                          std::to_string(row["neither"].get<int64_t>()), PValue(row["mcnemar_p"])});
   }
-  table.note = "Episode i keeps its base scene under every perturbation (docs/perturbations.md), so the episodes pair with "
-               "the base cell's: McNemar's exact two-sided test on the discordant pairs.";
+  table.note =
+      "Episode i keeps its base scene under every perturbation (docs/perturbations.md), so the episodes pair with "
+      "the base cell's: McNemar's exact two-sided test on the discordant pairs.";
   return table;
 }
 

@@ -79,7 +79,10 @@ Json SeedGroupsJson(const Json& summary) {
       const std::string label = suite["label"];
       if (std::find(labels.begin(), labels.end(), label) == labels.end()) continue;
       for (const Json& column : suite["columns"]) {
-        const Json where = {{"suite", suite["suite"]}, {"robot", column["robot"]}, {"split", column["split"]}, {"camera", column["camera"]}};
+        const Json where = {{"suite", suite["suite"]},
+                            {"robot", column["robot"]},
+                            {"split", column["split"]},
+                            {"camera", column["camera"]}};
         means.Add(where, label, column["task_average"]);
         for (const Json& task : column["tasks"]) {
           if (!task.contains("success_rate")) continue;
@@ -91,7 +94,8 @@ Json SeedGroupsJson(const Json& summary) {
         }
       }
     }
-    result.push_back({{"seed_group", group}, {"labels", labels}, {"rows", rates.Rows(labels)}, {"suite_means", means.Rows(labels)}});
+    result.push_back(
+        {{"seed_group", group}, {"labels", labels}, {"rows", rates.Rows(labels)}, {"suite_means", means.Rows(labels)}});
   }
   return result;
 }

@@ -20,10 +20,10 @@ class Canvas {
   int height() const { return height_; }
 
   // Colours are "#rrggbb".
-  void Line(double x1, double y1, double x2, double y2, const std::string& colour, double stroke_width = 1.0, bool dashed = false,
-            DataAttributes data = {});
-  void Rect(double x, double y, double w, double h, const std::string& fill, double fill_opacity, const std::string& stroke,
-            DataAttributes data = {});
+  void Line(double x1, double y1, double x2, double y2, const std::string& colour, double stroke_width = 1.0,
+            bool dashed = false, DataAttributes data = {});
+  void Rect(double x, double y, double w, double h, const std::string& fill, double fill_opacity,
+            const std::string& stroke, DataAttributes data = {});
   void Circle(double cx, double cy, double r, const std::string& colour, bool filled, DataAttributes data = {});
   enum class Anchor { kStart, kMiddle, kEnd };
   void Text(double x, double y, const std::string& text, double size = 11.0, Anchor anchor = Anchor::kStart,

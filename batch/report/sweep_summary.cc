@@ -10,9 +10,9 @@
 #include "batch/galt_summary.h"
 #include "batch/galt_validation.h"
 #include "batch/report/camera_set_pairs.h"
-#include "batch/report/perturbation_pairs.h"
 #include "batch/report/paired_statistics.h"
 #include "batch/report/paper_figures.h"
+#include "batch/report/perturbation_pairs.h"
 #include "batch/report/seed_groups.h"
 #include "batch/report/stage_funnel_section.h"
 #include "batch/results_table.h"
@@ -110,7 +110,8 @@ Json SuccessJson(const std::string& suite, const std::vector<CellEpisodes>& cell
     std::tie(entry.task, entry.robot, entry.split, entry.camera) = KeyOf(cell);
     entry.policy = cell.config.policy;
     entry.n_episodes = static_cast<int64_t>(cell.episodes.size());
-    entry.n_successful = std::count_if(cell.episodes.begin(), cell.episodes.end(), [](const EpisodeRecord& r) { return r.success; });
+    entry.n_successful =
+        std::count_if(cell.episodes.begin(), cell.episodes.end(), [](const EpisodeRecord& r) { return r.success; });
     counts.push_back(entry);
   }
   const ResultsTable table = BuildResultsTable(counts, suite);
@@ -145,15 +146,18 @@ Json SuccessJson(const std::string& suite, const std::vector<CellEpisodes>& cell
                             ? Json(a["success_rate"].get<double>() - b["success_rate"].get<double>())
                             : Json());
       }
-      differences.push_back({{"robot", id["robot"]},
-                             {"camera", id["camera"]},
-                             {"ood_split", ood["split"]},
-                             {"tasks", tasks},
-                             {"task_average", id["task_average"].get<double>() - ood["task_average"].get<double>()},
-                             {"pooled", id["pooled"]["success_rate"].get<double>() - ood["pooled"]["success_rate"].get<double>()}});
+      differences.push_back(
+          {{"robot", id["robot"]},
+           {"camera", id["camera"]},
+           {"ood_split", ood["split"]},
+           {"tasks", tasks},
+           {"task_average", id["task_average"].get<double>() - ood["task_average"].get<double>()},
+           {"pooled", id["pooled"]["success_rate"].get<double>() - ood["pooled"]["success_rate"].get<double>()}});
     }
   }
-  return {{"suite", suite}, {"title", scenarios::Title(scenarios::ParseSuite(suite))}, {"columns", columns},
+  return {{"suite", suite},
+          {"title", scenarios::Title(scenarios::ParseSuite(suite))},
+          {"columns", columns},
           {"id_minus_ood", differences}};
 }
 
@@ -194,7 +198,10 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
   Json lengths = Json::array();
   for (const GroupKey& key : order) {
     const auto& [task, robot, split, camera] = key;
-    lengths.push_back({{"task", task}, {"robot", robot}, {"split", split}, {"camera", camera},
+    lengths.push_back({{"task", task},
+                       {"robot", robot},
+                       {"split", split},
+                       {"camera", camera},
                        {"successful_length_s", SpreadJson(groups[key].success_lengths_s)}});
   }
   summary["successful_length"] = lengths;
@@ -208,9 +215,15 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
       const auto other = groups.find({task, robot, scenarios::ToString(ood), camera});
       if (other == groups.end() || id.episodes == 0 || other->second.episodes == 0) continue;
       const double id_rate = static_cast<double>(id.successes) / static_cast<double>(id.episodes);
-      const double ood_rate = static_cast<double>(other->second.successes) / static_cast<double>(other->second.episodes);
-      id_minus_ood.push_back({{"task", task}, {"robot", robot}, {"camera", camera}, {"ood_split", scenarios::ToString(ood)},
-                              {"id_rate", id_rate}, {"ood_rate", ood_rate}, {"difference", id_rate - ood_rate}});
+      const double ood_rate =
+          static_cast<double>(other->second.successes) / static_cast<double>(other->second.episodes);
+      id_minus_ood.push_back({{"task", task},
+                              {"robot", robot},
+                              {"camera", camera},
+                              {"ood_split", scenarios::ToString(ood)},
+                              {"id_rate", id_rate},
+                              {"ood_rate", ood_rate},
+                              {"difference", id_rate - ood_rate}});
     }
   }
   summary["id_minus_ood"] = id_minus_ood;
@@ -241,10 +254,17 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
     const double n = static_cast<double>(counts.pairs());
     const double head_rate = static_cast<double>(counts.both + counts.first_only) / n;
     const double fixed_rate = static_cast<double>(counts.both + counts.second_only) / n;
-    paired.push_back({{"task", std::get<0>(paired_key)}, {"robot", std::get<1>(paired_key)}, {"split", std::get<2>(paired_key)},
-                      {"pairs", counts.pairs()}, {"both", counts.both}, {"head_only", counts.first_only},
-                      {"fixed_only", counts.second_only}, {"neither", counts.neither}, {"head_rate", head_rate},
-                      {"fixed_rate", fixed_rate}, {"difference", head_rate - fixed_rate},
+    paired.push_back({{"task", std::get<0>(paired_key)},
+                      {"robot", std::get<1>(paired_key)},
+                      {"split", std::get<2>(paired_key)},
+                      {"pairs", counts.pairs()},
+                      {"both", counts.both},
+                      {"head_only", counts.first_only},
+                      {"fixed_only", counts.second_only},
+                      {"neither", counts.neither},
+                      {"head_rate", head_rate},
+                      {"fixed_rate", fixed_rate},
+                      {"difference", head_rate - fixed_rate},
                       {"mcnemar_p", McNemarExactP(counts.first_only, counts.second_only)}});
   }
   summary["paired"] = paired;
@@ -254,8 +274,12 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
     const auto& [task, robot, split, camera] = key;
     if (camera != "head") continue;
     const GaltSummary galt_summary = SummarizeGalt(groups[key].galt);
-    Json row = {{"robot", robot}, {"task", task}, {"split", split},
-                {"detection_rate", galt_summary.n_episodes > 0 ? static_cast<double>(galt_summary.n_valid) / galt_summary.n_episodes : 0.0}};
+    Json row = {
+        {"robot", robot},
+        {"task", task},
+        {"split", split},
+        {"detection_rate",
+         galt_summary.n_episodes > 0 ? static_cast<double>(galt_summary.n_valid) / galt_summary.n_episodes : 0.0}};
     row.update(Json(GaltSummaryJson(galt_summary)));
     galt.push_back(row);
   }
@@ -291,7 +315,8 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, 
   }
   summary["labels"] = label_list;
   summary["cells"] = cell_list;
-  const char* sections[] = {"success", "successful_length", "id_minus_ood", "paired", "galt", "stages", "paired_camera_sets"};
+  const char* sections[] = {"success", "successful_length", "id_minus_ood", "paired", "galt",
+                            "stages",  "paired_camera_sets"};
   for (const char* section : sections) summary[section] = Json::array();
   for (const std::string& label : labels) {
     std::vector<CellEpisodes> mine;

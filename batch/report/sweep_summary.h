@@ -16,8 +16,8 @@ struct CellEpisodes {
   std::string id;
   EvaluationCellConfig config;
   std::vector<EpisodeRecord> episodes;  // in episode order
-  std::string label;       // the policy's label (empty: its policy name)
-  std::string seed_group;  // empty: none
+  std::string label;                    // the policy's label (empty: its policy name)
+  std::string seed_group;               // empty: none
   nlohmann::ordered_json server_metadata = nlohmann::ordered_json::array();  // what its servers reported
 };
 

@@ -12,7 +12,7 @@
 namespace tavis::batch::report {
 
 struct TextTable {
-  std::string name;   // file stem: tables/<name>.md, .csv, .tex
+  std::string name;  // file stem: tables/<name>.md, .csv, .tex
   std::string title;
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
@@ -22,7 +22,7 @@ struct TextTable {
 std::vector<TextTable> SweepTables(const nlohmann::ordered_json& summary);
 
 std::string ToMarkdown(const TextTable& table);
-std::string ToCsv(const TextTable& table);  // RFC 4180 quoting; the note is not part of the CSV
+std::string ToCsv(const TextTable& table);    // RFC 4180 quoting; the note is not part of the CSV
 std::string ToLatex(const TextTable& table);  // a booktabs tabular in a table float
 
 // How the tables print numbers (the HTML report uses the same): a fraction in percent with one

@@ -43,11 +43,13 @@ CellSinks CellRecording::Sinks() {
     layout.video.height = settings_.height;
     layout.video.fps = layout.fps;
     layout.video.codec = settings_.codec;
-    for (const kinematics::StateEntry& entry : env.model().robot.observation_state) layout.state_names.push_back(entry.name);
+    for (const kinematics::StateEntry& entry : env.model().robot.observation_state)
+      layout.state_names.push_back(entry.name);
     layout.tasks = {env.scenario().class_name};
     writer_ = dataset::MakeDatasetWriter(settings_.root, layout);
     recorder_ = std::make_unique<RolloutRecorder>(
-        env, cell_.camera, layout.cameras, layout.video, [this](dataset::RecordedEpisode&& episode, const EpisodeRecord& record) {
+        env, cell_.camera, layout.cameras, layout.video,
+        [this](dataset::RecordedEpisode&& episode, const EpisodeRecord& record) {
           std::string line = EpisodeJsonLine(record, cell_.seed) + "\n";
           if (episode.frames > 0) {
             line.insert(1, "\"episode_index\":" + std::to_string(writer_->episodes()) + ",");

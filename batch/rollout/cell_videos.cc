@@ -2,7 +2,8 @@
 
 namespace tavis::batch {
 
-CellVideos::CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig& cell, std::function<std::filesystem::path()> folder)
+CellVideos::CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig& cell,
+                       std::function<std::filesystem::path()> folder)
     : settings_(std::move(settings)),
       protocol_(cell.camera),
       cell_start_(cell.episode_start),
@@ -16,8 +17,8 @@ CellVideos::~CellVideos() = default;
 CellSinks CellVideos::Sinks() {
   if (first_to_run_ >= cell_start_ + settings_.episodes) return nullptr;
   return [this](const VecEnv& env, const std::vector<std::string>& policy_cameras) -> std::vector<EpisodeSink*> {
-    recorder_ = std::make_unique<EpisodeVideoRecorder>(env, settings_, VideoCameras(settings_, policy_cameras, protocol_),
-                                                       cell_start_, folder_);
+    recorder_ = std::make_unique<EpisodeVideoRecorder>(
+        env, settings_, VideoCameras(settings_, policy_cameras, protocol_), cell_start_, folder_);
     return {recorder_.get()};
   };
 }

@@ -17,7 +17,8 @@ class CellVideos {
  public:
   // Films the first settings.episodes episodes of `cell` into folder() (asked at every write).
   // Throws std::invalid_argument as ValidateEpisodeVideoSettings.
-  CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig& cell, std::function<std::filesystem::path()> folder);
+  CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig& cell,
+             std::function<std::filesystem::path()> folder);
   ~CellVideos();
 
   // For RunEvaluationCell: no sink when no episode is filmed, or when none of the episodes

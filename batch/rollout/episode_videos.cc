@@ -75,18 +75,21 @@ VideoFormat ParseVideoFormat(const std::string& text) {
 }
 
 void ValidateEpisodeVideoSettings(const EpisodeVideoSettings& settings) {
-  if (settings.episodes < 0) throw std::invalid_argument("--videos must be at least 0, got " + std::to_string(settings.episodes));
+  if (settings.episodes < 0)
+    throw std::invalid_argument("--videos must be at least 0, got " + std::to_string(settings.episodes));
   const std::string size = std::to_string(settings.tile_width) + "x" + std::to_string(settings.tile_height);
-  if (settings.tile_width < 64 || settings.tile_height < 48 || settings.tile_width % 2 != 0 || settings.tile_height % 2 != 0) {
-    throw std::invalid_argument("--video-size must be even and at least 64x48 (the encoder's yuv420p halves it), got " + size);
+  if (settings.tile_width < 64 || settings.tile_height < 48 || settings.tile_width % 2 != 0 ||
+      settings.tile_height % 2 != 0) {
+    throw std::invalid_argument("--video-size must be even and at least 64x48 (the encoder's yuv420p halves it), got " +
+                                size);
   }
   CameraSettings cameras;
   cameras.cameras = settings.cameras;
   ValidateCameraSettings(cameras);
 }
 
-std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings, const std::vector<std::string>& policy_cameras,
-                                      CameraProtocol protocol) {
+std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings,
+                                      const std::vector<std::string>& policy_cameras, CameraProtocol protocol) {
   if (!settings.cameras.empty()) return settings.cameras;
   std::vector<std::string> cameras = ObservedCameras(policy_cameras, protocol);
   if (std::find(cameras.begin(), cameras.end(), "fixed") == cameras.end()) cameras.push_back("fixed");
@@ -97,8 +100,9 @@ std::string EpisodeVideoName(int64_t episode, VideoFormat format) {
   return "episode_" + std::to_string(episode) + (format == VideoFormat::kMp4 ? ".mp4" : "");
 }
 
-EpisodeVideoRecorder::EpisodeVideoRecorder(const VecEnv& env, EpisodeVideoSettings settings, std::vector<std::string> cameras,
-                                           int64_t cell_start, std::function<fs::path()> folder)
+EpisodeVideoRecorder::EpisodeVideoRecorder(const VecEnv& env, EpisodeVideoSettings settings,
+                                           std::vector<std::string> cameras, int64_t cell_start,
+                                           std::function<fs::path()> folder)
     : settings_(std::move(settings)),
       cameras_(std::move(cameras)),
       cell_start_(cell_start),
@@ -229,9 +233,10 @@ void EpisodeVideoRecorder::RecordFinished(const EpisodeRecord& record) {
     const render::RgbImage& view = film.end_views[camera];
     views.push_back({cameras_[camera], view.height, view.width, view.pixels.data()});
   }
-  const render::RgbImage frame = ComposeVideoFrame(
-      views, {StepCaption(film.episode, record.length_control_ticks, ticks_per_frame_, control_hz_) + StageCaption(record.stages),
-              OutcomeCaption(record)});
+  const render::RgbImage frame =
+      ComposeVideoFrame(views, {StepCaption(film.episode, record.length_control_ticks, ticks_per_frame_, control_hz_) +
+                                    StageCaption(record.stages),
+                                OutcomeCaption(record)});
   const fs::path folder = folder_();
   if (film.encoder) {
     for (int hold = 0; hold < kOutcomeFrames; ++hold) Write(film, frame);

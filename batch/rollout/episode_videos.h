@@ -48,8 +48,8 @@ void ValidateEpisodeVideoSettings(const EpisodeVideoSettings& settings);
 // The cameras a video shows: settings.cameras when given; else the cameras the policy sees under
 // the protocol (for a policy that takes no images, the scripted expert, those the observation
 // contract gives a served policy: head and wrists), then the fixed camera for context.
-std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings, const std::vector<std::string>& policy_cameras,
-                                      CameraProtocol protocol);
+std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings,
+                                      const std::vector<std::string>& policy_cameras, CameraProtocol protocol);
 
 // The caption's stage: the furthest of the task's stages reached so far (a task declares them
 // in the order it is done), e.g. "   stage 3/4 target_grasped"; empty for a task without stages.
@@ -63,8 +63,8 @@ class EpisodeVideoRecorder : public EpisodeSink {
   // Films episodes cell_start .. cell_start + settings.episodes - 1 of the env's cell, showing
   // `cameras`, into folder() (asked at every write: a cell being built beside the one it
   // replaces moves once its first episode is recorded). Throws as ValidateEpisodeVideoSettings.
-  EpisodeVideoRecorder(const VecEnv& env, EpisodeVideoSettings settings, std::vector<std::string> cameras, int64_t cell_start,
-                       std::function<std::filesystem::path()> folder);
+  EpisodeVideoRecorder(const VecEnv& env, EpisodeVideoSettings settings, std::vector<std::string> cameras,
+                       int64_t cell_start, std::function<std::filesystem::path()> folder);
   ~EpisodeVideoRecorder() override;
 
   void EpisodeStarted(const VecEnv& env, int slot) override;
@@ -95,8 +95,8 @@ class EpisodeVideoRecorder : public EpisodeSink {
   int ticks_per_frame_;  // control ticks per policy tick
   double control_hz_;
   std::unique_ptr<SceneRender> render_;
-  std::vector<std::unique_ptr<Film>> running_;       // [slot], null when the slot's episode is not filmed
-  std::map<int64_t, std::unique_ptr<Film>> ended_;   // waiting for their records
+  std::vector<std::unique_ptr<Film>> running_;      // [slot], null when the slot's episode is not filmed
+  std::map<int64_t, std::unique_ptr<Film>> ended_;  // waiting for their records
   std::vector<uint8_t> render_slots_;
   int64_t videos_written_ = 0;
 };

@@ -35,8 +35,8 @@ class RolloutRecorder : public EpisodeSink {
 
   // Records the env's episodes with `cameras` at video.width x video.height, handing each with its
   // record to `keep` (from RecordFinished).
-  RolloutRecorder(const VecEnv& env, CameraProtocol protocol, std::vector<std::string> cameras, dataset::VideoSettings video,
-                  Keep keep);
+  RolloutRecorder(const VecEnv& env, CameraProtocol protocol, std::vector<std::string> cameras,
+                  dataset::VideoSettings video, Keep keep);
   ~RolloutRecorder() override;
 
   void EpisodeStarted(const VecEnv& env, int slot) override;
@@ -68,8 +68,8 @@ class RolloutRecorder : public EpisodeSink {
   ProprioceptionBatch proprioception_;
   std::unique_ptr<SceneRender> render_;
   std::vector<Slot> slots_;
-  std::vector<uint8_t> observed_;  // (slots) observed at this tick: a frame waits for its action
-  std::vector<uint8_t> acted_;     // (slots) and its action was stepped
+  std::vector<uint8_t> observed_;                      // (slots) observed at this tick: a frame waits for its action
+  std::vector<uint8_t> acted_;                         // (slots) and its action was stepped
   std::map<int64_t, dataset::RecordedEpisode> ended_;  // waiting for their records
 };
 

@@ -44,10 +44,11 @@ std::pair<int, int> VideoFrameSize(int cameras, int tile_width, int tile_height)
   return {sheet.width, sheet.height + CaptionHeight(sheet.width)};
 }
 
-render::RgbImage ComposeVideoFrame(const std::vector<render::LabelledImage>& views, const std::vector<std::string>& caption) {
+render::RgbImage ComposeVideoFrame(const std::vector<render::LabelledImage>& views,
+                                   const std::vector<std::string>& caption) {
   if (caption.size() > static_cast<std::size_t>(kCaptionLines)) {
-    throw std::invalid_argument("a video frame's caption holds at most " + std::to_string(kCaptionLines) + " lines, got " +
-                                std::to_string(caption.size()));
+    throw std::invalid_argument("a video frame's caption holds at most " + std::to_string(kCaptionLines) +
+                                " lines, got " + std::to_string(caption.size()));
   }
   const render::RgbImage sheet = render::MakeContactSheet(views);
   const int band = CaptionHeight(sheet.width);
@@ -64,8 +65,8 @@ render::RgbImage ComposeVideoFrame(const std::vector<render::LabelledImage>& vie
     int baseline = 0;
     const cv::Size text = cv::getTextSize(caption[line], kFont, scale, CaptionThickness(scale), &baseline);
     const int y = kPad + static_cast<int>(line) * line_height + text.height;
-    cv::putText(canvas, caption[line], cv::Point(kPad, y), kFont, scale, cv::Scalar(255, 255, 255), CaptionThickness(scale),
-                cv::LINE_AA);
+    cv::putText(canvas, caption[line], cv::Point(kPad, y), kFont, scale, cv::Scalar(255, 255, 255),
+                CaptionThickness(scale), cv::LINE_AA);
   }
   return frame;
 }

@@ -13,7 +13,8 @@ namespace tavis::batch {
 // `views` must be non-empty with even sizes (ValidateVideoTileSize); `caption` holds the band's
 // lines, top first (more than kCaptionLines are refused: the band's height is fixed, so every
 // frame of a video has the same size).
-render::RgbImage ComposeVideoFrame(const std::vector<render::LabelledImage>& views, const std::vector<std::string>& caption);
+render::RgbImage ComposeVideoFrame(const std::vector<render::LabelledImage>& views,
+                                   const std::vector<std::string>& caption);
 
 inline constexpr int kCaptionLines = 2;
 

@@ -12,7 +12,8 @@ namespace tavis::batch::sweep {
 nlohmann::ordered_json DatasetGaltReference(const nlohmann::ordered_json& figures) {
   if (!figures.contains("galt_reference_datasets")) return nullptr;
   const nlohmann::ordered_json& datasets = figures["galt_reference_datasets"];
-  nlohmann::ordered_json reference = {{"source", nullptr}, {"datasets", datasets}, {"tasks", nlohmann::ordered_json::object()}};
+  nlohmann::ordered_json reference = {
+      {"source", nullptr}, {"datasets", datasets}, {"tasks", nlohmann::ordered_json::object()}};
   std::map<std::string, std::vector<double>> read;  // a folder named for several tasks is read once
   for (const auto& [task, dir_json] : datasets.items()) {
     const std::string dir = dir_json.get<std::string>();

@@ -50,7 +50,8 @@ void CheckPolicyFiles(const YamlValue& node, const PolicySpec& policy, const std
     const std::filesystem::path info = std::filesystem::path(policy.match_dataset) / "meta" / "info.json";
     const std::string not_a_file = configs::WhyNotARegularFile(info);
     if (!not_a_file.empty()) {
-      node.Required("match_dataset").Fail("'" + policy.match_dataset + "' is not a LeRobot dataset: " + info.string() + ": " + not_a_file);
+      node.Required("match_dataset")
+          .Fail("'" + policy.match_dataset + "' is not a LeRobot dataset: " + info.string() + ": " + not_a_file);
     }
   }
 }
@@ -59,8 +60,8 @@ void CheckPolicyFiles(const YamlValue& node, const PolicySpec& policy, const std
 
 bool IsValidLabel(const std::string& label) {
   return !label.empty() && label.size() <= 64 && std::all_of(label.begin(), label.end(), [](unsigned char c) {
-           return std::isalnum(c) != 0 || c == '-' || c == '.';
-         });
+    return std::isalnum(c) != 0 || c == '-' || c == '.';
+  });
 }
 
 PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std::vector<std::string>& known_robots,
@@ -79,7 +80,8 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
   }
   if (const auto group = node.Optional("seed_group")) {
     policy.seed_group = group->AsString();
-    if (!IsValidLabel(policy.seed_group)) group->Fail("must be 1 to 64 letters, digits, '-' or '.', got '" + policy.seed_group + "'");
+    if (!IsValidLabel(policy.seed_group))
+      group->Fail("must be 1 to 64 letters, digits, '-' or '.', got '" + policy.seed_group + "'");
   }
   if (const auto cells = node.Optional("cells")) ReadCellFilter(*cells, known_robots, policy);
   if (const auto actions = node.Optional("actions")) policy.actions_file = actions->AsString();
@@ -109,21 +111,25 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
       node.Required("name").Fail("unknown policy '" + policy.name + "' (known: " + CellPolicyNames() + ")");
     }
   }
-  if (IsPolicy(policy.name, PolicyKind::kReplay) && policy.actions_file.empty()) node.Fail("policy 'replay' needs actions: FILE.csv");
+  if (IsPolicy(policy.name, PolicyKind::kReplay) && policy.actions_file.empty())
+    node.Fail("policy 'replay' needs actions: FILE.csv");
   if (!IsPolicy(policy.name, PolicyKind::kReplay) && !policy.actions_file.empty()) {
     node.Required("actions").Fail("applies to policy 'replay' only, got policy '" + policy.name + "'");
   }
   if (served && policy.servers.empty()) node.Fail("policy 'openpi' needs servers: [ws://HOST:PORT, ...]");
-  if (!served && !policy.servers.empty()) node.Required("servers").Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
+  if (!served && !policy.servers.empty())
+    node.Required("servers").Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
   for (const char* key : {"keys", "replan_steps", "server_timeout_s", "match_dataset", "serving"}) {
-    if (!served && node.Optional(key)) node.Required(key).Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
+    if (!served && node.Optional(key))
+      node.Required(key).Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
   }
   if (files == PolicyFiles::kRead) CheckPolicyFiles(node, policy, config_dir);
   return policy;
 }
 
 bool PolicySpec::Serves(const EvaluationCellConfig& cell) const {
-  return Allows(tasks, cell.task) && Allows(robots, cell.robot) && Allows(splits, cell.split) && Allows(cameras, cell.camera);
+  return Allows(tasks, cell.task) && Allows(robots, cell.robot) && Allows(splits, cell.split) &&
+         Allows(cameras, cell.camera);
 }
 
 void PolicySpec::ApplyTo(EvaluationCellConfig& cell) const {

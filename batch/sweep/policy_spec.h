@@ -45,8 +45,9 @@ enum class PolicyFiles { kRead, kNotRead };
 // Throws configs::ConfigError naming the key and the value. With PolicyFiles::kRead the files it
 // names are read now: the actions CSV, the observation keys (a preset of `config_dir` or a YAML
 // file) and match_dataset's meta/info.json.
-PolicySpec ReadPolicySpec(const configs::YamlValue& policy, bool label_required, const std::vector<std::string>& known_robots,
-                          const std::string& config_dir, PolicyFiles files);
+PolicySpec ReadPolicySpec(const configs::YamlValue& policy, bool label_required,
+                          const std::vector<std::string>& known_robots, const std::string& config_dir,
+                          PolicyFiles files);
 
 nlohmann::ordered_json PolicySpecJson(const PolicySpec& policy);
 

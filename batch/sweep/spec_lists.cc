@@ -38,7 +38,8 @@ std::vector<std::string> ReadNames(const YamlValue& list, Check check) {
 
 int ReadCount(const YamlValue& value, int low, int high) {
   int count = 0;
-  const std::string expected = "must be an integer from " + std::to_string(low) + " to " + std::to_string(high) + ", got ";
+  const std::string expected =
+      "must be an integer from " + std::to_string(low) + " to " + std::to_string(high) + ", got ";
   try {
     count = value.AsInt();
   } catch (const configs::ConfigError&) {
@@ -52,7 +53,8 @@ std::vector<std::string> ReadTasks(const std::optional<YamlValue>& suites, const
                                    std::vector<std::string>* suite_names) {
   std::vector<std::string> result;
   if (suites) {
-    const std::vector<std::string> names = ReadNames(*suites, [](const std::string& name) { scenarios::ParseSuite(name); });
+    const std::vector<std::string> names =
+        ReadNames(*suites, [](const std::string& name) { scenarios::ParseSuite(name); });
     if (suite_names) *suite_names = names;
     for (const std::string& suite : names) {
       for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(suite))) {

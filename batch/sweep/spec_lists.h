@@ -16,7 +16,8 @@ int ReadCount(const configs::YamlValue& value, int low, int high);
 
 // `suites` (all their tasks, suite order) then `tasks`, no repeats; either may be absent.
 // Writes the suites as given to *suite_names when it is not null.
-std::vector<std::string> ReadTasks(const std::optional<configs::YamlValue>& suites, const std::optional<configs::YamlValue>& tasks,
+std::vector<std::string> ReadTasks(const std::optional<configs::YamlValue>& suites,
+                                   const std::optional<configs::YamlValue>& tasks,
                                    std::vector<std::string>* suite_names = nullptr);
 std::vector<std::string> ReadRobots(const configs::YamlValue& list, const std::vector<std::string>& known_robots);
 std::vector<scenarios::Split> ReadSplits(const configs::YamlValue& list);

@@ -43,15 +43,17 @@ std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const fs::path& dir, 
     if (records.back().episode != static_cast<int64_t>(records.size()) - 1) return std::nullopt;
     successes += records.back().success ? 1 : 0;
   }
-  if (static_cast<int64_t>(records.size()) != config.episodes || summary->value("n_episodes", int64_t{-1}) != config.episodes ||
+  if (static_cast<int64_t>(records.size()) != config.episodes ||
+      summary->value("n_episodes", int64_t{-1}) != config.episodes ||
       summary->value("n_successful", int64_t{-1}) != successes) {
     return std::nullopt;
   }
   return records;
 }
 
-CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, int threads, const ProgressCallback& progress,
-                       const std::string& label, const std::string& seed_group, const EpisodeVideoSettings& videos) {
+CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, int threads,
+                       const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
+                       const EpisodeVideoSettings& videos) {
   // A folder with settings continues; anything else there (a cell that failed before writing its
   // settings, or one whose summary does not match its records) starts over.
   const bool resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
@@ -59,7 +61,8 @@ CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, 
   // The sweep's lock keeps other sweeps out; this one keeps out an `eval --resume` of the cell.
   const OutputLock lock = CreateAndLockOutput(dir, "sweep");
   CellRecordStream stream(dir.string(), config, resume);
-  WriteFileAtomically(dir / "policy.json", nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
+  WriteFileAtomically(dir / "policy.json",
+                      nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
   EvaluationCellConfig remaining = config;
   remaining.first_episode = stream.next_episode();
   CellVideos films(videos, remaining, [&dir] { return dir / "videos"; });

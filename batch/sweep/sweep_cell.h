@@ -17,7 +17,8 @@ namespace tavis::batch::sweep {
 // The cell's records when DIR holds it complete: cell.json with these settings, summary.json,
 // and episodes.jsonl with exactly episodes 0 .. N-1 whose successes match the summary's count.
 // nullopt otherwise (absent, interrupted, or not matching: such a folder is run again).
-std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir, const EvaluationCellConfig& config);
+std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir,
+                                                           const EvaluationCellConfig& config);
 
 // Runs the cell into DIR (continuing an interrupted one), writes its summary.json last and
 // returns the whole cell's result (the kept records first). DIR/policy.json names the policy's

@@ -64,7 +64,8 @@ nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
   try {
     manifest = nlohmann::ordered_json::parse(in);
   } catch (const nlohmann::json::exception& error) {
-    throw std::runtime_error(path.string() + ": damaged sweep manifest, not valid JSON: " + JsonErrorText(error.what()));
+    throw std::runtime_error(path.string() +
+                             ": damaged sweep manifest, not valid JSON: " + JsonErrorText(error.what()));
   }
   if (!manifest.is_object()) throw std::runtime_error(path.string() + ": damaged sweep manifest, not a JSON object");
   for (const char* key : {"spec", "spec_yaml", "version", "shard", "cells"}) {
@@ -82,8 +83,9 @@ nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
   require(manifest["version"].is_string(), "version", "a string");
   require(manifest["cells"].is_object(), "cells", "an object of cell ids");
   const nlohmann::ordered_json& shard = manifest["shard"];
-  require(shard.is_object() && shard.contains("index") && shard.contains("count") && shard["index"].is_number_integer() &&
-              shard["count"].is_number_integer() && shard["count"].get<int64_t>() >= 1 && shard["index"].get<int64_t>() >= 0 &&
+  require(shard.is_object() && shard.contains("index") && shard.contains("count") &&
+              shard["index"].is_number_integer() && shard["count"].is_number_integer() &&
+              shard["count"].get<int64_t>() >= 1 && shard["index"].get<int64_t>() >= 0 &&
               shard["index"].get<int64_t>() < shard["count"].get<int64_t>() && shard["count"].get<int64_t>() <= 1000000,
           "shard", "{\"index\": I, \"count\": N} with 0 <= I < N");
   return manifest;
@@ -91,8 +93,10 @@ nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
 
 void SweepManifest::RequireSameSweep(const nlohmann::ordered_json& existing, const std::filesystem::path& dir) const {
   const auto compared = [](const nlohmann::ordered_json& manifest) {
-    return nlohmann::json::parse(nlohmann::ordered_json{{"spec", manifest["spec"]}, {"version", manifest["version"]},
-                                                        {"shard", manifest["shard"]}}.flatten().dump());
+    return nlohmann::json::parse(nlohmann::ordered_json{
+        {"spec", manifest["spec"]}, {"version", manifest["version"]}, {"shard", manifest["shard"]}}
+                                     .flatten()
+                                     .dump());
   };
   const nlohmann::json was = compared(existing);
   const nlohmann::json now = compared(json_);

@@ -24,7 +24,8 @@ nlohmann::ordered_json MachineJson();
 // `tavis sweep merge` can expand the cells without the file.
 class SweepManifest {
  public:
-  SweepManifest(const SweepSpec& spec, const std::string& spec_yaml, const Shard& shard, const std::vector<std::string>& cell_ids);
+  SweepManifest(const SweepSpec& spec, const std::string& spec_yaml, const Shard& shard,
+                const std::vector<std::string>& cell_ids);
 
   // Reads DIR/manifest.json; throws std::runtime_error naming the file when it is not one.
   static nlohmann::ordered_json Read(const std::filesystem::path& dir);

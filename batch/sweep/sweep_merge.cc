@@ -19,13 +19,16 @@ using Json = nlohmann::ordered_json;
 
 // The settings shards must share, flattened for SettingsDifference ("/spec/episodes 6 -> 5").
 nlohmann::json SweepIdentity(const Json& manifest) {
-  return nlohmann::json::parse(Json{{"spec", manifest["spec"]}, {"version", manifest["version"]},
-                                    {"shard count", manifest["shard"]["count"]}}.flatten().dump());
+  return nlohmann::json::parse(
+      Json{{"spec", manifest["spec"]}, {"version", manifest["version"]}, {"shard count", manifest["shard"]["count"]}}
+          .flatten()
+          .dump());
 }
 
 }  // namespace
 
-void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir, const std::string& config_dir) {
+void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
+                 const std::string& config_dir) {
   if (shard_dirs.empty()) throw std::invalid_argument("merge needs the shards' output folders");
   RequireUsableOutputPath(out_dir);
   std::vector<Json> manifests;
@@ -37,23 +40,30 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   for (std::size_t s = 0; s < manifests.size(); ++s) {
     const std::string difference = SettingsDifference(SweepIdentity(first), SweepIdentity(manifests[s]));
     if (!difference.empty()) {
-      throw std::invalid_argument("shards of different sweeps: " + shard_dirs[s] + " differs from " + shard_dirs.front() + ": " + difference);
+      throw std::invalid_argument("shards of different sweeps: " + shard_dirs[s] + " differs from " +
+                                  shard_dirs.front() + ": " + difference);
     }
     const int index = manifests[s]["shard"]["index"].get<int>();
-    if (index < 0 || index >= count) throw std::invalid_argument(shard_dirs[s] + "/manifest.json: shard index " + std::to_string(index) + " out of range");
-    if (!shard_of[index].empty()) throw std::invalid_argument("shard " + std::to_string(index) + " given twice: " + shard_of[index] + " and " + shard_dirs[s]);
+    if (index < 0 || index >= count)
+      throw std::invalid_argument(shard_dirs[s] + "/manifest.json: shard index " + std::to_string(index) +
+                                  " out of range");
+    if (!shard_of[index].empty())
+      throw std::invalid_argument("shard " + std::to_string(index) + " given twice: " + shard_of[index] + " and " +
+                                  shard_dirs[s]);
     shard_of[index] = shard_dirs[s];
     manifest_of[index] = &manifests[s];
   }
   std::string missing;
   for (int index = 0; index < count; ++index) {
-    if (shard_of[index].empty()) missing += (missing.empty() ? "" : ", ") + std::to_string(index) + "/" + std::to_string(count);
+    if (shard_of[index].empty())
+      missing += (missing.empty() ? "" : ", ") + std::to_string(index) + "/" + std::to_string(count);
   }
   if (!missing.empty()) throw std::invalid_argument("merge needs every shard; missing " + missing);
 
   // The shards' cells are finished: the files their policies read need not be here.
-  const SweepSpec spec = ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir,
-                                        PolicyFiles::kNotRead);
+  const SweepSpec spec =
+      ParseSweepSpec(first["spec_yaml"].get<std::string>(), shard_dirs.front() + "/manifest.json spec_yaml", config_dir,
+                     PolicyFiles::kNotRead);
   const std::vector<SweepCell> cells = ExpandCells(spec, config_dir);
   const fs::path out = out_dir;
   if (!HoldsNoResults(out)) throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
@@ -66,7 +76,9 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   merged["spec_file"] = first.value("spec_file", Json());
   merged["merged_from"] = Json::array();
   for (int index = 0; index < count; ++index) {
-    merged["merged_from"].push_back({{"dir", shard_of[index]}, {"machine", manifest_of[index]->value("machine", Json())}, {"timing", manifest_of[index]->value("timing", Json())}});
+    merged["merged_from"].push_back({{"dir", shard_of[index]},
+                                     {"machine", manifest_of[index]->value("machine", Json())},
+                                     {"timing", manifest_of[index]->value("timing", Json())}});
   }
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const fs::path from = fs::path(shard_of[i % static_cast<std::size_t>(count)]) / "cells" / cells[i].id;

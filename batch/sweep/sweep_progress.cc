@@ -28,8 +28,8 @@ std::string SweepProgress::Status() const {
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double rate = elapsed > 0 ? static_cast<double>(episodes_this_run_) / elapsed : 0.0;
   char text[160];
-  std::snprintf(text, sizeof(text), "cells %d/%d, episodes %lld/%lld, %.1f episodes/s, ETA %s", cells_done_, cells_total_,
-                static_cast<long long>(episodes_done_), static_cast<long long>(episodes_total_), rate,
+  std::snprintf(text, sizeof(text), "cells %d/%d, episodes %lld/%lld, %.1f episodes/s, ETA %s", cells_done_,
+                cells_total_, static_cast<long long>(episodes_done_), static_cast<long long>(episodes_total_), rate,
                 rate > 0 ? FormatDuration(static_cast<double>(episodes_total_ - episodes_done_) / rate).c_str() : "-");
   return text;
 }

@@ -32,10 +32,11 @@ void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered
     const std::filesystem::path cell_dir = dir / "cells" / cell.id;
     std::optional<std::vector<EpisodeRecord>> records = ReadCompleteCell(cell_dir, cell.config);
     if (!records) throw std::runtime_error(cell_dir.string() + " is not a complete cell of this sweep");
-    episodes.push_back({cell.id, cell.config, std::move(*records), cell.label, cell.seed_group, ServerMetadata(cell_dir)});
+    episodes.push_back(
+        {cell.id, cell.config, std::move(*records), cell.label, cell.seed_group, ServerMetadata(cell_dir)});
   }
-  const nlohmann::ordered_json summary =
-      report::SweepSummaryJson(spec_json, episodes, DatasetGaltReference(spec_json.value("figures", nlohmann::ordered_json::object())));
+  const nlohmann::ordered_json summary = report::SweepSummaryJson(
+      spec_json, episodes, DatasetGaltReference(spec_json.value("figures", nlohmann::ordered_json::object())));
   WriteFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
   std::filesystem::create_directories(dir / "tables");
   for (const report::TextTable& table : report::SweepTables(summary)) {

@@ -4,8 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -84,8 +84,8 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   }
   manifest.Write(out);
 
-  const bool all_per_slot = std::all_of(to_run.begin(), to_run.end(),
-                                        [](const SweepCell* cell) { return RunsPerSlot(cell->config); });
+  const bool all_per_slot =
+      std::all_of(to_run.begin(), to_run.end(), [](const SweepCell* cell) { return RunsPerSlot(cell->config); });
   const int default_jobs = DefaultConcurrentCells(all_per_slot, options.threads);
   const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : default_jobs,
                                              static_cast<int>(to_run.size())));
@@ -109,12 +109,13 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
         manifest.SetState(cell.id, "running");
         manifest.Write(out);
         int64_t reported = 0;
-        const CellResult result = RunCellInto(cell.config, out / "cells" / cell.id, options.threads,
-                                              [&progress, &reported](int64_t finished, int64_t) {
-                                                progress.AddEpisodes(finished - reported);
-                                                reported = finished;
-                                              },
-                                              cell.label, cell.seed_group, videos);
+        const CellResult result = RunCellInto(
+            cell.config, out / "cells" / cell.id, options.threads,
+            [&progress, &reported](int64_t finished, int64_t) {
+              progress.AddEpisodes(finished - reported);
+              reported = finished;
+            },
+            cell.label, cell.seed_group, videos);
         manifest.SetState(cell.id, "complete");
         manifest.Write(out);
         progress.CellFinished(CellSummaryLine(result));
@@ -130,7 +131,8 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
   worker();
   for (std::thread& thread : threads) thread.join();
-  manifest.SetTiming(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), options.threads, jobs);
+  manifest.SetTiming(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), options.threads,
+                     jobs);
   manifest.Write(out);
   if (first_error) std::rethrow_exception(first_error);
   if (options.shard.count == 1) WriteSweepResults(out, SweepSpecJson(spec), all, manifest.Json());

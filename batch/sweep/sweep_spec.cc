@@ -43,7 +43,8 @@ void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_r
     for (const PolicySpec& other : spec.policies) {
       if (other.label == policy.label) entry.Required("label").Fail("'" + policy.label + "' is used twice");
       if (other.label == policy.seed_group || other.seed_group == policy.label) {
-        entry.Fail("a label and a seed group share the name '" + (other.label == policy.seed_group ? other.label : policy.label) + "'");
+        entry.Fail("a label and a seed group share the name '" +
+                   (other.label == policy.seed_group ? other.label : policy.label) + "'");
       }
     }
     spec.policies.push_back(std::move(policy));
@@ -54,7 +55,8 @@ void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_r
 // LeRobot dataset (relative paths from the current directory, as match_dataset). Checked here for
 // its meta/info.json, so that a mistyped path stops the sweep before it runs; its GALT is read
 // when the results are written (galt_reference.h).
-nlohmann::ordered_json ReadGaltReferenceDatasets(const YamlValue& datasets, const std::vector<std::string>& sweep_tasks) {
+nlohmann::ordered_json ReadGaltReferenceDatasets(const YamlValue& datasets,
+                                                 const std::vector<std::string>& sweep_tasks) {
   nlohmann::ordered_json json = nlohmann::ordered_json::object();
   for (const scenarios::Suite suite : scenarios::kAllSuites) {
     for (const scenarios::ScenarioDef* task : scenarios::SuiteScenarios(suite)) {
@@ -94,7 +96,8 @@ void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
   }
   if (const auto pair = figures.Optional("single_vs_multi")) {
     const std::vector<YamlValue> names = pair->Elements();
-    if (names.size() != 2) pair->Fail("must name two labels or seed groups (single-task, multi-task), got " + pair->Text());
+    if (names.size() != 2)
+      pair->Fail("must name two labels or seed groups (single-task, multi-task), got " + pair->Text());
     json["single_vs_multi"] = {known(names[0]), known(names[1])};
   }
   if (const auto ablation = figures.Optional("ablation")) {
@@ -120,7 +123,8 @@ void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
     ablation->ExpectNoOtherKeys();
   }
   if (const auto datasets = figures.Optional("galt_reference_datasets")) {
-    if (json.contains("galt_reference")) datasets->Fail("names Figure 4's reference as well as galt_reference; give one of them");
+    if (json.contains("galt_reference"))
+      datasets->Fail("names Figure 4's reference as well as galt_reference; give one of them");
     json["galt_reference_datasets"] = ReadGaltReferenceDatasets(*datasets, spec.tasks);
   }
   if (const auto window = figures.Optional("galt_window_s")) {
@@ -133,7 +137,8 @@ void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
 // perturbations: [none, camera:fov-wide, sensor:noise-low+lighting:dim]; every level is looked up
 // in config_dir's perturbation files now, so a typo fails before any cell runs.
 std::vector<std::vector<std::string>> ReadPerturbations(const YamlValue& list, const std::string& config_dir) {
-  if (!list.IsSequence() || list.Elements().empty()) list.Fail("must be a non-empty list (none, AXIS:LEVEL or AXIS:LEVEL+AXIS:LEVEL), got " + list.Text());
+  if (!list.IsSequence() || list.Elements().empty())
+    list.Fail("must be a non-empty list (none, AXIS:LEVEL or AXIS:LEVEL+AXIS:LEVEL), got " + list.Text());
   std::vector<std::vector<std::string>> sets;
   for (const YamlValue& entry : list.Elements()) {
     std::vector<std::string> choices;
@@ -146,7 +151,8 @@ std::vector<std::vector<std::string>> ReadPerturbations(const YamlValue& list, c
       entry.Fail(error.what());
     }
     for (const std::vector<std::string>& earlier : sets) {
-      if (PerturbationLabelSuffix(earlier) == PerturbationLabelSuffix(choices)) entry.Fail(entry.Text() + " is listed twice");
+      if (PerturbationLabelSuffix(earlier) == PerturbationLabelSuffix(choices))
+        entry.Fail(entry.Text() + " is listed twice");
     }
     sets.push_back(std::move(choices));
   }
@@ -168,14 +174,16 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   if (seeds.Elements().empty()) seeds.Fail("must name at least one, got []");
   for (const YamlValue& seed : seeds.Elements()) {
     const uint64_t value = ReadSeed(seed);
-    if (std::find(spec.seeds.begin(), spec.seeds.end(), value) != spec.seeds.end()) seed.Fail(seed.Text() + " is listed twice");
+    if (std::find(spec.seeds.begin(), spec.seeds.end(), value) != spec.seeds.end())
+      seed.Fail(seed.Text() + " is listed twice");
     spec.seeds.push_back(value);
   }
   spec.episodes = ReadCount(root.Required("episodes"), 1, 100000000);
   if (const auto envs = root.Optional("envs")) spec.envs = ReadCount(*envs, 1, 4096);
   if (const auto videos = root.Optional("videos")) spec.videos = ReadCount(*videos, 0, spec.episodes);
   ReadPolicies(root, known_robots, config_dir, files, spec);
-  if (const auto perturbations = root.Optional("perturbations")) spec.perturbations = ReadPerturbations(*perturbations, config_dir);
+  if (const auto perturbations = root.Optional("perturbations"))
+    spec.perturbations = ReadPerturbations(*perturbations, config_dir);
   if (const auto figures = root.Optional("figures")) ReadFigures(*figures, spec);
   root.ExpectNoOtherKeys();
   return spec;
@@ -199,8 +207,8 @@ nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec) {
   for (const CameraProtocol camera : spec.cameras) cameras.push_back(ToString(camera));
   nlohmann::ordered_json policies = nlohmann::ordered_json::array();
   for (const PolicySpec& policy : spec.policies) policies.push_back(PolicySpecJson(policy));
-  nlohmann::ordered_json json = {{"suites", spec.suites}, {"tasks", spec.tasks},       {"robots", spec.robots},
-                                 {"splits", splits},      {"cameras", cameras},       {"seeds", spec.seeds},
+  nlohmann::ordered_json json = {{"suites", spec.suites},     {"tasks", spec.tasks},  {"robots", spec.robots},
+                                 {"splits", splits},          {"cameras", cameras},   {"seeds", spec.seeds},
                                  {"episodes", spec.episodes}, {"policies", policies}, {"figures", spec.figures}};
   if (spec.videos > 0) json["videos"] = spec.videos;  // absent otherwise, as in manifests written before it existed
   // Absent for the base scene alone, as in manifests written before perturbations existed.
@@ -237,8 +245,8 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
                 const std::string suffix = PerturbationLabelSuffix(perturbations);
                 cell.label = policy.label + suffix;
                 cell.seed_group = policy.seed_group.empty() ? "" : policy.seed_group + suffix;
-                cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + cell.label + "_s" +
-                          std::to_string(seed);
+                cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" +
+                          cell.label + "_s" + std::to_string(seed);
                 cells.push_back(std::move(cell));
               }
             }
@@ -268,7 +276,8 @@ std::vector<std::string> SplitPerturbationSet(const std::string& text) {
 Shard ParseShard(const std::string& text) {
   const std::size_t slash = text.find('/');
   const auto number = [&text](const std::string& part) {
-    if (part.empty() || part.size() > 6 || !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c) != 0; })) {
+    if (part.empty() || part.size() > 6 ||
+        !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c) != 0; })) {
       throw std::invalid_argument("--shard must be I/N with 0 <= I < N (e.g. 0/3), got '" + text + "'");
     }
     return std::stoi(part);

@@ -24,7 +24,7 @@ struct SweepSpec {
   std::vector<CameraProtocol> cameras;
   std::vector<uint64_t> seeds;
   int episodes = 96;
-  int envs = 32;  // env slots per cell (results do not depend on it)
+  int envs = 32;   // env slots per cell (results do not depend on it)
   int videos = 0;  // film each cell's first N episodes into cells/<id>/videos (episode_videos.h); 0: none
   // The labelled policies (a spec's single `policy:` is one, labelled by its name), each serving
   // the cells its filter allows; two labels may serve the same cell (they are separate cells).

@@ -13,11 +13,11 @@
 namespace tavis::peer {
 
 struct EpisodeTrajectory {
-  std::vector<double> q0;              // (num_joints) joint positions after the reset
-  std::vector<double> object_pose0;    // (num_objects x 7) x, y, z, qw, qx, qy, qz
+  std::vector<double> q0;               // (num_joints) joint positions after the reset
+  std::vector<double> object_pose0;     // (num_objects x 7) x, y, z, qw, qx, qy, qz
   std::vector<uint8_t> object_enabled;  // (num_objects)
-  std::vector<double> q_target;        // (ticks x num_joints)
-  std::vector<double> gripper_command; // (ticks x 2) left, right in [-1, 1]
+  std::vector<double> q_target;         // (ticks x num_joints)
+  std::vector<double> gripper_command;  // (ticks x 2) left, right in [-1, 1]
   bool success = false;
 };
 

@@ -20,10 +20,10 @@ namespace {
 
 // Mirrors of engine/internal/world_building.cc's private constants, so both engines get the same
 // bodies (the finger servo's gain is kinematics/servo.h's).
-constexpr double kRobotInertiaRadius = 0.05;   // robot bodies: inertia of a sphere of this radius
-constexpr double kHingeStopClearance = 0.02;   // rad
-constexpr double kSliderStopClearance = 0.002; // m
-constexpr double kPadTorsionRadius = 0.01;     // m, ODE's rolling-friction radius on pads
+constexpr double kRobotInertiaRadius = 0.05;    // robot bodies: inertia of a sphere of this radius
+constexpr double kHingeStopClearance = 0.02;    // rad
+constexpr double kSliderStopClearance = 0.002;  // m
+constexpr double kPadTorsionRadius = 0.01;      // m, ODE's rolling-friction radius on pads
 // An ODE motor reaches its velocity target within its force limit in one step; a MuJoCo velocity
 // actuator approaches it with gain kv. These make full effort flow at a small velocity error.
 constexpr double kArmVelocityErrorAtFullEffort = 0.5;     // rad/s
@@ -56,8 +56,12 @@ std::string GeomShape(const Shape& shape) {
   s.precision(9);
   switch (shape.kind) {
     case ShapeKind::kBox: s << "type=\"box\" size=\"" << Vec(0.5 * shape.size) << '"'; break;
-    case ShapeKind::kCylinder: s << "type=\"cylinder\" size=\"" << shape.Radius() << ' ' << 0.5 * shape.Length() << '"'; break;
-    case ShapeKind::kCapsule: s << "type=\"capsule\" size=\"" << shape.Radius() << ' ' << 0.5 * shape.Length() << '"'; break;
+    case ShapeKind::kCylinder:
+      s << "type=\"cylinder\" size=\"" << shape.Radius() << ' ' << 0.5 * shape.Length() << '"';
+      break;
+    case ShapeKind::kCapsule:
+      s << "type=\"capsule\" size=\"" << shape.Radius() << ' ' << 0.5 * shape.Length() << '"';
+      break;
     case ShapeKind::kSphere: s << "type=\"sphere\" size=\"" << shape.Radius() << '"'; break;
   }
   return s.str();
@@ -95,7 +99,8 @@ RobotLayout LayOut(const kinematics::RobotModel& robot) {
   layout.owner.assign(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
     const kinematics::Link& link = robot.links[static_cast<std::size_t>(i)];
-    const LinkRole parent_role = link.parent < 0 ? LinkRole::kStatic : layout.role[static_cast<std::size_t>(link.parent)];
+    const LinkRole parent_role =
+        link.parent < 0 ? LinkRole::kStatic : layout.role[static_cast<std::size_t>(link.parent)];
     LinkRole& role = layout.role[static_cast<std::size_t>(i)];
     if (link.joint >= 0) {
       role = arm_joint[static_cast<std::size_t>(link.joint)] ? LinkRole::kArmBody : LinkRole::kNeck;
@@ -103,7 +108,8 @@ RobotLayout LayOut(const kinematics::RobotModel& robot) {
       if (role == LinkRole::kArmBody) layout.owner[static_cast<std::size_t>(i)] = i;
     } else {
       role = parent_role;
-      if (parent_role == LinkRole::kArmBody) layout.owner[static_cast<std::size_t>(i)] = layout.owner[static_cast<std::size_t>(link.parent)];
+      if (parent_role == LinkRole::kArmBody)
+        layout.owner[static_cast<std::size_t>(i)] = layout.owner[static_cast<std::size_t>(link.parent)];
     }
   }
   std::vector<RigidTransform> X_BL(static_cast<std::size_t>(n));
@@ -131,16 +137,16 @@ std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
   const std::string static_filter = Filter(kStaticBit, kRobotBit | kObjectBit);
   // ODE averages the two materials' friction, MuJoCo takes the larger: pads carry the average of
   // pad and object friction, so a pad-object pair gets ODE's value.
-  const double pad_friction =
-      0.5 * (model.materials.Friction(engine::Material::kFingerPad) + model.materials.Friction(engine::Material::kObject));
+  const double pad_friction = 0.5 * (model.materials.Friction(engine::Material::kFingerPad) +
+                                     model.materials.Friction(engine::Material::kObject));
 
   std::ostringstream xml;
   xml.precision(9);
   xml << "<mujoco model=\"tavis_peer\">\n";
   xml << "  <compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n";
   xml << "  <option timestep=\"" << 1.0 / model.physics.substep_hz << "\" gravity=\"0 0 " << model.physics.gravity
-      << "\" integrator=\"implicit\" cone=\"elliptic\" impratio=\"10\" jacobian=\"" << (sparse_jacobian ? "sparse" : "dense")
-      << "\"/>\n";
+      << "\" integrator=\"implicit\" cone=\"elliptic\" impratio=\"10\" jacobian=\""
+      << (sparse_jacobian ? "sparse" : "dense") << "\"/>\n";
   xml << "  <size njmax=\"3000\" nconmax=\"600\"/>\n";
   xml << "  <default><geom solref=\"0.01 1\"/></default>\n";
   xml << "  <worldbody>\n";
@@ -162,7 +168,7 @@ std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
 
   // Arm bodies, nested as in the tree.
   std::function<void(int, const RigidTransform&, int)> emit_body = [&](int link, const RigidTransform& X_W_parent,
-                                                                     int depth) {
+                                                                       int depth) {
     const std::string indent(static_cast<std::size_t>(2 * depth + 4), ' ');
     const RigidTransform& X_WL = layout.X_WL[static_cast<std::size_t>(link)];
     const kinematics::Link& l = robot.links[static_cast<std::size_t>(link)];
@@ -170,13 +176,13 @@ std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
     xml << indent << "<body name=\"" << l.name << "\" " << PoseAttributes(X_W_parent.inverse() * X_WL) << ">\n";
     xml << indent << "  " << SphereInertial(l.mass) << "\n";
     xml << indent << "  <joint name=\"" << joint.name << "\" type=\"hinge\" axis=\"" << Vec(joint.axis)
-        << "\" limited=\"true\" range=\"" << joint.lower - kHingeStopClearance << ' ' << joint.upper + kHingeStopClearance
-        << "\"/>\n";
+        << "\" limited=\"true\" range=\"" << joint.lower - kHingeStopClearance << ' '
+        << joint.upper + kHingeStopClearance << "\"/>\n";
     for (const kinematics::LinkShape& s : robot.shapes) {
       if (s.link == kinematics::kBaseLink || layout.owner[static_cast<std::size_t>(s.link)] != link) continue;
       xml << indent << "  <geom " << GeomShape(s.shape) << ' '
-          << PoseAttributes(X_WL.inverse() * layout.X_WL[static_cast<std::size_t>(s.link)] * s.X_LS) << ' ' << robot_filter
-          << ' ' << MaterialFriction(model, engine::Material::kRobot) << "/>\n";
+          << PoseAttributes(X_WL.inverse() * layout.X_WL[static_cast<std::size_t>(s.link)] * s.X_LS) << ' '
+          << robot_filter << ' ' << MaterialFriction(model, engine::Material::kRobot) << "/>\n";
     }
     for (kinematics::Side side : kinematics::kSides) {
       const int ik_link = robot.arm(side).ik_link;
@@ -189,14 +195,16 @@ std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
         const double sign = kinematics::kJawSigns[static_cast<std::size_t>(f)];
         const RigidTransform X_BodyPad = X_BodyIk * gripper.X_IkPad(sign, g.open_gap);
         const Vec3 inward_in_pad = X_BodyPad.linear().transpose() * (-sign * (X_BodyIk.linear() * g.closing_axis));
-        const std::string name = std::string(side == kinematics::Side::kLeft ? "left" : "right") + "_finger" + std::to_string(f);
+        const std::string name =
+            std::string(side == kinematics::Side::kLeft ? "left" : "right") + "_finger" + std::to_string(f);
         xml << indent << "  <body name=\"" << name << "\" " << PoseAttributes(X_BodyPad) << ">\n";
         xml << indent << "    " << SphereInertial(g.finger_mass) << "\n";
         xml << indent << "    <joint name=\"" << name << "\" type=\"slide\" axis=\"" << Vec(inward_in_pad)
-            << "\" limited=\"true\" range=\"" << -kSliderStopClearance << ' ' << gripper.finger_travel() + kSliderStopClearance
-            << "\"/>\n";
+            << "\" limited=\"true\" range=\"" << -kSliderStopClearance << ' '
+            << gripper.finger_travel() + kSliderStopClearance << "\"/>\n";
         xml << indent << "    <geom " << GeomShape({ShapeKind::kBox, g.pad_size}) << ' ' << robot_filter
-            << " condim=\"4\" friction=\"" << pad_friction << ' ' << pad_friction * kPadTorsionRadius << " 0.0001\"/>\n";
+            << " condim=\"4\" friction=\"" << pad_friction << ' ' << pad_friction * kPadTorsionRadius
+            << " 0.0001\"/>\n";
         xml << indent << "  </body>\n";
       }
     }
@@ -220,8 +228,8 @@ std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
     const std::string filter = object.collides ? Filter(kObjectBit, kRobotBit | kObjectBit | kStaticBit) : Filter(0, 0);
     if (object.motion == engine::ObjectMotion::kKinematic) {
       xml << "    <body name=\"" << object.name << "\" mocap=\"true\">\n";
-      xml << "      <geom " << GeomShape(object.shape) << ' ' << filter << ' ' << MaterialFriction(model, object.material)
-          << "/>\n";
+      xml << "      <geom " << GeomShape(object.shape) << ' ' << filter << ' '
+          << MaterialFriction(model, object.material) << "/>\n";
     } else {
       xml << "    <body name=\"" << object.name << "\">\n      <freejoint/>\n";
       xml << "      <geom " << GeomShape(object.shape) << " mass=\"" << object.mass << "\" " << filter << ' '
@@ -234,14 +242,15 @@ std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
     for (int j : arm.joints) {
       const double effort = robot.arm_actuator.effort_limit;
       xml << "    <velocity joint=\"" << robot.joints[static_cast<std::size_t>(j)].name << "\" kv=\""
-          << effort / kArmVelocityErrorAtFullEffort << "\" forcelimited=\"true\" forcerange=\"" << -effort << ' ' << effort
-          << "\"/>\n";
+          << effort / kArmVelocityErrorAtFullEffort << "\" forcelimited=\"true\" forcerange=\"" << -effort << ' '
+          << effort << "\"/>\n";
     }
   }
   for (const char* side : {"left", "right"}) {
     for (int f = 0; f < 2; ++f) {
-      xml << "    <velocity joint=\"" << side << "_finger" << f << "\" kv=\"" << g.max_force / kFingerVelocityErrorAtFullForce
-          << "\" forcelimited=\"true\" forcerange=\"" << -g.max_force << ' ' << g.max_force << "\"/>\n";
+      xml << "    <velocity joint=\"" << side << "_finger" << f << "\" kv=\""
+          << g.max_force / kFingerVelocityErrorAtFullForce << "\" forcelimited=\"true\" forcerange=\"" << -g.max_force
+          << ' ' << g.max_force << "\"/>\n";
     }
   }
   xml << "  </actuator>\n</mujoco>\n";
@@ -253,12 +262,12 @@ struct MujocoPhysics::Impl {
   kinematics::GripperGeometry gripper;
   mjModel* model = nullptr;
   std::vector<mjData*> data;
-  std::vector<int> arm_qpos;       // [actuator] qpos address of arm joint actuator a
-  std::vector<int> arm_joint;      // [actuator] our joint index
+  std::vector<int> arm_qpos;                        // [actuator] qpos address of arm joint actuator a
+  std::vector<int> arm_joint;                       // [actuator] our joint index
   std::array<std::array<int, 2>, 2> finger_qpos{};  // [side][jaw]
-  std::vector<int> object_body;    // [object]
-  std::vector<int> object_qpos;    // [object] free-joint qpos address, -1 for mocap
-  std::vector<int> robot_bodies;   // gravity-free bodies
+  std::vector<int> object_body;                     // [object]
+  std::vector<int> object_qpos;                     // [object] free-joint qpos address, -1 for mocap
+  std::vector<int> robot_bodies;                    // gravity-free bodies
 
   Impl(const engine::WorldModel& w, int num_envs, bool sparse) : world(w), gripper(w.robot.gripper) {
     const std::string xml = PhysicsMjcf(w, sparse);
@@ -353,8 +362,10 @@ void MujocoPhysics::StepTick(int env, const EpisodeTrajectory& episode, int tick
     for (int side = 0; side < 2; ++side) {
       const double closing = s.gripper.ClosingTarget(command[side]);
       for (int f = 0; f < 2; ++f) {
-        const double error = closing - d->qpos[s.finger_qpos[static_cast<std::size_t>(side)][static_cast<std::size_t>(f)]];
-        d->ctrl[fingers + 2 * side + f] = kinematics::ServoVelocity(kinematics::kFingerServoGain, error, max_finger_speed);
+        const double error =
+            closing - d->qpos[s.finger_qpos[static_cast<std::size_t>(side)][static_cast<std::size_t>(f)]];
+        d->ctrl[fingers + 2 * side + f] =
+            kinematics::ServoVelocity(kinematics::kFingerServoGain, error, max_finger_speed);
       }
     }
     mj_step(s.model, d);

@@ -26,10 +26,15 @@ std::string GeomOf(const render::ShapeGeometry& shape) {
   s.precision(9);
   switch (shape.kind) {
     case render::ShapeKind::kBox:
-      s << "type=\"box\" size=\"" << 0.5 * shape.size.x() << ' ' << 0.5 * shape.size.y() << ' ' << 0.5 * shape.size.z() << '"';
+      s << "type=\"box\" size=\"" << 0.5 * shape.size.x() << ' ' << 0.5 * shape.size.y() << ' ' << 0.5 * shape.size.z()
+        << '"';
       break;
-    case render::ShapeKind::kCylinder: s << "type=\"cylinder\" size=\"" << shape.size.x() << ' ' << 0.5 * shape.size.z() << '"'; break;
-    case render::ShapeKind::kCapsule: s << "type=\"capsule\" size=\"" << shape.size.x() << ' ' << 0.5 * shape.size.z() << '"'; break;
+    case render::ShapeKind::kCylinder:
+      s << "type=\"cylinder\" size=\"" << shape.size.x() << ' ' << 0.5 * shape.size.z() << '"';
+      break;
+    case render::ShapeKind::kCapsule:
+      s << "type=\"capsule\" size=\"" << shape.size.x() << ' ' << 0.5 * shape.size.z() << '"';
+      break;
     case render::ShapeKind::kSphere: s << "type=\"sphere\" size=\"" << shape.size.x() << '"'; break;
     case render::ShapeKind::kPlane: s << "type=\"plane\" size=\"20 20 1\""; break;
   }
@@ -56,22 +61,23 @@ std::string BuildMjcf(const render::SceneLayout& layout, bool shadows) {
   xml << "    <headlight ambient=\"0.45 0.45 0.45\" diffuse=\"0 0 0\" specular=\"0 0 0\"/>\n  </visual>\n";
   // Rays that hit nothing see the dome; MuJoCo's equivalent is a flat skybox of its colour.
   const float dome = Encoded(layout.lighting.dome_intensity * 3.14159265f * layout.lighting.exposure);
-  xml << "  <asset><texture type=\"skybox\" builtin=\"flat\" rgb1=\"" << dome << ' ' << dome << ' ' << dome << "\" rgb2=\""
-      << dome << ' ' << dome << ' ' << dome << "\" width=\"16\" height=\"16\"/></asset>\n";
+  xml << "  <asset><texture type=\"skybox\" builtin=\"flat\" rgb1=\"" << dome << ' ' << dome << ' ' << dome
+      << "\" rgb2=\"" << dome << ' ' << dome << ' ' << dome << "\" width=\"16\" height=\"16\"/></asset>\n";
   xml << "  <worldbody>\n";
   xml << "    <light directional=\"true\" castshadow=\"" << (shadows ? "true" : "false") << "\" pos=\""
-      << 0.5 - 3.0 * d.x() << ' ' << -3.0 * d.y() << ' ' << 1.0 - 3.0 * d.z() << "\" dir=\"" << d.x() << ' ' << d.y() << ' '
-      << d.z() << "\" diffuse=\"0.6 0.6 0.6\" specular=\"0 0 0\"/>\n";
+      << 0.5 - 3.0 * d.x() << ' ' << -3.0 * d.y() << ' ' << 1.0 - 3.0 * d.z() << "\" dir=\"" << d.x() << ' ' << d.y()
+      << ' ' << d.z() << "\" diffuse=\"0.6 0.6 0.6\" specular=\"0 0 0\"/>\n";
   for (std::size_t i = 0; i < layout.instances.size(); ++i) {
     const render::InstanceSpec& instance = layout.instances[i];
     const Eigen::Vector3f& rgb = instance.appearance.rgb;
     xml << "    <body name=\"i" << i << "\" mocap=\"true\"><geom " << GeomOf(instance.geometry)
-        << " contype=\"0\" conaffinity=\"0\" rgba=\"" << Encoded(rgb.x()) << ' ' << Encoded(rgb.y()) << ' ' << Encoded(rgb.z())
-        << " 1\"/></body>\n";
+        << " contype=\"0\" conaffinity=\"0\" rgba=\"" << Encoded(rgb.x()) << ' ' << Encoded(rgb.y()) << ' '
+        << Encoded(rgb.z()) << " 1\"/></body>\n";
   }
   for (std::size_t c = 0; c < layout.cameras.size(); ++c) {
     const render::CameraSpec& camera = layout.cameras[c];
-    const double fovy = 2.0 * std::atan(0.5 * camera.height / render::IntrinsicsOf(camera).fy) * 180.0 / 3.14159265358979;
+    const double fovy =
+        2.0 * std::atan(0.5 * camera.height / render::IntrinsicsOf(camera).fy) * 180.0 / 3.14159265358979;
     xml << "    <body name=\"c" << c << "\" mocap=\"true\"><camera name=\"" << camera.name << "\" fovy=\"" << fovy
         << "\"/></body>\n";
   }
@@ -189,7 +195,9 @@ void MujocoRenderer::Render(const RigidTransform* X_WI, const RigidTransform* X_
   }
 }
 
-const std::vector<uint8_t>& MujocoRenderer::image(int camera) const { return impl_->images[static_cast<std::size_t>(camera)]; }
+const std::vector<uint8_t>& MujocoRenderer::image(int camera) const {
+  return impl_->images[static_cast<std::size_t>(camera)];
+}
 
 std::string MujocoRenderer::mjcf() const { return impl_->xml; }
 

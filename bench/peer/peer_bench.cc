@@ -69,14 +69,23 @@ Options ParseOptions(int argc, char** argv) {
     const std::string flag = argv[i];
     if (i + 1 >= argc) throw std::invalid_argument(flag + " needs a value");
     const char* value = argv[++i];
-    if (flag == "--envs") options.envs = PositiveInt(flag, value);
-    else if (flag == "--ticks") options.ticks = PositiveInt(flag, value);
-    else if (flag == "--threads") options.threads = PositiveInt(flag, value);
-    else if (flag == "--rounds") options.rounds = PositiveInt(flag, value);
-    else if (flag == "--frames") options.frames = PositiveInt(flag, value);
-    else if (flag == "--out") options.out = value;
-    else if (flag == "--config-dir") options.config_dir = value;
-    else throw std::invalid_argument("unknown option '" + flag + "' (known: --envs --ticks --threads --rounds --frames --out --config-dir)");
+    if (flag == "--envs")
+      options.envs = PositiveInt(flag, value);
+    else if (flag == "--ticks")
+      options.ticks = PositiveInt(flag, value);
+    else if (flag == "--threads")
+      options.threads = PositiveInt(flag, value);
+    else if (flag == "--rounds")
+      options.rounds = PositiveInt(flag, value);
+    else if (flag == "--frames")
+      options.frames = PositiveInt(flag, value);
+    else if (flag == "--out")
+      options.out = value;
+    else if (flag == "--config-dir")
+      options.config_dir = value;
+    else
+      throw std::invalid_argument("unknown option '" + flag +
+                                  "' (known: --envs --ticks --threads --rounds --frames --out --config-dir)");
   }
   return options;
 }
@@ -136,11 +145,13 @@ double RunOurPhysics(const ExpertTrajectories& trajectories, std::vector<std::un
         std::copy(gap, gap + 2, state.gripper_gap_row(env));
         std::copy(object_pose.begin(), object_pose.end(), state.object_pose_row(env, 0));
         for (int o = 0; o < no; ++o) {
-          state.object_enabled[static_cast<std::size_t>(env * no + o)] = episode.object_enabled[static_cast<std::size_t>(o)];
+          state.object_enabled[static_cast<std::size_t>(env * no + o)] =
+              episode.object_enabled[static_cast<std::size_t>(o)];
         }
       }
     }
-    (*cube_z)[static_cast<std::size_t>(env)] = object_pose[static_cast<std::size_t>(cube) * engine::kObjectPoseSize + 2];
+    (*cube_z)[static_cast<std::size_t>(env)] =
+        object_pose[static_cast<std::size_t>(cube) * engine::kObjectPoseSize + 2];
   });
   return Seconds(start);
 }
@@ -219,7 +230,8 @@ std::vector<Row> RunRendering(const Options& options, const engine::WorldModel& 
       for (MujocoRenderer* renderer : {&mujoco_shadows, &mujoco_plain}) {
         start = Clock::now();
         for (int env = 0; env < options.envs; ++env) {
-          renderer->Render(&X_WI[static_cast<std::size_t>(env) * n_instances], &X_WC[static_cast<std::size_t>(env * n_cameras)],
+          renderer->Render(&X_WI[static_cast<std::size_t>(env) * n_instances],
+                           &X_WC[static_cast<std::size_t>(env * n_cameras)],
                            &visible[static_cast<std::size_t>(env) * n_instances]);
         }
         (renderer == &mujoco_shadows ? shadow_s : plain_s) += Seconds(start);
@@ -239,7 +251,8 @@ std::vector<Row> RunRendering(const Options& options, const engine::WorldModel& 
   }
   WriteSheet(options.out + "/ours_" + config.name + ".png", config.cameras, ours_rgb, config.width, config.height);
   WriteSheet(options.out + "/mujoco_" + config.name + ".png", config.cameras, mujoco_rgb, config.width, config.height);
-  const std::string what = std::to_string(n_cameras) + " x " + std::to_string(config.width) + "x" + std::to_string(config.height);
+  const std::string what =
+      std::to_string(n_cameras) + " x " + std::to_string(config.width) + "x" + std::to_string(config.height);
   return {{what + ", shadows", "env-steps/s", Median(ours_rates), Median(shadow_rates), "OSMesa llvmpipe, shadow map"},
           {what + ", ours shadows vs MuJoCo none", "env-steps/s", Median(ours_rates), Median(plain_rates),
            "OSMesa llvmpipe, no shadows"}};
@@ -248,7 +261,8 @@ std::vector<Row> RunRendering(const Options& options, const engine::WorldModel& 
 int Main(int argc, char** argv) {
   const Options options = ParseOptions(argc, argv);
   std::filesystem::create_directories(options.out);
-  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<std::size_t>(options.threads));
 
   auto start = Clock::now();
   const ExpertTrajectories trajectories =
@@ -273,25 +287,25 @@ int Main(int argc, char** argv) {
   std::vector<double> ours_rate, dense_rate, sparse_rate;
   const double ticks = static_cast<double>(options.envs) * options.ticks;
   for (int round = 0; round < options.rounds; ++round) {
-    ours_rate.push_back(ticks / RunOurPhysics(trajectories, worlds, &ours_z, round == 0 ? &samples : nullptr, options.frames));
+    ours_rate.push_back(ticks /
+                        RunOurPhysics(trajectories, worlds, &ours_z, round == 0 ? &samples : nullptr, options.frames));
     dense_rate.push_back(ticks / RunMujocoPhysics(trajectories, mujoco_dense, &dense_z));
     sparse_rate.push_back(ticks / RunMujocoPhysics(trajectories, mujoco_sparse, &sparse_z));
-    std::printf("physics round %d: ours %.0f, MuJoCo dense %.0f, sparse %.0f control ticks/s\n", round, ours_rate.back(),
-                dense_rate.back(), sparse_rate.back());
+    std::printf("physics round %d: ours %.0f, MuJoCo dense %.0f, sparse %.0f control ticks/s\n", round,
+                ours_rate.back(), dense_rate.back(), sparse_rate.back());
   }
   auto lifted = [](const std::vector<double>& z) {
     int n = 0;
     for (double v : z) n += v > 1.1 ? 1 : 0;  // cube above the table top (about 1.03 m at rest)
     return n;
   };
-  std::printf("cube lifted at the end (z > 1.1 m): ours %d/%d, MuJoCo dense %d, sparse %d\n", lifted(ours_z), options.envs,
-              lifted(dense_z), lifted(sparse_z));
+  std::printf("cube lifted at the end (z > 1.1 m): ours %d/%d, MuJoCo dense %d, sparse %d\n", lifted(ours_z),
+              options.envs, lifted(dense_z), lifted(sparse_z));
 
-  std::vector<Row> rows = {
-      {"physics, " + std::to_string(options.envs) + " envs", "control ticks/s", Median(ours_rate), Median(dense_rate),
-       "default (dense Jacobian)"},
-      {"physics, " + std::to_string(options.envs) + " envs", "control ticks/s", Median(ours_rate), Median(sparse_rate),
-       "jacobian=\"sparse\""}};
+  std::vector<Row> rows = {{"physics, " + std::to_string(options.envs) + " envs", "control ticks/s", Median(ours_rate),
+                            Median(dense_rate), "default (dense Jacobian)"},
+                           {"physics, " + std::to_string(options.envs) + " envs", "control ticks/s", Median(ours_rate),
+                            Median(sparse_rate), "jacobian=\"sparse\""}};
   for (const RenderConfig& config :
        {RenderConfig{"4cam_640x480", {"head", "fixed", "left_wrist", "right_wrist"}, 640, 480},
         RenderConfig{"3cam_224x224", {"head", "left_wrist", "right_wrist"}, 224, 224}}) {

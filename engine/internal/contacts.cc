@@ -30,7 +30,8 @@ void PhysicsWorld::Impl::CollideAllPairs() {
     for (size_t j = i + 1; j < n; ++j) {
       dGeomID b = all_geoms[j];
       if (!dGeomIsEnabled(b)) continue;
-      if (!(dGeomGetCategoryBits(a) & dGeomGetCollideBits(b)) && !(dGeomGetCategoryBits(b) & dGeomGetCollideBits(a))) continue;
+      if (!(dGeomGetCategoryBits(a) & dGeomGetCollideBits(b)) && !(dGeomGetCategoryBits(b) & dGeomGetCollideBits(a)))
+        continue;
       const double* box_b = &aabbs[6 * j];
       if (box_a[0] > box_b[1] || box_b[0] > box_a[1] || box_a[2] > box_b[3] || box_b[2] > box_a[3] ||
           box_a[4] > box_b[5] || box_b[4] > box_a[5]) {

@@ -140,12 +140,14 @@ void PhysicsWorld::Impl::AdvanceKinematicArm(int side, const double* q_target, d
   if (arm.fingers_kinematic()) {
     const double max_finger_speed = gripper.spec().max_speed;
     for (double& closing : arm.closing) {
-      closing += dt * kinematics::ServoVelocity(kinematics::kFingerServoGain, closing_target - closing, max_finger_speed);
+      closing +=
+          dt * kinematics::ServoVelocity(kinematics::kFingerServoGain, closing_target - closing, max_finger_speed);
     }
   }
   KinematicArmPoses(side, next_poses);
   const size_t kinematic_bodies = arm.fingers_kinematic() ? arm.bodies.size() : arm.links.size();
-  for (size_t i = 0; i < kinematic_bodies; ++i) SetBodyMotion(arm.bodies[i], BodyPose(arm.bodies[i]), next_poses[i], dt);
+  for (size_t i = 0; i < kinematic_bodies; ++i)
+    SetBodyMotion(arm.bodies[i], BodyPose(arm.bodies[i]), next_poses[i], dt);
 }
 
 }  // namespace tavis::engine

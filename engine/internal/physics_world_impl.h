@@ -68,7 +68,7 @@ struct ArmJointMotor {
 struct Finger {
   dBodyID body = nullptr;
   dJointID slider = nullptr;
-  RigidTransform X_PF_open;  // finger pose in the palm body frame when open
+  RigidTransform X_PF_open;      // finger pose in the palm body frame when open
   Vec3 inward_P = Vec3::Zero();  // the slider's closing direction in the palm body frame
 };
 
@@ -80,11 +80,11 @@ enum class ArmMode { kSimulated, kGrip, kKinematic };
 
 // One arm's bodies and joints, for switching it between modes.
 struct ArmParts {
-  std::vector<int> motors;  // indices into Impl::motors
-  std::vector<int> links;   // links owning a body
-  std::vector<int> chain;   // ascending: every link whose pose depends on the arm's joints
+  std::vector<int> motors;      // indices into Impl::motors
+  std::vector<int> links;       // links owning a body
+  std::vector<int> chain;       // ascending: every link whose pose depends on the arm's joints
   std::vector<dBodyID> bodies;  // link bodies, then the two fingers
-  std::vector<int> geoms;   // indices into Impl::all_geoms attached to these bodies
+  std::vector<int> geoms;       // indices into Impl::all_geoms attached to these bodies
   ArmMode mode = ArmMode::kSimulated;
   std::array<double, 2> closing{};  // finger slider positions while kKinematic
   bool links_kinematic() const { return mode != ArmMode::kSimulated; }
@@ -115,14 +115,14 @@ struct PhysicsWorld::Impl {
   std::vector<dBodyID> object_body;
   std::vector<dGeomID> object_geom;
   std::vector<dBodyID> all_bodies;
-  std::vector<dGeomID> all_geoms;  // creation order
-  std::vector<double> aabbs;        // (geoms x 6) broad-phase scratch
+  std::vector<dGeomID> all_geoms;              // creation order
+  std::vector<double> aabbs;                   // (geoms x 6) broad-phase scratch
   std::vector<internal::GeomInfo> geom_infos;  // stable storage: reserved up front, never reallocated
-  std::vector<RigidTransform> X_BL;  // FK scratch
+  std::vector<RigidTransform> X_BL;            // FK scratch
   std::array<internal::ArmParts, 2> arms;
-  std::vector<double> q_kinematic;   // (num_joints) joint positions of kinematic arms
+  std::vector<double> q_kinematic;                           // (num_joints) joint positions of kinematic arms
   std::array<std::vector<RigidTransform>, 2> X_WBody_after;  // scratch: kinematic arms' next poses
-  std::vector<uint8_t> object_supported;  // (geoms) scratch for ArmModes
+  std::vector<uint8_t> object_supported;                     // (geoms) scratch for ArmModes
 
   explicit Impl(const WorldModel& m) : model(m), gripper(m.robot.gripper), materials(m.materials) {}
 

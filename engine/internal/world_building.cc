@@ -12,13 +12,13 @@
 namespace tavis::engine {
 
 using internal::ArmParts;
+using internal::BodyPose;
 using internal::Finger;
 using internal::kObjectBit;
 using internal::kRobotBit;
 using internal::kStaticBit;
 using internal::LinkRole;
 using internal::SetBodyPose;
-using internal::BodyPose;
 using internal::SetStaticGeomPose;
 using kinematics::RobotModel;
 using kinematics::Side;
@@ -28,12 +28,12 @@ namespace {
 // Robot bodies (links and fingers) get the inertia of a sphere of this radius: a pad's true
 // inertia is tiny next to the arm's, and that ratio stalls the solver (the fingers chatter).
 constexpr double kRobotInertiaRadius = 0.05;  // m
-constexpr int kOdeAxisZ = 3;  // ODE's code for a body's local z axis, Shape's long axis
+constexpr int kOdeAxisZ = 3;                  // ODE's code for a body's local z axis, Shape's long axis
 // Joint stops sit this far outside the limits the servo targets respect. A joint driven by its
 // motor while resting on a stop gets ODE's stop/motor fallback, a full-force impulse for one
 // step (scaled by the fudge factor), which kicked wrists by 0.1-0.2 rad and fingers by 2 cm
 // mid-grasp. Servoed within its limits a joint never reaches the stops; they remain hard limits.
-constexpr double kHingeStopClearance = 0.02;   // rad
+constexpr double kHingeStopClearance = 0.02;    // rad
 constexpr double kSliderStopClearance = 0.002;  // m
 
 void SetGeomOffset(dGeomID geom, const RigidTransform& X_BG) {

@@ -11,10 +11,10 @@ namespace {
 
 ScenePtr BuildShapeScene(RTCDevice device, const ShapeMesh& mesh) {
   const GeometryPtr geometry(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                               3 * sizeof(float), mesh.vertex_count()));
-  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(uint32_t), mesh.triangle_count()));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertex_count()));
+  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      geometry.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.triangle_count()));
   ThrowIfEmbreeError(device, "allocating a shape mesh");
   std::memcpy(vertices, mesh.vertices.data(), mesh.vertices.size() * sizeof(float));
   std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));

@@ -95,7 +95,8 @@ std::vector<ProfilePoint> CapsuleProfile(double radius, double half_length) {
   // With no straight section the equator ring would be listed twice; skip the duplicate.
   for (int j = half_length > 0.0 ? 0 : 1; j <= kHemisphereRings; ++j) {
     const double latitude = 0.5 * kPi * j / kHemisphereRings;
-    profile.push_back({j == kHemisphereRings ? 0.0 : radius * std::cos(latitude), half_length + radius * std::sin(latitude)});
+    profile.push_back(
+        {j == kHemisphereRings ? 0.0 : radius * std::cos(latitude), half_length + radius * std::sin(latitude)});
   }
   return profile;
 }
@@ -103,8 +104,8 @@ std::vector<ProfilePoint> CapsuleProfile(double radius, double half_length) {
 ShapeMesh CylinderMesh(double radius, double height) {
   const double h = 0.5 * height;
   ShapeMesh mesh = RevolutionMesh({{0.0, -h}, {radius, -h}, {radius, h}, {0.0, h}});
-  mesh.side_begin = kRoundSegments;      // after the bottom cap's fan
-  mesh.side_end = 3 * kRoundSegments;    // before the top cap's fan
+  mesh.side_begin = kRoundSegments;    // after the bottom cap's fan
+  mesh.side_end = 3 * kRoundSegments;  // before the top cap's fan
   return mesh;
 }
 

@@ -21,8 +21,8 @@ inline constexpr int kBoxFaceAxis[6] = {0, 0, 1, 1, 2, 2};
 inline constexpr float kBoxFaceSign[6] = {1.0f, -1.0f, 1.0f, -1.0f, 1.0f, -1.0f};
 
 struct ShapeMesh {
-  std::vector<float> vertices;     // x, y, z per vertex
-  std::vector<uint32_t> indices;   // three vertex indices per triangle
+  std::vector<float> vertices;    // x, y, z per vertex
+  std::vector<uint32_t> indices;  // three vertex indices per triangle
   // Triangles [side_begin, side_end) form a cylinder's curved side; the rest are its caps.
   uint32_t side_begin = 0;
   uint32_t side_end = 0;

@@ -15,7 +15,7 @@ namespace tavis::render::internal {
 struct SurfaceModel {
   ShapeKind kind = ShapeKind::kBox;
   Eigen::Vector3f half_extents = Eigen::Vector3f::Zero();  // bounding box half sizes
-  float capsule_half_length = 0.0f;                         // half distance between sphere centres
+  float capsule_half_length = 0.0f;                        // half distance between sphere centres
   float checker_cell = 0.0f;
   uint32_t side_begin = 0;  // cylinder side triangles
   uint32_t side_end = 0;
@@ -49,10 +49,8 @@ inline Eigen::Vector3f LocalNormal(const SurfaceModel& surface, const Eigen::Vec
       const float centre_z = std::fmax(-h, std::fmin(h, p.z()));
       return NormalizedOrUp(Eigen::Vector3f(p.x(), p.y(), p.z() - centre_z));
     }
-    case ShapeKind::kSphere:
-      return NormalizedOrUp(p);
-    case ShapeKind::kPlane:
-      return Eigen::Vector3f::UnitZ();
+    case ShapeKind::kSphere: return NormalizedOrUp(p);
+    case ShapeKind::kPlane: return Eigen::Vector3f::UnitZ();
   }
   return Eigen::Vector3f::UnitZ();
 }
@@ -82,8 +80,7 @@ inline bool InsideLabel(const SurfaceModel& surface, const Eigen::Vector3f& p, c
   if (cap || surface.kind == ShapeKind::kPlane) return false;
   const float height = p.z() / surface.half_extents.z();
   switch (label) {
-    case LabelPattern::kBand:
-      return std::fabs(height) < 0.3f;
+    case LabelPattern::kBand: return std::fabs(height) < 0.3f;
     case LabelPattern::kStripes: {
       const int stripe = static_cast<int>(std::floor((AcrossSide(surface, p, n) + 1.0f) * 4.0f));
       return (stripe & 1) != 0;
@@ -92,8 +89,7 @@ inline bool InsideLabel(const SurfaceModel& surface, const Eigen::Vector3f& p, c
       const float across_limit = surface.kind == ShapeKind::kBox ? 0.6f : 0.25f;
       return std::fabs(height) < 0.5f && std::fabs(AcrossSide(surface, p, n)) < across_limit;
     }
-    default:
-      return false;
+    default: return false;
   }
 }
 

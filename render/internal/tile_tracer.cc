@@ -141,8 +141,7 @@ class ShadowQueue {
     int32_t object_id;
   };
 
-  explicit ShadowQueue(const Eigen::Vector3f& to_light)
-      : context_(MakeContext(RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT)) {
+  explicit ShadowQueue(const Eigen::Vector3f& to_light) : context_(MakeContext(RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT)) {
     // Shadow rays all go towards the distant light; only their origins change.
     SetTileConstants<K>(&rays_, Eigen::Vector3f::Zero(), 0.0f);
     for (int k = 0; k < K; ++k) {
@@ -299,8 +298,8 @@ TileCounts CastPrimaryTile(int packet_width, const EnvView& env, const CameraRas
 void ClearTile(const TileRect& rect, const ImageView& image) {
   const std::size_t width = static_cast<std::size_t>(rect.x1 - rect.x0);
   for (int row = rect.y0; row < rect.y1; ++row) {
-    const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) +
-                              static_cast<std::size_t>(rect.x0);
+    const std::size_t first =
+        static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(rect.x0);
     std::memset(image.rgb + 3 * first, 0, 3 * width);
     if (image.depth != nullptr) std::fill_n(image.depth + first, width, 0.0f);
     if (image.object_id != nullptr) std::fill_n(image.object_id + first, width, kBackgroundObjectId);

@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include <Eigen/Core>
 #include <embree3/rtcore.h>
+#include <Eigen/Core>
 
 #include "render/internal/env_scenes.h"
 #include "render/internal/lighting_model.h"
@@ -46,8 +46,8 @@ struct TileRect {
 // What one env's rays see.
 struct EnvView {
   RTCScene scene = nullptr;
-  const InstanceFrame* frames = nullptr;        // per instance
-  const SurfaceModel* surfaces = nullptr;       // per instance
+  const InstanceFrame* frames = nullptr;          // per instance
+  const SurfaceModel* surfaces = nullptr;         // per instance
   const Eigen::Vector3f* rgb_override = nullptr;  // per instance, or nullptr
 };
 

@@ -38,8 +38,8 @@ class ArmObstacles {
   bool BoxIsClear(const OrientedBox& box_world) const;
 
  private:
-  std::vector<OrientedBox> obstacles_;    // base frame
-  std::vector<OrientedBox> link_only_;   // the table, base frame
+  std::vector<OrientedBox> obstacles_;  // base frame
+  std::vector<OrientedBox> link_only_;  // the table, base frame
   double margin_ = 0.0;
   Vec3 root_world_ = Vec3::Zero();  // the base frame's origin in the world
 };

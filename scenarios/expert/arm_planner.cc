@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "scenarios/expert/arm_clearance.h"
 #include "kinematics/robot_buffers.h"
+#include "scenarios/expert/arm_clearance.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -84,8 +84,9 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
   return best;
 }
 
-bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_start,
-                          const kinematics::PoseTarget& goal, int ticks, const ArmObstacles* obstacles) {
+bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side,
+                          const std::vector<double>& q_start, const kinematics::PoseTarget& goal, int ticks,
+                          const ArmObstacles* obstacles) {
   constexpr double kPathTolerance = 0.01;
   std::vector<RigidTransform> X_BL(robot.links.size());
   std::vector<double> q = q_start;

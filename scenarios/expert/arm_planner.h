@@ -28,8 +28,9 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
 // line, orientation slerp) from q_start's hand pose to `goal` in `ticks` ticks, stays within
 // 1 cm of the path and ends within tolerance of the goal (kinematic rehearsal, limits held);
 // with `obstacles`, also keeps the arm clear of them at every tick.
-bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side, const std::vector<double>& q_start,
-                          const kinematics::PoseTarget& goal, int ticks, const ArmObstacles* obstacles = nullptr);
+bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side side,
+                          const std::vector<double>& q_start, const kinematics::PoseTarget& goal, int ticks,
+                          const ArmObstacles* obstacles = nullptr);
 
 // IK link pose (canonical frame) for joint vector q. Allocates nothing: experts call it every tick.
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q);

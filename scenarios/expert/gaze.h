@@ -14,8 +14,8 @@ enum class NeckLimits { kRespect, kIgnore };
 // the neck's joint limits, or with kIgnore as a teleoperator's head turns to it (the robot
 // clamps the command at its limits). `q` supplies the other joints (they do not affect the head).
 // Allocates nothing: the expert re-aims during its steady motions.
-std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q,
-                                         const Vec3& target_world, NeckLimits limits = NeckLimits::kRespect);
+std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world,
+                                         NeckLimits limits = NeckLimits::kRespect);
 
 // Angle (rad) between the head camera's optical axis and the direction to `target_world`.
 double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world);

@@ -193,7 +193,8 @@ std::vector<std::size_t> GraspPlanner::CandidateOrder(const std::vector<Mat3>& r
   std::vector<std::size_t> fitting, too_wide;
   for (std::size_t c = 0; c < rotations.size(); ++c) {
     if (failed[c] || !PadsCoverObject(rotations[c])) continue;
-    const double half_width = HalfExtentAlong(model_, state_, env_, target_, rotations[c] * robot_.gripper.closing_axis);
+    const double half_width =
+        HalfExtentAlong(model_, state_, env_, target_, rotations[c] * robot_.gripper.closing_axis);
     (half_width <= 0.5 * robot_.gripper.open_gap - settings_.clearance ? fitting : too_wide).push_back(c);
   }
   fitting.insert(fitting.end(), too_wide.begin(), too_wide.end());
@@ -256,7 +257,7 @@ double GraspPlanner::GraspZ(const Mat3& R) const {
   const RigidTransform X_pads_ik = MakeTransform(-(R * robot_.gripper.pad_center), R);
   const std::array<OrientedBox, 3> hand = OpenHandBoxes(robot_.gripper, X_pads_ik, robot_.gripper.open_gap);
   const std::size_t parts = settings_.support_under_hand ? hand.size() : 2;  // pads first, then the housing
-  double lowest = 0.0;  // below the pads' centre
+  double lowest = 0.0;                                                       // below the pads' centre
   for (std::size_t p = 0; p < parts; ++p) {
     const OrientedBox& box = hand[p];
     const double half_height = (box.X.linear().transpose() * Vec3::UnitZ()).cwiseAbs().dot(box.half_size);
@@ -268,8 +269,8 @@ double GraspPlanner::GraspZ(const Mat3& R) const {
 bool GraspPlanner::PadsCoverObject(const Mat3& R) const {
   const double pad_half_height = (R.transpose() * Vec3::UnitZ()).cwiseAbs().dot(0.5 * robot_.gripper.pad_size);
   const double z = GraspZ(R);
-  const double overlap = std::min(p_object_.z() + object_half_height_, z + pad_half_height) -
-                         std::max(support_z_, z - pad_half_height);
+  const double overlap =
+      std::min(p_object_.z() + object_half_height_, z + pad_half_height) - std::max(support_z_, z - pad_half_height);
   return overlap >= std::min(kMinPadOverlap, kMinPadOverlapFraction * 2.0 * object_half_height_);
 }
 
@@ -324,9 +325,9 @@ bool GraspPlanner::ExtendPath(const Mat3& R, const Vec3& pads, const ArmObstacle
   const kinematics::PoseTarget goal = TargetFor(R, pads);
   const auto q = SolveArmConfiguration(robot_, side_, path.q, goal, avoid);
   if (!q) return false;
-  path.trackable = path.trackable && CanTrackStraightPath(robot_, side_, path.q, goal,
-                                                          LineTicks((pads - path.pads).norm(), settings_.slow_hand_speed),
-                                                          avoid);
+  path.trackable =
+      path.trackable && CanTrackStraightPath(robot_, side_, path.q, goal,
+                                             LineTicks((pads - path.pads).norm(), settings_.slow_hand_speed), avoid);
   joints = ArmOf(robot_, side_, q->data());
   path = {*q, pads, path.trackable};
   return true;

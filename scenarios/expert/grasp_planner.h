@@ -9,9 +9,9 @@
 
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
+#include "kinematics/robot_buffers.h"
 #include "kinematics/robot_model.h"
 #include "scenarios/expert/pick_expert_settings.h"
-#include "kinematics/robot_buffers.h"
 
 namespace tavis::scenarios {
 

@@ -55,8 +55,11 @@ bool HandMotion::MoveToward(const engine::WorldModel& model, Side side, const Ar
   hand.translation() += fraction * delta;
   // Normalised at every step: repeated matrix-quaternion round trips otherwise drift off the
   // rotation group, and the drift grows until the commanded hand turns away from its target.
-  hand.linear() =
-      Quat(hand.linear()).normalized().slerp(fraction, Quat(target.linear()).normalized()).normalized().toRotationMatrix();
+  hand.linear() = Quat(hand.linear())
+                      .normalized()
+                      .slerp(fraction, Quat(target.linear()).normalized())
+                      .normalized()
+                      .toRotationMatrix();
   return fraction >= 1.0;
 }
 

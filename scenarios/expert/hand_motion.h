@@ -8,8 +8,8 @@
 #include <array>
 
 #include "engine/world_model.h"
-#include "kinematics/robot_model.h"
 #include "kinematics/robot_buffers.h"
+#include "kinematics/robot_model.h"
 
 namespace tavis::scenarios {
 

@@ -22,7 +22,7 @@ constexpr double kEmptyGripMargin = 0.005;
 // still this long (a bounce's apex is still for under a tick), or at most kMaxSceneWaitS.
 constexpr double kRestS = 0.1;
 constexpr double kMaxSceneWaitS = 1.0;
-constexpr double kRestLinearSpeed = 0.02;   // m/s
+constexpr double kRestLinearSpeed = 0.02;  // m/s
 constexpr double kRestAngularSpeed = 0.2;  // rad/s
 
 using kinematics::Side;
@@ -116,7 +116,8 @@ bool PickExpert::SceneAtRest(const engine::WorldModel& model, const engine::Batc
     if (!state.object_enabled_at(env, object)) continue;
     if (model.objects[static_cast<std::size_t>(object)].motion == engine::ObjectMotion::kKinematic) continue;
     const double* v = state.object_velocity_row(env, object);
-    if (Vec3(v[0], v[1], v[2]).norm() >= kRestLinearSpeed || Vec3(v[3], v[4], v[5]).norm() >= kRestAngularSpeed) return false;
+    if (Vec3(v[0], v[1], v[2]).norm() >= kRestLinearSpeed || Vec3(v[3], v[4], v[5]).norm() >= kRestAngularSpeed)
+      return false;
   }
   return true;
 }
@@ -285,8 +286,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
         Enter(m, Phase::kGiveUp, step);
       }
       break;
-    case Phase::kGiveUp:
-      break;
+    case Phase::kGiveUp: break;
   }
 
   for (Side side : kinematics::kSides) WriteArm(action, side, m.hands.command(side));

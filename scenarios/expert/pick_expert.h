@@ -35,8 +35,20 @@ class PickExpert : public Expert {
   bool gave_up(int env) const override { return memory_[env].phase == Phase::kGiveUp; }
 
   // kWaitToAct: head-still only, the hands wait for the scene to rest and for the go signal.
-  enum class Phase { kWatchCue, kLook, kSettle, kPeek, kApproach, kDescend, kClose, kWithdraw, kLift, kRetreat, kGiveUp,
-                     kWaitToAct };
+  enum class Phase {
+    kWatchCue,
+    kLook,
+    kSettle,
+    kPeek,
+    kApproach,
+    kDescend,
+    kClose,
+    kWithdraw,
+    kLift,
+    kRetreat,
+    kGiveUp,
+    kWaitToAct
+  };
   Phase phase(int env) const { return memory_[env].phase; }
   // Grasps started in the env's episode so far (retries after a miss count).
   int attempts(int env) const { return memory_[env].attempts; }
@@ -73,7 +85,8 @@ class PickExpert : public Expert {
   bool StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;
   // The hands' first move once nothing else holds them: the wrist peeks if the task has them,
   // else the reach.
-  void StartHands(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m, int step) const;
+  void StartHands(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
+                  int step) const;
   // True while every enabled dynamic object is still (the dropped objects have landed).
   static bool SceneAtRest(const engine::WorldModel& model, const engine::BatchState& state, int env);
   bool head_still() const { return settings_.mode == ExpertMode::kHeadStill; }

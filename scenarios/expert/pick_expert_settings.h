@@ -26,7 +26,7 @@ struct PickExpertSettings {
   int cue_object = -1;
   double cue_look_s = 0.5;
   bool wait_for_go = false;
-  double grasp_height = 0.000;    // m: pad centre above the object's centre at the grasp
+  double grasp_height = 0.000;  // m: pad centre above the object's centre at the grasp
   // The surface the object stands on extends under the whole open hand (a table), so its housing
   // must clear it too; a shelf board ends just in front of the object, below the housing.
   bool support_under_hand = true;

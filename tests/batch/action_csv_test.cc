@@ -5,8 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tavis::batch {
@@ -36,8 +36,7 @@ std::string ErrorOf(const std::string& text) {
 TEST(ActionCsv, ReadsRowsWithOptionalHeaderAndBlankLines) {
   std::string header = "left_x";
   for (int column = 1; column < 19; ++column) header += ",c" + std::to_string(column);
-  const ActionTrajectory trajectory =
-      Parse(header + "\r\n" + Row(1.5, -1) + "\n" + " +2.5e-1 , 3" + Row(0).substr(17));
+  const ActionTrajectory trajectory = Parse(header + "\r\n" + Row(1.5, -1) + "\n" + " +2.5e-1 , 3" + Row(0).substr(17));
   EXPECT_EQ(trajectory.num_steps, 2);
   EXPECT_EQ(trajectory.num_columns, 19);
   EXPECT_EQ(trajectory.view().at(0, 0), 1.5);
@@ -53,20 +52,14 @@ TEST(ActionCsv, ParsesLikePythonFloat) {
 }
 
 TEST(ActionCsv, MalformedInputNamesFileAndLine) {
-  EXPECT_EQ(ErrorOf(Row(1) + "1,2,3\n"),
-            "episode.csv:2: expected 19 comma-separated values, found 3");
-  EXPECT_EQ(ErrorOf(Row(1) + Row(2) + "x" + Row(0).substr(8)),
-            "episode.csv:3: column 1: not a number: 'x'");
+  EXPECT_EQ(ErrorOf(Row(1) + "1,2,3\n"), "episode.csv:2: expected 19 comma-separated values, found 3");
+  EXPECT_EQ(ErrorOf(Row(1) + Row(2) + "x" + Row(0).substr(8)), "episode.csv:3: column 1: not a number: 'x'");
   EXPECT_EQ(ErrorOf(Row(1) + "nan" + Row(0).substr(8)),
             "episode.csv:2: column 1: non-finite or out-of-range value 'nan'");
-  EXPECT_EQ(ErrorOf("inf" + Row(0).substr(8)),
-            "episode.csv:1: column 1: non-finite or out-of-range value 'inf'");
-  EXPECT_EQ(ErrorOf("1e999" + Row(0).substr(8)),
-            "episode.csv:1: column 1: non-finite or out-of-range value '1e999'");
-  EXPECT_EQ(ErrorOf(Row(1) + "1,,2" + Row(0).substr(8)),
-            "episode.csv:2: expected 19 comma-separated values, found 21");
-  EXPECT_EQ(ErrorOf("0.5.1" + Row(0).substr(8)),
-            "episode.csv:1: column 1: not a number: '0.5.1'");
+  EXPECT_EQ(ErrorOf("inf" + Row(0).substr(8)), "episode.csv:1: column 1: non-finite or out-of-range value 'inf'");
+  EXPECT_EQ(ErrorOf("1e999" + Row(0).substr(8)), "episode.csv:1: column 1: non-finite or out-of-range value '1e999'");
+  EXPECT_EQ(ErrorOf(Row(1) + "1,,2" + Row(0).substr(8)), "episode.csv:2: expected 19 comma-separated values, found 21");
+  EXPECT_EQ(ErrorOf("0.5.1" + Row(0).substr(8)), "episode.csv:1: column 1: not a number: '0.5.1'");
   EXPECT_EQ(ErrorOf(""), "episode.csv: no data rows");
   EXPECT_EQ(ErrorOf("\n\n"), "episode.csv: no data rows");
 }
@@ -97,15 +90,19 @@ TEST(ActionCsv, ByteOrderMarkIsSkipped) {
   EXPECT_EQ(with_mark.values, plain.values);
   std::string header = "left_x";
   for (int column = 1; column < 19; ++column) header += ",c" + std::to_string(column);
-  EXPECT_EQ(Parse("\xEF\xBB\xBF" + header + "\n" + rows).values, plain.values) << "a header after the mark is still a header";
-  EXPECT_EQ(ErrorOf(Row(1) + "\xEF\xBB\xBF" + Row(1)), "episode.csv:2: column 1: not a number: '\xEF\xBB\xBF" "1.000000'")
+  EXPECT_EQ(Parse("\xEF\xBB\xBF" + header + "\n" + rows).values, plain.values)
+      << "a header after the mark is still a header";
+  EXPECT_EQ(ErrorOf(Row(1) + "\xEF\xBB\xBF" + Row(1)),
+            "episode.csv:2: column 1: not a number: '\xEF\xBB\xBF"
+            "1.000000'")
       << "only the file's start may hold the mark";
 }
 
 // Before: /dev/zero was read as one endless line until the stream failed with "read error".
 TEST(ActionCsv, DeviceOrFolderIsNamedNotRead) {
-  for (const auto& [path, what] : {std::pair<std::string, std::string>{"/dev/zero", "is a character device, not a regular file"},
-                                   {std::filesystem::temp_directory_path().string(), "is a directory, not a file"}}) {
+  for (const auto& [path, what] :
+       {std::pair<std::string, std::string>{"/dev/zero", "is a character device, not a regular file"},
+        {std::filesystem::temp_directory_path().string(), "is a directory, not a file"}}) {
     try {
       ReadActionCsv(path);
       FAIL() << path << " was read";

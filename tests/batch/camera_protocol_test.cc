@@ -75,8 +75,8 @@ class NeckAndLayout : public EpisodeSink {
  public:
   void EpisodeStarted(const VecEnv& env, int slot) override {
     const engine::BatchState& state = env.state();
-    layouts.emplace_back(state.object_pose_row(slot, 0), state.object_pose_row(slot, 0) +
-                                                             engine::kObjectPoseSize * state.num_objects);
+    layouts.emplace_back(state.object_pose_row(slot, 0),
+                         state.object_pose_row(slot, 0) + engine::kObjectPoseSize * state.num_objects);
   }
   void Stepped(const VecEnv& env) override {
     for (int slot = 0; slot < env.num_envs(); ++slot) {

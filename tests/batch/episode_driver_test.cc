@@ -5,10 +5,10 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <atomic>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -74,7 +74,8 @@ class EventLog : public EpisodeSink {
 };
 
 TEST(EpisodeDriver, RunsEveryEpisodeOnceDealingThemInIndexOrder) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
+             1);
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
   EventLog log;
   EpisodeDriver driver(env, *hold, 7);
@@ -104,7 +105,8 @@ TEST(EpisodeDriver, RunsEveryEpisodeOnceDealingThemInIndexOrder) {
 }
 
 TEST(EpisodeDriver, StopsAnEpisodeOnceASinkHasWhatItNeeds) {
-  VecEnv env(Model("clutter-pick-cube", 2.0), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  VecEnv env(Model("clutter-pick-cube", 2.0), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
+             1);
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
   EventLog log(/*stop_after_ticks=*/5);
   EpisodeDriver driver(env, *hold, 3, /*first_episode=*/4);
@@ -167,7 +169,8 @@ TEST(EpisodeDriver, ABatchedPolicySeesEachEnvsPromptAndActsOnItsTicks) {
 }
 
 TEST(EpisodeDriver, ANonFiniteActionEndsOnlyItsEpisodeNamingTheEntry) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
+             1);
   // The hold policy, except that episode 2 commands a NaN neck yaw on its fourth tick.
   AlteredHoldPolicy policy(env, "nan", 1, [](const Observation& observation, int slot, kinematics::Action& action) {
     if (observation.state.episode[slot] == 2 && observation.state.control_step[slot] == 4) {
@@ -196,10 +199,13 @@ TEST(EpisodeDriver, ANonFiniteActionEndsOnlyItsEpisodeNamingTheEntry) {
 // The hold policy, except that it cannot act for episode 1: it reports a fault instead.
 class FaultyHoldPolicy : public Policy {
  public:
-  explicit FaultyHoldPolicy(const VecEnv& env) : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
+  explicit FaultyHoldPolicy(const VecEnv& env)
+      : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
   std::string name() const override { return "faulty"; }
   int control_ticks_per_action() const override { return hold_->control_ticks_per_action(); }
-  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override { hold_->Reset(observation, started); }
+  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
+    hold_->Reset(observation, started);
+  }
   void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
     hold_->Act(observation, acting, actions);
     for (int env = 0; env < observation.state.num_envs; ++env) {
@@ -217,7 +223,8 @@ class FaultyHoldPolicy : public Policy {
 };
 
 TEST(EpisodeDriver, APolicyFaultEndsOnlyItsEpisodeWithTheReason) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
+             1);
   FaultyHoldPolicy policy(env);
   RecordCollector collected(env);
   std::vector<EpisodeRecord>& records = collected.records;
@@ -263,7 +270,8 @@ class GivingUpHoldPolicy : public PerEnvPolicy {
 TEST(EpisodeDriver, APolicyThatGivesUpEndsItsEpisodeAfterThatTicksStepOnEitherSchedule) {
   for (const bool lock_step : {true, false}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-    VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+    VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
+               1);
     GivingUpHoldPolicy policy(env);
     RecordCollector collected(env);
     std::vector<EpisodeRecord>& records = collected.records;
@@ -318,7 +326,9 @@ class PerSlotLog : public EpisodeSink {
   PerSlotLog(int slots, int stop_after_ticks, int throw_at_end = -1)
       : ticks_(static_cast<std::size_t>(slots), 0), stop_after_ticks_(stop_after_ticks), throw_at_end_(throw_at_end) {}
   void EpisodeStarted(const VecEnv&, int slot) override { ticks_[static_cast<std::size_t>(slot)] = 0; }
-  void ActionChosen(const VecEnv&, int slot, const kinematics::Action&) override { ++ticks_[static_cast<std::size_t>(slot)]; }
+  void ActionChosen(const VecEnv&, int slot, const kinematics::Action&) override {
+    ++ticks_[static_cast<std::size_t>(slot)];
+  }
   bool EpisodeComplete(const VecEnv& env, int slot) const override {
     return stop_after_ticks_ >= 0 && env.state().control_step[slot] >= stop_after_ticks_;
   }
@@ -344,7 +354,8 @@ engine::WorldModel TaskModel(const std::string& task) {
 }
 
 TEST(EpisodeDriver, RunsPerSlotOnlyWhenPolicyCamerasAndEverySinkAllowIt) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
+             1);
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
   PerSlotLog per_slot(2, -1);
   EventLog lock_step;
@@ -383,7 +394,8 @@ class ImageLog : public EpisodeSink {
     const render::ImageBatch& images = *env.images();
     for (int camera = 0; camera < images.n_cameras(); ++camera) {
       const uint8_t* rgb = images.rgb(slot, camera);
-      const std::size_t size = static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
+      const std::size_t size =
+          static_cast<std::size_t>(images.width(camera)) * static_cast<std::size_t>(images.height(camera)) * 3;
       uint64_t hash = 1469598103934665603ull;  // FNV-1a
       for (std::size_t i = 0; i < size; ++i) hash = (hash ^ rgb[i]) * 1099511628211ull;
       running_[static_cast<std::size_t>(slot)].push_back(hash);
@@ -414,7 +426,8 @@ struct RenderedRun {
 // tick, as `tavis eval --render-cameras` runs it.
 RenderedRun RenderedExpert(bool lock_step, std::size_t threads, int slots) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  VecEnv env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, slots, 5);
+  VecEnv env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, slots,
+             5);
   env.EnableCameras({{"head", "left_wrist"}, 32, 24});
   std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", env.scenario(), env.model(), slots);
   RecordSettings settings;
@@ -488,7 +501,8 @@ TEST(EpisodeDriver, ARenderedExpertCellGivesTheSameRecordsAndImagesOnEitherSched
     std::size_t threads;
     int slots;
   };
-  for (const Variant& variant : {Variant{false, 1, 3}, Variant{false, 2, 3}, Variant{false, 2, 2}, Variant{true, 1, 4}}) {
+  for (const Variant& variant :
+       {Variant{false, 1, 3}, Variant{false, 2, 3}, Variant{false, 2, 2}, Variant{true, 1, 4}}) {
     const RenderedRun run = RenderedExpert(variant.lock_step, variant.threads, variant.slots);
     const std::string label = std::string(variant.lock_step ? "lock-step" : "per slot") + ", " +
                               std::to_string(variant.threads) + " threads, " + std::to_string(variant.slots) + " slots";
@@ -508,7 +522,8 @@ TEST(EpisodeDriver, ARenderedExpertCellGivesTheSameRecordsAndImagesOnEitherSched
 
 TEST(EpisodeDriver, PerSlotScheduleRunsEveryEpisodeOnceAndStopsThoseASinkIsDoneWith) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
+             1);
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
   PerSlotLog log(3, /*stop_after_ticks=*/5);
   EpisodeDriver driver(env, *hold, 7, /*first_episode=*/2);
@@ -579,7 +594,8 @@ TEST(EpisodeDriver, PerSlotScheduleRecordsExactlyWhatLockStepRecords) {
 
 TEST(EpisodeDriver, ASinkFailingOnThePerSlotScheduleStopsTheRunEarly) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2, 1);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
+             1);
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
   PerSlotLog log(2, -1, /*throw_at_end=*/1);
   EpisodeDriver driver(env, *hold, 40);
@@ -617,7 +633,8 @@ class PhaseLog : public EpisodeSink {
 };
 
 TEST(EpisodeDriver, WithCamerasEpisodesStartOnTheBatchsPolicyTicks) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 1);
+  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
+             1);
   env.EnableCameras({{"head"}, 32, 24});
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
   PhaseLog log;

@@ -25,10 +25,9 @@ GaltResult Invalid(GaltReason reason) {
 }
 
 TEST(GaltSummary, StatisticsOverValidValuesAndCountsOverAll) {
-  const GaltSummary summary = SummarizeGalt({Valid(1.0), Valid(2.0, GaltReason::kOkPostAnchor),
-                                             Valid(4.0), Invalid(GaltReason::kNoFixation),
-                                             Invalid(GaltReason::kNoFixation),
-                                             Invalid(GaltReason::kTooShort), Valid(3.0)});
+  const GaltSummary summary =
+      SummarizeGalt({Valid(1.0), Valid(2.0, GaltReason::kOkPostAnchor), Valid(4.0), Invalid(GaltReason::kNoFixation),
+                     Invalid(GaltReason::kNoFixation), Invalid(GaltReason::kTooShort), Valid(3.0)});
   EXPECT_EQ(summary.n_episodes, 7);
   EXPECT_EQ(summary.n_valid, 4);
   EXPECT_DOUBLE_EQ(*summary.mean_s, 2.5);

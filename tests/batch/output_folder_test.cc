@@ -48,7 +48,9 @@ class OutputFolder : public ::testing::Test {
 
 TEST_F(OutputFolder, CellWithOnlyItsOwnFilesIsOwnAndAUsersFileMakesItForeign) {
   const fs::path cell = root_ / "cell";
-  for (const char* name : {"cell.json", "episodes.jsonl", "summary.json", "actions/episode_0.csv", "summary.json.partial"}) Touch(cell / name);
+  for (const char* name :
+       {"cell.json", "episodes.jsonl", "summary.json", "actions/episode_0.csv", "summary.json.partial"})
+    Touch(cell / name);
   EXPECT_TRUE(IsOwnOutput(cell, OutputKind::kEvalCell));
   EXPECT_FALSE(IsOwnOutput(cell, OutputKind::kSweep)) << "an eval cell is no sweep";
   EXPECT_FALSE(IsOwnOutput(cell, OutputKind::kDataset));
@@ -106,7 +108,8 @@ TEST_F(OutputFolder, SecondLockIsRefusedNamingTheHolderUntilTheFirstIsReleased) 
   OutputLock first = CreateAndLockOutput(dir, "eval");
   EXPECT_NE(Read(dir / kOutputLockFile).find("tavis eval (pid " + std::to_string(getpid())), std::string::npos);
   const std::string refusal = Refusal([&] { OutputLock second(dir, "sweep"); });
-  EXPECT_NE(refusal.find("is being written by tavis eval (pid " + std::to_string(getpid())), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find("is being written by tavis eval (pid " + std::to_string(getpid())), std::string::npos)
+      << refusal;
   first.Release();
   EXPECT_EQ(Read(dir / kOutputLockFile), "") << "a released lock names no holder";
   OutputLock again(dir, "sweep");

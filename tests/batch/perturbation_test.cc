@@ -39,7 +39,8 @@ struct Views {
   std::vector<double> object_poses;       // every object's pose at the reset
 };
 
-Views RenderReset(const std::vector<std::string>& choices, int64_t episode = 0, const std::string& task = "clutter-pick-cube") {
+Views RenderReset(const std::vector<std::string>& choices, int64_t episode = 0,
+                  const std::string& task = "clutter-pick-cube") {
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
   engine::WorldModel model = BuildWorldModel(robot, scenario);
@@ -89,7 +90,8 @@ double Sharpness(const std::vector<uint8_t>& rgb) {
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 1; x < kWidth; ++x) {
       for (int ch = 0; ch < 3; ++ch) {
-        sum += std::abs(rgb[(static_cast<std::size_t>(y) * kWidth + x) * 3 + ch] - rgb[(static_cast<std::size_t>(y) * kWidth + x - 1) * 3 + ch]);
+        sum += std::abs(rgb[(static_cast<std::size_t>(y) * kWidth + x) * 3 + ch] -
+                        rgb[(static_cast<std::size_t>(y) * kWidth + x - 1) * 3 + ch]);
       }
     }
   }
@@ -98,7 +100,8 @@ double Sharpness(const std::vector<uint8_t>& rgb) {
 
 // A config dir holding one perturbation file with `text`, for the validation tests.
 std::string ConfigDirWith(const std::string& axis, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / ("tavis_perturbation_test_" + axis + "_" + std::to_string(std::hash<std::string>()(text)));
+  const fs::path dir = fs::temp_directory_path() /
+                       ("tavis_perturbation_test_" + axis + "_" + std::to_string(std::hash<std::string>()(text)));
   fs::create_directories(dir / "perturbations");
   std::ofstream(dir / "perturbations" / (axis + ".yaml")) << text;
   return dir.string();
@@ -128,36 +131,44 @@ TEST(PerturbationCatalog, EveryShippedAxisLoadsWithLevelsThatChangeSomething) {
 }
 
 TEST(PerturbationCatalog, BadFilesAreRefusedNamingFileKeyAndValue) {
-  const std::string unknown_key = LoadError("sensor", "axis: sensor\nlevels:\n  - name: a\n    description: x\n    noise_sigma: 3\n");
+  const std::string unknown_key =
+      LoadError("sensor", "axis: sensor\nlevels:\n  - name: a\n    description: x\n    noise_sigma: 3\n");
   EXPECT_NE(unknown_key.find("sensor.yaml"), std::string::npos) << unknown_key;
   EXPECT_NE(unknown_key.find("noise_sigma"), std::string::npos) << unknown_key;
 
-  const std::string out_of_range = LoadError("sensor", "axis: sensor\nlevels:\n  - name: a\n    description: x\n    noise_stddev: 400\n");
+  const std::string out_of_range =
+      LoadError("sensor", "axis: sensor\nlevels:\n  - name: a\n    description: x\n    noise_stddev: 400\n");
   EXPECT_NE(out_of_range.find("noise_stddev"), std::string::npos) << out_of_range;
   EXPECT_NE(out_of_range.find("400"), std::string::npos) << out_of_range;
 
-  const std::string wrong_axis = LoadError("camera", "axis: lighting\nlevels:\n  - name: a\n    description: x\n    head_fov_scale: 1.1\n");
+  const std::string wrong_axis =
+      LoadError("camera", "axis: lighting\nlevels:\n  - name: a\n    description: x\n    head_fov_scale: 1.1\n");
   EXPECT_NE(wrong_axis.find("axis"), std::string::npos) << wrong_axis;
   EXPECT_NE(wrong_axis.find("lighting"), std::string::npos) << wrong_axis;
 
   const std::string twice = LoadError("sensor",
-      "axis: sensor\nlevels:\n  - name: a\n    description: x\n    noise_stddev: 2\n  - name: a\n    description: y\n    noise_stddev: 3\n");
+                                      "axis: sensor\nlevels:\n  - name: a\n    description: x\n    noise_stddev: 2\n  "
+                                      "- name: a\n    description: y\n    noise_stddev: 3\n");
   EXPECT_NE(twice.find("twice"), std::string::npos) << twice;
 
   const std::string nothing = LoadError("sensor", "axis: sensor\nlevels:\n  - name: a\n    description: x\n");
   EXPECT_NE(nothing.find("base scene"), std::string::npos) << nothing;
 
-  const std::string bad_name = LoadError("sensor", "axis: sensor\nlevels:\n  - name: A.b\n    description: x\n    noise_stddev: 2\n");
+  const std::string bad_name =
+      LoadError("sensor", "axis: sensor\nlevels:\n  - name: A.b\n    description: x\n    noise_stddev: 2\n");
   EXPECT_NE(bad_name.find("A.b"), std::string::npos) << bad_name;
 
   // In range for the key, but no camera can have it: an angle of view of 2 x 66 degrees x 2.
-  const std::string wide = LoadError("camera", "axis: camera\nlevels:\n  - name: a\n    description: x\n    fixed_fov_scale: 2.0\n");
+  const std::string wide =
+      LoadError("camera", "axis: camera\nlevels:\n  - name: a\n    description: x\n    fixed_fov_scale: 2.0\n");
   EXPECT_NE(wide.find("fixed_fov_scale"), std::string::npos) << wide;
 
-  const std::string below = LoadError("lighting", "axis: lighting\nlevels:\n  - name: a\n    description: x\n    elevation_deg: -80\n");
+  const std::string below =
+      LoadError("lighting", "axis: lighting\nlevels:\n  - name: a\n    description: x\n    elevation_deg: -80\n");
   EXPECT_NE(below.find("elevation_deg"), std::string::npos) << below;
 
-  const std::string top_key = LoadError("sensor", "axis: sensor\nseverity: 3\nlevels:\n  - name: a\n    description: x\n    noise_stddev: 2\n");
+  const std::string top_key =
+      LoadError("sensor", "axis: sensor\nseverity: 3\nlevels:\n  - name: a\n    description: x\n    noise_stddev: 2\n");
   EXPECT_NE(top_key.find("severity"), std::string::npos) << top_key;
 }
 
@@ -224,7 +235,8 @@ TEST(PerturbedView, FixedCameraYawPansAboutTheVerticalAndPitchTiltsItDown) {
   engine::RenderPerturbation tilt;
   tilt.fixed_rotation_deg = Vec3(0.0, 10.0, 0.0);
   const Vec3 tilted = PerturbedFixedCameraPose(X_WC, tilt).linear().col(0);
-  EXPECT_NEAR(std::asin(-tilted.z()) - std::asin(-forward.z()), 10.0 * M_PI / 180.0, 1e-9) << "positive pitch looks further down";
+  EXPECT_NEAR(std::asin(-tilted.z()) - std::asin(-forward.z()), 10.0 * M_PI / 180.0, 1e-9)
+      << "positive pitch looks further down";
   engine::RenderPerturbation move;
   move.fixed_offset_m = Vec3(0.0, 0.25, 0.1);
   EXPECT_TRUE(PerturbedFixedCameraPose(X_WC, move).translation().isApprox(X_WC.translation() + move.fixed_offset_m));
@@ -262,20 +274,27 @@ TEST(PerturbationAxes, CameraLevelsMoveOnlyTheirCamerasAndKeepTheScene) {
     EXPECT_EQ(views.rgb[static_cast<std::size_t>(head)] != base.rgb[static_cast<std::size_t>(head)], c.head_changes);
     EXPECT_EQ(views.rgb[static_cast<std::size_t>(fixed)] != base.rgb[static_cast<std::size_t>(fixed)], c.fixed_changes);
     if (c.head_changes) {
-      EXPECT_GT(MeanAbsDifference(views.rgb[static_cast<std::size_t>(head)], base.rgb[static_cast<std::size_t>(head)]), 1.0);
+      EXPECT_GT(MeanAbsDifference(views.rgb[static_cast<std::size_t>(head)], base.rgb[static_cast<std::size_t>(head)]),
+                1.0);
     }
     if (c.fixed_changes) {
-      EXPECT_GT(MeanAbsDifference(views.rgb[static_cast<std::size_t>(fixed)], base.rgb[static_cast<std::size_t>(fixed)]), 1.0);
+      EXPECT_GT(
+          MeanAbsDifference(views.rgb[static_cast<std::size_t>(fixed)], base.rgb[static_cast<std::size_t>(fixed)]),
+          1.0);
     }
-    EXPECT_EQ(views.rgb[static_cast<std::size_t>(left)], base.rgb[static_cast<std::size_t>(left)]) << "wrist cameras stay";
-    EXPECT_EQ(views.rgb[static_cast<std::size_t>(right)], base.rgb[static_cast<std::size_t>(right)]) << "wrist cameras stay";
+    EXPECT_EQ(views.rgb[static_cast<std::size_t>(left)], base.rgb[static_cast<std::size_t>(left)])
+        << "wrist cameras stay";
+    EXPECT_EQ(views.rgb[static_cast<std::size_t>(right)], base.rgb[static_cast<std::size_t>(right)])
+        << "wrist cameras stay";
   }
 }
 
 TEST(PerturbationAxes, LightingLevelsChangeEveryViewAsDeclared) {
   const Views base = RenderReset({});
   const int fixed = CameraIndexOf("fixed");
-  auto brightness = [](const std::vector<uint8_t>& rgb) { return ChannelMean(rgb, 0) + ChannelMean(rgb, 1) + ChannelMean(rgb, 2); };
+  auto brightness = [](const std::vector<uint8_t>& rgb) {
+    return ChannelMean(rgb, 0) + ChannelMean(rgb, 1) + ChannelMean(rgb, 2);
+  };
   for (const char* level : {"dim", "bright", "low-side-sun", "warm", "cool"}) {
     SCOPED_TRACE(level);
     const Views views = RenderReset({std::string("lighting:") + level});
@@ -283,8 +302,10 @@ TEST(PerturbationAxes, LightingLevelsChangeEveryViewAsDeclared) {
     for (std::size_t c = 0; c < views.rgb.size(); ++c) EXPECT_NE(views.rgb[c], base.rgb[c]) << SceneCameraNames()[c];
   }
   const std::vector<uint8_t>& base_fixed = base.rgb[static_cast<std::size_t>(fixed)];
-  EXPECT_LT(brightness(RenderReset({"lighting:dim"}).rgb[static_cast<std::size_t>(fixed)]), brightness(base_fixed) - 30.0);
-  EXPECT_GT(brightness(RenderReset({"lighting:bright"}).rgb[static_cast<std::size_t>(fixed)]), brightness(base_fixed) + 30.0);
+  EXPECT_LT(brightness(RenderReset({"lighting:dim"}).rgb[static_cast<std::size_t>(fixed)]),
+            brightness(base_fixed) - 30.0);
+  EXPECT_GT(brightness(RenderReset({"lighting:bright"}).rgb[static_cast<std::size_t>(fixed)]),
+            brightness(base_fixed) + 30.0);
   const std::vector<uint8_t> warm = RenderReset({"lighting:warm"}).rgb[static_cast<std::size_t>(fixed)];
   const std::vector<uint8_t> cool = RenderReset({"lighting:cool"}).rgb[static_cast<std::size_t>(fixed)];
   const double base_ratio = ChannelMean(base_fixed, 0) / ChannelMean(base_fixed, 2);
@@ -322,7 +343,8 @@ TEST(PerturbationAxes, SensorNoiseHasItsDeclaredSpreadAndRepeatsPerEpisodeAndTic
   std::vector<int> noise_here, noise_there;
   for (std::size_t i = 0; i < clean.size(); ++i) {
     noise_here.push_back(dirty[i] - clean[i]);
-    noise_there.push_back(other.rgb[static_cast<std::size_t>(fixed)][i] - other_base.rgb[static_cast<std::size_t>(fixed)][i]);
+    noise_there.push_back(other.rgb[static_cast<std::size_t>(fixed)][i] -
+                          other_base.rgb[static_cast<std::size_t>(fixed)][i]);
   }
   EXPECT_NE(noise_here, noise_there);
 }

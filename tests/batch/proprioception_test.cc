@@ -18,8 +18,8 @@ class Proprioception : public ::testing::TestWithParam<std::string> {
  protected:
   Proprioception()
       : robot_(tavis::testing::LoadRobot(GetParam())),
-        env_(BuildWorldModel(robot_, scenarios::FindScenario("clutter-pick-cube")), scenarios::FindScenario("clutter-pick-cube"),
-             scenarios::Split::kOodInitPose, 2, 3) {
+        env_(BuildWorldModel(robot_, scenarios::FindScenario("clutter-pick-cube")),
+             scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kOodInitPose, 2, 3) {
     // ood-init-pose's warm-up leaves the neck and the arms away from their defaults.
     env_.ResetEnv(0, 1);
     env_.ResetEnv(1, 2);
@@ -64,7 +64,8 @@ TEST_P(Proprioception, FixedProtocolZeroesOnlyTheNeckEntries) {
   head.Update(env_.state(), {1, 1});
   fixed.Update(env_.state(), {1, 1});
   for (int entry = 0; entry < head.state_size(); ++entry) {
-    const bool neck = entry == fixed.neck_entries()[0] || entry == fixed.neck_entries()[1] || entry == fixed.neck_entries()[2];
+    const bool neck =
+        entry == fixed.neck_entries()[0] || entry == fixed.neck_entries()[1] || entry == fixed.neck_entries()[2];
     EXPECT_EQ(fixed.state(0)[entry], neck ? 0.0f : head.state(0)[entry]) << "entry " << entry;
   }
 }

@@ -17,9 +17,8 @@ namespace fs = std::filesystem;
 class ResultsTableTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("tavis_results_table_" + std::to_string(getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    root_ = fs::temp_directory_path() / ("tavis_results_table_" + std::to_string(getpid()) + "_" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(root_);
     fs::create_directories(root_);
   }
@@ -31,12 +30,10 @@ class ResultsTableTest : public ::testing::Test {
   }
 
   void WriteCell(const std::string& cell_dir, const std::string& task, const std::string& robot,
-                 const std::string& split, const std::string& camera, int successes,
-                 int episodes) {
+                 const std::string& split, const std::string& camera, int successes, int episodes) {
     std::ostringstream json;
-    json << R"({"task": ")" << task << R"(", "robot": ")" << robot << R"(", "split": ")"
-         << split << R"(", "camera": ")" << camera << R"(", "policy": "expert", "n_episodes": )"
-         << episodes << R"(, "n_successful": )" << successes
+    json << R"({"task": ")" << task << R"(", "robot": ")" << robot << R"(", "split": ")" << split << R"(", "camera": ")"
+         << camera << R"(", "policy": "expert", "n_episodes": )" << episodes << R"(, "n_successful": )" << successes
          << R"(, "success_rate": 0.0, "wall_s": 1.0})";
     WriteSummary(cell_dir, json.str());
   }
@@ -47,20 +44,13 @@ class ResultsTableTest : public ::testing::Test {
   void WriteSweep() {
     WriteCell("gr1t2/id/head/conditional-pick", "conditional-pick", "gr1t2", "id", "head", 84, 96);
     WriteCell("gr1t2/id/head/wait-then-act", "wait-then-act", "gr1t2", "id", "head", 63, 96);
-    WriteCell("gr1t2/id/head/clutter-pick-cube", "clutter-pick-cube", "gr1t2", "id", "head", 40,
-              96);
-    WriteCell("gr1t2/id/head/clutter-pick-lift", "clutter_pick_lift", "gr1t2", "id", "head", 22,
-              96);
-    WriteCell("gr1t2/id/head/multi-shelf-scan", "multi-shelf-scan", "gr1t2", "id", "head", 17,
-              96);
-    WriteCell("gr1t2/id/fixed/conditional-pick", "conditional-pick", "gr1t2", "id", "fixedcam",
-              57, 96);
-    WriteCell("reachy2/ood/seed1/clutter-pick-cube", "clutter-pick-cube", "reachy2",
-              "ood_spatial", "head", 12, 48);
-    WriteCell("reachy2/ood/seed2/clutter-pick-cube", "clutter-pick-cube", "reachy2",
-              "ood-spatial", "head", 13, 48);
-    WriteCell("reachy2/ood/seed1/multi-shelf-scan", "multi-shelf-scan", "reachy2", "ood-spatial",
-              "head", 16, 48);
+    WriteCell("gr1t2/id/head/clutter-pick-cube", "clutter-pick-cube", "gr1t2", "id", "head", 40, 96);
+    WriteCell("gr1t2/id/head/clutter-pick-lift", "clutter_pick_lift", "gr1t2", "id", "head", 22, 96);
+    WriteCell("gr1t2/id/head/multi-shelf-scan", "multi-shelf-scan", "gr1t2", "id", "head", 17, 96);
+    WriteCell("gr1t2/id/fixed/conditional-pick", "conditional-pick", "gr1t2", "id", "fixedcam", 57, 96);
+    WriteCell("reachy2/ood/seed1/clutter-pick-cube", "clutter-pick-cube", "reachy2", "ood_spatial", "head", 12, 48);
+    WriteCell("reachy2/ood/seed2/clutter-pick-cube", "clutter-pick-cube", "reachy2", "ood-spatial", "head", 13, 48);
+    WriteCell("reachy2/ood/seed1/multi-shelf-scan", "multi-shelf-scan", "reachy2", "ood-spatial", "head", 16, 48);
     WriteCell("gr1t2/id/head/peeking-box", "peeking_box", "gr1t2", "id", "head", 62, 96);
   }
 
@@ -113,8 +103,9 @@ TEST_F(ResultsTableTest, CsvWithAndWithoutIntervals) {
             "reachy2 ood-spatial head ci_low,reachy2 ood-spatial head ci_high");
   EXPECT_EQ(with[3], "conditional-pick,87.5,79.4,92.7,59.4,49.4,68.7,,,");
   EXPECT_EQ(with[6], "TAVIS-Head mean (task average),47.1,,,59.4,,,29.7,,");
-  EXPECT_EQ(with[7], "TAVIS-Head mean (pooled over episodes),47.1,42.7,51.6,59.4,49.4,68.7,28.5,"
-                     "21.7,36.3");
+  EXPECT_EQ(with[7],
+            "TAVIS-Head mean (pooled over episodes),47.1,42.7,51.6,59.4,49.4,68.7,28.5,"
+            "21.7,36.3");
 
   const std::vector<std::string> without = Lines(FormatCsv(table, false));
   EXPECT_EQ(without[0], "task,gr1t2 id head,gr1t2 id fixed,reachy2 ood-spatial head");
@@ -164,8 +155,7 @@ TEST_F(ResultsTableTest, CopiedCellIsRefusedNamingBothFiles) {
     LoadCellResults(root_);
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("/cell/summary.json and " + (root_ / "cell copy").string()),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("/cell/summary.json and " + (root_ / "cell copy").string()), std::string::npos)
         << e.what();
   }
   // Another seed of the same cell is pooled.
@@ -211,16 +201,18 @@ TEST_F(ResultsTableTest, MixedPoliciesOrNoCellsAreErrors) {
 
 // A tavis cell: summary.json with its seed as `seed_json` (omitted when empty) and the
 // episodes.jsonl of `episodes` episodes of seed 7, the first `successes` successful.
-void WriteRecordedCell(const fs::path& dir, const std::string& seed_json, int episodes, int successes, int first_episode = 0) {
+void WriteRecordedCell(const fs::path& dir, const std::string& seed_json, int episodes, int successes,
+                       int first_episode = 0) {
   fs::create_directories(dir);
   std::ofstream records(dir / "episodes.jsonl");
   for (int i = 0; i < episodes; ++i) {
     records << R"({"episode":)" << first_episode + i << R"(,"seed":7,"success":)" << (i < successes ? "true" : "false")
             << R"(,"end":")" << (i < successes ? "success" : "time_out") << R"(","length_steps":)" << 100 + i << "}\n";
   }
-  std::ofstream(dir / "summary.json") << R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "policy": "expert", )"
-                                      << (seed_json.empty() ? "" : "\"seed\": " + seed_json + ", ") << "\"n_episodes\": " << episodes
-                                      << ", \"n_successful\": " << successes << "}";
+  std::ofstream(dir / "summary.json")
+      << R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "policy": "expert", )"
+      << (seed_json.empty() ? "" : "\"seed\": " + seed_json + ", ") << "\"n_episodes\": " << episodes
+      << ", \"n_successful\": " << successes << "}";
 }
 
 std::string LoadError(const fs::path& root) {
@@ -239,8 +231,9 @@ TEST_F(ResultsTableTest, CopiedCellIsRefusedByItsRecordsWhateverItsSeedSays) {
   for (const std::string& copy_seed : {std::string(), std::string("\"7\""), std::string("8")}) {
     WriteRecordedCell(root_ / "copy", copy_seed, 4, 3);
     const std::string error = LoadError(root_);
-    EXPECT_NE(error.find((root_ / "cell" / "summary.json").string() + " and " + (root_ / "copy" / "summary.json").string()),
-              std::string::npos)
+    EXPECT_NE(
+        error.find((root_ / "cell" / "summary.json").string() + " and " + (root_ / "copy" / "summary.json").string()),
+        std::string::npos)
         << "seed " << copy_seed << ": " << error;
   }
   // Part of the cell copied: the episodes it shares are named.
@@ -253,19 +246,24 @@ TEST_F(ResultsTableTest, CopiedCellIsRefusedByItsRecordsWhateverItsSeedSays) {
 
 TEST_F(ResultsTableTest, RecordsThatDisagreeWithTheSummaryNameTheCell) {
   WriteRecordedCell(root_ / "cell", "7", 4, 3);
-  std::ofstream(root_ / "cell" / "episodes.jsonl", std::ios::app) << R"({"episode":3,"seed":7,"success":false})" << "\n";
-  EXPECT_NE(LoadError(root_).find("cell " + (root_ / "cell").string() +
-                                  ": episodes.jsonl holds 5 episodes (3 successful) but summary.json says n_episodes 4, n_successful 3"),
+  std::ofstream(root_ / "cell" / "episodes.jsonl", std::ios::app) << R"({"episode":3,"seed":7,"success":false})"
+                                                                  << "\n";
+  EXPECT_NE(LoadError(root_).find(
+                "cell " + (root_ / "cell").string() +
+                ": episodes.jsonl holds 5 episodes (3 successful) but summary.json says n_episodes 4, n_successful 3"),
             std::string::npos)
       << LoadError(root_);
   WriteRecordedCell(root_ / "cell", "7", 4, 3);
-  std::ofstream(root_ / "cell" / "summary.json") << R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "seed": 7,
+  std::ofstream(root_ / "cell" / "summary.json")
+      << R"({"task": "wait-then-act", "robot": "gr1t2", "split": "id", "seed": 7,
                                                        "n_episodes": 4, "n_successful": 4})";
-  EXPECT_NE(LoadError(root_).find("holds 4 episodes (3 successful) but summary.json says n_episodes 4, n_successful 4"), std::string::npos)
+  EXPECT_NE(LoadError(root_).find("holds 4 episodes (3 successful) but summary.json says n_episodes 4, n_successful 4"),
+            std::string::npos)
       << LoadError(root_);
   WriteRecordedCell(root_ / "cell", "7", 4, 3);
   std::ofstream(root_ / "cell" / "episodes.jsonl", std::ios::app) << "{\"episode\":4,\"se\n";
-  EXPECT_NE(LoadError(root_).find((root_ / "cell" / "episodes.jsonl").string() + ":5: not a JSON object"), std::string::npos)
+  EXPECT_NE(LoadError(root_).find((root_ / "cell" / "episodes.jsonl").string() + ":5: not a JSON object"),
+            std::string::npos)
       << LoadError(root_);
 }
 

@@ -106,9 +106,9 @@ TEST(SceneRender, LayoutHoldsTheWholeWorldAndTheReferenceCameras) {
   for (int object = 0; object < model.num_objects(); ++object) EXPECT_EQ(ids[static_cast<std::size_t>(object)], object);
 
   ASSERT_EQ(layout.cameras.size(), 4u);
-  const std::vector<render::CameraSpec> reference = {
-      render::HeadCameraSpec(64, 48), render::FixedCameraSpec(64, 48), render::WristCameraSpec("left_wrist", 64, 48),
-      render::WristCameraSpec("right_wrist", 64, 48)};
+  const std::vector<render::CameraSpec> reference = {render::HeadCameraSpec(64, 48), render::FixedCameraSpec(64, 48),
+                                                     render::WristCameraSpec("left_wrist", 64, 48),
+                                                     render::WristCameraSpec("right_wrist", 64, 48)};
   for (std::size_t c = 0; c < reference.size(); ++c) {
     SCOPED_TRACE(reference[c].name);
     EXPECT_EQ(layout.cameras[c].name, reference[c].name);
@@ -192,7 +192,8 @@ TEST(VecEnvCameras, NothingIsRenderedWithoutCamerasAndOnlyPolicyTicksWithThem) {
   env.ResetEnv(1, 1);
   const int per_policy = env.model().physics.controls_per_policy();
   ASSERT_EQ(per_policy, 3);
-  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
+  std::unique_ptr<scenarios::Expert> expert =
+      scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
   for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
 
   // Slot 1 is one tick behind slot 0, so their policy ticks differ.
@@ -225,7 +226,8 @@ render::PixelProjection ProjectIntoHead(const VecEnv& env, int slot, int object,
   kinematics::ComputeLinkPoses(robot, env.state().q_row(slot), X_BL.data());
   const RigidTransform X_WC = MakeTransform(robot.root_world, Mat3::Identity()) *
                               kinematics::CameraPose(robot, robot.CameraIndex("head"), X_BL.data());
-  return render::ProjectWorldPoint(render::HeadCameraSpec(width, height), X_WC, env.state().ObjectPosition(slot, object));
+  return render::ProjectWorldPoint(render::HeadCameraSpec(width, height), X_WC,
+                                   env.state().ObjectPosition(slot, object));
 }
 
 // Tracks when the expert's gaze has settled on its first fixation: the commanded neck has turned
@@ -234,8 +236,8 @@ render::PixelProjection ProjectIntoHead(const VecEnv& env, int slot, int object,
 // test does not depend on the expert's internals.
 class GazeSettling {
  public:
-  explicit GazeSettling(int num_envs) : held_ticks_(static_cast<std::size_t>(num_envs), 0),
-                                        last_target_(static_cast<std::size_t>(num_envs)) {}
+  explicit GazeSettling(int num_envs)
+      : held_ticks_(static_cast<std::size_t>(num_envs), 0), last_target_(static_cast<std::size_t>(num_envs)) {}
 
   // Call once per control tick, before the policy acts.
   bool Settled(const VecEnv& env, int slot) {
@@ -255,7 +257,8 @@ class GazeSettling {
     for (std::size_t k = 0; k < 3; ++k) still = still && std::abs(target[k] - last[k]) < 1e-4;
     held = still ? held + 1 : 0;
     last_target_[static_cast<std::size_t>(slot)] = target;
-    const bool turned = std::abs(target[1] - robot.joints[static_cast<std::size_t>(robot.neck_joints[1])].default_position) > 0.2;
+    const bool turned =
+        std::abs(target[1] - robot.joints[static_cast<std::size_t>(robot.neck_joints[1])].default_position) > 0.2;
     return turned && held >= 6 && reached;
   }
 
@@ -284,7 +287,8 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
     VecEnv env(Model(robot), scenarios::FindScenario(kTask), scenarios::Split::kId, n, 0);
     env.EnableCameras(Cameras({"head"}, kWidth, kHeight, /*with_object_id=*/true));
     const int cube = env.model().ObjectIndex("red_cube");
-    std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), n, scenarios::ExpertMode::kGazeFirst);
+    std::unique_ptr<scenarios::Expert> expert =
+        scenarios::FindScenario(kTask).make_expert(env.model(), n, scenarios::ExpertMode::kGazeFirst);
     GazeSettling gaze(n);
     for (int slot = 0; slot < n; ++slot) {
       env.ResetEnv(slot, episodes[static_cast<std::size_t>(slot)]);
@@ -292,8 +296,8 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
     }
     const render::ImageBatch& images = *RenderNow(env);
     for (int slot = 0; slot < n; ++slot) {
-      EXPECT_EQ(FindObject(images, slot, 0, cube).count, 0) << "episode " << episodes[static_cast<std::size_t>(slot)]
-                                                            << ": the cube must start out of the head's view";
+      EXPECT_EQ(FindObject(images, slot, 0, cube).count, 0)
+          << "episode " << episodes[static_cast<std::size_t>(slot)] << ": the cube must start out of the head's view";
     }
 
     // Step until every env's expert has settled its gaze, at a policy tick.
@@ -356,7 +360,8 @@ TEST(VecEnvCameras, BlockedHeadImageIsAllZero) {
   env.ResetEnv(0, 0);
   env.ResetEnv(1, 0);  // the same episode in both slots
   env.SetCameraBlocked(0, env.renderer()->CameraIndex("head"), true);
-  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
+  std::unique_ptr<scenarios::Expert> expert =
+      scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
   for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
   RunExpert(env, *expert, 60);  // the head has turned to the table by now
 
@@ -400,7 +405,8 @@ std::vector<std::vector<uint8_t>> RecordImages(int threads, int slots) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   VecEnv env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, slots, 9);
   env.EnableCameras(Cameras(SceneCameraNames(), 40, 30));
-  std::unique_ptr<scenarios::Expert> expert = scenarios::FindScenario(kTask).make_expert(env.model(), slots, scenarios::ExpertMode::kGazeFirst);
+  std::unique_ptr<scenarios::Expert> expert =
+      scenarios::FindScenario(kTask).make_expert(env.model(), slots, scenarios::ExpertMode::kGazeFirst);
   std::vector<std::vector<uint8_t>> frames;
   std::vector<kinematics::Action> actions(static_cast<std::size_t>(slots));
   // Episodes 0, 1, 2 start one tick apart in slots 0, 1, 2 (or share slot 0 with one slot).
@@ -438,7 +444,8 @@ std::vector<std::vector<uint8_t>> RecordImages(int threads, int slots) {
       for (int c = 0; c < 4; ++c) per_episode[static_cast<std::size_t>(slot)].push_back(Rgb(*observed, slot, c));
     }
     for (int slot = 0; slot < 3; ++slot) {
-      if (env.state().episode[slot] >= 0) expert->Act(env.model(), env.state(), slot, actions[static_cast<std::size_t>(slot)]);
+      if (env.state().episode[slot] >= 0)
+        expert->Act(env.model(), env.state(), slot, actions[static_cast<std::size_t>(slot)]);
     }
     env.Step(actions);
   }

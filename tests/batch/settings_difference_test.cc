@@ -13,7 +13,9 @@ TEST(SettingsDifference, NamesChangedTopLevelKeys) {
 }
 
 TEST(SettingsDifference, NamesTheNestedKeyThatChangedNotTheWholeObject) {
-  const nlohmann::json was = {{"identity", {{"robot_config", {{"actuators", {{"arm", {{"velocity_limit", "5.0"}, {"effort_limit", "30.0"}}}}}}}}}};
+  const nlohmann::json was = {
+      {"identity",
+       {{"robot_config", {{"actuators", {{"arm", {{"velocity_limit", "5.0"}, {"effort_limit", "30.0"}}}}}}}}}};
   nlohmann::json now = was;
   now["identity"]["robot_config"]["actuators"]["arm"]["velocity_limit"] = "4.0";
   EXPECT_EQ(SettingsDifference(was, now), "identity.robot_config.actuators.arm.velocity_limit \"5.0\" -> \"4.0\"");

@@ -31,7 +31,8 @@ class StageFunnelTableTest : public ::testing::Test {
 };
 
 TEST_F(StageFunnelTableTest, PoolsSeedsPerTaskAndColumnWithTheSimulatorFaultsApart) {
-  const std::string stages = R"("stages": [{"stage": "target_approached", "reached": A}, {"stage": "target_grasped", "reached": G},
+  const std::string stages =
+      R"("stages": [{"stage": "target_approached", "reached": A}, {"stage": "target_grasped", "reached": G},
                                           {"stage": "target_lifted", "reached": L}])";
   auto cell = [&](int seed, int episodes, int successes, int approached, int grasped, int lifted, int faults) {
     std::string funnel = stages;

@@ -16,8 +16,8 @@
 #include "batch/episode_recorder.h"
 #include "batch/stage_record.h"
 #include "scenarios/registry.h"
-#include "wrong_side_policy.h"
 #include "tests/support/robot_loading.h"
+#include "wrong_side_policy.h"
 
 namespace tavis::batch {
 namespace {
@@ -39,7 +39,8 @@ class ObjectWatch : public EpisodeSink {
     target_y.push_back(state.ObjectPosition(slot, state.target(slot)).y());
     target_name.push_back(env.model().objects[static_cast<std::size_t>(state.target(slot))].name);
     start_z.emplace_back();
-    for (int object = 0; object < state.num_objects; ++object) start_z.back().push_back(state.ObjectPosition(slot, object).z());
+    for (int object = 0; object < state.num_objects; ++object)
+      start_z.back().push_back(state.ObjectPosition(slot, object).z());
     highest_z.push_back(start_z.back());
     slot_episode_.resize(static_cast<std::size_t>(env.num_envs()));
     slot_episode_[static_cast<std::size_t>(slot)] = highest_z.size() - 1;
@@ -50,14 +51,15 @@ class ObjectWatch : public EpisodeSink {
       if (!state.running(slot)) continue;
       std::vector<double>& highest = highest_z[slot_episode_[static_cast<std::size_t>(slot)]];
       for (int object = 0; object < state.num_objects; ++object) {
-        highest[static_cast<std::size_t>(object)] = std::max(highest[static_cast<std::size_t>(object)], state.ObjectPosition(slot, object).z());
+        highest[static_cast<std::size_t>(object)] =
+            std::max(highest[static_cast<std::size_t>(object)], state.ObjectPosition(slot, object).z());
       }
     }
   }
-  std::vector<double> target_y;                 // in start order
+  std::vector<double> target_y;  // in start order
   std::vector<std::string> target_name;
-  std::vector<std::vector<double>> start_z;     // [episode in start order][object]
-  std::vector<std::vector<double>> highest_z;   // the same, the highest seen
+  std::vector<std::vector<double>> start_z;    // [episode in start order][object]
+  std::vector<std::vector<double>> highest_z;  // the same, the highest seen
 
  private:
   std::vector<std::size_t> slot_episode_;
@@ -87,7 +89,8 @@ const StageReached& Stage(const EpisodeRecord& record, const std::string& name) 
 
 TEST(StageMetrics, ConditionalPickDeclaresTheCueThenThePickStages) {
   std::vector<std::string> names;
-  for (const scenarios::StageDef& stage : scenarios::FindScenario("conditional-pick").stages) names.push_back(stage.name);
+  for (const scenarios::StageDef& stage : scenarios::FindScenario("conditional-pick").stages)
+    names.push_back(stage.name);
   EXPECT_EQ(names, (std::vector<std::string>{"cue_fixated", "target_approached", "target_grasped", "target_lifted"}));
   EXPECT_EQ(StageNames("multi-shelf-scan"),
             (std::vector<std::string>{"target_approached", "target_grasped", "target_pulled"}));
@@ -177,7 +180,8 @@ TEST(StageMetrics, RecordsCarryStagesAndTargetsThroughTheirJsonLine) {
   record.stages = {{"target_approached", 120}, {"target_grasped", 300}, {"target_lifted", -1}};
   const std::string text = EpisodeJsonLine(record, 9);
   const nlohmann::json line = nlohmann::json::parse(text);
-  EXPECT_EQ(line.at("stages"), nlohmann::json({{"target_approached", true}, {"target_grasped", true}, {"target_lifted", false}}));
+  EXPECT_EQ(line.at("stages"),
+            nlohmann::json({{"target_approached", true}, {"target_grasped", true}, {"target_lifted", false}}));
   EXPECT_EQ(line.at("stage_ticks").at("target_grasped"), 300);
   EXPECT_TRUE(line.at("stage_ticks").at("target_lifted").is_null());
   EXPECT_EQ(line.at("target"), nlohmann::json({{"object", "red_cube"}, {"shelf", 2}}));
@@ -193,9 +197,10 @@ TEST(StageMetrics, RecordsCarryStagesAndTargetsThroughTheirJsonLine) {
   const EpisodeRecord old = ParseEpisodeJsonLine(
       R"({"end":"time_out","episode":0,"length_control_ticks":1200,"length_steps":400,"seed":0,"solver_messages":0,"success":false})");
   EXPECT_TRUE(old.stages.empty());
-  EXPECT_THROW(ParseEpisodeJsonLine(
-                   R"({"end":"time_out","episode":0,"length_control_ticks":1,"length_steps":1,"seed":0,"solver_messages":0,"success":false,"stage_ticks":{"target_grasped":"soon"}})"),
-               std::invalid_argument);
+  EXPECT_THROW(
+      ParseEpisodeJsonLine(
+          R"({"end":"time_out","episode":0,"length_control_ticks":1,"length_steps":1,"seed":0,"solver_messages":0,"success":false,"stage_ticks":{"target_grasped":"soon"}})"),
+      std::invalid_argument);
 }
 
 TEST(StageMetrics, TheFunnelCountsEpisodesThatReachedAStageAndEveryOneBefore) {
@@ -205,8 +210,10 @@ TEST(StageMetrics, TheFunnelCountsEpisodesThatReachedAStageAndEveryOneBefore) {
     r.stages = {{"target_lifted", lifted}, {"target_approached", approached}, {"target_grasped", grasped}};
     return r;
   };
-  const std::vector<EpisodeRecord> episodes = {record(10, 20, 30), record(10, -1, 40), record(-1, -1, -1), record(5, 9, -1)};
-  const std::vector<FunnelStep> funnel = StageFunnel({"target_approached", "target_grasped", "target_lifted"}, episodes);
+  const std::vector<EpisodeRecord> episodes = {record(10, 20, 30), record(10, -1, 40), record(-1, -1, -1),
+                                               record(5, 9, -1)};
+  const std::vector<FunnelStep> funnel =
+      StageFunnel({"target_approached", "target_grasped", "target_lifted"}, episodes);
   ASSERT_EQ(funnel.size(), 3u);
   EXPECT_EQ(funnel[0].reached, 3);
   EXPECT_EQ(funnel[1].reached, 2);

@@ -28,7 +28,8 @@ TEST_P(TaskSmoke, FiftyTicksStayFiniteAndAreEvaluated) {
   const auto& [task, robot_name] = GetParam();
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
   const kinematics::RobotModel robot = tavis::testing::LoadRobot(robot_name);
-  for (const scenarios::Split split : {scenarios::Split::kId, scenarios::Split::kOodSpatial, scenarios::Split::kOodInitPose}) {
+  for (const scenarios::Split split :
+       {scenarios::Split::kId, scenarios::Split::kOodSpatial, scenarios::Split::kOodInitPose}) {
     SCOPED_TRACE(scenarios::ToString(split));
     VecEnv env(BuildWorldModel(robot, scenario), scenario, split, 1, 3);
     env.ResetEnv(0, 2);
@@ -45,8 +46,8 @@ TEST_P(TaskSmoke, FiftyTicksStayFiniteAndAreEvaluated) {
       policy->Act(observation, only_env, actions);
       for (double value : actions[0]) ASSERT_TRUE(std::isfinite(value)) << "tick " << tick;
       env.Step(actions);
-      ASSERT_EQ(env.state().end[0], engine::EpisodeEnd::kRunning) << "tick " << tick << ": "
-                                                                    << engine::ToString(env.state().end[0]);
+      ASSERT_EQ(env.state().end[0], engine::EpisodeEnd::kRunning)
+          << "tick " << tick << ": " << engine::ToString(env.state().end[0]);
     }
     EXPECT_EQ(env.state().control_step[0], start + 50);
     for (double q : env.state().q) EXPECT_TRUE(std::isfinite(q));

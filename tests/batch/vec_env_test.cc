@@ -20,8 +20,7 @@ namespace {
 constexpr const char* kTask = "clutter-pick-cube";
 
 engine::WorldModel Model(const std::string& robot_name, double episode_length_s) {
-  const kinematics::RobotModel robot =
-      tavis::testing::LoadRobot(robot_name);
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot(robot_name);
   engine::WorldModel model = BuildWorldModel(robot, scenarios::FindScenario(kTask));
   model.physics.episode_length_s = episode_length_s;
   return model;
@@ -112,9 +111,10 @@ TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
       ASSERT_NO_THROW(env.Step(actions));
       for (int slot = 0; slot < 2; ++slot) {
         ASSERT_EQ(state.control_step[slot], tick) << "slot " << slot;
-        const engine::EpisodeEnd expected = tick < max_ticks ? engine::EpisodeEnd::kRunning : engine::EpisodeEnd::kTimeOut;
-        ASSERT_EQ(state.end[slot], expected) << "slot " << slot << ", tick " << tick << ": "
-                                             << engine::ToString(state.end[slot]);
+        const engine::EpisodeEnd expected =
+            tick < max_ticks ? engine::EpisodeEnd::kRunning : engine::EpisodeEnd::kTimeOut;
+        ASSERT_EQ(state.end[slot], expected)
+            << "slot " << slot << ", tick " << tick << ": " << engine::ToString(state.end[slot]);
         for (int j = 0; j < joints; ++j) {
           const double q = state.q_row(slot)[j];
           ASSERT_TRUE(std::isfinite(q)) << "slot " << slot << ", joint " << j << ", tick " << tick;

@@ -47,7 +47,8 @@ class WrongSidePolicy : public Policy {
       const int target = swapped_.target(env);
       const double target_y = swapped_.ObjectPosition(env, target).y();
       for (int object = 0; object < swapped_.num_objects; ++object) {
-        const bool dynamic = observation.model.objects[static_cast<std::size_t>(object)].motion == engine::ObjectMotion::kDynamic;
+        const bool dynamic =
+            observation.model.objects[static_cast<std::size_t>(object)].motion == engine::ObjectMotion::kDynamic;
         if (object == target || !dynamic || !swapped_.object_enabled_at(env, object)) continue;
         if (swapped_.ObjectPosition(env, object).y() * target_y < 0.0) {
           swapped_.task[env].target = object;

@@ -57,7 +57,8 @@ TEST(RobotConfig, NameThatDiffersFromTheFileNameIsRefused) {
     LoadRobotModel(path);
     FAIL() << "a file myrobot.yaml saying name: gr1t2 was accepted";
   } catch (const ConfigError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": name: 'gr1t2' differs from the file's name 'myrobot' (robots/NAME.yaml must say name: NAME)");
+    EXPECT_EQ(std::string(e.what()),
+              path + ": name: 'gr1t2' differs from the file's name 'myrobot' (robots/NAME.yaml must say name: NAME)");
   }
   std::string renamed = kGr1t2;
   renamed.replace(renamed.find("name: gr1t2"), std::string("name: gr1t2").size(), "name: myrobot");
@@ -76,7 +77,8 @@ TEST(RobotConfig, DeviceGivenAsAYamlFileIsNamed) {
 }
 
 TEST(RobotConfig, UnknownKeyIsNamedWithItsPath) {
-  const std::string text = std::regex_replace(kGr1t2, std::regex("  damping: 0.01"), "  damping: 0.01\n  dampnig: 0.02");
+  const std::string text =
+      std::regex_replace(kGr1t2, std::regex("  damping: 0.01"), "  damping: 0.01\n  dampnig: 0.02");
   EXPECT_NE(LoadError(text).find("ik.dampnig: unknown key 'dampnig'"), std::string::npos) << LoadError(text);
 }
 
@@ -95,7 +97,8 @@ TEST(RobotConfig, MalformedYamlIsReported) {
 }
 
 TEST(RobotConfig, UnknownJointInArmIsNamed) {
-  const std::string text = std::regex_replace(kGr1t2, std::regex("left_wrist_pitch_joint\\]"), "left_wrist_pich_joint]");
+  const std::string text =
+      std::regex_replace(kGr1t2, std::regex("left_wrist_pitch_joint\\]"), "left_wrist_pich_joint]");
   EXPECT_NE(LoadError(text).find("unknown joint 'left_wrist_pich_joint'"), std::string::npos) << LoadError(text);
 }
 

@@ -34,7 +34,8 @@ const Mutation kMutations[] = {
     {"NegativeFingerMass", "reachy2", "finger_mass: 0.1", "finger_mass: -0.1", "gripper.finger_mass", "got -0.1"},
     {"HugeLinkMass", "gr1t2", "default: -0.335, mass: 1.0}", "default: -0.335, mass: 1e308}", "joints[0].mass",
      "got 1e308"},
-    {"ZeroJointAxis", "gr1t2", "axis: [0, 1, 0]", "axis: [0, 0, 0]", "joints[0].axis", "[0, 0, 0] is not a unit vector"},
+    {"ZeroJointAxis", "gr1t2", "axis: [0, 1, 0]", "axis: [0, 0, 0]", "joints[0].axis",
+     "[0, 0, 0] is not a unit vector"},
     {"ZeroBoxSize", "gr1t2", "size: [0.224, 0.345, 0.174]", "size: [0.224, 0, 0.174]", "shapes[0].size[1]", "got 0"},
     {"NegativeBoxSize", "gr1t2", "size: [0.056, 0.046, 0.036]", "size: [-0.056, 0.046, 0.036]", "shapes[13].size[0]",
      "got -0.056"},
@@ -49,11 +50,13 @@ const Mutation kMutations[] = {
     {"IkLinkAboveTheWrist", "gr1t2", "ik_link: left_hand_pitch_link", "ik_link: left_lower_arm_pitch_link",
      "arms.left.ik_link", "not moved by the arm's joint 'left_wrist_yaw_joint'"},
     // Silently accepted before: masses raised, duplicate keys, meaningless limits.
-    {"LinkMassBelowEngineMinimum", "gr1t2", "upper: 0.96, default: 0.0, mass: 0.2}", "upper: 0.96, default: 0.0, mass: 0.01}",
-     "joints[5].mass", "got 0.01, expected a value in [0.05, 1000] kg"},
+    {"LinkMassBelowEngineMinimum", "gr1t2", "upper: 0.96, default: 0.0, mass: 0.2}",
+     "upper: 0.96, default: 0.0, mass: 0.01}", "joints[5].mass", "got 0.01, expected a value in [0.05, 1000] kg"},
     {"NanLinkMass", "gr1t2", "default: -0.335, mass: 1.0}", "default: -0.335, mass: .nan}", "joints[0].mass", "'.nan'"},
-    {"NonUnitJointAxis", "reachy2", "axis: [0, 1, 0]", "axis: [0, 1, 1]", "joints[0].axis", "[0, 1, 1] is not a unit vector"},
-    {"HugeBoxSize", "gr1t2", "size: [0.283, 0.288, 0.388]", "size: [283, 0.288, 0.388]", "shapes[5].size[0]", "got 283"},
+    {"NonUnitJointAxis", "reachy2", "axis: [0, 1, 0]", "axis: [0, 1, 1]", "joints[0].axis",
+     "[0, 1, 1] is not a unit vector"},
+    {"HugeBoxSize", "gr1t2", "size: [0.283, 0.288, 0.388]", "size: [283, 0.288, 0.388]", "shapes[5].size[0]",
+     "got 283"},
     {"ZeroCylinderHeight", "reachy2", "height: 0.19", "height: 0", "shapes[0].height", "got 0"},
     {"CapsuleWithoutLength", "gr1t2", "a: [0, 0, 0], b: [0, 0.095, 0]", "a: [0, 0, 0], b: [0, 0, 0]", "shapes[8].b",
      "[0, 0, 0] equals end a"},
@@ -61,7 +64,8 @@ const Mutation kMutations[] = {
      "lower limit 1.92 is not below upper limit -2.79"},
     {"JointLimitsEqual", "reachy2", "lower: -0.35, upper: 0.35", "lower: 0.0, upper: 0.0", "joints[14].lower",
      "lower limit 0 is not below upper limit 0"},
-    {"JointLimitOutOfRange", "gr1t2", "lower: -2.97, upper: 2.97", "lower: -297, upper: 2.97", "joints[2].lower", "got -297"},
+    {"JointLimitOutOfRange", "gr1t2", "lower: -2.97, upper: 2.97", "lower: -297, upper: 2.97", "joints[2].lower",
+     "got -297"},
     {"DefaultOutsideLimits", "gr1t2", "default: -0.335", "default: 2.5", "joints[0].default", "position 2.5 outside"},
     {"NegativeVelocityLimit", "gr1t2", "arm: {velocity_limit: 5.0", "arm: {velocity_limit: -5.0",
      "actuators.arm.velocity_limit", "got -5.0"},
@@ -69,14 +73,15 @@ const Mutation kMutations[] = {
     {"NegativePositionGain", "gr1t2", "position_gain: 60.0", "position_gain: -60.0", "actuators.arm.position_gain",
      "got -60.0"},
     {"NegativeIkDamping", "gr1t2", "damping: 0.01", "damping: -0.01", "ik.damping", "got -0.01"},
-    {"NegativeNullspaceGain", "reachy2", "nullspace_gain: 0.1", "nullspace_gain: -0.1", "ik.nullspace_gain", "got -0.1"},
+    {"NegativeNullspaceGain", "reachy2", "nullspace_gain: 0.1", "nullspace_gain: -0.1", "ik.nullspace_gain",
+     "got -0.1"},
     {"NegativeClosedGap", "reachy2", "closed_gap: 0.003", "closed_gap: -0.003", "gripper.closed_gap", "got -0.003"},
     {"ClosedGapNotBelowOpenGap", "gr1t2", "closed_gap: 0.0", "closed_gap: 0.1", "gripper.closed_gap",
      "closed_gap 0.1 is not below open_gap 0.085"},
     {"NegativeGripperForce", "gr1t2", "max_force: 20.0", "max_force: -20.0", "gripper.max_force", "got -20.0"},
     {"ZeroGripperSpeed", "reachy2", "max_speed: 0.15", "max_speed: 0", "gripper.max_speed", "got 0"},
-    {"ZeroPadSize", "gr1t2", "pad_size: [0.022, 0.008, 0.0375]", "pad_size: [0.022, 0.0, 0.0375]", "gripper.pad_size[1]",
-     "got 0.0"},
+    {"ZeroPadSize", "gr1t2", "pad_size: [0.022, 0.008, 0.0375]", "pad_size: [0.022, 0.0, 0.0375]",
+     "gripper.pad_size[1]", "got 0.0"},
     {"NegativeHousingSize", "gr1t2", "size: [0.075, 0.085, 0.093]", "size: [-0.075, 0.085, 0.093]",
      "gripper.housing.size[0]", "got -0.075"},
     {"PadsInsideTheHousing", "gr1t2", "pad_center_xyz: [0.0, 0.0, -0.160]", "pad_center_xyz: [0.0, 0.0, -0.05]",
@@ -102,9 +107,11 @@ const Mutation kMutations[] = {
     {"ArmsShareAJoint", "reachy2", "[r_shoulder_pitch, r_shoulder_roll", "[l_shoulder_pitch, r_shoulder_roll",
      "arms.right.joints", "joint 'l_shoulder_pitch' is already in arms.left.joints"},
     {"ArmJointTwice", "gr1t2", "left_wrist_roll_joint, left_wrist_pitch_joint]",
-     "left_wrist_roll_joint, left_wrist_roll_joint]", "arms.left.joints", "joint 'left_wrist_roll_joint' appears twice"},
+     "left_wrist_roll_joint, left_wrist_roll_joint]", "arms.left.joints",
+     "joint 'left_wrist_roll_joint' appears twice"},
     {"JointDrivenByNothing", "gr1t2", "\n\n# TAVIS actuators",
-     "\n  - {name: extra_joint, parent: head_yaw_link, child: extra_link, xyz: [0, 0, 0], rpy: [0, 0, 0], axis: [0, 0, 1], "
+     "\n  - {name: extra_joint, parent: head_yaw_link, child: extra_link, xyz: [0, 0, 0], rpy: [0, 0, 0], axis: [0, 0, "
+     "1], "
      "lower: -1, upper: 1, default: 0, mass: 0.1}\n\n# TAVIS actuators",
      "joints[17].name", "joint 'extra_joint' is in neither arm nor the neck"},
     {"FrameAngleOutOfRange", "gr1t2", "rpy: [0, 0, 0]}", "rpy: [0, 0, 90]}", "frames[0].rpy[2]", "got 90"},
@@ -123,9 +130,7 @@ std::string ReadFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-std::string ShippedRobot(const std::string& robot) {
-  return ReadFile(RobotConfigPath(TAVIS_CONFIG_DIR, robot));
-}
+std::string ShippedRobot(const std::string& robot) { return ReadFile(RobotConfigPath(TAVIS_CONFIG_DIR, robot)); }
 
 // ROBOT.yaml (a robot file's name must match its name: key) in a per-test folder: ctest runs
 // each case as its own process, in parallel.
@@ -160,7 +165,9 @@ TEST_P(RobotConfigValidation, NamesFileKeyAndValue) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Mutations, RobotConfigValidation, ::testing::ValuesIn(kMutations),
-                         [](const ::testing::TestParamInfo<Mutation>& mutation) { return std::string(mutation.param.name); });
+                         [](const ::testing::TestParamInfo<Mutation>& mutation) {
+                           return std::string(mutation.param.name);
+                         });
 
 TEST(RobotConfigValidationExtra, ShippedRobotsPassUnchanged) {
   for (const char* robot : {"gr1t2", "reachy2"}) {

@@ -77,7 +77,8 @@ double CubeHeightAfterLift(double friction) {
   PhysicsWorld world(model);
   world.SetFriction(Material::kFingerPad, friction);
   world.SetFriction(Material::kObject, friction);
-  const std::vector<double> q_grasp = LeftArmAt(model.robot, kCubeOnTable + Vec3(0, 0, 0.005), model.robot.DefaultPositions());
+  const std::vector<double> q_grasp =
+      LeftArmAt(model.robot, kCubeOnTable + Vec3(0, 0, 0.005), model.robot.DefaultPositions());
   world.ResetRobot(q_grasp.data());
   world.SetObject(kCube, kCubeOnTable, Quat::Identity(), true);
   const Observed closed = StepFor(world, q_grasp, 1.0, 0.8, model);
@@ -87,13 +88,9 @@ double CubeHeightAfterLift(double friction) {
   return StepAlong(world, q_grasp, q_lift, 1.0, 1.5, model).pose[2];
 }
 
-TEST(PhysicsWorld, FrictionGraspLiftsTheCube) {
-  EXPECT_GT(CubeHeightAfterLift(1.0), kCubeOnTable.z() + 0.10);
-}
+TEST(PhysicsWorld, FrictionGraspLiftsTheCube) { EXPECT_GT(CubeHeightAfterLift(1.0), kCubeOnTable.z() + 0.10); }
 
-TEST(PhysicsWorld, FrictionlessGraspLetsTheCubeSlip) {
-  EXPECT_LT(CubeHeightAfterLift(0.0), kCubeOnTable.z() + 0.02);
-}
+TEST(PhysicsWorld, FrictionlessGraspLetsTheCubeSlip) { EXPECT_LT(CubeHeightAfterLift(0.0), kCubeOnTable.z() + 0.02); }
 
 TEST(PhysicsWorld, MotionCommandedIntoTheTableStopsAtTheTable) {
   const WorldModel model = CubeOnTableWorld();

@@ -22,7 +22,7 @@ TEST(ActionCheck, AcceptsAnOrdinaryActionAndAnUnnormalisedQuaternion) {
   Action action = Reasonable();
   EXPECT_FALSE(FindActionDefect(action).found());
   action[action::kArmQuaternion[1]] = 7.0;  // normalised by the IK
-  action[action::kNeckYaw] = 1e300;        // clamped to the joint's range
+  action[action::kNeckYaw] = 1e300;         // clamped to the joint's range
   EXPECT_FALSE(FindActionDefect(action).found());
 }
 

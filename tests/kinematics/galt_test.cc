@@ -24,9 +24,7 @@ struct Trajectory {
   int num_steps = 0;
 
   TrajectoryView view() const { return {values.data(), num_steps, action::kSize}; }
-  double& at(int step, int column) {
-    return values[static_cast<std::size_t>(step) * action::kSize + column];
-  }
+  double& at(int step, int column) { return values[static_cast<std::size_t>(step) * action::kSize + column]; }
 };
 
 // The conformance CSVs are plain: no header, 19 numbers per row.
@@ -41,9 +39,7 @@ Trajectory LoadConformanceCsv(const std::string& path) {
     while (std::getline(fields, field, ',')) trajectory.values.push_back(std::stod(field));
     ++trajectory.num_steps;
   }
-  EXPECT_EQ(trajectory.values.size(),
-            static_cast<std::size_t>(trajectory.num_steps) * action::kSize)
-      << path;
+  EXPECT_EQ(trajectory.values.size(), static_cast<std::size_t>(trajectory.num_steps) * action::kSize) << path;
   return trajectory;
 }
 
@@ -77,23 +73,19 @@ std::string Mismatch(const GaltResult& actual, const nlohmann::json& expected) {
     out << " reason " << ToString(actual.reason) << " != " << expected.at("reason");
   }
   const std::string arm = actual.arm ? Name(*actual.arm) : "null";
-  const std::string expected_arm =
-      expected.at("arm").is_null() ? "null" : expected.at("arm").get<std::string>();
+  const std::string expected_arm = expected.at("arm").is_null() ? "null" : expected.at("arm").get<std::string>();
   if (arm != expected_arm) out << " arm " << arm << " != " << expected_arm;
-  const std::pair<const char*, const std::optional<double>*> times[] = {
-      {"galt_s", &actual.galt_s},
-      {"t_head_arrival_s", &actual.t_head_arrival_s},
-      {"t_hand_arrival_s", &actual.t_hand_arrival_s},
-      {"t_hand_onset_s", &actual.t_hand_onset_s},
-      {"arm_reach_s", &actual.arm_reach_s}};
+  const std::pair<const char*, const std::optional<double>*> times[] = {{"galt_s", &actual.galt_s},
+                                                                        {"t_head_arrival_s", &actual.t_head_arrival_s},
+                                                                        {"t_hand_arrival_s", &actual.t_hand_arrival_s},
+                                                                        {"t_hand_onset_s", &actual.t_hand_onset_s},
+                                                                        {"arm_reach_s", &actual.arm_reach_s}};
   for (const auto& [key, value] : times) {
     const nlohmann::json& want = expected.at(key);
-    const bool agree = want.is_null() ? !value->has_value()
-                                      : value->has_value() &&
-                                            std::abs(**value - want.get<double>()) <= 1e-9;
+    const bool agree =
+        want.is_null() ? !value->has_value() : value->has_value() && std::abs(**value - want.get<double>()) <= 1e-9;
     if (!agree) {
-      out << " " << key << " " << (value->has_value() ? std::to_string(**value) : "null")
-          << " != " << want;
+      out << " " << key << " " << (value->has_value() ? std::to_string(**value) : "null") << " != " << want;
     }
   }
   return out.str();
@@ -195,9 +187,9 @@ class EpisodeBuilder {
 TEST(Galt, ReferenceSelfTest) {
   const double fps = 60.0;
   Trajectory episode = EpisodeBuilder(300).trajectory();
-  const int head_samples = 60;   // t < 1.0 s
-  const int reach_begin = 84;    // 1.4 s
-  const int grasp = 120;         // 2.0 s
+  const int head_samples = 60;  // t < 1.0 s
+  const int reach_begin = 84;   // 1.4 s
+  const int grasp = 120;        // 2.0 s
   const double target[3] = {0.5, -0.2, 0.3};
   for (int t = 0; t < episode.num_steps; ++t) {
     const double pitch = t < head_samples ? 0.8 * t / (head_samples - 1) : 0.8;
@@ -218,8 +210,8 @@ TEST(Galt, ReferenceSelfTest) {
   EXPECT_EQ(*result.arm, Side::kRight);
   ASSERT_TRUE(result.galt_s.has_value());
   EXPECT_NEAR(*result.galt_s, 1.0, 0.1);
-  std::cout << "[ self-test ] reason " << ToString(result.reason) << ", arm "
-            << Name(*result.arm) << ", GALT " << *result.galt_s << " s\n";
+  std::cout << "[ self-test ] reason " << ToString(result.reason) << ", arm " << Name(*result.arm) << ", GALT "
+            << *result.galt_s << " s\n";
 }
 
 TEST(Galt, FewerThanTenStepsIsTooShort) {
@@ -263,10 +255,8 @@ TEST(Galt, BothArmsValidIsAmbiguous) {
 
 TEST(Galt, HandRestingRightUpToTheGraspHasNoOnset) {
   // The gripper closes while the hand has been still for the whole episode.
-  const Trajectory episode = EpisodeBuilder(100)
-                                .Ramp(action::kNeckYaw, 0, 20, 0.0, 0.6)
-                                .Gripper(Side::kRight, 60, 1.0)
-                                .trajectory();
+  const Trajectory episode =
+      EpisodeBuilder(100).Ramp(action::kNeckYaw, 0, 20, 0.0, 0.6).Gripper(Side::kRight, 60, 1.0).trajectory();
   EXPECT_EQ(ComputeGalt(episode.view(), 20.0).reason, GaltReason::kNoHandOnset);
 }
 
@@ -318,26 +308,21 @@ TEST(Galt, ComparisonsAtThresholdsFollowTheReference) {
   builder.Ramp(action::kNeckYaw, 0, 20, 0.0, 2.5).Reach(Side::kRight, 60, 80);
   GaltParams params;
   params.arrival_margin_rad = 0.25;
-  EXPECT_DOUBLE_EQ(*ComputeGalt(builder.trajectory().view(), fps, params).t_head_arrival_s,
-                   19 / fps);
+  EXPECT_DOUBLE_EQ(*ComputeGalt(builder.trajectory().view(), fps, params).t_head_arrival_s, 19 / fps);
   // Default margin: arrival at step 20. GALT exactly outlier_max_s (4 s = 64 steps) is valid,
   // one step more is outlier_high.
-  EXPECT_EQ(ComputeGalt(EpisodeBuilder(120)
-                            .Ramp(action::kNeckYaw, 0, 20, 0.0, 2.5)
-                            .Reach(Side::kRight, 60, 84)
-                            .trajectory()
-                            .view(),
-                        fps)
-                .galt_s,
-            4.0);
-  EXPECT_EQ(ComputeGalt(EpisodeBuilder(120)
-                            .Ramp(action::kNeckYaw, 0, 20, 0.0, 2.5)
-                            .Reach(Side::kRight, 60, 85)
-                            .trajectory()
-                            .view(),
-                        fps)
-                .reason,
-            GaltReason::kOutlierHigh);
+  EXPECT_EQ(
+      ComputeGalt(
+          EpisodeBuilder(120).Ramp(action::kNeckYaw, 0, 20, 0.0, 2.5).Reach(Side::kRight, 60, 84).trajectory().view(),
+          fps)
+          .galt_s,
+      4.0);
+  EXPECT_EQ(
+      ComputeGalt(
+          EpisodeBuilder(120).Ramp(action::kNeckYaw, 0, 20, 0.0, 2.5).Reach(Side::kRight, 60, 85).trajectory().view(),
+          fps)
+          .reason,
+      GaltReason::kOutlierHigh);
   // A hand moving at exactly v_hand_thresh is not at rest (<): 1/32 m per step at 16 Hz is
   // 0.5 m/s. The rest before step 30 gives the onset; were the movement counted as rest, the
   // rest would end at the grasp and there would be no onset.
@@ -359,19 +344,15 @@ TEST(Galt, LastSpeedRepeatsTheOneBefore) {
   // is clamped to 1 step).
   GaltParams params;
   params.k_fix_s = 0.01;
-  const Trajectory episode = EpisodeBuilder(70)
-                                 .Ramp(action::kNeckYaw, 0, 70, 0.0, 7.0)
-                                 .Reach(Side::kRight, 40, 65)
-                                 .trajectory();
+  const Trajectory episode =
+      EpisodeBuilder(70).Ramp(action::kNeckYaw, 0, 70, 0.0, 7.0).Reach(Side::kRight, 40, 65).trajectory();
   EXPECT_EQ(ComputeGalt(episode.view(), 20.0, params).reason, GaltReason::kNoFixation);
 }
 
 TEST(Galt, HeadStillMovingIsNoFixation) {
   // The neck sweeps continuously at 2 rad/s, never slower than v_sac_thresh.
-  const Trajectory episode = EpisodeBuilder(100)
-                                .Ramp(action::kNeckYaw, 0, 100, 0.0, 9.9)
-                                .Reach(Side::kRight, 40, 60)
-                                .trajectory();
+  const Trajectory episode =
+      EpisodeBuilder(100).Ramp(action::kNeckYaw, 0, 100, 0.0, 9.9).Reach(Side::kRight, 40, 60).trajectory();
   EXPECT_EQ(ComputeGalt(episode.view(), 20.0).reason, GaltReason::kNoFixation);
 }
 
@@ -388,8 +369,7 @@ TEST(Galt, PersistenceStepsRoundHalfToEven) {
   EXPECT_EQ(half.reason, GaltReason::kOk);
   EXPECT_DOUBLE_EQ(*half.t_head_arrival_s, 30 / 20.0);
   params.k_fix_s = 0.15;  // 3 steps
-  EXPECT_EQ(ComputeGalt(builder.trajectory().view(), 20.0, params).reason,
-            GaltReason::kNoFixation);
+  EXPECT_EQ(ComputeGalt(builder.trajectory().view(), 20.0, params).reason, GaltReason::kNoFixation);
 }
 
 TEST(Galt, LateHeadArrivalIsOutlierAndPostAnchorIsFlagged) {

@@ -57,8 +57,8 @@ TEST(CameraTest, ProjectionMatchesHandComputedPixels) {
   EXPECT_NEAR(head.u, 320.0 - head_fx * 0.05, 1e-9);
   EXPECT_NEAR(head.v, 240.0 - head_fx * 0.1, 1e-9);
   EXPECT_TRUE(IsVisibleInImage(HeadCameraSpec(), head));
-  EXPECT_FALSE(IsVisibleInImage(HeadCameraSpec(), ProjectWorldPoint(HeadCameraSpec(), RigidTransform::Identity(),
-                                                                    Vec3(-1.0, 0.0, 0.0))));
+  EXPECT_FALSE(IsVisibleInImage(HeadCameraSpec(),
+                                ProjectWorldPoint(HeadCameraSpec(), RigidTransform::Identity(), Vec3(-1.0, 0.0, 0.0))));
 }
 
 TEST(CameraTest, LookAtPointsTheOpticalAxisAtTheTarget) {

@@ -53,7 +53,8 @@ TEST_P(GoldenImageTest, MatchesStoredPng) {
   for (int i = 0; i < pixels; ++i) {
     int largest = 0;
     for (int channel = 0; channel < 3; ++channel) {
-      const int diff = std::abs(int{rendered[3 * i + channel]} - int{golden.pixels[static_cast<std::size_t>(3 * i + channel)]});
+      const int diff =
+          std::abs(int{rendered[3 * i + channel]} - int{golden.pixels[static_cast<std::size_t>(3 * i + channel)]});
       abs_diff_sum += diff;
       largest = std::max(largest, diff);
     }

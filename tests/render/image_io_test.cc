@@ -47,7 +47,8 @@ TEST(ImageIoTest, ContactSheetTilesFourLabelledViews) {
   const int height = 48;
   const int width = 64;
   std::vector<std::vector<uint8_t>> views;
-  for (int v = 0; v < 4; ++v) views.emplace_back(static_cast<std::size_t>(height * width * 3), static_cast<uint8_t>(50 * (v + 1)));
+  for (int v = 0; v < 4; ++v)
+    views.emplace_back(static_cast<std::size_t>(height * width * 3), static_cast<uint8_t>(50 * (v + 1)));
   const std::vector<std::string> labels = {"head", "fixed", "left_wrist", "right_wrist"};
   std::vector<LabelledImage> images;
   for (int v = 0; v < 4; ++v) images.push_back({labels[v], height, width, views[v].data()});
@@ -61,7 +62,7 @@ TEST(ImageIoTest, ContactSheetTilesFourLabelledViews) {
     const int x0 = kMargin + (v % 2) * (width + kMargin);
     const int y0 = kMargin + (v / 2) * (height + kMargin);
     EXPECT_EQ(pixel(x0 + width - 2, y0 + height - 2), 50 * (v + 1)) << labels[v];  // the image itself
-    int label_pixels = 0;                                                           // its top-left label
+    int label_pixels = 0;                                                          // its top-left label
     for (int y = y0; y < y0 + 12; ++y) {
       for (int x = x0; x < x0 + 30; ++x) label_pixels += pixel(x, y) != 50 * (v + 1) ? 1 : 0;
     }

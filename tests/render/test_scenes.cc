@@ -55,8 +55,8 @@ RigidTransform PitchedHeadCameraPose(double pitch_deg) {
 }
 
 RigidTransform Gr1t2WristCameraPose(const RigidTransform& X_W_hand) {
-  const RigidTransform X_hand_camera =
-      MakeTransform(Vec3(0.15, 0.0, 0.05), QuatFromWxyz(0.4617486, 0.0, 0.8870108, 0.0).normalized().toRotationMatrix());
+  const RigidTransform X_hand_camera = MakeTransform(
+      Vec3(0.15, 0.0, 0.05), QuatFromWxyz(0.4617486, 0.0, 0.8870108, 0.0).normalized().toRotationMatrix());
   return X_W_hand * X_hand_camera;
 }
 
@@ -66,7 +66,8 @@ TestScene GoldenScene(int width, int height) {
   const Appearance& table = PaletteAppearance("table");
   scene.Add(MakeBox(Vec3(0.9, 1.2, 0.04)), table, kBackgroundObjectId, At(0.6, -0.1, 0.98));
   for (const double x : {0.2, 1.0}) {
-    for (const double y : {-0.65, 0.45}) scene.Add(MakeBox(Vec3(0.05, 0.05, 0.96)), table, kBackgroundObjectId, At(x, y, 0.48));
+    for (const double y : {-0.65, 0.45})
+      scene.Add(MakeBox(Vec3(0.05, 0.05, 0.96)), table, kBackgroundObjectId, At(x, y, 0.48));
   }
   scene.Add(MakeBox(Vec3::Constant(0.055)), PaletteAppearance("red_cube"), 0, At(0.45, 0.0, 1.0275, 20.0));
   scene.Add(MakeCylinder(0.0248, 0.0758), PaletteAppearance("soup_can"), 1, At(0.42, 0.15, 1.0379));

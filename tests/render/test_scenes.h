@@ -13,8 +13,8 @@ namespace tavis::render::testing {
 struct TestScene {
   SceneLayout layout;
   int n_envs = 1;
-  std::vector<RigidTransform> X_WI;   // [env][instance]
-  std::vector<RigidTransform> X_WC;   // [env][camera]
+  std::vector<RigidTransform> X_WI;  // [env][instance]
+  std::vector<RigidTransform> X_WC;  // [env][camera]
   std::vector<uint8_t> instance_visible;
   std::vector<uint8_t> camera_enabled;
 

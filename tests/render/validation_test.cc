@@ -70,7 +70,8 @@ TEST(ValidationTest, InputErrorsNameTheArrayAndIndex) {
 
   testing::TestScene short_poses = scene;
   short_poses.X_WI.pop_back();
-  ExpectInvalid([&] { renderer.Render(short_poses.Inputs(), &images); }, "X_WI has 17 elements, expected 18 (n_envs x n_instances)");
+  ExpectInvalid([&] { renderer.Render(short_poses.Inputs(), &images); },
+                "X_WI has 17 elements, expected 18 (n_envs x n_instances)");
 
   BatchRenderer one_env(scene.layout, 1);
   ImageBatch wrong_batch = one_env.MakeImageBatch();

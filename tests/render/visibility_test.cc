@@ -32,11 +32,11 @@ TestScene WristViewOf(const std::vector<Vec3>& sphere_centres) {
 
 TEST(VisibilityTest, ObjectsOutsideTheFrustumOrBeyondTheFarPlaneDoNotAppear) {
   TestScene scene = WristViewOf({
-      Vec3(0.8, 0.0, 0.0),    // 0: in view, inside the 1 m far plane
-      Vec3(1.3, 0.1, 0.0),    // 1: in the field of view, beyond the far plane
-      Vec3(0.5, 0.5, 0.0),    // 2: 45 deg to the side, outside the 26.5 deg half field of view
-      Vec3(-0.5, 0.0, 0.0),   // 3: behind the camera
-      Vec3(0.05, 0.0, 0.0),   // 4: nearer than the 0.10 m near plane (the sphere spans 0.02-0.08)
+      Vec3(0.8, 0.0, 0.0),   // 0: in view, inside the 1 m far plane
+      Vec3(1.3, 0.1, 0.0),   // 1: in the field of view, beyond the far plane
+      Vec3(0.5, 0.5, 0.0),   // 2: 45 deg to the side, outside the 26.5 deg half field of view
+      Vec3(-0.5, 0.0, 0.0),  // 3: behind the camera
+      Vec3(0.05, 0.0, 0.0),  // 4: nearer than the 0.10 m near plane (the sphere spans 0.02-0.08)
   });
   BatchRenderer renderer(scene.layout, 1, IdsAndDepth());
   ImageBatch images = renderer.MakeImageBatch();
@@ -115,7 +115,8 @@ TEST(VisibilityTest, BoxCastsAShadowOnTheTable) {
   auto render_table = [](bool shadows) {
     TestScene scene;
     scene.layout.lighting.shadows = shadows;
-    scene.Add(MakeBox(Vec3(0.9, 1.2, 0.04)), PaletteAppearance("table"), kBackgroundObjectId, At(Vec3(0.6, -0.1, 0.98)));
+    scene.Add(MakeBox(Vec3(0.9, 1.2, 0.04)), PaletteAppearance("table"), kBackgroundObjectId,
+              At(Vec3(0.6, -0.1, 0.98)));
     scene.Add(MakeBox(Vec3::Constant(0.1)), PaletteAppearance("red_cube"), 0, At(Vec3(0.5, 0.0, 1.05)));
     scene.AddCamera(FixedCameraSpec(), FixedCameraPose());
     BatchRenderer renderer(scene.layout, 1);

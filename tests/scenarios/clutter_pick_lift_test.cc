@@ -36,7 +36,8 @@ TEST(ClutterPickLift, EveryObjectStaysAndThePromptNamesTheTarget) {
     ASSERT_LT(target, 5);
     const std::string prompt = scenario.prompt(state, 0);
     bool named = false;
-    for (const std::string& word : kNames[static_cast<std::size_t>(target)]) named |= prompt.find(word) != std::string::npos;
+    for (const std::string& word : kNames[static_cast<std::size_t>(target)])
+      named |= prompt.find(word) != std::string::npos;
     EXPECT_TRUE(named) << "target " << target << ": " << prompt;
     prompts.insert(prompt);
     targets.insert(target);

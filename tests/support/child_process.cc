@@ -68,7 +68,8 @@ std::string ChildProcess::ReadAllOutput(std::chrono::milliseconds timeout) {
   std::string output;
   std::array<char, 65536> chunk{};
   while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) {
       throw std::runtime_error(description_ + " did not finish within " + std::to_string(timeout.count()) + " ms");
     }

@@ -33,7 +33,8 @@ TEST_F(AuditCommand, SmallRunPrintsTheTableAndWritesAuditJson) {
   fs::create_directories(dir);
   const fs::path other = dir / "notes.txt";
   { std::ofstream(other) << "kept"; }
-  const RunResult run = Run("audit --task conditional-pick --episodes 2 --image-size 64x64 --out " + Quote(dir.string()));
+  const RunResult run =
+      Run("audit --task conditional-pick --episodes 2 --image-size 64x64 --out " + Quote(dir.string()));
   ASSERT_EQ(run.exit_code, 0) << run.err;
 
   const std::vector<std::string> lines = Lines(run.out);
@@ -50,7 +51,8 @@ TEST_F(AuditCommand, SmallRunPrintsTheTableAndWritesAuditJson) {
   EXPECT_EQ(ReadText(other), "kept");
 
   const nlohmann::json audit = nlohmann::json::parse(ReadText(dir / "audit.json"));
-  for (const char* key : {"split", "seed", "episodes", "image_width", "image_height", "visible", "visible_fraction", "cells"}) {
+  for (const char* key :
+       {"split", "seed", "episodes", "image_width", "image_height", "visible", "visible_fraction", "cells"}) {
     EXPECT_TRUE(audit.contains(key)) << key << " missing";
   }
   EXPECT_EQ(audit.at("visible_fraction").get<double>(), 0.01);

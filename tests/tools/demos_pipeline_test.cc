@@ -30,7 +30,8 @@ nlohmann::json ReadJson(const fs::path& path) { return nlohmann::json::parse(Rea
 dataset::testing::RgbFrame Png(const fs::path& path) { return render::ReadPng(path.string()).pixels; }
 
 // The files of a dataset folder (its Snapshot) by their path inside it, without the run's report.
-std::map<std::string, std::string> DatasetFiles(const std::map<std::string, std::string>& snapshot, const fs::path& dir) {
+std::map<std::string, std::string> DatasetFiles(const std::map<std::string, std::string>& snapshot,
+                                                const fs::path& dir) {
   std::map<std::string, std::string> files;
   for (const auto& [path, text] : snapshot) {
     if (path.find("tavis_demos.json") == std::string::npos) files[path.substr(dir.string().size())] = text;
@@ -40,10 +41,11 @@ std::map<std::string, std::string> DatasetFiles(const std::map<std::string, std:
 
 TEST_F(DemosPipeline, TheFrameLeRobotLooksUpIsTheImageRenderedAfterThatAction) {
   const fs::path dataset_dir = root_ / "dataset";
-  ASSERT_EQ(Run("demos --task clutter-pick-cube --episodes 1 --fps 60 --image-size 128x96 --cameras head --quiet --out " +
-                Quote(dataset_dir.string()))
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      Run("demos --task clutter-pick-cube --episodes 1 --fps 60 --image-size 128x96 --cameras head --quiet --out " +
+          Quote(dataset_dir.string()))
+          .exit_code,
+      0);
   // Frame k holds the observation after action k: the scene after k + 1 control ticks.
   constexpr int kFrame = 59;
   const RunResult render = Run("render --task clutter-pick-cube --seed 0 --episode 0 --width 128 --height 96 --steps " +
@@ -53,7 +55,8 @@ TEST_F(DemosPipeline, TheFrameLeRobotLooksUpIsTheImageRenderedAfterThatAction) {
       (dataset_dir / "videos/observation.images.OBS_HEAD/chunk-000/file-000.mp4").string(), 60,
       {{0.0, kFrame}, {0.0, 0}}, root_.string());
   ASSERT_TRUE(report.frames[0] && report.frames[1]) << report.stream.dump();
-  const dataset::testing::RgbFrame rendered = Png(root_ / "views" / ("tick" + std::to_string(kFrame + 1) + "_head.png"));
+  const dataset::testing::RgbFrame rendered =
+      Png(root_ / "views" / ("tick" + std::to_string(kFrame + 1) + "_head.png"));
   const double same = dataset::testing::Psnr(*report.frames[0], rendered);
   const double earlier = dataset::testing::Psnr(*report.frames[1], rendered);
   // H.264 at crf 23 keeps about 31-32 dB of these small frames, about what separates neighbouring
@@ -70,7 +73,8 @@ TEST_F(DemosPipeline, GaltTableOfTheDatasetEqualsTheCellsForTheSameEpisodes) {
   const nlohmann::json summary = ReadJson(root_ / "cell" / "summary.json");
   ASSERT_EQ(summary["n_successful"], 6) << "the comparison needs every episode in the dataset";
 
-  const RunResult demos = Run("demos " + episodes + " --cameras '' --quiet --out " + Quote((root_ / "dataset").string()));
+  const RunResult demos =
+      Run("demos " + episodes + " --cameras '' --quiet --out " + Quote((root_ / "dataset").string()));
   ASSERT_EQ(demos.exit_code, 0) << demos.err;
   const RunResult galt = Run("galt --dataset " + Quote((root_ / "dataset").string()) + " --json-out " +
                              Quote((root_ / "table.json").string()));
@@ -91,7 +95,8 @@ TEST_F(DemosPipeline, GaltTableOfTheDatasetEqualsTheCellsForTheSameEpisodes) {
   const nlohmann::json table = ReadJson(root_ / "table.json");
   ASSERT_EQ(table["rows"].size(), 2U);
   // 60 Hz: every control tick's action, as the cell's GALT; 20 Hz: every third, as its policy-rate GALT.
-  for (const auto& [row, cell_galt] : {std::pair{table["rows"][0], summary["galt"]}, std::pair{table["rows"][1], summary["galt_policy_rate"]}}) {
+  for (const auto& [row, cell_galt] :
+       {std::pair{table["rows"][0], summary["galt"]}, std::pair{table["rows"][1], summary["galt_policy_rate"]}}) {
     EXPECT_EQ(row["n_episodes"], cell_galt["n_episodes"]);
     EXPECT_EQ(row["n_valid"], cell_galt["n_valid"]);
     EXPECT_EQ(row["mean_s"], cell_galt["mean_s"]) << row.dump();
@@ -100,7 +105,8 @@ TEST_F(DemosPipeline, GaltTableOfTheDatasetEqualsTheCellsForTheSameEpisodes) {
 }
 
 TEST_F(DemosPipeline, KilledAndResumedRecordingEqualsAnUninterruptedOne) {
-  const std::string args = "demos --task clutter-pick-cube --episodes 16 --fps 20 --image-size 64x48 --cameras head,left_wrist --quiet";
+  const std::string args =
+      "demos --task clutter-pick-cube --episodes 16 --fps 20 --image-size 64x48 --cameras head,left_wrist --quiet";
   ASSERT_EQ(Run(args + " --out " + Quote((root_ / "whole").string())).exit_code, 0);
 
   // Killed once the spool holds a few kept episodes (bounded: the whole run takes seconds).
@@ -108,12 +114,14 @@ TEST_F(DemosPipeline, KilledAndResumedRecordingEqualsAnUninterruptedOne) {
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
-    const std::string command = Quote(TAVIS_BINARY) + " " + args + " --threads 2 --out " + Quote(out.string()) + " >/dev/null 2>&1";
+    const std::string command =
+        Quote(TAVIS_BINARY) + " " + args + " --threads 2 --out " + Quote(out.string()) + " >/dev/null 2>&1";
     execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (!fs::exists(out / ".tavis_spool" / "episode_000003" / "episode.json") && std::chrono::steady_clock::now() < deadline) {
+  while (!fs::exists(out / ".tavis_spool" / "episode_000003" / "episode.json") &&
+         std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   kill(child, SIGKILL);
@@ -145,7 +153,8 @@ TEST_F(DemosPipeline, KilledAndResumedRecordingEqualsAnUninterruptedOne) {
 // 0): the kept episodes stay in the spool and --resume with more attempts finishes the dataset,
 // equal to an uninterrupted run with those attempts, its failure counts included.
 TEST_F(DemosPipeline, RecordingStrandedByMaxAttemptsIsFinishedByAResumeWithMoreAttempts) {
-  const std::string args = "demos --task multi-shelf-scan --episodes 12 --fps 20 --image-size 64x48 --cameras head --quiet";
+  const std::string args =
+      "demos --task multi-shelf-scan --episodes 12 --fps 20 --image-size 64x48 --cameras head --quiet";
   const fs::path whole = root_ / "whole", stranded = root_ / "stranded";
   ASSERT_EQ(Run(args + " --max-attempts 20 --out " + Quote(whole.string())).exit_code, 0);
   const nlohmann::json whole_task = ReadJson(whole / "tavis_demos.json")["tasks"][0];
@@ -154,7 +163,8 @@ TEST_F(DemosPipeline, RecordingStrandedByMaxAttemptsIsFinishedByAResumeWithMoreA
 
   const RunResult ran_out = Run(args + " --max-attempts 12 --out " + Quote(stranded.string()));
   ASSERT_EQ(ran_out.exit_code, 1);
-  EXPECT_NE(ran_out.err.find("--resume with a larger --max-attempts finishes the dataset"), std::string::npos) << ran_out.err;
+  EXPECT_NE(ran_out.err.find("--resume with a larger --max-attempts finishes the dataset"), std::string::npos)
+      << ran_out.err;
   EXPECT_TRUE(fs::exists(stranded / "INCOMPLETE"));
   EXPECT_TRUE(fs::exists(stranded / ".tavis_spool" / "episode_000000" / "episode.json"));
 
@@ -166,14 +176,15 @@ TEST_F(DemosPipeline, RecordingStrandedByMaxAttemptsIsFinishedByAResumeWithMoreA
   EXPECT_FALSE(fs::exists(stranded / "INCOMPLETE"));
   EXPECT_FALSE(fs::exists(stranded / ".tavis_spool"));
   const std::map<std::string, std::string> expected = DatasetFiles(Snapshot(whole), whole),
-                                                   got = DatasetFiles(Snapshot(stranded), stranded);
+                                           got = DatasetFiles(Snapshot(stranded), stranded);
   EXPECT_EQ(expected.size(), got.size());
   for (const auto& [path, text] : expected) EXPECT_TRUE(got.count(path) && got.at(path) == text) << path << " differs";
 }
 
 // A damaged spool record is named with what is wrong, not as a bare library message.
 TEST_F(DemosPipeline, DamagedSpoolRecordIsNamed) {
-  const std::string args = "demos --task multi-shelf-scan --episodes 12 --fps 20 --image-size 64x48 --cameras head --quiet";
+  const std::string args =
+      "demos --task multi-shelf-scan --episodes 12 --fps 20 --image-size 64x48 --cameras head --quiet";
   const fs::path out = root_ / "stranded";
   ASSERT_EQ(Run(args + " --max-attempts 12 --out " + Quote(out.string())).exit_code, 1);
   const fs::path record = out / ".tavis_spool" / "episode_000000" / "episode.json";
@@ -182,14 +193,17 @@ TEST_F(DemosPipeline, DamagedSpoolRecordIsNamed) {
   std::ofstream(record) << damaged.dump();
   const RunResult resumed = Run(args + " --max-attempts 20 --resume --out " + Quote(out.string()));
   EXPECT_EQ(resumed.exit_code, 1);
-  EXPECT_NE(resumed.err.find(record.string() + ": damaged spool file, \"frames\" is \"many\""), std::string::npos) << resumed.err;
+  EXPECT_NE(resumed.err.find(record.string() + ": damaged spool file, \"frames\" is \"many\""), std::string::npos)
+      << resumed.err;
   EXPECT_EQ(resumed.err.find("json.exception"), std::string::npos) << resumed.err;
 
   std::ofstream(out / ".tavis_spool" / "progress.json") << "{\"settings\": ";
   const RunResult truncated = Run(args + " --max-attempts 20 --resume --out " + Quote(out.string()));
   EXPECT_EQ(truncated.exit_code, 1);
-  EXPECT_NE(truncated.err.find((out / ".tavis_spool" / "progress.json").string() + ": damaged spool file, not valid JSON"),
-            std::string::npos) << truncated.err;
+  EXPECT_NE(
+      truncated.err.find((out / ".tavis_spool" / "progress.json").string() + ": damaged spool file, not valid JSON"),
+      std::string::npos)
+      << truncated.err;
   EXPECT_TRUE(fs::exists(record)) << "nothing already recorded is lost";
 }
 

@@ -70,7 +70,8 @@ TEST_F(EvalCommand, SmallCellWritesEpisodesSummaryAndOneLine) {
   // a tavis cell and the (released) lock file.
   std::set<std::string> names;
   for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
-  EXPECT_EQ(names, (std::set<std::string>{".tavis_lock", ".tavis_output", "cell.json", "episodes.jsonl", "summary.json"}));
+  EXPECT_EQ(names,
+            (std::set<std::string>{".tavis_lock", ".tavis_output", "cell.json", "episodes.jsonl", "summary.json"}));
 }
 
 TEST_F(EvalCommand, ProfilePrintsSharesAndWritesProfileJsonWithoutChangingTheRecords) {
@@ -126,11 +127,16 @@ TEST_F(EvalCommand, BadInputFailsNamingTheValueAndLeavesResultsAlone) {
 
   // (arguments, text the error must contain)
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--episodes 1 --task nope", "nope"},   {"--episodes 1 --robot nope", "nope"},
-      {"--episodes 1 --split nope", "nope"},  {"--episodes 1 --policy nope", "nope"},
-      {"--episodes 0", "got '0'"},            {"--episodes -3", "got '-3'"},
-      {"--episodes 1 --envs 0", "got '0'"},   {"--episodes 1 --seed banana", "banana"},
-      {"--episodes 1 --suite nope", "nope"},  {"--episodes 1 --suite tavis-head --task wait-then-act", "--suite"},
+      {"--episodes 1 --task nope", "nope"},
+      {"--episodes 1 --robot nope", "nope"},
+      {"--episodes 1 --split nope", "nope"},
+      {"--episodes 1 --policy nope", "nope"},
+      {"--episodes 0", "got '0'"},
+      {"--episodes -3", "got '-3'"},
+      {"--episodes 1 --envs 0", "got '0'"},
+      {"--episodes 1 --seed banana", "banana"},
+      {"--episodes 1 --suite nope", "nope"},
+      {"--episodes 1 --suite tavis-head --task wait-then-act", "--suite"},
       {"--episodes 1 --camera side", "side"},
   };
   for (const auto& [args, needle] : cases) {
@@ -149,7 +155,8 @@ TEST_F(EvalCommand, SuiteRunsACellPerTaskAndPrintsTheSuiteMean) {
   for (const char* task : {"peeking-box", "occluded-reach", "blocked-clutter-pick-cube"}) {
     EXPECT_TRUE(fs::exists(dir / (std::string(task) + "_gr1t2_id_head_expert_s0") / "summary.json")) << task;
   }
-  EXPECT_NE(run.out.find("tavis-hands gr1t2 id policy=expert camera=head: suite mean over 3 tasks"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("tavis-hands gr1t2 id policy=expert camera=head: suite mean over 3 tasks"), std::string::npos)
+      << run.out;
 }
 
 // The paired comparison: a head and a fixed cell of the same seed land in one table, the fixed
@@ -177,8 +184,9 @@ TEST_F(EvalCommand, HeadAndFixedCellsPairInOneTable) {
 
 TEST_F(EvalCommand, RenderCamerasAreRenderedAndReported) {
   const fs::path dir = root_ / "cell";
-  const RunResult run = Run("eval --episodes 1 --envs 1 --quiet --render-cameras head,right_wrist --image-size 32x24 --out " +
-                            Quote(dir.string()));
+  const RunResult run =
+      Run("eval --episodes 1 --envs 1 --quiet --render-cameras head,right_wrist --image-size 32x24 --out " +
+          Quote(dir.string()));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "summary.json"));
   const nlohmann::json& render = summary.at("render");
@@ -191,12 +199,12 @@ TEST_F(EvalCommand, RenderCamerasAreRenderedAndReported) {
 
 TEST_F(EvalCommand, BadRenderOptionsExitOneNamingTheValue) {
   const fs::path dir = root_ / "never";
-  for (const auto& [args, needle] : std::vector<std::pair<std::string, std::string>>{
-           {"--render-cameras head,nose", "'nose'"},
-           {"--render-cameras head,head", "'head' is listed twice"},
-           {"--render-cameras head --image-size 224", "'224'"},
-           {"--render-cameras head --image-size 0x10", "'0x10'"},
-           {"--render-cameras head --image-size 22x2y", "'22x2y'"}}) {
+  for (const auto& [args, needle] :
+       std::vector<std::pair<std::string, std::string>>{{"--render-cameras head,nose", "'nose'"},
+                                                        {"--render-cameras head,head", "'head' is listed twice"},
+                                                        {"--render-cameras head --image-size 224", "'224'"},
+                                                        {"--render-cameras head --image-size 0x10", "'0x10'"},
+                                                        {"--render-cameras head --image-size 22x2y", "'22x2y'"}}) {
     SCOPED_TRACE(args);
     const RunResult run = Run("eval --episodes 1 --quiet " + args + " --out " + Quote(dir.string()));
     EXPECT_EQ(run.exit_code, 1);
@@ -246,8 +254,7 @@ TEST_F(EvalCommand, HelpExitsZeroAndListsOptions) {
 // A served policy through the real program: its episodes' actions are saved and replay them
 // without the server; a server that fails leaves no results.
 TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeavesNoResults) {
-  remote::testing::PolicyServerProcess server(
-      {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001"});
+  remote::testing::PolicyServerProcess server({"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001"});
   const fs::path dir = root_ / "served";
   const std::string cell = "eval --episodes 2 --envs 2 --seed 6 --quiet --image-size 32x24 ";
   const RunResult run = Run(cell + "--policy openpi --server " + server.address() + " --out " + Quote(dir.string()));
@@ -260,8 +267,9 @@ TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeave
   ASSERT_EQ(served.size(), 2u);
 
   const fs::path replay_dir = root_ / "replayed";
-  const RunResult replay = Run("eval --episodes 1 --envs 1 --seed 6 --quiet --policy replay --actions " +
-                               Quote((dir / "actions" / "episode_0.csv").string()) + " --out " + Quote(replay_dir.string()));
+  const RunResult replay =
+      Run("eval --episodes 1 --envs 1 --seed 6 --quiet --policy replay --actions " +
+          Quote((dir / "actions" / "episode_0.csv").string()) + " --out " + Quote(replay_dir.string()));
   ASSERT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_EQ(Lines(ReadText(replay_dir / "episodes.jsonl")), std::vector<std::string>{served[0]});
   EXPECT_TRUE(fs::exists(dir / "actions" / "episode_1.csv"));
@@ -275,7 +283,8 @@ TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeave
   remote::testing::PolicyServerProcess failing(
       {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001", "--fail-at-request", "3"});
   const fs::path failed_dir = root_ / "failed";
-  const RunResult failed = Run(cell + "--policy openpi --server " + failing.address() + " --out " + Quote(failed_dir.string()));
+  const RunResult failed =
+      Run(cell + "--policy openpi --server " + failing.address() + " --out " + Quote(failed_dir.string()));
   EXPECT_NE(failed.exit_code, 0);
   EXPECT_NE(failed.err.find("RuntimeError: test policy asked to fail at request 3"), std::string::npos) << failed.err;
   EXPECT_FALSE(fs::exists(failed_dir / "summary.json"));
@@ -300,7 +309,8 @@ TEST_F(EvalCommand, OneChosenEpisodeEqualsItsLineInTheFullCell) {
   // The default folder names the episode, so it never takes the full cell's place.
   const RunResult named = RunIn(root_, "eval --episode 1 --seed 8 --quiet");
   ASSERT_EQ(named.exit_code, 0) << named.err;
-  EXPECT_TRUE(fs::exists(root_ / "results" / "clutter-pick-cube_gr1t2_id_head_expert_s8_ep1" / "summary.json")) << named.out;
+  EXPECT_TRUE(fs::exists(root_ / "results" / "clutter-pick-cube_gr1t2_id_head_expert_s8_ep1" / "summary.json"))
+      << named.out;
 
   const RunResult both = Run("eval --episode 1 --episodes 4 --quiet --out " + Quote((root_ / "both").string()));
   EXPECT_NE(both.exit_code, 0);

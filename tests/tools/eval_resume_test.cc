@@ -46,19 +46,23 @@ TEST_P(EvalInterrupted, KeepsCompleteEpisodesAndResumesToTheSameRecords) {
   const RunResult resumed = Run(cell + " --resume --out " + Quote(out.string()));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(ReadText(out / "episodes.jsonl"), ReadText(whole / "episodes.jsonl"));
-  EXPECT_NE(ReadText(out / "summary.json").find("\"resumed_episodes\": " + std::to_string(kept.size())), std::string::npos);
+  EXPECT_NE(ReadText(out / "summary.json").find("\"resumed_episodes\": " + std::to_string(kept.size())),
+            std::string::npos);
   const RunResult complete = Run(cell + " --resume --out " + Quote(out.string()));
   EXPECT_EQ(complete.exit_code, 1);
   EXPECT_NE(complete.err.find("is complete"), std::string::npos) << complete.err;
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, EvalInterrupted, ::testing::Values(SIGINT, SIGKILL),
-                         [](const ::testing::TestParamInfo<int>& signal) { return signal.param == SIGINT ? "SIGINT" : "SIGKILL"; });
+                         [](const ::testing::TestParamInfo<int>& signal) {
+                           return signal.param == SIGINT ? "SIGINT" : "SIGKILL";
+                         });
 
 // A damaged cell.json is named as such, with what is wrong and without nlohmann's exception id;
 // the records are kept.
 TEST_F(EvalResume, DamagedCellFileIsNamedAndTheRecordsAreKept) {
-  const std::string cell = "eval --task clutter-pick-cube --episodes 2 --envs 2 --quiet --seed 4 --out " + Quote((root_ / "cell").string());
+  const std::string cell =
+      "eval --task clutter-pick-cube --episodes 2 --envs 2 --quiet --seed 4 --out " + Quote((root_ / "cell").string());
   ASSERT_EQ(Run(cell).exit_code, 0);
   fs::remove(root_ / "cell" / "summary.json");
   const std::string records = ReadText(root_ / "cell" / "episodes.jsonl");
@@ -66,8 +70,9 @@ TEST_F(EvalResume, DamagedCellFileIsNamedAndTheRecordsAreKept) {
   std::ofstream(root_ / "cell" / "cell.json") << settings.substr(0, settings.size() / 2);
   const RunResult resumed = Run(cell + " --resume");
   EXPECT_EQ(resumed.exit_code, 1);
-  EXPECT_NE(resumed.err.find((root_ / "cell" / "cell.json").string() + ": damaged cell file, not valid JSON: parse error"),
-            std::string::npos)
+  EXPECT_NE(
+      resumed.err.find((root_ / "cell" / "cell.json").string() + ": damaged cell file, not valid JSON: parse error"),
+      std::string::npos)
       << resumed.err;
   EXPECT_EQ(resumed.err.find("json.exception"), std::string::npos) << resumed.err;
   EXPECT_EQ(ReadText(root_ / "cell" / "episodes.jsonl"), records);

@@ -11,8 +11,8 @@
 
 #include "batch/dataset/dataset_actions.h"
 #include "kinematics/action.h"
-#include "tool_runner.h"
 #include "tests/support/robot_loading.h"
+#include "tool_runner.h"
 
 namespace tavis::tools {
 namespace {

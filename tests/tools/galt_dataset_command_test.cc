@@ -80,8 +80,8 @@ void ExpectReferenceResults(const RunResult& run) {
 
 TEST_F(GaltDatasetCommandTest, V30EpisodesMatchTheReference) {
   WriteSyntheticDataset(Dataset(), ConformanceEpisodes());
-  const RunResult run = Run("galt --dataset " + Quote(Dataset().string()) + " --json-out " +
-                            Quote((root_ / "table.json").string()));
+  const RunResult run =
+      Run("galt --dataset " + Quote(Dataset().string()) + " --json-out " + Quote((root_ / "table.json").string()));
   ExpectReferenceResults(run);
   EXPECT_NE(run.out.find("| robot | rate | episodes | detected | mean s | median s |"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("| gr1t2 | 60 Hz | 3 | 2 (66.7 %) | 1.49 | 1.49 |"), std::string::npos) << run.out;

@@ -31,8 +31,8 @@ class OutputSafety : public TavisCommandTest {
   RunResult RunIn(const fs::path& dir, const std::string& args, const std::string& env = "") const {
     const fs::path out = root_.string() + ".stdout";
     const fs::path err = root_.string() + ".stderr";
-    const std::string command = "cd " + Quote(dir.string()) + " && " + env + " " + Quote(TAVIS_BINARY) + " " + args + " >" +
-                                Quote(out.string()) + " 2>" + Quote(err.string());
+    const std::string command = "cd " + Quote(dir.string()) + " && " + env + " " + Quote(TAVIS_BINARY) + " " + args +
+                                " >" + Quote(out.string()) + " 2>" + Quote(err.string());
     const int status = std::system(command.c_str());
     RunResult result;
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -51,7 +51,8 @@ class OutputSafety : public TavisCommandTest {
   }
 
   // Expects `run` refused (exit 1) naming `named`, with nothing under root_ changed.
-  void ExpectRefusedKeepingEverything(const RunResult& run, const std::string& named, const std::map<std::string, std::string>& files,
+  void ExpectRefusedKeepingEverything(const RunResult& run, const std::string& named,
+                                      const std::map<std::string, std::string>& files,
                                       const std::set<std::string>& paths, const std::string& what) {
     EXPECT_EQ(run.exit_code, 1) << what << "\n" << run.out << run.err;
     EXPECT_NE(run.err.find(named), std::string::npos) << what << ": wanted '" << named << "' in: " << run.err;
@@ -69,7 +70,8 @@ TEST_F(OutputSafety, OverwriteRefusesAFolderHoldingAForeignFileAndKeepsIt) {
   const auto files = Snapshot(root_);
   const auto paths = Paths();
   ExpectRefusedKeepingEverything(RunIn(root_, kCell + " --overwrite --out mydata"), "thesis.txt", files, paths, "eval");
-  ExpectRefusedKeepingEverything(RunIn(root_, kDemos + " --overwrite --out mydata"), "thesis.txt", files, paths, "demos");
+  ExpectRefusedKeepingEverything(RunIn(root_, kDemos + " --overwrite --out mydata"), "thesis.txt", files, paths,
+                                 "demos");
 
   // A real cell with a user's file added is not tavis's alone either.
   const fs::path cell = root_ / "cell";
@@ -77,8 +79,8 @@ TEST_F(OutputSafety, OverwriteRefusesAFolderHoldingAForeignFileAndKeepsIt) {
   std::ofstream(cell / "analysis.ipynb") << "{}";
   const auto with_cell = Snapshot(root_);
   const auto with_cell_paths = Paths();
-  ExpectRefusedKeepingEverything(Run(kCell + " --seed 1 --overwrite --out " + Quote(cell.string())), "analysis.ipynb", with_cell,
-                                 with_cell_paths, "eval over a cell with a user's file");
+  ExpectRefusedKeepingEverything(Run(kCell + " --seed 1 --overwrite --out " + Quote(cell.string())), "analysis.ipynb",
+                                 with_cell, with_cell_paths, "eval over a cell with a user's file");
 }
 
 // Defect 1: `--out .` emptied the working directory, `--out ..` its parent.
@@ -91,11 +93,12 @@ TEST_F(OutputSafety, OverwriteRefusesTheWorkingDirectoryItsParentsAndTheHomeFold
   const auto paths = Paths();
   for (const std::string& command : std::vector<std::string>{kCell, kDemos}) {
     for (const std::string& out : std::vector<std::string>{".", "..", "../..", "/", work.string()}) {
-      ExpectRefusedKeepingEverything(RunIn(work, command + " --overwrite --out " + Quote(out)), "working directory", files, paths,
-                                     command + " --out " + out);
+      ExpectRefusedKeepingEverything(RunIn(work, command + " --overwrite --out " + Quote(out)), "working directory",
+                                     files, paths, command + " --out " + out);
     }
-    ExpectRefusedKeepingEverything(RunIn(root_, command + " --overwrite --out scratch", "HOME=" + Quote((root_ / "scratch").string())),
-                                   "home folder", files, paths, command + " --out $HOME");
+    ExpectRefusedKeepingEverything(
+        RunIn(root_, command + " --overwrite --out scratch", "HOME=" + Quote((root_ / "scratch").string())),
+        "home folder", files, paths, command + " --out $HOME");
   }
 }
 
@@ -105,8 +108,10 @@ TEST_F(OutputSafety, OverwriteRefusesAPlainFile) {
   const auto files = Snapshot(root_);
   const auto paths = Paths();
   ExpectRefusedKeepingEverything(RunIn(root_, kCell + " --overwrite --out results"), "is a file", files, paths, "eval");
-  ExpectRefusedKeepingEverything(RunIn(root_, kDemos + " --overwrite --out results"), "is a file", files, paths, "demos");
-  ExpectRefusedKeepingEverything(RunIn(root_, kCell + " --resume --out results"), "is a file", files, paths, "eval --resume");
+  ExpectRefusedKeepingEverything(RunIn(root_, kDemos + " --overwrite --out results"), "is a file", files, paths,
+                                 "demos");
+  ExpectRefusedKeepingEverything(RunIn(root_, kCell + " --resume --out results"), "is a file", files, paths,
+                                 "eval --resume");
 }
 
 // Defect 2: `eval --overwrite` deleted the old cell before a check that failed (an unreachable
@@ -116,14 +121,17 @@ TEST_F(OutputSafety, OverwriteThatFailsBeforeItsFirstEpisodeKeepsTheOldCell) {
   ASSERT_EQ(Run(kCell + " --seed 0 --out " + Quote(cell.string())).exit_code, 0);
   const auto files = Snapshot(root_);
   const auto paths = Paths();
-  const RunResult failed = Run("eval --task clutter-pick-cube --episodes 2 --envs 2 --quiet --policy openpi --server ws://127.0.0.1:9 "
-                               "--server-timeout 0.2 --overwrite --out " + Quote(cell.string()));
+  const RunResult failed =
+      Run("eval --task clutter-pick-cube --episodes 2 --envs 2 --quiet --policy openpi --server ws://127.0.0.1:9 "
+          "--server-timeout 0.2 --overwrite --out " +
+          Quote(cell.string()));
   ExpectRefusedKeepingEverything(failed, "127.0.0.1:9", files, paths, "overwrite with an unreachable server");
 
   const RunResult replaced = Run(kCell + " --seed 1 --overwrite --out " + Quote(cell.string()));
   ASSERT_EQ(replaced.exit_code, 0) << replaced.err;
   EXPECT_NE(ReadText(cell / "episodes.jsonl").find("\"seed\":1"), std::string::npos);
-  EXPECT_EQ(ReadText(cell / "episodes.jsonl").find("\"seed\":0"), std::string::npos) << "old records mixed into the new cell";
+  EXPECT_EQ(ReadText(cell / "episodes.jsonl").find("\"seed\":0"), std::string::npos)
+      << "old records mixed into the new cell";
   for (const auto& entry : fs::directory_iterator(root_)) {
     EXPECT_EQ(entry.path().filename().string().find(".tavis-"), std::string::npos) << "left behind: " << entry.path();
   }
@@ -134,27 +142,32 @@ TEST_F(OutputSafety, OverwriteThatFailsBeforeItsFirstEpisodeKeepsTheOldCell) {
 // first's cell is whole.
 TEST_F(OutputSafety, SecondWriterOfARunningCellIsRefusedAndTheFirstCompletesWhole) {
   const fs::path cell = root_ / "cell";
-  const std::string first = "eval --task clutter-pick-cube --episodes 40 --envs 1 --threads 1 --quiet --seed 2 --out " + Quote(cell.string());
+  const std::string first =
+      "eval --task clutter-pick-cube --episodes 40 --envs 1 --threads 1 --quiet --seed 2 --out " + Quote(cell.string());
   const pid_t child = fork();
   if (child == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + first + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + first + " >/dev/null 2>&1").c_str(),
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (ReadText(cell / "cell.json").empty() && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  const RunResult second = Run("eval --task clutter-pick-cube --episodes 40 --envs 1 --threads 1 --quiet --seed 2 --resume --out " +
-                               Quote(cell.string()));
+  const RunResult second =
+      Run("eval --task clutter-pick-cube --episodes 40 --envs 1 --threads 1 --quiet --seed 2 --resume --out " +
+          Quote(cell.string()));
   int status = 0;
   ASSERT_EQ(waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
   EXPECT_EQ(second.exit_code, 1) << second.err;
-  EXPECT_NE(second.err.find("is being written by tavis eval (pid " + std::to_string(child)), std::string::npos) << second.err;
+  EXPECT_NE(second.err.find("is being written by tavis eval (pid " + std::to_string(child)), std::string::npos)
+      << second.err;
   const std::vector<std::string> lines = Lines(ReadText(cell / "episodes.jsonl"));
   ASSERT_EQ(lines.size(), 40u);
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    EXPECT_NE(lines[i].find("\"episode\":" + std::to_string(i) + ","), std::string::npos) << "line " << i << ": " << lines[i];
+    EXPECT_NE(lines[i].find("\"episode\":" + std::to_string(i) + ","), std::string::npos)
+        << "line " << i << ": " << lines[i];
   }
 }
 
@@ -190,7 +203,8 @@ TEST_F(OutputSafety, LockedDatasetIsRefusedAndThenWrittenAsAnUnlockedOne) {
     const batch::OutputLock holder(dataset, "demos");
     const RunResult refused = Run(kDemos + " --out " + Quote(dataset.string()));
     EXPECT_EQ(refused.exit_code, 1);
-    EXPECT_NE(refused.err.find("is being written by tavis demos (pid " + std::to_string(getpid())), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("is being written by tavis demos (pid " + std::to_string(getpid())), std::string::npos)
+        << refused.err;
     EXPECT_TRUE(batch::HoldsNoResults(dataset));
   }
   const RunResult written = Run(kDemos + " --out " + Quote(dataset.string()));
@@ -208,7 +222,9 @@ class SweepSafety : public OutputSafety {
     std::ofstream(spec_) << "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [3]\n"
                             "episodes: 3\nenvs: 2\npolicy:\n  name: expert\n";
   }
-  RunResult Sweep(const fs::path& out) const { return Run("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet"); }
+  RunResult Sweep(const fs::path& out) const {
+    return Run("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet");
+  }
   fs::path spec_;
 };
 
@@ -222,7 +238,8 @@ TEST_F(SweepSafety, LockedSweepIsRefusedAndThenRunsLikeAnUnlockedOne) {
     const batch::OutputLock holder(sweep, "sweep");
     const RunResult refused = Sweep(sweep);
     EXPECT_EQ(refused.exit_code, 1);
-    EXPECT_NE(refused.err.find("is being written by tavis sweep (pid " + std::to_string(getpid())), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("is being written by tavis sweep (pid " + std::to_string(getpid())), std::string::npos)
+        << refused.err;
   }
   ASSERT_EQ(Sweep(sweep).exit_code, 0);
   const std::string cell = "cells/clutter-pick-cube_gr1t2_id_head_expert_s3/episodes.jsonl";
@@ -241,8 +258,10 @@ TEST_F(SweepSafety, SweepAndMergeRefuseFoldersThatAreNotTheirs) {
   const auto paths = Paths();
   ExpectRefusedKeepingEverything(Sweep(cell), "cell.json", files, paths, "sweep into an eval cell");
   ExpectRefusedKeepingEverything(Sweep(root_ / "mine"), "thesis.txt", files, paths, "sweep beside a user's file");
-  ExpectRefusedKeepingEverything(RunIn(root_, "sweep merge --out '' cell"), "empty string", files, paths, "merge --out ''");
-  ExpectRefusedKeepingEverything(RunIn(root_, "sweep merge --out . cell"), "working directory", files, paths, "merge --out .");
+  ExpectRefusedKeepingEverything(RunIn(root_, "sweep merge --out '' cell"), "empty string", files, paths,
+                                 "merge --out ''");
+  ExpectRefusedKeepingEverything(RunIn(root_, "sweep merge --out . cell"), "working directory", files, paths,
+                                 "merge --out .");
 }
 
 // Defect 5: a resume with a changed robot file (arm velocity limit 5.0 -> 4.0) was accepted,
@@ -250,7 +269,8 @@ TEST_F(SweepSafety, SweepAndMergeRefuseFoldersThatAreNotTheirs) {
 TEST_F(OutputSafety, ResumeWithAChangedRobotFileIsRefusedNamingTheChange) {
   const fs::path configs = root_ / "configs";
   fs::copy(TAVIS_CONFIG_DIR, configs, fs::copy_options::recursive);
-  const std::string cell_args = "eval --task clutter-pick-cube --episodes 8 --envs 2 --quiet --seed 4 --config-dir " + Quote(configs.string());
+  const std::string cell_args =
+      "eval --task clutter-pick-cube --episodes 8 --envs 2 --quiet --seed 4 --config-dir " + Quote(configs.string());
   const fs::path cell = root_ / "cell";
   ASSERT_TRUE(KillWhenLinesAppear(cell_args + " --out " + Quote(cell.string()), cell / "episodes.jsonl", 2, SIGKILL));
   const std::string kept = ReadText(cell / "episodes.jsonl");

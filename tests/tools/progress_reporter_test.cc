@@ -29,7 +29,9 @@ struct FakeClockReporter {
   explicit FakeClockReporter(ProgressReporter::Style style)
       : file(std::tmpfile()), reporter(file, style, [this] { return now; }) {}
   ~FakeClockReporter() { std::fclose(file); }
-  void Advance(double seconds) { now += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds)); }
+  void Advance(double seconds) {
+    now += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+  }
   std::FILE* file;
   Time now{};
   ProgressReporter reporter;

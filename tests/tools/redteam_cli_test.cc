@@ -20,8 +20,8 @@ class RedTeamCliTest : public TavisCommandTest {
     const std::set<fs::path> paths_before = Paths();
     const fs::path out = root_.string() + ".stdout";
     const fs::path err = root_.string() + ".stderr";
-    const std::string command = "cd " + Quote(root_.string()) + " && " + limits + Quote(TAVIS_BINARY) + " " + args + " >" +
-                                Quote(out.string()) + " 2>" + Quote(err.string());
+    const std::string command = "cd " + Quote(root_.string()) + " && " + limits + Quote(TAVIS_BINARY) + " " + args +
+                                " >" + Quote(out.string()) + " 2>" + Quote(err.string());
     const int status = std::system(command.c_str());
     const std::string output = ReadText(out) + ReadText(err);
     fs::remove(out);
@@ -48,9 +48,8 @@ class RedTeamCliTest : public TavisCommandTest {
   void WriteSummary(const std::string& folder, const std::string& robot = "gr1t2", const std::string& split = "id",
                     const std::string& camera = "head", const std::string& task = "clutter-pick-cube") {
     WriteFile(root_ / "cells" / folder / "summary.json",
-              R"({"task": ")" + task + R"(", "robot": ")" + robot + R"(", "split": ")" + split +
-                  R"(", "camera": ")" + camera +
-                  R"(", "policy": "expert", "seed": 0, "n_episodes": 4, "n_successful": 4})");
+              R"({"task": ")" + task + R"(", "robot": ")" + robot + R"(", "split": ")" + split + R"(", "camera": ")" +
+                  camera + R"(", "policy": "expert", "seed": 0, "n_episodes": 4, "n_successful": 4})");
   }
 };
 
@@ -65,7 +64,8 @@ TEST_F(RedTeamCliTest, CountsAndRatesOutsideTheirRangeAreNamedPlainly) {
   ExpectRefused("eval --threads -1 --out out", "--threads: must be an integer from 0 to 1024, got '-1'");
   ExpectRefused("eval --replan-steps -2 --out out", "--replan-steps: must be an integer from 0 to 1000000, got '-2'");
   ExpectRefused("eval --server-timeout 0 --out out", "--server-timeout: must be a number from 0.001 to 86400, got '0'");
-  ExpectRefused("demos --max-attempts -1 --out out", "--max-attempts: must be an integer from 0 to 100000000, got '-1'");
+  ExpectRefused("demos --max-attempts -1 --out out",
+                "--max-attempts: must be an integer from 0 to 100000000, got '-1'");
   ExpectRefused("render --steps -1 --out out", "--steps: must be an integer from 0 to 1000000, got '-1'");
   ExpectRefused("render --width 0 --out out", "--width: must be an integer from 1 to 8192, got '0'");
   ExpectRefused("audit --task clutter-pick-cube --robot gr1t2 --episodes 0 --out out",
@@ -75,7 +75,8 @@ TEST_F(RedTeamCliTest, CountsAndRatesOutsideTheirRangeAreNamedPlainly) {
 TEST_F(RedTeamCliTest, SeedsOutsideSixtyFourBitsAreRefusedByEveryCommand) {
   const std::string out = " --out out";
   ExpectRefused("eval --episodes 1 --seed -1" + out, std::string(kSeedRange) + "-1");
-  ExpectRefused("eval --episodes 1 --seed 18446744073709551616" + out, std::string(kSeedRange) + "18446744073709551616");
+  ExpectRefused("eval --episodes 1 --seed 18446744073709551616" + out,
+                std::string(kSeedRange) + "18446744073709551616");
   ExpectRefused("render --seed 18446744073709551616" + out, std::string(kSeedRange) + "18446744073709551616");
   ExpectRefused("audit --task clutter-pick-cube --robot gr1t2 --seed 99999999999999999999" + out,
                 std::string(kSeedRange) + "99999999999999999999");
@@ -134,7 +135,8 @@ TEST_F(RedTeamCliTest, TableNamesAnUnknownNameWithItsFile) {
   ExpectRefused("table --in cells --suite tavis-head --out table", "cells/a/summary.json: unknown camera 'wrist'");
   fs::remove_all(root_ / "cells");
   WriteSummary("a", "gr1t2", "id", "head", "clutter-pick-cub");
-  ExpectRefused("table --in cells --suite tavis-head --out table", "cells/a/summary.json: unknown task 'clutter-pick-cub'");
+  ExpectRefused("table --in cells --suite tavis-head --out table",
+                "cells/a/summary.json: unknown task 'clutter-pick-cub'");
 }
 
 TEST_F(RedTeamCliTest, GaltFpsOutsideOneToAThousandHertz) {
@@ -157,7 +159,8 @@ TEST_F(RedTeamCliTest, EvalProvenanceOptionsAreNotIgnored) {
 TEST_F(RedTeamCliTest, InputsThatAreNotRegularFilesAreNamedNotRead) {
   ExpectRefused("sweep /dev/zero --out out", "/dev/zero: the sweep spec is a character device, not a regular file");
   ExpectRefused("sweep . --out out", ".: the sweep spec is a directory, not a file");
-  ExpectRefused("eval --episodes 1 --policy replay --actions /dev/zero --out out", "/dev/zero: is a character device, not a regular file");
+  ExpectRefused("eval --episodes 1 --policy replay --actions /dev/zero --out out",
+                "/dev/zero: is a character device, not a regular file");
   ExpectRefused("galt --fps 20 /dev/zero", "/dev/zero: is a character device, not a regular file");
 }
 
@@ -165,40 +168,50 @@ TEST_F(RedTeamCliTest, InputsThatAreNotRegularFilesAreNamedNotRead) {
 // naming the spec file and key. Before: the sweep folder was made and the first cell failed with
 // "nothere.csv: no such file", naming neither.
 TEST_F(RedTeamCliTest, SweepSpecFileErrorsAreFoundBeforeAnythingIsWritten) {
-  const std::string cells = "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\nepisodes: 2\n";
+  const std::string cells =
+      "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\nepisodes: 2\n";
   WriteFile(root_ / "replay.yaml", cells + "policy:\n  name: replay\n  actions: nothere.csv\n");
   ExpectRefused("sweep replay.yaml --out out", "replay.yaml: policy.actions: nothere.csv: no such file");
-  WriteFile(root_ / "keys.yaml", cells + "policy:\n  name: openpi\n  servers: [ws://127.0.0.1:1]\n  keys: nothere.yaml\n");
-  ExpectRefused("sweep keys.yaml --out out", "keys.yaml: policy.keys: observation keys 'nothere.yaml' are neither a preset");
+  WriteFile(root_ / "keys.yaml",
+            cells + "policy:\n  name: openpi\n  servers: [ws://127.0.0.1:1]\n  keys: nothere.yaml\n");
+  ExpectRefused("sweep keys.yaml --out out",
+                "keys.yaml: policy.keys: observation keys 'nothere.yaml' are neither a preset");
 }
 
 // A damaged manifest is named with what is wrong. Before: nlohmann's "[json.exception.type_error.305]
 // cannot use operator[] with a string argument with string", naming no file.
 TEST_F(RedTeamCliTest, DamagedSweepManifestIsNamedWithWhatIsWrong) {
-  const std::string valid = R"({"spec": {}, "spec_yaml": "", "version": "v", "shard": {"index": 0, "count": 1}, "cells": {}})";
+  const std::string valid =
+      R"({"spec": {}, "spec_yaml": "", "version": "v", "shard": {"index": 0, "count": 1}, "cells": {}})";
   const std::string manifest = "shard/manifest.json";
   WriteFile(root_ / manifest, valid);
-  ASSERT_EQ(Run("sweep merge --out " + Quote((root_ / "merged").string()) + " " + Quote((root_ / "shard").string())).err.find("damaged"),
+  ASSERT_EQ(Run("sweep merge --out " + Quote((root_ / "merged").string()) + " " + Quote((root_ / "shard").string()))
+                .err.find("damaged"),
             std::string::npos)
       << "the premise: the valid manifest passes the checks";
   fs::remove_all(root_ / "merged");
   WriteFile(root_ / manifest, valid.substr(0, 20));
   ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, not valid JSON: parse error");
   WriteFile(root_ / manifest, std::string(valid).replace(valid.find(R"({"index": 0, "count": 1})"), 24, R"("x")"));
-  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, 'shard' must be {\"index\": I, \"count\": N}");
+  ExpectRefused("sweep merge --out out shard",
+                manifest + ": damaged sweep manifest, 'shard' must be {\"index\": I, \"count\": N}");
   WriteFile(root_ / manifest, std::string(valid).replace(valid.find(R"("cells": {})"), 11, R"("cells": 5)"));
-  ExpectRefused("sweep merge --out out shard", manifest + ": damaged sweep manifest, 'cells' must be an object of cell ids, got 5");
+  ExpectRefused("sweep merge --out out shard",
+                manifest + ": damaged sweep manifest, 'cells' must be an object of cell ids, got 5");
 }
 
 // Options that only a served policy uses are refused with a built-in one, on the command line and
 // in a sweep spec (naming the file and key).
 TEST_F(RedTeamCliTest, ServedPolicyOptionsWithABuiltInPolicyAreRefused) {
-  ExpectRefused("eval --episodes 1 --replan-steps 5 --out out", "--replan-steps applies to --policy openpi only, got --policy expert");
-  ExpectRefused("eval --episodes 1 --keys libero --out out", "--keys applies to --policy openpi only, got --policy expert");
+  ExpectRefused("eval --episodes 1 --replan-steps 5 --out out",
+                "--replan-steps applies to --policy openpi only, got --policy expert");
+  ExpectRefused("eval --episodes 1 --keys libero --out out",
+                "--keys applies to --policy openpi only, got --policy expert");
   WriteFile(root_ / "spec.yaml",
             "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\nepisodes: 2\n"
             "policy:\n  name: expert\n  replan_steps: 5\n");
-  ExpectRefused("sweep spec.yaml --out out", "spec.yaml: policy.replan_steps: applies to policy 'openpi' only, got policy 'expert'");
+  ExpectRefused("sweep spec.yaml --out out",
+                "spec.yaml: policy.replan_steps: applies to policy 'openpi' only, got policy 'expert'");
 }
 
 }  // namespace

@@ -47,7 +47,8 @@ TEST_F(RenderCommand, WritesFourViewsTwiceAndAContactSheet) {
     EXPECT_EQ(later.height, 48);
   }
   // Half a second in, the expert is turning the head toward the cube: its view has changed.
-  EXPECT_TRUE(Differ(render::ReadPng((dir / "reset_head.png").string()), render::ReadPng((dir / "tick30_head.png").string())));
+  EXPECT_TRUE(
+      Differ(render::ReadPng((dir / "reset_head.png").string()), render::ReadPng((dir / "tick30_head.png").string())));
   // The sheet tiles the four views in two columns and two rows, with margins.
   const render::RgbImage sheet = render::ReadPng((dir / "contact_sheet.png").string());
   EXPECT_GT(sheet.width, 2 * 64);
@@ -83,10 +84,13 @@ TEST_F(RenderCommand, SameArgumentsGiveIdenticalFiles) {
 TEST_F(RenderCommand, BadInputExitsOneNamingTheValueAndWritesNothing) {
   const fs::path dir = root_ / "never";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--task nope", "nope"},         {"--robot robby", "robby"},     {"--split sideways", "sideways"},
+      {"--task nope", "nope"},
+      {"--robot robby", "robby"},
+      {"--split sideways", "sideways"},
       {"--width 0", "--width: must be an integer from 1 to 8192, got '0'"},
       {"--height -5", "--height: must be an integer from 1 to 8192, got '-5'"},
-      {"--steps -1", "--steps: must be an integer from 0 to 1000000, got '-1'"},    {"--seed -2", "--seed must be an integer from 0 to 18446744073709551615, got -2"},
+      {"--steps -1", "--steps: must be an integer from 0 to 1000000, got '-1'"},
+      {"--seed -2", "--seed must be an integer from 0 to 18446744073709551615, got -2"},
       {"--episode -1", "--episode: must be an integer from 0 to 1000000000, got '-1'"},
       {"--width banana", "banana"},
   };

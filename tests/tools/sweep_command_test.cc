@@ -109,8 +109,9 @@ TEST_F(SweepRuns, KilledMidCellAndRerunEqualsAnUninterruptedRun) {
   ASSERT_EQ(Sweep(root_ / "whole", "--threads 1").exit_code, 0);
   const fs::path out = root_ / "killed";
   const fs::path first = out / "cells" / kFirstCell / "episodes.jsonl";
-  ASSERT_TRUE(KillWhenLinesAppear("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet --threads 1 --concurrent-cells 1",
-                                  first, 2, SIGKILL))
+  ASSERT_TRUE(KillWhenLinesAppear(
+      "sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet --threads 1 --concurrent-cells 1",
+      first, 2, SIGKILL))
       << "the sweep finished before it could be killed";
   const std::size_t kept = Lines(ReadText(first)).size();
   ASSERT_LT(kept, 6U) << "killed after the cell ended: nothing was interrupted";
@@ -125,7 +126,8 @@ TEST_F(SweepRuns, KilledMidCellAndRerunEqualsAnUninterruptedRun) {
   for (const auto& cell : fs::directory_iterator(out / "cells")) {
     const std::vector<std::string> lines = Lines(ReadText(cell.path() / "episodes.jsonl"));
     ASSERT_EQ(lines.size(), 6U) << cell.path();
-    for (std::size_t i = 0; i < lines.size(); ++i) EXPECT_EQ(nlohmann::json::parse(lines[i])["episode"], i) << cell.path();
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      EXPECT_EQ(nlohmann::json::parse(lines[i])["episode"], i) << cell.path();
   }
   EXPECT_EQ(nlohmann::json::parse(ReadText(out / "cells" / kFirstCell / "summary.json"))["resumed_episodes"], kept);
 
@@ -155,21 +157,26 @@ TEST_F(SweepRuns, ThreeShardsMergedEqualTheUnshardedSweep) {
   ExpectSameResults(root_ / "whole", root_ / "merged");
 
   // Refused: a shard missing, a shard given twice, a shard of another spec.
-  const RunResult missing = Run("sweep merge --out " + Quote((root_ / "m2").string()) + " " + Quote((root_ / "shard0").string()) + " " +
-                                Quote((root_ / "shard2").string()));
+  const RunResult missing = Run("sweep merge --out " + Quote((root_ / "m2").string()) + " " +
+                                Quote((root_ / "shard0").string()) + " " + Quote((root_ / "shard2").string()));
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("missing 1/3"), std::string::npos) << missing.err;
   std::string other_spec = kSpec;
   other_spec.replace(other_spec.find("episodes: 6"), 11, "episodes: 5");
   std::ofstream(root_ / "other.yaml") << other_spec;
-  ASSERT_EQ(Run("sweep " + Quote((root_ / "other.yaml").string()) + " --quiet --shard 1/3 --out " + Quote((root_ / "other1").string())).exit_code, 0);
-  const RunResult mixed = Run("sweep merge --out " + Quote((root_ / "m3").string()) + " " + Quote((root_ / "shard0").string()) + " " +
-                              Quote((root_ / "other1").string()) + " " + Quote((root_ / "shard2").string()));
+  ASSERT_EQ(Run("sweep " + Quote((root_ / "other.yaml").string()) + " --quiet --shard 1/3 --out " +
+                Quote((root_ / "other1").string()))
+                .exit_code,
+            0);
+  const RunResult mixed =
+      Run("sweep merge --out " + Quote((root_ / "m3").string()) + " " + Quote((root_ / "shard0").string()) + " " +
+          Quote((root_ / "other1").string()) + " " + Quote((root_ / "shard2").string()));
   EXPECT_EQ(mixed.exit_code, 1);
   EXPECT_NE(mixed.err.find("different sweeps"), std::string::npos) << mixed.err;
   EXPECT_NE(mixed.err.find("/spec/episodes 6 -> 5"), std::string::npos) << mixed.err;
   // And a folder of one sweep does not take another's cells.
-  const RunResult reuse = Run("sweep " + Quote((root_ / "other.yaml").string()) + " --quiet --out " + Quote((root_ / "whole").string()));
+  const RunResult reuse =
+      Run("sweep " + Quote((root_ / "other.yaml").string()) + " --quiet --out " + Quote((root_ / "whole").string()));
   EXPECT_EQ(reuse.exit_code, 1);
   EXPECT_NE(reuse.err.find("holds another sweep"), std::string::npos) << reuse.err;
 }
@@ -178,9 +185,12 @@ TEST_F(SweepRuns, BadSpecNamesFileKeyAndValueAndWritesNothing) {
   std::string bad = kSpec;
   bad.replace(bad.find("[head, fixed]"), 13, "[head, side]");
   std::ofstream(root_ / "bad.yaml") << bad;
-  const RunResult run = Run("sweep " + Quote((root_ / "bad.yaml").string()) + " --out " + Quote((root_ / "out").string()));
+  const RunResult run =
+      Run("sweep " + Quote((root_ / "bad.yaml").string()) + " --out " + Quote((root_ / "out").string()));
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.err.find((root_ / "bad.yaml").string() + ": cameras[1]: unknown camera protocol 'side'"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find((root_ / "bad.yaml").string() + ": cameras[1]: unknown camera protocol 'side'"),
+            std::string::npos)
+      << run.err;
   EXPECT_FALSE(fs::exists(root_ / "out"));
   const RunResult shard = Sweep(root_ / "out", "--shard 3/3");
   EXPECT_EQ(shard.exit_code, 1);
@@ -194,7 +204,8 @@ TEST_F(SweepRuns, BadSpecNamesFileKeyAndValueAndWritesNothing) {
 TEST_F(SweepRuns, TableReadsTheSweepFolderAndChecksItsCells) {
   const fs::path sweep = root_ / "sweep";
   ASSERT_EQ(Sweep(sweep).exit_code, 0);
-  const std::string table = "table --suite tavis-head --no-ci --in " + Quote(sweep.string()) + " --out " + Quote((root_ / "t").string());
+  const std::string table =
+      "table --suite tavis-head --no-ci --in " + Quote(sweep.string()) + " --out " + Quote((root_ / "t").string());
   const RunResult run = Run(table);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   // The table's row of the task (the suite's other tasks have no cells).
@@ -207,7 +218,8 @@ TEST_F(SweepRuns, TableReadsTheSweepFolderAndChecksItsCells) {
   std::string expected_row = "clutter-pick-cube";
   for (const char* column : {"id_head", "id_fixed", "ood-spatial_head", "ood-spatial_fixed"}) {
     int successes = 0;
-    for (const std::string& line : Lines(ReadText(sweep / "cells" / ("clutter-pick-cube_gr1t2_" + std::string(column) + "_expert_s3") / "episodes.jsonl"))) {
+    for (const std::string& line : Lines(ReadText(
+             sweep / "cells" / ("clutter-pick-cube_gr1t2_" + std::string(column) + "_expert_s3") / "episodes.jsonl"))) {
       successes += nlohmann::json::parse(line)["success"].get<bool>() ? 1 : 0;
     }
     char rate[16];
@@ -224,7 +236,8 @@ TEST_F(SweepRuns, TableReadsTheSweepFolderAndChecksItsCells) {
     std::ofstream(copy / "summary.json") << summary.dump();
     const RunResult copied = Run(table);
     EXPECT_EQ(copied.exit_code, 1) << "seed " << seed;
-    EXPECT_NE(copied.err.find((cell / "summary.json").string() + " and " + (copy / "summary.json").string()), std::string::npos)
+    EXPECT_NE(copied.err.find((cell / "summary.json").string() + " and " + (copy / "summary.json").string()),
+              std::string::npos)
         << copied.err;
   }
   summary["n_episodes"] = 0;
@@ -233,7 +246,8 @@ TEST_F(SweepRuns, TableReadsTheSweepFolderAndChecksItsCells) {
   std::ofstream(copy / "episodes.jsonl", std::ios::trunc).close();
   const RunResult empty = Run(table);
   EXPECT_EQ(empty.exit_code, 0) << empty.err;
-  EXPECT_NE(empty.err.find("note: " + (copy / "summary.json").string() + " holds no episodes (n_episodes 0): left out of the table"),
+  EXPECT_NE(empty.err.find("note: " + (copy / "summary.json").string() +
+                           " holds no episodes (n_episodes 0): left out of the table"),
             std::string::npos)
       << empty.err;
   EXPECT_EQ(task_row(), expected_row);
@@ -243,14 +257,16 @@ TEST_F(SweepRuns, TableReadsTheSweepFolderAndChecksItsCells) {
   std::ofstream(cell / "episodes.jsonl", std::ios::app) << first_record << "\n";
   const RunResult doubled = Run(table);
   EXPECT_EQ(doubled.exit_code, 1);
-  EXPECT_NE(doubled.err.find("cell " + cell.string() + ": episodes.jsonl holds 7 episodes"), std::string::npos) << doubled.err;
+  EXPECT_NE(doubled.err.find("cell " + cell.string() + ": episodes.jsonl holds 7 episodes"), std::string::npos)
+      << doubled.err;
 }
 
 TEST_F(SweepRuns, HtmlReportInHeadlessChromiumShowsTheJsonNumbers) {
   ASSERT_EQ(Sweep(root_ / "out").exit_code, 0);
   fs::create_directories(root_ / "chromium");
   testing::ChildProcess check(testing::kDebianPython,
-                              {TAVIS_TEST_DATA_DIR "/sweep/check_report_in_chromium.py", (root_ / "out").string(), (root_ / "chromium").string()},
+                              {TAVIS_TEST_DATA_DIR "/sweep/check_report_in_chromium.py", (root_ / "out").string(),
+                               (root_ / "chromium").string()},
                               "needs Debian's chromium and python3-av (.ci/install-deps)");
   const std::string report = check.ReadAllOutput(std::chrono::seconds(180));
   EXPECT_NE(report.find("report ok: 4 cells"), std::string::npos) << report;

@@ -56,7 +56,8 @@ inline std::vector<std::string> Lines(const std::string& text) {
 inline bool KillWhenLinesAppear(const std::string& args, const fs::path& file, std::size_t lines, int signal) {
   const pid_t child = fork();
   if (child == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + args + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    execl("/bin/sh", "sh", "-c", ("exec " + Quote(TAVIS_BINARY) + " " + args + " >/dev/null 2>&1").c_str(),
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -91,8 +92,8 @@ class TavisCommandTest : public ::testing::Test {
   RunResult RunIn(const fs::path& cwd, const std::string& args) const {
     const fs::path out = root_ / "stdout.txt";
     const fs::path err = root_ / "stderr.txt";
-    const std::string command = (cwd.empty() ? "" : "cd " + Quote(cwd.string()) + " && ") + Quote(TAVIS_BINARY) + " " + args +
-                                " >" + Quote(out.string()) + " 2>" + Quote(err.string());
+    const std::string command = (cwd.empty() ? "" : "cd " + Quote(cwd.string()) + " && ") + Quote(TAVIS_BINARY) + " " +
+                                args + " >" + Quote(out.string()) + " 2>" + Quote(err.string());
     const int status = std::system(command.c_str());
     RunResult result;
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

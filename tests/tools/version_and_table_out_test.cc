@@ -42,8 +42,8 @@ void WriteCell(const fs::path& dir, const std::string& task, int successes) {
 TEST_F(VersionAndTableOut, TableCreatesTheFolderOfItsPrefix) {
   WriteCell(root_ / "cells" / "a", "clutter-pick-cube", 3);
   const fs::path prefix = root_ / "not" / "yet" / "there" / "head";
-  const RunResult run = Run("table --in " + Quote((root_ / "cells").string()) + " --suite tavis-head --out " +
-                            Quote(prefix.string()));
+  const RunResult run =
+      Run("table --in " + Quote((root_ / "cells").string()) + " --suite tavis-head --out " + Quote(prefix.string()));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string markdown = ReadText(prefix.string() + ".md");
   EXPECT_NE(markdown.find("75.0"), std::string::npos) << markdown;  // 3 of 4
@@ -56,7 +56,8 @@ TEST_F(VersionAndTableOut, TableNamesAFolderItCannotCreate) {
   const RunResult run = Run("table --in " + Quote((root_ / "cells").string()) + " --suite tavis-head --out " +
                             Quote((root_ / "a_file" / "tables" / "head").string()));
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.err.find("cannot create the folder " + (root_ / "a_file" / "tables").string()), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("cannot create the folder " + (root_ / "a_file" / "tables").string()), std::string::npos)
+      << run.err;
   EXPECT_EQ(ReadText(root_ / "a_file"), "not a folder");
 }
 

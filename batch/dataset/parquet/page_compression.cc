@@ -34,8 +34,8 @@ void AppendCompressed(Codec codec, const std::vector<std::uint8_t>& body, std::v
 void Decompress(Codec codec, const std::uint8_t* data, std::size_t size, std::size_t uncompressed_size,
                 const std::string& context, std::vector<std::uint8_t>& out) {
   const auto mismatch = [&](std::size_t actual) {
-    return std::runtime_error(context + ": page body is " + std::to_string(actual) + " bytes uncompressed, its header says " +
-                              std::to_string(uncompressed_size));
+    return std::runtime_error(context + ": page body is " + std::to_string(actual) +
+                              " bytes uncompressed, its header says " + std::to_string(uncompressed_size));
   };
   switch (codec) {
     case Codec::kUncompressed:
@@ -72,8 +72,7 @@ void Decompress(Codec codec, const std::uint8_t* data, std::size_t size, std::si
       if (length != uncompressed_size) throw mismatch(length);
       return;
     }
-    default:
-      throw std::runtime_error(context + ": unsupported codec " + CodecName(codec));
+    default: throw std::runtime_error(context + ": unsupported codec " + CodecName(codec));
   }
 }
 

@@ -5,7 +5,8 @@ namespace {
 
 // Calls `read_element` once per element of the list field of `type`.
 template <typename ReadElement>
-void ReadList(ThriftCompactReader& thrift, ThriftType type, ThriftType expected_element, const ReadElement& read_element) {
+void ReadList(ThriftCompactReader& thrift, ThriftType type, ThriftType expected_element,
+              const ReadElement& read_element) {
   ThriftType element_type{};
   const std::size_t size = thrift.ReadListHeader(type, element_type);
   if (size > 0 && element_type != expected_element) {
@@ -59,7 +60,8 @@ RowGroupMetadata ReadRowGroup(ThriftCompactReader& thrift) {
   RowGroupMetadata group;
   thrift.ReadStruct([&](std::int16_t id, ThriftType type) {
     if (id == 1) {
-      ReadList(thrift, type, ThriftType::kStruct, [&](ThriftType) { group.columns.push_back(ReadColumnChunk(thrift)); });
+      ReadList(thrift, type, ThriftType::kStruct,
+               [&](ThriftType) { group.columns.push_back(ReadColumnChunk(thrift)); });
     } else if (id == 3) {
       group.num_rows = thrift.ReadInt(type);
     } else {
@@ -95,7 +97,8 @@ FileMetadata ReadFileMetadata(ThriftCompactReader& thrift) {
         break;
       case 3: file.num_rows = thrift.ReadInt(type); break;
       case 4:
-        ReadList(thrift, type, ThriftType::kStruct, [&](ThriftType) { file.row_groups.push_back(ReadRowGroup(thrift)); });
+        ReadList(thrift, type, ThriftType::kStruct,
+                 [&](ThriftType) { file.row_groups.push_back(ReadRowGroup(thrift)); });
         break;
       case 5:
         ReadList(thrift, type, ThriftType::kStruct,

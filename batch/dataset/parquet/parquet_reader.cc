@@ -47,7 +47,8 @@ class ChunkDecoder {
     std::int64_t values_seen = 0;
     while (values_seen < num_values) {
       if (position >= chunk.size()) {
-        Fail("column chunk ends after " + std::to_string(values_seen) + " of " + std::to_string(num_values) + " values");
+        Fail("column chunk ends after " + std::to_string(values_seen) + " of " + std::to_string(num_values) +
+             " values");
       }
       ThriftCompactReader thrift(chunk.data() + position, chunk.size() - position,
                                  context_ + ": page header at chunk byte " + std::to_string(position));
@@ -98,9 +99,11 @@ class ChunkDecoder {
     if (page.type == PageType::kDataPage) {
       Decompress(codec_, body, compressed_size, uncompressed_size, context_ + ": data page", buffer_);
       std::size_t position = 0;
-      const auto level_block = [&](int max_level, Encoding encoding, const char* kind, std::vector<std::uint32_t>& levels) {
+      const auto level_block = [&](int max_level, Encoding encoding, const char* kind,
+                                   std::vector<std::uint32_t>& levels) {
         if (max_level == 0) return DecodeLevels(nullptr, 0, 0, count, context_, levels);
-        if (encoding != Encoding::kRle) Fail(std::string(kind) + " levels encoded " + EncodingName(encoding) + ", unsupported");
+        if (encoding != Encoding::kRle)
+          Fail(std::string(kind) + " levels encoded " + EncodingName(encoding) + ", unsupported");
         if (buffer_.size() - position < 4) Fail(std::string(kind) + " level length past the end of the page");
         const std::uint32_t length = LoadUint32Le(buffer_.data() + position);
         position += 4;
@@ -113,12 +116,14 @@ class ChunkDecoder {
       values = buffer_.data() + position;
       values_size = buffer_.size() - position;
     } else {
-      if (page.repetition_levels_byte_length < 0 || page.definition_levels_byte_length < 0) Fail("negative level length");
+      if (page.repetition_levels_byte_length < 0 || page.definition_levels_byte_length < 0)
+        Fail("negative level length");
       const auto repetition_size = static_cast<std::size_t>(page.repetition_levels_byte_length);
       const auto definition_size = static_cast<std::size_t>(page.definition_levels_byte_length);
       const std::size_t levels_size = repetition_size + definition_size;
       if (levels_size > compressed_size || levels_size > uncompressed_size) Fail("levels larger than their page");
-      DecodeLevels(body, repetition_size, leaf_.max_repetition_level, count, context_ + ": repetition levels", repetition_);
+      DecodeLevels(body, repetition_size, leaf_.max_repetition_level, count, context_ + ": repetition levels",
+                   repetition_);
       DecodeLevels(body + repetition_size, definition_size, leaf_.max_definition_level, count,
                    context_ + ": definition levels", definition_);
       const Codec codec = page.is_compressed ? codec_ : Codec::kUncompressed;
@@ -218,8 +223,7 @@ ParquetReader::ParquetReader(std::string path) : path_(std::move(path)) {
                                std::to_string(file_size_) + " bytes");
     }
     data_end_ = file_size_ - kMagicSize - 4 - footer_length;
-    const std::vector<std::uint8_t> footer =
-        ReadRange(static_cast<std::int64_t>(data_end_), footer_length, "footer");
+    const std::vector<std::uint8_t> footer = ReadRange(static_cast<std::int64_t>(data_end_), footer_length, "footer");
     ThriftCompactReader thrift(footer.data(), footer.size(), path_ + ": footer");
     metadata_ = std::make_unique<FileMetadata>(ReadFileMetadata(thrift));
     leaves_ = LeafColumnsOf(metadata_->schema, path_);
@@ -230,7 +234,8 @@ ParquetReader::ParquetReader(std::string path) : path_(std::move(path)) {
                                  std::to_string(row_group.columns.size()) + " column chunks for " +
                                  std::to_string(leaves_.size()) + " schema columns");
       }
-      if (row_group.num_rows < 0) throw std::runtime_error(path_ + ": row group " + std::to_string(group) + " has negative rows");
+      if (row_group.num_rows < 0)
+        throw std::runtime_error(path_ + ": row group " + std::to_string(group) + " has negative rows");
     }
   } catch (...) {
     ::close(fd_);
@@ -257,7 +262,8 @@ std::vector<std::string> ParquetReader::column_names() const {
   return names;
 }
 
-std::vector<std::uint8_t> ParquetReader::ReadRange(std::int64_t offset, std::int64_t size, const std::string& what) const {
+std::vector<std::uint8_t> ParquetReader::ReadRange(std::int64_t offset, std::int64_t size,
+                                                   const std::string& what) const {
   if (offset < 0 || size < 0 || static_cast<std::uint64_t>(offset) > file_size_ ||
       static_cast<std::uint64_t>(size) > file_size_ - static_cast<std::uint64_t>(offset)) {
     throw std::runtime_error(path_ + ": " + what + " at offset " + std::to_string(offset) + " of " +
@@ -304,7 +310,8 @@ ListColumn<T> ParquetReader::ReadListColumn(const std::string& name) const {
     const ColumnChunkMetadata& chunk = row_group.columns[leaf_index];
     const std::string context = path_ + ": column \"" + name + "\" in row group " + std::to_string(group);
     if (chunk.codec != Codec::kUncompressed && chunk.codec != Codec::kSnappy && chunk.codec != Codec::kZstd) {
-      throw std::runtime_error("unsupported codec " + CodecName(chunk.codec) + " in column \"" + name + "\" of " + path_);
+      throw std::runtime_error("unsupported codec " + CodecName(chunk.codec) + " in column \"" + name + "\" of " +
+                               path_);
     }
     if (chunk.in_other_file) throw std::runtime_error(context + ": column chunk stored in another file, unsupported");
     if (chunk.type != leaf.type) throw std::runtime_error(context + ": chunk type differs from the schema");
@@ -346,7 +353,7 @@ std::vector<T> ParquetReader::ReadColumn(const std::string& name) const {
   return std::move(column.values);
 }
 
-#define TAVIS_PARQUET_INSTANTIATE(T)                                                 \
+#define TAVIS_PARQUET_INSTANTIATE(T)                                              \
   template std::vector<T> ParquetReader::ReadColumn<T>(const std::string&) const; \
   template ListColumn<T> ParquetReader::ReadListColumn<T>(const std::string&) const;
 TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)

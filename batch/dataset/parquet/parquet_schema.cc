@@ -170,7 +170,8 @@ std::vector<LeafColumn> LeafColumnsOf(const std::vector<SchemaElement>& elements
   // exhaust the stack.
   constexpr std::size_t kMaxNesting = 64;
   const std::function<void(int, int)> visit = [&](int definition, int repetition) {
-    if (next >= elements.size()) throw std::runtime_error(context + ": schema has fewer elements than its children counts");
+    if (next >= elements.size())
+      throw std::runtime_error(context + ": schema has fewer elements than its children counts");
     if (path.size() >= kMaxNesting) throw std::runtime_error(context + ": schema nested deeper than 64 levels");
     const SchemaElement& element = elements[next++];
     if (element.repetition != Repetition::kRequired) ++definition;

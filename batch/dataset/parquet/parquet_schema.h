@@ -26,12 +26,30 @@ PhysicalType PhysicalTypeOf(ValueType type);
 // The C++ type that holds each ValueType: ValueTypeOf<float>::kType is ValueType::kFloat.
 template <typename T>
 struct ValueTypeOf;
-template <> struct ValueTypeOf<bool> { static constexpr ValueType kType = ValueType::kBool; };
-template <> struct ValueTypeOf<std::int32_t> { static constexpr ValueType kType = ValueType::kInt32; };
-template <> struct ValueTypeOf<std::int64_t> { static constexpr ValueType kType = ValueType::kInt64; };
-template <> struct ValueTypeOf<float> { static constexpr ValueType kType = ValueType::kFloat; };
-template <> struct ValueTypeOf<double> { static constexpr ValueType kType = ValueType::kDouble; };
-template <> struct ValueTypeOf<std::string> { static constexpr ValueType kType = ValueType::kString; };
+template <>
+struct ValueTypeOf<bool> {
+  static constexpr ValueType kType = ValueType::kBool;
+};
+template <>
+struct ValueTypeOf<std::int32_t> {
+  static constexpr ValueType kType = ValueType::kInt32;
+};
+template <>
+struct ValueTypeOf<std::int64_t> {
+  static constexpr ValueType kType = ValueType::kInt64;
+};
+template <>
+struct ValueTypeOf<float> {
+  static constexpr ValueType kType = ValueType::kFloat;
+};
+template <>
+struct ValueTypeOf<double> {
+  static constexpr ValueType kType = ValueType::kDouble;
+};
+template <>
+struct ValueTypeOf<std::string> {
+  static constexpr ValueType kType = ValueType::kString;
+};
 
 // Applies the macro X to each of those C++ types (for explicit template instantiations).
 #define TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(X) X(bool) X(std::int32_t) X(std::int64_t) X(float) X(double) X(std::string)
@@ -50,7 +68,7 @@ struct ColumnSpec {
   int list_depth() const;  // 0 for a scalar
   int max_definition_level() const { return 2 * list_depth() + 1; }
   int max_repetition_level() const { return list_depth(); }
-  std::size_t items_per_row() const;  // the product of `shape` (1 for a scalar)
+  std::size_t items_per_row() const;           // the product of `shape` (1 for a scalar)
   std::vector<std::string> leaf_path() const;  // name, then "list", "element" per level
 };
 

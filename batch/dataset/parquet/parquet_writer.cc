@@ -58,7 +58,8 @@ void AppendPlain(const std::vector<std::string>& values, const std::string& colu
 // Levels of `num_rows` rows of `items_per_row` leaves in a list nested as deep as `shape`: a
 // leaf's repetition level is 0 for the first of a row, else 1 + the outermost axis whose index
 // changed, which is the outermost axis whose stride divides the leaf's position.
-void FixedShapeRepetition(const std::vector<std::size_t>& shape, std::size_t num_rows, std::vector<std::uint8_t>& levels) {
+void FixedShapeRepetition(const std::vector<std::size_t>& shape, std::size_t num_rows,
+                          std::vector<std::uint8_t>& levels) {
   std::vector<std::size_t> strides(shape.size(), 1);
   for (std::size_t axis = shape.size() - 1; axis > 0; --axis) strides[axis - 1] = strides[axis] * shape[axis];
   const std::size_t items = strides[0] * shape[0];
@@ -144,8 +145,8 @@ void RowGroupBuilder::Encode(const std::string& column, const std::vector<T>& va
     }
     const std::size_t total = std::accumulate(row_lengths.begin(), row_lengths.end(), std::size_t{0});
     if (values.size() != total) {
-      throw ColumnError(column, std::to_string(values.size()) + " values where the row lengths add up to " +
-                                    std::to_string(total));
+      throw ColumnError(
+          column, std::to_string(values.size()) + " values where the row lengths add up to " + std::to_string(total));
     }
     for (const std::size_t length : row_lengths) {
       // An empty list is one entry: repetition 0, defined down to the (present) list group.
@@ -186,10 +187,9 @@ void RowGroupBuilder::Encode(const std::string& column, const std::vector<T>& va
   chunk.filled = true;
 }
 
-#define TAVIS_PARQUET_INSTANTIATE(T)                                                          \
-  template void RowGroupBuilder::Add<T>(const std::string&, const std::vector<T>&);           \
-  template void RowGroupBuilder::AddList<T>(const std::string&, const std::vector<T>&, \
-                                            const std::vector<std::size_t>&);
+#define TAVIS_PARQUET_INSTANTIATE(T)                                                \
+  template void RowGroupBuilder::Add<T>(const std::string&, const std::vector<T>&); \
+  template void RowGroupBuilder::AddList<T>(const std::string&, const std::vector<T>&, const std::vector<std::size_t>&);
 TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)
 #undef TAVIS_PARQUET_INSTANTIATE
 
@@ -248,7 +248,8 @@ void ParquetWriter::WriteRowGroup(const RowGroupBuilder& rows) {
   CheckUsable("WriteRowGroup");
   if (rows.schema_ != schema_) throw std::invalid_argument("row group from another Parquet writer given to " + path_);
   for (std::size_t i = 0; i < rows.chunks_.size(); ++i) {
-    if (!rows.chunks_[i].filled) throw ColumnError(schema_->columns[i].name, "not filled in the row group for " + path_);
+    if (!rows.chunks_[i].filled)
+      throw ColumnError(schema_->columns[i].name, "not filled in the row group for " + path_);
   }
   RowGroupLocation group{static_cast<std::int64_t>(rows.num_rows_), {}};
   group.chunks.reserve(rows.chunks_.size());

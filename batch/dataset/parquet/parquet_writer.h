@@ -54,7 +54,8 @@ class RowGroupBuilder {
   // for a column declared without a shape (a length of 0 writes an empty list, not a null);
   // otherwise leave it empty and each row takes the product of the shape's axes, row-major.
   template <typename T>
-  void AddList(const std::string& column, const std::vector<T>& values, const std::vector<std::size_t>& row_lengths = {});
+  void AddList(const std::string& column, const std::vector<T>& values,
+               const std::vector<std::size_t>& row_lengths = {});
 
   // Forgets the columns, keeping the buffers, for another row group of `num_rows` rows.
   void Reset(std::size_t num_rows);
@@ -68,8 +69,8 @@ class RowGroupBuilder {
 
   struct EncodedChunk {
     bool filled = false;
-    std::vector<std::uint8_t> page;  // PageHeader then the (compressed) body
-    std::int64_t num_values = 0;     // level entries
+    std::vector<std::uint8_t> page;      // PageHeader then the (compressed) body
+    std::int64_t num_values = 0;         // level entries
     std::int64_t uncompressed_size = 0;  // PageHeader plus uncompressed body
   };
 

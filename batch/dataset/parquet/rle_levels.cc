@@ -62,7 +62,8 @@ void DecodeHybrid(const std::uint8_t* data, std::size_t size, int bit_width, std
       const int value_bytes = (bit_width + 7) / 8;
       if (size - position < static_cast<std::size_t>(value_bytes)) fail("RLE run value past the end");
       std::uint32_t value = 0;
-      for (int byte = 0; byte < value_bytes; ++byte) value |= static_cast<std::uint32_t>(data[position++]) << (8 * byte);
+      for (int byte = 0; byte < value_bytes; ++byte)
+        value |= static_cast<std::uint32_t>(data[position++]) << (8 * byte);
       check(value);
       if (run == 0) fail("empty RLE run");
       out.insert(out.end(), static_cast<std::size_t>(std::min<std::uint64_t>(run, wanted)), value);
@@ -70,7 +71,8 @@ void DecodeHybrid(const std::uint8_t* data, std::size_t size, int bit_width, std
       // Groups of 8 values, bit-packed least significant bit first; a last group may be padding.
       const std::uint64_t groups = header >> 1;
       // Every run yields at least one value, so the loop ends; the cap keeps the products exact.
-      if (groups == 0 || groups > (std::uint64_t{1} << 56)) fail("bit-packed run of " + std::to_string(groups) + " groups");
+      if (groups == 0 || groups > (std::uint64_t{1} << 56))
+        fail("bit-packed run of " + std::to_string(groups) + " groups");
       const std::uint64_t values = groups * 8;
       const std::uint64_t bytes = groups * static_cast<std::uint64_t>(bit_width);
       if (bytes > size - position) fail("bit-packed run past the end");

@@ -129,8 +129,8 @@ std::uint64_t ThriftCompactReader::ReadUleb128() {
 
 void ThriftCompactReader::Expect(ThriftType actual, ThriftType expected) const {
   if (actual != expected) {
-    Fail("thrift field of type " + std::to_string(Nibble(actual)) + " where type " +
-         std::to_string(Nibble(expected)) + " was expected");
+    Fail("thrift field of type " + std::to_string(Nibble(actual)) + " where type " + std::to_string(Nibble(expected)) +
+         " was expected");
   }
 }
 
@@ -205,23 +205,16 @@ void ThriftCompactReader::SkipValue(ThriftType type, int depth) {
   if (depth > kMaxStructDepth) Fail("thrift values nested deeper than " + std::to_string(kMaxStructDepth));
   switch (type) {
     case ThriftType::kBoolTrue:
-    case ThriftType::kBoolFalse:
-      return;
-    case ThriftType::kByte:
-      ReadByte();
-      return;
+    case ThriftType::kBoolFalse: return;
+    case ThriftType::kByte: ReadByte(); return;
     case ThriftType::kI16:
     case ThriftType::kI32:
-    case ThriftType::kI64:
-      ReadUleb128();
-      return;
+    case ThriftType::kI64: ReadUleb128(); return;
     case ThriftType::kDouble:
       if (size_ - position_ < 8) Fail("double runs past the end");
       position_ += 8;
       return;
-    case ThriftType::kBinary:
-      ReadBinary(type);
-      return;
+    case ThriftType::kBinary: ReadBinary(type); return;
     case ThriftType::kList:
     case ThriftType::kSet: {
       ThriftType element_type{};
@@ -250,8 +243,7 @@ void ThriftCompactReader::SkipValue(ThriftType type, int depth) {
     case ThriftType::kStruct:
       ReadStruct([&](std::int16_t, ThriftType field_type) { SkipValue(field_type, depth + 1); });
       return;
-    case ThriftType::kStop:
-      break;
+    case ThriftType::kStop: break;
   }
   Fail("cannot skip thrift type " + std::to_string(Nibble(type)));
 }

@@ -71,14 +71,15 @@ std::size_t DecodeDeltaBinaryPacked(const std::uint8_t* data, std::size_t size, 
   std::uint64_t value = static_cast<std::uint64_t>(cursor.ZigZag());
   // Writers use blocks of 128 values or a few times that; the cap keeps the sizes below exact.
   constexpr std::uint64_t kMaxBlockSize = std::uint64_t{1} << 20;
-  if (block_size == 0 || block_size > kMaxBlockSize || block_size % 128 != 0 || miniblocks == 0 || block_size % miniblocks != 0 ||
-      (block_size / miniblocks) % 32 != 0) {
+  if (block_size == 0 || block_size > kMaxBlockSize || block_size % 128 != 0 || miniblocks == 0 ||
+      block_size % miniblocks != 0 || (block_size / miniblocks) % 32 != 0) {
     Fail(context, "DELTA_BINARY_PACKED block of " + std::to_string(block_size) + " values in " +
                       std::to_string(miniblocks) + " miniblocks");
   }
   // Equal counts also bound the loop below, as `count` is bounded by the caller.
   if (total != count) {
-    Fail(context, "DELTA_BINARY_PACKED holds " + std::to_string(total) + " values, " + std::to_string(count) + " expected");
+    Fail(context,
+         "DELTA_BINARY_PACKED holds " + std::to_string(total) + " values, " + std::to_string(count) + " expected");
   }
   const std::uint64_t per_miniblock = block_size / miniblocks;
   if (total == 0) return cursor.position;
@@ -175,7 +176,7 @@ void DecodeValues(Encoding encoding, const std::uint8_t* data, std::size_t size,
   }
 }
 
-#define TAVIS_PARQUET_INSTANTIATE(T)                                                                        \
+#define TAVIS_PARQUET_INSTANTIATE(T)                                                                         \
   template void DecodeValues<T>(Encoding, const std::uint8_t*, std::size_t, std::size_t, const std::string&, \
                                 std::vector<T>&);
 TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)

@@ -22,14 +22,16 @@ constexpr char kMagic[8] = {'T', 'A', 'V', 'I', 'S', 'P', 'K', '1'};
 template <typename T>
 void Put(std::ofstream& out, T value) {
   unsigned char bytes[sizeof(T)];
-  for (std::size_t i = 0; i < sizeof(T); ++i) bytes[i] = static_cast<unsigned char>(static_cast<uint64_t>(value) >> (8 * i));
+  for (std::size_t i = 0; i < sizeof(T); ++i)
+    bytes[i] = static_cast<unsigned char>(static_cast<uint64_t>(value) >> (8 * i));
   out.write(reinterpret_cast<const char*>(bytes), sizeof(T));
 }
 
 template <typename T>
 T Get(std::ifstream& in, const std::string& path) {
   unsigned char bytes[sizeof(T)];
-  if (!in.read(reinterpret_cast<char*>(bytes), sizeof(T))) throw std::runtime_error(path + ": truncated encoded episode");
+  if (!in.read(reinterpret_cast<char*>(bytes), sizeof(T)))
+    throw std::runtime_error(path + ": truncated encoded episode");
   uint64_t value = 0;
   for (std::size_t i = 0; i < sizeof(T); ++i) value |= static_cast<uint64_t>(bytes[i]) << (8 * i);
   return static_cast<T>(value);
@@ -49,7 +51,10 @@ std::shared_ptr<const StreamParameters> ParametersFor(const VideoSettings& setti
   frame->height = settings.height;
   int result = av_frame_get_buffer(frame, 0);
   if (result >= 0) {
-    for (int plane = 0; plane < 3; ++plane) std::memset(frame->data[plane], 128, static_cast<std::size_t>(frame->linesize[plane]) * static_cast<std::size_t>(plane == 0 ? settings.height : settings.height / 2));
+    for (int plane = 0; plane < 3; ++plane)
+      std::memset(frame->data[plane], 128,
+                  static_cast<std::size_t>(frame->linesize[plane]) *
+                      static_cast<std::size_t>(plane == 0 ? settings.height : settings.height / 2));
     frame->pts = 0;
     result = avcodec_send_frame(encoder.get(), frame);
   }
@@ -97,16 +102,21 @@ EncodedEpisode LoadEncodedEpisode(const std::string& path, const VideoSettings& 
   EncodedEpisode episode;
   episode.frames = Get<int64_t>(in, path);
   const uint64_t packets = Get<uint64_t>(in, path);
-  if (packets > size) throw std::runtime_error(path + ": claims " + std::to_string(packets) + " packets in " + std::to_string(size) + " bytes");
+  if (packets > size)
+    throw std::runtime_error(path + ": claims " + std::to_string(packets) + " packets in " + std::to_string(size) +
+                             " bytes");
   for (uint64_t i = 0; i < packets; ++i) {
     EncodedPacket packet;
     packet.pts = Get<int64_t>(in, path);
     packet.dts = Get<int64_t>(in, path);
     packet.key = Get<uint8_t>(in, path) != 0;
     const uint32_t bytes = Get<uint32_t>(in, path);
-    if (bytes > size) throw std::runtime_error(path + ": a packet of " + std::to_string(bytes) + " bytes in a file of " + std::to_string(size));
+    if (bytes > size)
+      throw std::runtime_error(path + ": a packet of " + std::to_string(bytes) + " bytes in a file of " +
+                               std::to_string(size));
     packet.data.resize(bytes);
-    if (!in.read(reinterpret_cast<char*>(packet.data.data()), bytes)) throw std::runtime_error(path + ": truncated encoded episode");
+    if (!in.read(reinterpret_cast<char*>(packet.data.data()), bytes))
+      throw std::runtime_error(path + ": truncated encoded episode");
     episode.packets.push_back(std::move(packet));
   }
   episode.parameters = ParametersFor(settings, path);

@@ -13,7 +13,7 @@
 namespace tavis::dataset::internal {
 
 struct EncoderChoice {
-  std::string encoder_name;  // e.g. "libx264", "libsvtav1"
+  std::string encoder_name;                                          // e.g. "libx264", "libsvtav1"
   std::vector<std::pair<std::string, std::string>> private_options;  // av_opt_set on priv_data
 };
 

@@ -33,7 +33,9 @@ void CodecContextFree::operator()(AVCodecContext* context) const {
 CodecContextPtr OpenEncoder(const VideoSettings& settings, const std::string& name) {
   const EncoderChoice choice = ChooseEncoder(settings);
   const AVCodec* codec = avcodec_find_encoder_by_name(choice.encoder_name.c_str());
-  if (codec == nullptr) throw std::runtime_error("video " + name + ": encoder " + choice.encoder_name + " is not available in this FFmpeg build");
+  if (codec == nullptr)
+    throw std::runtime_error("video " + name + ": encoder " + choice.encoder_name +
+                             " is not available in this FFmpeg build");
   CodecContextPtr context(avcodec_alloc_context3(codec));
   if (!context) throw std::runtime_error("video " + name + ": cannot allocate the " + choice.encoder_name + " encoder");
   context->width = settings.width;
@@ -66,7 +68,8 @@ CodecContextPtr OpenEncoder(const VideoSettings& settings, const std::string& na
 std::shared_ptr<const StreamParameters> ParametersOf(const AVCodecContext& encoder, const std::string& name) {
   auto parameters = std::make_shared<StreamParameters>();
   parameters->codec = avcodec_parameters_alloc();
-  if (parameters->codec == nullptr) throw std::runtime_error("video " + name + ": out of memory for the stream parameters");
+  if (parameters->codec == nullptr)
+    throw std::runtime_error("video " + name + ": out of memory for the stream parameters");
   CheckFfmpeg(avcodec_parameters_from_context(parameters->codec, &encoder), name, "copying codec parameters");
   parameters->time_base = encoder.time_base;
   parameters->frame_rate = encoder.framerate;
@@ -105,7 +108,9 @@ struct EpisodeEncoder::Impl {
   EncodedEpisode episode;
   bool finished = false;
 
-  [[noreturn]] void Fail(const std::string& problem) const { throw std::runtime_error("video " + name + ": " + problem); }
+  [[noreturn]] void Fail(const std::string& problem) const {
+    throw std::runtime_error("video " + name + ": " + problem);
+  }
 
   void Drain() {
     while (true) {

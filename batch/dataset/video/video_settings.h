@@ -16,8 +16,8 @@ struct VideoSettings {
   int height = 0;  // pixels; even
   int fps = 0;     // constant frame rate; frame k is shown at exactly k / fps seconds
   VideoCodec codec = VideoCodec::kH264;
-  int gop = 2;     // keyframe interval in frames (LeRobot's g=2: cheap random access)
-  int crf = -1;    // quality; -1 picks the codec's default (h264 23, av1 30)
+  int gop = 2;                           // keyframe interval in frames (LeRobot's g=2: cheap random access)
+  int crf = -1;                          // quality; -1 picks the codec's default (h264 23, av1 30)
   std::string h264_preset = "veryfast";  // x264 speed preset
   int av1_preset = 12;                   // SVT-AV1 speed preset, 0 (slowest) to 13
 };

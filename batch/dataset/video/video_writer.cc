@@ -46,7 +46,8 @@ struct Mp4VideoWriter::Impl {
   bool header_written = false;            // at the first episode
   bool closed = false;
 
-  Impl(std::string file, VideoSettings video) : path(std::move(file)), partial_path(path + ".partial"), settings(std::move(video)) {}
+  Impl(std::string file, VideoSettings video)
+      : path(std::move(file)), partial_path(path + ".partial"), settings(std::move(video)) {}
 
   ~Impl() {
     if (closed) return;
@@ -54,7 +55,9 @@ struct Mp4VideoWriter::Impl {
     std::remove(partial_path.c_str());
   }
 
-  [[noreturn]] void Fail(const std::string& problem) const { throw std::runtime_error("video " + path + ": " + problem); }
+  [[noreturn]] void Fail(const std::string& problem) const {
+    throw std::runtime_error("video " + path + ": " + problem);
+  }
 
   void Open() {
     ValidateVideoSettings(settings, path);
@@ -97,10 +100,12 @@ struct Mp4VideoWriter::Impl {
     }
     if (!header_written) WriteHeader(*episode.parameters);
     const AVCodecParameters& parameters = *stream->codecpar;
-    const bool same_header = parameters.codec_id == incoming.codec_id && parameters.extradata_size == incoming.extradata_size &&
-                             std::equal(incoming.extradata, incoming.extradata + incoming.extradata_size, parameters.extradata);
+    const bool same_header =
+        parameters.codec_id == incoming.codec_id && parameters.extradata_size == incoming.extradata_size &&
+        std::equal(incoming.extradata, incoming.extradata + incoming.extradata_size, parameters.extradata);
     if (!same_header) {
-      throw std::invalid_argument("video " + path + ": the episode's stream header differs from the file's (encoded with other settings)");
+      throw std::invalid_argument(
+          "video " + path + ": the episode's stream header differs from the file's (encoded with other settings)");
     }
     const AVRational frame_base{1, settings.fps};
     for (const EncodedPacket& encoded : episode.packets) {

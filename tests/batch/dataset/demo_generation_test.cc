@@ -48,7 +48,8 @@ DemoReport Generate(const std::string& out, int threads, bool lock_step = false)
 std::map<std::string, std::vector<std::uint8_t>> Files(const std::string& root) {
   std::map<std::string, std::vector<std::uint8_t>> files;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
-    if (entry.is_regular_file()) files[std::filesystem::relative(entry.path(), root).string()] = ReadBytes(entry.path().string());
+    if (entry.is_regular_file())
+      files[std::filesystem::relative(entry.path(), root).string()] = ReadBytes(entry.path().string());
   }
   return files;
 }
@@ -73,17 +74,18 @@ TEST_F(DemoGeneration, ExpertEpisodesLoadAsALeRobotDataset) {
   ExpectStatsJsonComplete(view);
   ExpectVideosAsLeRobotReadsThem(view, scratch_);
 
-  const std::size_t state_size =
-      tavis::testing::LoadRobot("gr1t2").observation_state.size();
+  const std::size_t state_size = tavis::testing::LoadRobot("gr1t2").observation_state.size();
   EXPECT_EQ(view.info["features"]["observation.state"]["shape"], nlohmann::json({state_size}));
   ASSERT_FALSE(view.hyparquet_rows.empty());
   const nlohmann::json& first_state = view.hyparquet_rows[0]["observation.state"];
   ASSERT_EQ(first_state.size(), state_size);
-  for (const nlohmann::json& value : first_state) EXPECT_TRUE(value.is_number() && std::isfinite(value.get<double>())) << first_state;
+  for (const nlohmann::json& value : first_state)
+    EXPECT_TRUE(value.is_number() && std::isfinite(value.get<double>())) << first_state;
   for (const EpisodeEntry& episode : view.episodes) {
     EXPECT_GT(episode.length, 1);
     EXPECT_EQ(episode.tasks, view.tasks) << "one task";
-    const nlohmann::json& prompt = view.hyparquet_rows.at(static_cast<std::size_t>(episode.from_index))["language_instruction"];
+    const nlohmann::json& prompt =
+        view.hyparquet_rows.at(static_cast<std::size_t>(episode.from_index))["language_instruction"];
     ASSERT_TRUE(prompt.is_string() && !prompt.get<std::string>().empty());
     for (int64_t row = episode.from_index; row < episode.to_index; ++row) {
       EXPECT_EQ(view.hyparquet_rows[static_cast<std::size_t>(row)]["language_instruction"], prompt) << "row " << row;
@@ -96,8 +98,8 @@ TEST_F(DemoGeneration, ExpertEpisodesLoadAsALeRobotDataset) {
 TEST_F(DemoGeneration, OneAndTwoThreadsAndEitherScheduleWriteTheSameBytes) {
   Generate(scratch_ + "/one", 1);
   const auto one = Files(scratch_ + "/one");
-  const std::vector<std::tuple<std::string, int, bool>> variants = {{"two", 2, false}, {"lock_step", 2, true},
-                                                                     {"lock_step_one", 1, true}};
+  const std::vector<std::tuple<std::string, int, bool>> variants = {
+      {"two", 2, false}, {"lock_step", 2, true}, {"lock_step_one", 1, true}};
   for (const auto& [name, threads, lock_step] : variants) {
     Generate(scratch_ + "/" + name, threads, lock_step);
     const auto other = Files(scratch_ + "/" + name);

@@ -61,8 +61,8 @@ TEST(ImageStats, PerChannelInUnitRangeFromTheFrames) {
   EXPECT_DOUBLE_EQ(result.std[0], 0.5);
   EXPECT_DOUBLE_EQ(result.mean[1], 0.2);
   EXPECT_DOUBLE_EQ(result.std[1], 0.0);
-  EXPECT_DOUBLE_EQ(result.q50[2], 0.2);    // the median of 0, 0, 102, 102 is 51
-  EXPECT_DOUBLE_EQ(result.q10[0], 0.0);    // 0, 0, 255, 255 at 0.1 -> rank 0.3
+  EXPECT_DOUBLE_EQ(result.q50[2], 0.2);  // the median of 0, 0, 102, 102 is 51
+  EXPECT_DOUBLE_EQ(result.q10[0], 0.0);  // 0, 0, 255, 255 at 0.1 -> rank 0.3
   EXPECT_DOUBLE_EQ(result.q90[0], 1.0);
 }
 

@@ -14,7 +14,8 @@ void ExpectRowsHoldKnownValues(const DatasetView& view, const KnownDataset& know
     const RecordedEpisode& episode = known.episodes[e];
     const EpisodeEntry& entry = view.episodes[e];
     ASSERT_EQ(entry.length, episode.frames) << "episode " << e;
-    EXPECT_EQ(entry.tasks, std::vector<std::string>{known.layout.tasks[static_cast<std::size_t>(episode.task_index)]}) << "episode " << e;
+    EXPECT_EQ(entry.tasks, std::vector<std::string>{known.layout.tasks[static_cast<std::size_t>(episode.task_index)]})
+        << "episode " << e;
     for (int64_t k = 0; k < episode.frames; ++k) {
       const nlohmann::json& row = view.hyparquet_rows.at(static_cast<std::size_t>(entry.from_index + k));
       EXPECT_EQ(Int(row["task_index"]), episode.task_index);

@@ -47,9 +47,11 @@ KnownDataset MakeKnownDataset(DatasetVersion version) {
     recorded.task_index = kKnownTaskIndex[e];
     recorded.prompt = "prompt of task " + std::to_string(recorded.task_index);
     recorded.frames = frames;
-    std::vector<std::vector<float>*> columns = {&recorded.action,        &recorded.state,         &recorded.left_eef_pos,
-                                                &recorded.left_eef_quat, &recorded.right_eef_pos, &recorded.right_eef_quat};
-    for (std::size_t f = 0; f < features.size(); ++f) *columns[f] = KnownRows(static_cast<int>(f), episode, frames, features[f].size);
+    std::vector<std::vector<float>*> columns = {&recorded.action,        &recorded.state,
+                                                &recorded.left_eef_pos,  &recorded.left_eef_quat,
+                                                &recorded.right_eef_pos, &recorded.right_eef_quat};
+    for (std::size_t f = 0; f < features.size(); ++f)
+      *columns[f] = KnownRows(static_cast<int>(f), episode, frames, features[f].size);
     dataset.frames.emplace_back();
     for (std::size_t camera = 0; camera < layout.cameras.size(); ++camera) {
       EpisodeEncoder encoder(layout.video, layout.cameras[camera]);

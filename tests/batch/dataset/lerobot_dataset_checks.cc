@@ -60,11 +60,13 @@ void ExpectDataRowsAsLeRobotReadsThem(const DatasetView& view) {
     const int64_t frame = index - entry.from_index;
     EXPECT_EQ(Int(row["episode_index"]), episode) << "row " << i;
     EXPECT_EQ(Int(row["frame_index"]), frame) << "row " << i;
-    EXPECT_EQ(row["timestamp"].get<double>(), static_cast<double>(static_cast<float>(static_cast<double>(frame) / view.fps)))
+    EXPECT_EQ(row["timestamp"].get<double>(),
+              static_cast<double>(static_cast<float>(static_cast<double>(frame) / view.fps)))
         << "row " << i;
     const int64_t task = Int(row["task_index"]);
     ASSERT_TRUE(task >= 0 && task < static_cast<int64_t>(view.tasks.size())) << "row " << i;
-    EXPECT_NE(std::find(entry.tasks.begin(), entry.tasks.end(), view.tasks[static_cast<std::size_t>(task)]), entry.tasks.end())
+    EXPECT_NE(std::find(entry.tasks.begin(), entry.tasks.end(), view.tasks[static_cast<std::size_t>(task)]),
+              entry.tasks.end())
         << "row " << i << "'s task is not among its episode's tasks";
   }
 }
@@ -87,7 +89,8 @@ void ExpectStatsJsonComplete(const DatasetView& view) {
       } else if (video) {
         ASSERT_EQ(stats[stat].size(), 3u) << name << "/" << stat;
         for (const nlohmann::json& channel : stats[stat]) {
-          ASSERT_TRUE(channel.is_array() && channel.size() == 1 && channel[0].size() == 1) << name << "/" << stat << " not 3x1x1";
+          ASSERT_TRUE(channel.is_array() && channel.size() == 1 && channel[0].size() == 1)
+              << name << "/" << stat << " not 3x1x1";
           EXPECT_GE(channel[0][0].get<double>(), 0.0) << name << "/" << stat;
           EXPECT_LE(channel[0][0].get<double>(), 1.0) << name << "/" << stat;
         }
@@ -104,7 +107,8 @@ LookedUpFrames ExpectVideosAsLeRobotReadsThem(const DatasetView& view, const std
     const nlohmann::json& info = view.info["features"][key]["info"];
     // Episodes by file, in episode order.
     std::map<std::string, std::vector<int64_t>> files;
-    for (std::size_t e = 0; e < view.episodes.size(); ++e) files[view.episodes[e].videos.at(key).path].push_back(static_cast<int64_t>(e));
+    for (std::size_t e = 0; e < view.episodes.size(); ++e)
+      files[view.episodes[e].videos.at(key).path].push_back(static_cast<int64_t>(e));
     for (const auto& [path, episodes] : files) {
       std::vector<FrameQuery> queries;
       std::vector<std::pair<int64_t, int>> asked;
@@ -115,8 +119,10 @@ LookedUpFrames ExpectVideosAsLeRobotReadsThem(const DatasetView& view, const std
         const EpisodeEntry& episode = view.episodes[static_cast<std::size_t>(e)];
         const VideoSpan& span = episode.videos.at(key);
         EXPECT_DOUBLE_EQ(span.from_timestamp, expected_from) << key << " episode " << e << " in " << path;
-        EXPECT_NEAR(span.to_timestamp - span.from_timestamp, static_cast<double>(episode.length) / view.fps, 1e-9) << key << " episode " << e;
-        EXPECT_EQ(std::lround(span.to_timestamp * view.fps) - std::lround(span.from_timestamp * view.fps), episode.length)
+        EXPECT_NEAR(span.to_timestamp - span.from_timestamp, static_cast<double>(episode.length) / view.fps, 1e-9)
+            << key << " episode " << e;
+        EXPECT_EQ(std::lround(span.to_timestamp * view.fps) - std::lround(span.from_timestamp * view.fps),
+                  episode.length)
             << "dataset_tools' check, " << key << " episode " << e;
         expected_from = span.to_timestamp;
         starts.push_back(frames);
@@ -135,15 +141,17 @@ LookedUpFrames ExpectVideosAsLeRobotReadsThem(const DatasetView& view, const std
       EXPECT_EQ(stream["width"], info["video.width"]) << path;
       EXPECT_EQ(stream["height"], info["video.height"]) << path;
       // LeRobot's to_timestamp is the probed stream duration.
-      EXPECT_DOUBLE_EQ(stream["duration_s"].get<double>(), view.episodes[static_cast<std::size_t>(episodes.back())].videos.at(key).to_timestamp)
+      EXPECT_DOUBLE_EQ(stream["duration_s"].get<double>(),
+                       view.episodes[static_cast<std::size_t>(episodes.back())].videos.at(key).to_timestamp)
           << path;
       const auto keyframes = stream["keyframes"].get<std::vector<bool>>();
       for (const int64_t start : starts) {
-        EXPECT_TRUE(static_cast<std::size_t>(start) < keyframes.size() && keyframes[static_cast<std::size_t>(start)]) << path << ": no keyframe at episode start, frame " << start;
+        EXPECT_TRUE(static_cast<std::size_t>(start) < keyframes.size() && keyframes[static_cast<std::size_t>(start)])
+            << path << ": no keyframe at episode start, frame " << start;
       }
       for (std::size_t q = 0; q < queries.size(); ++q) {
-        EXPECT_TRUE(report.frames[q].has_value())
-            << path << ": LeRobot's lookup finds no frame for episode " << asked[q].first << " frame " << asked[q].second;
+        EXPECT_TRUE(report.frames[q].has_value()) << path << ": LeRobot's lookup finds no frame for episode "
+                                                  << asked[q].first << " frame " << asked[q].second;
         if (report.frames[q]) found[{key, asked[q].first, asked[q].second}] = *report.frames[q];
       }
     }

@@ -31,7 +31,8 @@ std::vector<nlohmann::json> ReadJsonLines(const std::string& path) {
 }
 
 // Python's str.format for the templates' fields: {name} and {name:0Nd}.
-std::string FormatTemplate(const std::string& pattern, const std::map<std::string, int64_t>& numbers, const std::string& video_key) {
+std::string FormatTemplate(const std::string& pattern, const std::map<std::string, int64_t>& numbers,
+                           const std::string& video_key) {
   static const std::regex field(R"(\{(\w+)(?::0(\d+)d)?\})");
   std::string out;
   auto begin = std::sregex_iterator(pattern.begin(), pattern.end(), field);
@@ -67,7 +68,10 @@ void LoadV30Episodes(DatasetView& view) {
       const std::string prefix = "videos/" + key + "/";
       VideoSpan span;
       span.path = view.root + "/" +
-                  FormatTemplate(view.info["video_path"], {{"chunk_index", Int(row[prefix + "chunk_index"])}, {"file_index", Int(row[prefix + "file_index"])}}, key);
+                  FormatTemplate(view.info["video_path"],
+                                 {{"chunk_index", Int(row[prefix + "chunk_index"])},
+                                  {"file_index", Int(row[prefix + "file_index"])}},
+                                 key);
       span.from_timestamp = row[prefix + "from_timestamp"].get<double>();
       span.to_timestamp = row[prefix + "to_timestamp"].get<double>();
       entry.videos[key] = span;
@@ -76,7 +80,8 @@ void LoadV30Episodes(DatasetView& view) {
   }
   view.tasks_table = ReadWithIndependentReaders(view.root + "/meta/tasks.parquet");
   for (const nlohmann::json& row : view.tasks_table["hyparquet"]["rows"]) {
-    if (Int(row["task_index"]) != static_cast<int64_t>(view.tasks.size())) throw std::runtime_error("tasks.parquet out of order");
+    if (Int(row["task_index"]) != static_cast<int64_t>(view.tasks.size()))
+      throw std::runtime_error("tasks.parquet out of order");
     view.tasks.push_back(row["task"]);
   }
   view.data_files = SortedFiles(view.root, "data", "parquet");
@@ -102,14 +107,17 @@ void LoadV21Episodes(DatasetView& view) {
     view.episodes.push_back(entry);
   }
   for (const nlohmann::json& line : ReadJsonLines(view.root + "/meta/tasks.jsonl")) {
-    if (line["task_index"].get<int64_t>() != static_cast<int64_t>(view.tasks.size())) throw std::runtime_error("tasks.jsonl out of order");
+    if (line["task_index"].get<int64_t>() != static_cast<int64_t>(view.tasks.size()))
+      throw std::runtime_error("tasks.jsonl out of order");
     view.tasks.push_back(line["task"]);
   }
 }
 
 }  // namespace
 
-int64_t Int(const nlohmann::json& value) { return value.is_string() ? std::stoll(value.get<std::string>()) : value.get<int64_t>(); }
+int64_t Int(const nlohmann::json& value) {
+  return value.is_string() ? std::stoll(value.get<std::string>()) : value.get<int64_t>();
+}
 
 std::vector<std::string> SortedFiles(const std::string& root, const std::string& folder, const std::string& extension) {
   std::vector<std::string> files;

@@ -22,7 +22,7 @@ struct VideoSpan {
 struct EpisodeEntry {
   int64_t length = 0;
   std::vector<std::string> tasks;
-  int64_t from_index = 0, to_index = 0;  // v2.1: accumulated lengths
+  int64_t from_index = 0, to_index = 0;     // v2.1: accumulated lengths
   std::map<std::string, VideoSpan> videos;  // by video key
 };
 
@@ -32,10 +32,11 @@ struct DatasetView {
   int fps = 0;
   std::vector<std::string> video_keys;  // info.json's video features
   std::vector<std::string> data_files;  // in sorted-path order, as LeRobot lists them
-  nlohmann::json hyparquet_rows = nlohmann::json::array(), duckdb_rows = nlohmann::json::array();  // every data file's rows
-  std::vector<EpisodeEntry> episodes;   // by episode_index
-  std::vector<std::string> tasks;       // by task_index
-  nlohmann::json episodes_table, tasks_table;  // v3.0: read_parquet.mjs's reports of the meta tables
+  nlohmann::json hyparquet_rows = nlohmann::json::array(),
+                 duckdb_rows = nlohmann::json::array();  // every data file's rows
+  std::vector<EpisodeEntry> episodes;                    // by episode_index
+  std::vector<std::string> tasks;                        // by task_index
+  nlohmann::json episodes_table, tasks_table;            // v3.0: read_parquet.mjs's reports of the meta tables
 };
 
 DatasetView LoadDataset(const std::string& root);

@@ -48,18 +48,21 @@ TEST_F(LeRobotV21Writer, OneFilePerEpisodeAtInfoJsonsTemplates) {
     const std::string name = "episode_00000" + std::to_string(e);
     EXPECT_TRUE(std::filesystem::exists(root_ + "/data/chunk-000/" + name + ".parquet")) << name;
     for (const std::string& camera : known_.layout.cameras) {
-      EXPECT_TRUE(std::filesystem::exists(root_ + "/videos/chunk-000/" + CameraVideoKey(camera) + "/" + name + ".mp4")) << camera << name;
+      EXPECT_TRUE(std::filesystem::exists(root_ + "/videos/chunk-000/" + CameraVideoKey(camera) + "/" + name + ".mp4"))
+          << camera << name;
     }
   }
   EXPECT_FALSE(std::filesystem::exists(root_ + "/meta/episodes")) << "v3.0's episodes table in a v2.1 dataset";
   const std::vector<nlohmann::json> tasks = JsonLines(root_ + "/meta/tasks.jsonl");
-  EXPECT_EQ(tasks, (std::vector<nlohmann::json>{{{"task_index", 0}, {"task", "PickTask"}}, {{"task_index", 1}, {"task", "PlaceTask"}}}));
+  EXPECT_EQ(tasks, (std::vector<nlohmann::json>{{{"task_index", 0}, {"task", "PickTask"}},
+                                                {{"task_index", 1}, {"task", "PlaceTask"}}}));
   const std::vector<nlohmann::json> episodes = JsonLines(root_ + "/meta/episodes.jsonl");
   ASSERT_EQ(episodes.size(), 3u);
   for (std::size_t e = 0; e < 3; ++e) {
-    EXPECT_EQ(episodes[e], (nlohmann::json{{"episode_index", e},
-                                           {"tasks", {known_.layout.tasks[static_cast<std::size_t>(kKnownTaskIndex[e])]}},
-                                           {"length", kKnownLengths[e]}}));
+    EXPECT_EQ(episodes[e],
+              (nlohmann::json{{"episode_index", e},
+                              {"tasks", {known_.layout.tasks[static_cast<std::size_t>(kKnownTaskIndex[e])]}},
+                              {"length", kKnownLengths[e]}}));
   }
 }
 

@@ -30,7 +30,8 @@ TEST(LeRobotV30Rollover, EveryEpisodeStartsNewFilesThatStillReadAsOneDataset) {
     EXPECT_EQ(Int(rows[e]["data/file_index"]), static_cast<int64_t>(e));
     for (const std::string& key : view.video_keys) {
       EXPECT_EQ(Int(rows[e]["videos/" + key + "/file_index"]), static_cast<int64_t>(e)) << key;
-      EXPECT_EQ(rows[e]["videos/" + key + "/from_timestamp"].get<double>(), 0.0) << key << " episode " << e << " starts its file";
+      EXPECT_EQ(rows[e]["videos/" + key + "/from_timestamp"].get<double>(), 0.0)
+          << key << " episode " << e << " starts its file";
     }
   }
   EXPECT_EQ(view.info["data_files_size_in_mb"].get<double>(), 1e-6);

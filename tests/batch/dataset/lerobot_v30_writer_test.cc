@@ -27,7 +27,8 @@ struct Written {
 const Written& V30() {
   static const Written written = [] {
     // Its own folder: ScratchDir() empties the running test's.
-    const std::string root = (std::filesystem::path(::testing::TempDir()) / ("tavis_dataset_v30_" + std::to_string(getpid()))).string();
+    const std::string root =
+        (std::filesystem::path(::testing::TempDir()) / ("tavis_dataset_v30_" + std::to_string(getpid()))).string();
     std::filesystem::remove_all(root);
     Written result{MakeKnownDataset(DatasetVersion::kV30), {}};
     WriteKnownDataset(result.known, root);
@@ -75,11 +76,13 @@ TEST(LeRobotV30Writer, EpisodesTableLocatesEveryEpisode) {
       EXPECT_EQ(row["stats/" + CameraVideoKey(camera) + "/count"], nlohmann::json({std::to_string(length)}));
       const nlohmann::json& mean = row["stats/" + CameraVideoKey(camera) + "/mean"];
       ASSERT_EQ(mean.size(), 3u) << prefix;
-      for (const nlohmann::json& channel : mean) EXPECT_TRUE(channel.size() == 1 && channel[0].size() == 1 && channel[0][0].is_number()) << mean;
+      for (const nlohmann::json& channel : mean)
+        EXPECT_TRUE(channel.size() == 1 && channel[0].size() == 1 && channel[0][0].is_number()) << mean;
     }
     for (const VectorFeature& feature : VectorFeatures(written.known.layout)) {
       for (const char* stat : {"min", "max", "mean", "std", "q01", "q10", "q50", "q90", "q99"}) {
-        EXPECT_EQ(row["stats/" + feature.name + "/" + stat].size(), static_cast<std::size_t>(feature.size)) << feature.name << stat;
+        EXPECT_EQ(row["stats/" + feature.name + "/" + stat].size(), static_cast<std::size_t>(feature.size))
+            << feature.name << stat;
       }
       EXPECT_EQ(row["stats/" + feature.name + "/count"], nlohmann::json({std::to_string(length)})) << feature.name;
     }
@@ -95,7 +98,9 @@ TEST(LeRobotV30Writer, EpisodesTableLocatesEveryEpisode) {
 TEST(LeRobotV30Writer, TasksTableIsAPandasFrameIndexedByTask) {
   const nlohmann::json& table = V30().view.tasks_table;
   EXPECT_EQ(table["hyparquet"]["rows"], table["duckdb"]["rows"]);
-  EXPECT_EQ(table["duckdb"]["rows"], nlohmann::json::parse(R"([{"task_index": "0", "task": "PickTask"}, {"task_index": "1", "task": "PlaceTask"}])"));
+  EXPECT_EQ(
+      table["duckdb"]["rows"],
+      nlohmann::json::parse(R"([{"task_index": "0", "task": "PickTask"}, {"task_index": "1", "task": "PlaceTask"}])"));
   bool pandas = false;
   for (const nlohmann::json& entry : table["duckdb"]["key_value_metadata"]) {
     if (entry["key"] != "pandas") continue;
@@ -145,7 +150,9 @@ TEST(LeRobotV30Writer, StatsJsonHasEveryStatisticOfTheWrittenValues) {
         max = std::max(max, value);
       }
     }
-    EXPECT_NEAR(action["mean"][static_cast<std::size_t>(d)].get<double>(), sum / static_cast<double>(TotalFrames()), 1e-6) << d;
+    EXPECT_NEAR(action["mean"][static_cast<std::size_t>(d)].get<double>(), sum / static_cast<double>(TotalFrames()),
+                1e-6)
+        << d;
     EXPECT_EQ(action["min"][static_cast<std::size_t>(d)].get<double>(), min) << d;
     EXPECT_EQ(action["max"][static_cast<std::size_t>(d)].get<double>(), max) << d;
   }

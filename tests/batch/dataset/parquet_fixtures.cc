@@ -71,7 +71,8 @@ class RecordedRowGroup {
   }
 
   template <typename T>
-  void AddList(const std::string& name, const std::vector<T>& values, const std::vector<std::size_t>& row_lengths = {}) {
+  void AddList(const std::string& name, const std::vector<T>& values,
+               const std::vector<std::size_t>& row_lengths = {}) {
     rows_.AddList(name, values, row_lengths);
     Record(name, values, row_lengths);
   }
@@ -132,14 +133,13 @@ float StateValue(std::size_t row, std::size_t item) {
 WrittenTable WriteDataTable(const std::string& path, Codec codec) {
   constexpr std::size_t kStateSize = 34;
   constexpr std::size_t kActionSize = 19;
-  WrittenTable table = Declare(path, {ColumnSpec::List("observation.state", ValueType::kFloat, {kStateSize}),
-                                      ColumnSpec::List("action", ValueType::kFloat, {kActionSize}),
-                                      ColumnSpec::Scalar("language_instruction", ValueType::kString),
-                                      ColumnSpec::Scalar("timestamp", ValueType::kFloat),
-                                      ColumnSpec::Scalar("frame_index", ValueType::kInt64),
-                                      ColumnSpec::Scalar("episode_index", ValueType::kInt64),
-                                      ColumnSpec::Scalar("index", ValueType::kInt64),
-                                      ColumnSpec::Scalar("task_index", ValueType::kInt64)});
+  WrittenTable table = Declare(
+      path, {ColumnSpec::List("observation.state", ValueType::kFloat, {kStateSize}),
+             ColumnSpec::List("action", ValueType::kFloat, {kActionSize}),
+             ColumnSpec::Scalar("language_instruction", ValueType::kString),
+             ColumnSpec::Scalar("timestamp", ValueType::kFloat), ColumnSpec::Scalar("frame_index", ValueType::kInt64),
+             ColumnSpec::Scalar("episode_index", ValueType::kInt64), ColumnSpec::Scalar("index", ValueType::kInt64),
+             ColumnSpec::Scalar("task_index", ValueType::kInt64)});
   ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
   const std::vector<std::size_t> episode_lengths{7, 12, 3};
   const std::vector<std::string> prompts{"Pick up the red cube.", "Öffne die Schublade — bitte", ""};
@@ -179,10 +179,9 @@ WrittenTable WriteTasksTable(const std::string& path, Codec codec) {
       R"("numpy_type": "object", "metadata": {"encoding": "UTF-8"}}], "columns": [{"name": "task_index", )"
       R"("field_name": "task_index", "pandas_type": "int64", "numpy_type": "int64", "metadata": null}, )"
       R"({"name": "task", "field_name": "task", "pandas_type": "unicode", "numpy_type": "object", "metadata": null}]})";
-  WrittenTable table = Declare(path,
-                               {ColumnSpec::Scalar("task_index", ValueType::kInt64),
-                                ColumnSpec::Scalar("task", ValueType::kString)},
-                               {{"pandas", pandas}});
+  WrittenTable table = Declare(
+      path, {ColumnSpec::Scalar("task_index", ValueType::kInt64), ColumnSpec::Scalar("task", ValueType::kString)},
+      {{"pandas", pandas}});
   ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
   RecordedRowGroup rows(writer, table, 3);
   rows.Add("task_index", std::vector<std::int64_t>{0, 1, 2});
@@ -193,19 +192,16 @@ WrittenTable WriteTasksTable(const std::string& path, Codec codec) {
 }
 
 WrittenTable WriteEpisodesTable(const std::string& path, Codec codec) {
-  WrittenTable table = Declare(path, {ColumnSpec::Scalar("episode_index", ValueType::kInt64),
-                                      ColumnSpec::List("tasks", ValueType::kString),
-                                      ColumnSpec::Scalar("length", ValueType::kInt64),
-                                      ColumnSpec::Scalar("data/chunk_index", ValueType::kInt64),
-                                      ColumnSpec::Scalar("videos/observation.images.head/from_timestamp", ValueType::kDouble),
-                                      ColumnSpec::List("stats/action/mean", ValueType::kDouble, {4}),
-                                      ColumnSpec::List("stats/action/count", ValueType::kInt64, {1}),
-                                      ColumnSpec::List("stats/observation.images.head/mean", ValueType::kDouble, {3, 1, 1}),
-                                      ColumnSpec::List("stats/grid/max", ValueType::kDouble, {2, 3}),
-                                      ColumnSpec::Scalar("success", ValueType::kBool),
-                                      ColumnSpec::Scalar("seed", ValueType::kInt32),
-                                      ColumnSpec::List("camera_ids", ValueType::kInt32, {2}),
-                                      ColumnSpec::List("flags", ValueType::kBool)});
+  WrittenTable table = Declare(
+      path, {ColumnSpec::Scalar("episode_index", ValueType::kInt64), ColumnSpec::List("tasks", ValueType::kString),
+             ColumnSpec::Scalar("length", ValueType::kInt64), ColumnSpec::Scalar("data/chunk_index", ValueType::kInt64),
+             ColumnSpec::Scalar("videos/observation.images.head/from_timestamp", ValueType::kDouble),
+             ColumnSpec::List("stats/action/mean", ValueType::kDouble, {4}),
+             ColumnSpec::List("stats/action/count", ValueType::kInt64, {1}),
+             ColumnSpec::List("stats/observation.images.head/mean", ValueType::kDouble, {3, 1, 1}),
+             ColumnSpec::List("stats/grid/max", ValueType::kDouble, {2, 3}),
+             ColumnSpec::Scalar("success", ValueType::kBool), ColumnSpec::Scalar("seed", ValueType::kInt32),
+             ColumnSpec::List("camera_ids", ValueType::kInt32, {2}), ColumnSpec::List("flags", ValueType::kBool)});
   ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
   const auto write_group = [&](std::int64_t first_episode, std::vector<std::vector<std::string>> tasks) {
     const std::size_t episodes = tasks.size();
@@ -229,7 +225,8 @@ WrittenTable WriteEpisodesTable(const std::string& path, Codec codec) {
       for (int i = 0; i < 3; ++i) image_mean.push_back(1.0 / (7.0 + i + static_cast<double>(episode)));
       for (int i = 0; i < 6; ++i) grid.push_back(static_cast<double>(i * 10 + episode));
       success.push_back(episode % 3 != 1);
-      seed.push_back(episode % 2 == 0 ? std::numeric_limits<std::int32_t>::min() : 12345 + static_cast<std::int32_t>(episode));
+      seed.push_back(episode % 2 == 0 ? std::numeric_limits<std::int32_t>::min()
+                                      : 12345 + static_cast<std::int32_t>(episode));
       camera_ids.push_back(static_cast<std::int32_t>(episode));
       camera_ids.push_back(-7);
       for (std::int64_t f = 0; f < episode % 3; ++f) flags.push_back((f + episode) % 2 == 0);

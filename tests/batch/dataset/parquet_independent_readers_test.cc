@@ -20,7 +20,7 @@ std::string CountText(const json& count) { return count.is_string() ? count.get<
 // One schema element as both readers print it: name, physical type, repetition, converted type.
 struct ExpectedElement {
   std::string name;
-  std::string type;  // empty for a group
+  std::string type;            // empty for a group
   std::string converted_type;  // empty for none
 };
 

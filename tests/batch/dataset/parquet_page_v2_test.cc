@@ -23,7 +23,8 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 
 void AppendInt64(std::int64_t value, Bytes& out) {
-  for (int byte = 0; byte < 8; ++byte) out.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(value) >> (8 * byte)));
+  for (int byte = 0; byte < 8; ++byte)
+    out.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(value) >> (8 * byte)));
 }
 
 // One optional INT64 column "x" holding 5, null, 7 in a single SNAPPY data page v2.

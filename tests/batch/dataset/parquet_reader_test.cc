@@ -51,9 +51,9 @@ class ParquetReaderRoundTrip : public ::testing::TestWithParam<Codec> {
 };
 
 TEST_P(ParquetReaderRoundTrip, ReadsBackEveryTableTheWriterWrites) {
-  for (const WrittenTable& table : {WriteDataTable(dir_.File("data.parquet"), GetParam()),
-                                    WriteTasksTable(dir_.File("tasks.parquet"), GetParam()),
-                                    WriteEpisodesTable(dir_.File("episodes.parquet"), GetParam())}) {
+  for (const WrittenTable& table :
+       {WriteDataTable(dir_.File("data.parquet"), GetParam()), WriteTasksTable(dir_.File("tasks.parquet"), GetParam()),
+        WriteEpisodesTable(dir_.File("episodes.parquet"), GetParam())}) {
     SCOPED_TRACE(table.path);
     const ParquetReader reader(table.path);
     EXPECT_EQ(reader.num_rows(), static_cast<std::int64_t>(table.rows.size()));
@@ -90,9 +90,11 @@ TEST(ParquetReader, TypedColumnsAndErrorsThatNameTheColumn) {
     }
     return "no error";
   };
-  EXPECT_NE(message([&] { reader.ReadColumn<double>("frame_index"); }).find("\"frame_index\" holds INT64, read as DOUBLE"),
+  EXPECT_NE(
+      message([&] { reader.ReadColumn<double>("frame_index"); }).find("\"frame_index\" holds INT64, read as DOUBLE"),
+      std::string::npos);
+  EXPECT_NE(message([&] { reader.ReadColumn<float>("action"); }).find("\"action\" is a list column"),
             std::string::npos);
-  EXPECT_NE(message([&] { reader.ReadColumn<float>("action"); }).find("\"action\" is a list column"), std::string::npos);
   EXPECT_NE(message([&] { reader.ReadColumn<float>("reward"); }).find(table.path + ": no column \"reward\""),
             std::string::npos);
 }
@@ -123,11 +125,12 @@ TEST_P(ParquetReaderDuckdbFiles, ReadsEveryValueDuckdbWrote) {
   std::size_t next_item = 0;
   for (std::size_t i = 0; i < kRows; ++i) {
     const auto n = static_cast<std::int64_t>(i);
-    const std::vector<float> items = i % 5 == 0 ? std::vector<float>{}
-                                                : std::vector<float>{static_cast<float>(i), static_cast<float>(i) + 0.5f,
-                                                                     -static_cast<float>(i)};
-    const std::vector<float> read_items(vec.values.begin() + static_cast<std::ptrdiff_t>(next_item),
-                                        vec.values.begin() + static_cast<std::ptrdiff_t>(next_item + vec.row_lengths[i]));
+    const std::vector<float> items =
+        i % 5 == 0 ? std::vector<float>{}
+                   : std::vector<float>{static_cast<float>(i), static_cast<float>(i) + 0.5f, -static_cast<float>(i)};
+    const std::vector<float> read_items(
+        vec.values.begin() + static_cast<std::ptrdiff_t>(next_item),
+        vec.values.begin() + static_cast<std::ptrdiff_t>(next_item + vec.row_lengths[i]));
     next_item += vec.row_lengths[i];
     const bool row_ok = id[i] == n * 1000003 - 5 && small[i] == n % 3 &&
                         half[i] == static_cast<float>(static_cast<double>(i) / 2.0 + 0.1) &&
@@ -166,9 +169,9 @@ TEST(ParquetReader, TruncatedFilesAreRejectedByName) {
   const WrittenTable table = WriteDataTable(dir.File("data.parquet"), Codec::kUncompressed);
   const Bytes bytes = ReadBytes(table.path);
   const std::string cut_path = dir.File("cut.parquet");
-  for (const std::size_t cut : {std::size_t{0}, std::size_t{3}, std::size_t{4}, std::size_t{11}, std::size_t{100},
-                                bytes.size() / 2, bytes.size() - 12, bytes.size() - 8, bytes.size() - 5,
-                                bytes.size() - 1}) {
+  for (const std::size_t cut :
+       {std::size_t{0}, std::size_t{3}, std::size_t{4}, std::size_t{11}, std::size_t{100}, bytes.size() / 2,
+        bytes.size() - 12, bytes.size() - 8, bytes.size() - 5, bytes.size() - 1}) {
     WriteBytes(cut_path, Bytes(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(cut)));
     const std::string error = ErrorReadingAll(cut_path, table.columns);
     EXPECT_EQ(error.rfind(cut_path + ": ", 0), 0U) << "cut at " << cut << ": " << error;
@@ -209,11 +212,10 @@ TEST(ParquetReader, BadMagicFooterLengthAndMissingPagesAreNamed) {
 // A small file with every kind of level structure (scalars, variable and nested lists), so that
 // corrupting each of its bytes stays fast.
 std::vector<ColumnSpec> WriteSmallTable(const std::string& path, Codec codec) {
-  const std::vector<ColumnSpec> columns{ColumnSpec::Scalar("id", ValueType::kInt64),
-                                        ColumnSpec::List("tags", ValueType::kString),
-                                        ColumnSpec::List("stats/img/mean", ValueType::kDouble, {3, 1, 1}),
-                                        ColumnSpec::Scalar("ok", ValueType::kBool),
-                                        ColumnSpec::List("v", ValueType::kFloat, {2})};
+  const std::vector<ColumnSpec> columns{
+      ColumnSpec::Scalar("id", ValueType::kInt64), ColumnSpec::List("tags", ValueType::kString),
+      ColumnSpec::List("stats/img/mean", ValueType::kDouble, {3, 1, 1}), ColumnSpec::Scalar("ok", ValueType::kBool),
+      ColumnSpec::List("v", ValueType::kFloat, {2})};
   ParquetWriterOptions options;
   options.codec = codec;
   options.key_value_metadata = {{"k", "v"}};

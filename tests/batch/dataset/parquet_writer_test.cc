@@ -162,8 +162,9 @@ TEST(ParquetWriter, SchemaMistakesNameTheColumn) {
             "");
   ParquetWriterOptions zstd;
   zstd.codec = Codec::kZstd;
-  EXPECT_NE(ErrorOf<std::invalid_argument>([&] { ParquetWriter(dir.File("z.parquet"), kColumns, zstd); })
-                .find("unsupported codec ZSTD"),
+  EXPECT_NE(ErrorOf<std::invalid_argument>([&] {
+              ParquetWriter(dir.File("z.parquet"), kColumns, zstd);
+            }).find("unsupported codec ZSTD"),
             std::string::npos);
 }
 
@@ -176,18 +177,26 @@ TEST(ParquetWriter, RowGroupMistakesNameTheColumn) {
             "Parquet column \"frame_index\": 3 values for 2 rows of 1 (expected 2)");
   EXPECT_EQ(error_of([&] { rows.Add("frame_index", std::vector<std::int32_t>(2)); }),
             "Parquet column \"frame_index\": declared int64, given int32 values");
-  EXPECT_EQ(error_of([&] { rows.Add("action", std::vector<float>(6)); }), "Parquet column \"action\": is a list column");
+  EXPECT_EQ(error_of([&] { rows.Add("action", std::vector<float>(6)); }),
+            "Parquet column \"action\": is a list column");
   EXPECT_EQ(error_of([&] { rows.AddList("action", std::vector<float>(5)); }),
             "Parquet column \"action\": 5 values for 2 rows of 3 (expected 6)");
-  EXPECT_EQ(error_of([&] { rows.AddList("action", std::vector<float>(6), {3, 3}); }),
+  EXPECT_EQ(error_of([&] {
+              rows.AddList("action", std::vector<float>(6), {3, 3});
+            }),
             "Parquet column \"action\": has a fixed shape; row lengths are not taken");
   EXPECT_EQ(error_of([&] { rows.AddList("tasks", std::vector<std::string>(2)); }),
             "Parquet column \"tasks\": 0 row lengths for 2 rows (a list without a shape needs one length per row)");
-  EXPECT_EQ(error_of([&] { rows.AddList("tasks", std::vector<std::string>(2), {1, 2}); }),
+  EXPECT_EQ(error_of([&] {
+              rows.AddList("tasks", std::vector<std::string>(2), {1, 2});
+            }),
             "Parquet column \"tasks\": 2 values where the row lengths add up to 3");
-  EXPECT_EQ(error_of([&] { rows.Add("reward", std::vector<float>(2)); }), "Parquet column \"reward\": not in the schema");
+  EXPECT_EQ(error_of([&] { rows.Add("reward", std::vector<float>(2)); }),
+            "Parquet column \"reward\": not in the schema");
   rows.Add("frame_index", std::vector<std::int64_t>{0, 1});
-  EXPECT_EQ(error_of([&] { rows.Add("frame_index", std::vector<std::int64_t>{0, 1}); }),
+  EXPECT_EQ(error_of([&] {
+              rows.Add("frame_index", std::vector<std::int64_t>{0, 1});
+            }),
             "Parquet column \"frame_index\": filled twice in one row group");
   EXPECT_EQ(error_of([&] { writer.WriteRowGroup(rows); }),
             "Parquet column \"action\": not filled in the row group for " + dir.File("x.parquet"));

@@ -18,9 +18,10 @@ PyAvReport CheckVideoWithPyAv(const std::string& path, int fps, const std::vecto
     std::remove(outputs.back().c_str());
     args.insert(args.end(), {from, std::to_string(queries[i].frame_index), outputs.back()});
   }
-  tavis::testing::ChildProcess script(tavis::testing::kDebianPython,
-                                      tavis::testing::ScriptArgs(std::string(TAVIS_TEST_DATA_DIR) + "/check_video.py", args),
-                                      "is python3-av (PyAV 10) installed for /usr/bin/python3?");
+  tavis::testing::ChildProcess script(
+      tavis::testing::kDebianPython,
+      tavis::testing::ScriptArgs(std::string(TAVIS_TEST_DATA_DIR) + "/check_video.py", args),
+      "is python3-av (PyAV 10) installed for /usr/bin/python3?");
   PyAvReport report;
   report.stream = nlohmann::json::parse(script.ReadAllOutput(std::chrono::seconds(60)));
   for (std::size_t i = 0; i < queries.size(); ++i) {

@@ -18,7 +18,7 @@ struct FrameQuery {
 };
 
 struct PyAvReport {
-  nlohmann::json stream;                    // check_video.py's report (its "lookups" included)
+  nlohmann::json stream;                        // check_video.py's report (its "lookups" included)
   std::vector<std::optional<RgbFrame>> frames;  // per query; empty when LeRobot's lookup finds none
 };
 

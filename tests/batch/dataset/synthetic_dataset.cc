@@ -14,7 +14,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-
 std::string Padded(std::int64_t value, int digits) {
   std::string text = std::to_string(value);
   return std::string(static_cast<std::size_t>(std::max(0, digits - static_cast<int>(text.size()))), '0') + text;
@@ -39,8 +38,9 @@ void WriteInfo(const fs::path& dir, std::int64_t total_episodes, const Synthetic
 // v3.0 meta/episodes/chunk-000/file-000.parquet: episode_index and tasks.
 void WriteEpisodesParquet(const fs::path& dir, const std::vector<SyntheticEpisode>& episodes) {
   fs::create_directories(dir / "meta" / "episodes" / "chunk-000");
-  ParquetWriter writer((dir / "meta" / "episodes" / "chunk-000" / "file-000.parquet").string(),
-                       {ColumnSpec::Scalar("episode_index", ValueType::kInt64), ColumnSpec::List("tasks", ValueType::kString)});
+  ParquetWriter writer(
+      (dir / "meta" / "episodes" / "chunk-000" / "file-000.parquet").string(),
+      {ColumnSpec::Scalar("episode_index", ValueType::kInt64), ColumnSpec::List("tasks", ValueType::kString)});
   RowGroupBuilder rows = writer.NewRowGroup(episodes.size());
   std::vector<std::int64_t> indices;
   std::vector<std::string> tasks;
@@ -60,7 +60,9 @@ void WriteEpisodesParquet(const fs::path& dir, const std::vector<SyntheticEpisod
 void WriteEpisodesJsonl(const fs::path& dir, const std::vector<SyntheticEpisode>& episodes) {
   std::ofstream out(dir / "meta" / "episodes.jsonl");
   for (const SyntheticEpisode& episode : episodes) {
-    out << nlohmann::json{{"episode_index", episode.episode_index}, {"tasks", episode.tasks}, {"length", episode.num_steps}}
+    out << nlohmann::json{{"episode_index", episode.episode_index},
+                          {"tasks", episode.tasks},
+                          {"length", episode.num_steps}}
                .dump()
         << "\n";
   }
@@ -71,11 +73,11 @@ void WriteEpisodesJsonl(const fs::path& dir, const std::vector<SyntheticEpisode>
 void WriteDataFile(const fs::path& path, const std::vector<SyntheticEpisode>& episodes, std::int64_t first_index,
                    double fps) {
   fs::create_directories(path.parent_path());
-  ParquetWriter writer(path.string(), {ColumnSpec::List("action", ValueType::kFloat),
-                                       ColumnSpec::Scalar("episode_index", ValueType::kInt64),
-                                       ColumnSpec::Scalar("frame_index", ValueType::kInt64),
-                                       ColumnSpec::Scalar("index", ValueType::kInt64),
-                                       ColumnSpec::Scalar("timestamp", ValueType::kFloat)});
+  ParquetWriter writer(
+      path.string(),
+      {ColumnSpec::List("action", ValueType::kFloat), ColumnSpec::Scalar("episode_index", ValueType::kInt64),
+       ColumnSpec::Scalar("frame_index", ValueType::kInt64), ColumnSpec::Scalar("index", ValueType::kInt64),
+       ColumnSpec::Scalar("timestamp", ValueType::kFloat)});
   std::int64_t index = first_index;
   for (const SyntheticEpisode& episode : episodes) {
     const auto steps = static_cast<std::size_t>(episode.num_steps);
@@ -106,8 +108,8 @@ void WriteSyntheticDataset(const fs::path& dir, const std::vector<SyntheticEpiso
   std::int64_t index = 0;
   if (options.codebase_version == "v2.1") {
     for (const SyntheticEpisode& episode : episodes) {
-      WriteDataFile(dir / "data" / "chunk-000" / ("episode_" + Padded(episode.episode_index, 6) + ".parquet"), {episode},
-                    index, options.fps);
+      WriteDataFile(dir / "data" / "chunk-000" / ("episode_" + Padded(episode.episode_index, 6) + ".parquet"),
+                    {episode}, index, options.fps);
       index += episode.num_steps;
     }
     WriteEpisodesJsonl(dir, episodes);

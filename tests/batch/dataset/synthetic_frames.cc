@@ -31,7 +31,8 @@ RgbFrame SyntheticFrame(int width, int height, int episode, int index) {
     for (int x = 0; x < width; ++x) {
       const double u = static_cast<double>(x) / width;
       const double v = static_cast<double>(y) / height;
-      std::uint8_t* pixel = &frame[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3];
+      std::uint8_t* pixel =
+          &frame[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3];
       const bool in_square = x >= square_x && x < square_x + square && y >= square_y && y < square_y + square;
       // Mostly brightness with a gentle tint: yuv420p keeps chroma at half resolution, so
       // strong colour detail would cost PSNR at these tiny sizes whatever the encoder does.

@@ -39,12 +39,12 @@ TEST(ParquetThrift, VarintsAndZigZag) {
 TEST(ParquetThrift, FieldHeadersShortAndLong) {
   Bytes out;
   ThriftCompactWriter thrift(out);
-  thrift.I32Field(1, 1);           // delta 1, i32: 0x15, zigzag(1) = 2
-  thrift.I64Field(3, 10);          // delta 2, i64: 0x26, zigzag(10) = 20
-  thrift.BoolField(4, true);       // the value is the nibble: 0x11
-  thrift.BoolField(5, false);      // 0x12
-  thrift.I16Field(100, -3);        // delta 95 > 15: type byte 0x04, then zigzag(100) = 200
-  thrift.BinaryField(101, "hi");   // delta 1, binary: 0x18, length, bytes
+  thrift.I32Field(1, 1);          // delta 1, i32: 0x15, zigzag(1) = 2
+  thrift.I64Field(3, 10);         // delta 2, i64: 0x26, zigzag(10) = 20
+  thrift.BoolField(4, true);      // the value is the nibble: 0x11
+  thrift.BoolField(5, false);     // 0x12
+  thrift.I16Field(100, -3);       // delta 95 > 15: type byte 0x04, then zigzag(100) = 200
+  thrift.BinaryField(101, "hi");  // delta 1, binary: 0x18, length, bytes
   thrift.EndStruct();
   EXPECT_EQ(out, (Bytes{0x15, 0x02, 0x26, 0x14, 0x11, 0x12, 0x04, 0xc8, 0x01, 0x05, 0x18, 0x02, 'h', 'i', 0x00}));
 }
@@ -52,13 +52,13 @@ TEST(ParquetThrift, FieldHeadersShortAndLong) {
 TEST(ParquetThrift, NestedStructsRestartFieldIds) {
   Bytes out;
   ThriftCompactWriter thrift(out);
-  thrift.I32Field(2, 7);      // 0x25 0x0e
-  thrift.BeginStructField(3); // 0x1c
-  thrift.I32Field(1, 0);      // ids restart: 0x15 0x00
-  thrift.BeginStructField(3); // an empty struct member (a union's LIST): 0x2c
-  thrift.EndStruct();         // 0x00
-  thrift.EndStruct();         // 0x00
-  thrift.I32Field(4, -1);     // delta 1 from 3: 0x15 0x01
+  thrift.I32Field(2, 7);       // 0x25 0x0e
+  thrift.BeginStructField(3);  // 0x1c
+  thrift.I32Field(1, 0);       // ids restart: 0x15 0x00
+  thrift.BeginStructField(3);  // an empty struct member (a union's LIST): 0x2c
+  thrift.EndStruct();          // 0x00
+  thrift.EndStruct();          // 0x00
+  thrift.I32Field(4, -1);      // delta 1 from 3: 0x15 0x01
   thrift.EndStruct();
   EXPECT_EQ(out, (Bytes{0x25, 0x0e, 0x1c, 0x15, 0x00, 0x2c, 0x00, 0x00, 0x15, 0x01, 0x00}));
 }

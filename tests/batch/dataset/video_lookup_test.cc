@@ -68,9 +68,9 @@ class VideoLookupTest : public ::testing::TestWithParam<LookupCase> {
       args.push_back(std::to_string(queries[i].frame_index));
       args.push_back(QueryPath(i));
     }
-    tavis::testing::ChildProcess script(tavis::testing::kDebianPython,
-                                        tavis::testing::ScriptArgs(std::string(TAVIS_TEST_DATA_DIR) + "/check_video.py", args),
-                                        kPyAvHint);
+    tavis::testing::ChildProcess script(
+        tavis::testing::kDebianPython,
+        tavis::testing::ScriptArgs(std::string(TAVIS_TEST_DATA_DIR) + "/check_video.py", args), kPyAvHint);
     return nlohmann::json::parse(script.ReadAllOutput(std::chrono::seconds(60)));
   }
 
@@ -94,12 +94,13 @@ TEST_P(VideoLookupTest, PyAvSeesConstantRateFramesAndKeyframedEpisodes) {
   EXPECT_NEAR(report["duration_s"].get<double>(), static_cast<double>(total) / kFps, 1e-6);
   const auto frame_pts = report["frame_pts_s"].get<std::vector<double>>();
   ASSERT_EQ(frame_pts.size(), static_cast<std::size_t>(total));
-  for (int k = 0; k < total; ++k) EXPECT_NEAR(frame_pts[static_cast<std::size_t>(k)], static_cast<double>(k) / kFps, 1e-6) << k;
+  for (int k = 0; k < total; ++k)
+    EXPECT_NEAR(frame_pts[static_cast<std::size_t>(k)], static_cast<double>(k) / kFps, 1e-6) << k;
   const auto keyframes = report["keyframes"].get<std::vector<bool>>();
   ASSERT_EQ(keyframes.size(), static_cast<std::size_t>(total));
   for (int episode = 0; episode < 3; ++episode) {
-    EXPECT_TRUE(keyframes[static_cast<std::size_t>(EpisodeStart(episode))]) << "episode " << episode << " starts on frame "
-                                                                           << EpisodeStart(episode);
+    EXPECT_TRUE(keyframes[static_cast<std::size_t>(EpisodeStart(episode))])
+        << "episode " << episode << " starts on frame " << EpisodeStart(episode);
   }
   // gop 2: never more than one frame between keyframes.
   for (int k = 1; k < total; ++k) {
@@ -113,7 +114,8 @@ TEST_P(VideoLookupTest, LeRobotPyAvLookupReturnsTheEncodedFrame) {
   ASSERT_EQ(report["lookups"].size(), queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const nlohmann::json& lookup = report["lookups"][i];
-    const std::string name = "episode " + std::to_string(queries[i].episode) + " frame " + std::to_string(queries[i].frame_index);
+    const std::string name =
+        "episode " + std::to_string(queries[i].episode) + " frame " + std::to_string(queries[i].frame_index);
     ASSERT_TRUE(lookup["found"].get<bool>()) << name << ": no frame within 1e-4 s of " << lookup["query_s"];
     const RgbFrame decoded = testing::ReadBytes(QueryPath(i));
     const int k = EpisodeStart(queries[i].episode) + queries[i].frame_index;
@@ -126,11 +128,11 @@ TEST_P(VideoLookupTest, LeRobotPyAvLookupReturnsTheEncodedFrame) {
 }
 
 TEST_P(VideoLookupTest, FfprobeSeesTheCodecAndEqualRates) {
-  tavis::testing::ChildProcess ffprobe("/usr/bin/ffprobe",
-                                       {"-v", "error", "-count_packets", "-select_streams", "v:0", "-show_entries",
-                                        "stream=codec_name,pix_fmt,avg_frame_rate,r_frame_rate,nb_frames,nb_read_packets",
-                                        "-of", "json", path_},
-                                       "is Debian's ffmpeg installed?");
+  tavis::testing::ChildProcess ffprobe(
+      "/usr/bin/ffprobe",
+      {"-v", "error", "-count_packets", "-select_streams", "v:0", "-show_entries",
+       "stream=codec_name,pix_fmt,avg_frame_rate,r_frame_rate,nb_frames,nb_read_packets", "-of", "json", path_},
+      "is Debian's ffmpeg installed?");
   const nlohmann::json stream = nlohmann::json::parse(ffprobe.ReadAllOutput(std::chrono::seconds(30)))["streams"][0];
   const std::string total = std::to_string(EpisodeStart(3));
   EXPECT_EQ(stream["codec_name"], VideoCodecName(GetParam().codec));
@@ -143,7 +145,8 @@ TEST_P(VideoLookupTest, FfprobeSeesTheCodecAndEqualRates) {
 
 INSTANTIATE_TEST_SUITE_P(Codecs, VideoLookupTest,
                          ::testing::Values(LookupCase{VideoCodec::kH264, 64, 48}, LookupCase{VideoCodec::kAv1, 64, 64},
-                                           LookupCase{VideoCodec::kH264, 224, 224}, LookupCase{VideoCodec::kAv1, 224, 224}),
+                                           LookupCase{VideoCodec::kH264, 224, 224},
+                                           LookupCase{VideoCodec::kAv1, 224, 224}),
                          CaseName);
 
 }  // namespace

@@ -96,7 +96,8 @@ TEST_P(VideoWriterCodecTest, BytesWrittenGrowsAndIsTheFileSizeAfterClose) {
 
 std::string CodecName(const ::testing::TestParamInfo<VideoCodec>& test) { return VideoCodecName(test.param); }
 
-INSTANTIATE_TEST_SUITE_P(Codecs, VideoWriterCodecTest, ::testing::Values(VideoCodec::kH264, VideoCodec::kAv1), CodecName);
+INSTANTIATE_TEST_SUITE_P(Codecs, VideoWriterCodecTest, ::testing::Values(VideoCodec::kH264, VideoCodec::kAv1),
+                         CodecName);
 
 TEST(VideoWriter, CloseRenamesThePartialFile) {
   const std::string dir = ScratchDir();
@@ -136,7 +137,8 @@ TEST(VideoWriter, OddDimensionsAreRejectedBeforeAnyFileIsCreated) {
 TEST(VideoWriter, Av1FramesBelowTheSvtMinimumAreRejected) {
   VideoSettings settings = Small(VideoCodec::kAv1);
   settings.height = 48;
-  const std::string message = MessageOf<std::invalid_argument>([&] { Mp4VideoWriter(ScratchDir() + "/a.mp4", settings); });
+  const std::string message =
+      MessageOf<std::invalid_argument>([&] { Mp4VideoWriter(ScratchDir() + "/a.mp4", settings); });
   EXPECT_NE(message.find("64x48 are too small"), std::string::npos) << message;
 }
 

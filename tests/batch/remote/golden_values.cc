@@ -15,9 +15,26 @@ Value NumberedMap(int count) {
 }
 
 Value IntEdges() {
-  return Value::Array{0, 127, 128, 255, 256, 65535, 65536, 4294967295LL, 4294967296LL,
-                      std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::uint64_t>::max(),
-                      -1, -32, -33, -128, -129, -32768, -32769, -2147483648LL, -2147483649LL,
+  return Value::Array{0,
+                      127,
+                      128,
+                      255,
+                      256,
+                      65535,
+                      65536,
+                      4294967295LL,
+                      4294967296LL,
+                      std::numeric_limits<std::int64_t>::max(),
+                      std::numeric_limits<std::uint64_t>::max(),
+                      -1,
+                      -32,
+                      -33,
+                      -128,
+                      -129,
+                      -32768,
+                      -32769,
+                      -2147483648LL,
+                      -2147483649LL,
                       std::numeric_limits<std::int64_t>::min()};
 }
 
@@ -47,18 +64,27 @@ Value StrMap(std::vector<std::pair<std::string, Value>> entries) {
 std::vector<GoldenCase> GoldenCases() {
   const Value doubles = Value::Array{0.0, -0.0, 1.5, 1e300, std::numeric_limits<double>::infinity()};
   const Value mixed = Value::Array{1.0, 3, -1, 300, true, nullptr};
-  const Value npgeneric = Value::Map{{Binary::Of("__npgeneric__"), true}, {Binary::Of("data"), 0.5}, {Binary::Of("dtype"), "<f4"}};
-  const Value strings = Value::Array{"", std::string(31, 'a'), std::string(32, 'b'), std::string(255, 'c'),
-                                     std::string(256, 'd'), std::string(65536, 'e'), "h\xc3\xa9llo"};
-  const Value binaries = Value::Array{Binary{}, Binary{std::vector<std::uint8_t>(255, 0)},
-                                      Binary{std::vector<std::uint8_t>(256, 1)}, Binary{std::vector<std::uint8_t>(65536, 2)}};
+  const Value npgeneric =
+      Value::Map{{Binary::Of("__npgeneric__"), true}, {Binary::Of("data"), 0.5}, {Binary::Of("dtype"), "<f4"}};
+  const Value strings = Value::Array{"",
+                                     std::string(31, 'a'),
+                                     std::string(32, 'b'),
+                                     std::string(255, 'c'),
+                                     std::string(256, 'd'),
+                                     std::string(65536, 'e'),
+                                     "h\xc3\xa9llo"};
+  const Value binaries =
+      Value::Array{Binary{}, Binary{std::vector<std::uint8_t>(255, 0)}, Binary{std::vector<std::uint8_t>(256, 1)},
+                   Binary{std::vector<std::uint8_t>(65536, 2)}};
   const Value containers = Value::Array{Repeated(15, nullptr), Repeated(16, nullptr), Repeated(65536, nullptr),
                                         NumberedMap(15), NumberedMap(16)};
-  const Value str_keys = StrMap({{"__ndarray__", true}, {"data", Binary{{7}}}, {"dtype", "|u1"}, {"shape", Value::Array{1}}});
-  const Value libero = StrMap({{"observation/image", PatternImage({8, 6, 3})},
-                               {"observation/wrist_image", PatternImage({8, 6, 3}, 13)},
-                               {"observation/state", MakeFloat32Array({8}, {0.5F, -1.25F, 2.0F, 0.0F, 1.0F, -3.5F, 0.04F, 0.04F})},
-                               {"prompt", "pick up the red cube"}});
+  const Value str_keys =
+      StrMap({{"__ndarray__", true}, {"data", Binary{{7}}}, {"dtype", "|u1"}, {"shape", Value::Array{1}}});
+  const Value libero =
+      StrMap({{"observation/image", PatternImage({8, 6, 3})},
+              {"observation/wrist_image", PatternImage({8, 6, 3}, 13)},
+              {"observation/state", MakeFloat32Array({8}, {0.5F, -1.25F, 2.0F, 0.0F, 1.0F, -3.5F, 0.04F, 0.04F})},
+              {"prompt", "pick up the red cube"}});
   std::vector<float> aloha_state(14);
   for (int i = 0; i < 14; ++i) aloha_state[i] = static_cast<float>(i) / 4;
   const Value aloha = StrMap({{"state", MakeFloat32Array({14}, aloha_state)},

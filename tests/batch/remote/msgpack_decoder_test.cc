@@ -32,7 +32,8 @@ std::vector<std::uint8_t> NdArrayMapWith(const std::string& dtype, Value::Array 
 TEST(MsgpackDecoder, TruncationNamesWhatAndWhere) {
   EXPECT_EQ(ErrorOf({}), "0: msgpack: truncated type marker: needs 1 bytes, 0 left at byte offset 0");
   EXPECT_EQ(ErrorOf({0x92, 0x01}), "1: msgpack: truncated array entries: needs 2 bytes, 1 left at byte offset 1");
-  EXPECT_EQ(ErrorOf({0x82, 0x01, 0x02, 0x03, 0xcd}), "5: msgpack: truncated uint16: needs 2 bytes, 0 left at byte offset 5");
+  EXPECT_EQ(ErrorOf({0x82, 0x01, 0x02, 0x03, 0xcd}),
+            "5: msgpack: truncated uint16: needs 2 bytes, 0 left at byte offset 5");
   EXPECT_EQ(ErrorOf({0xa5, 'a', 'b'}), "1: msgpack: truncated str payload: needs 5 bytes, 2 left at byte offset 1");
   EXPECT_EQ(ErrorOf({0xcb, 0x3f}), "1: msgpack: truncated float64: needs 8 bytes, 1 left at byte offset 1");
 }
@@ -70,15 +71,16 @@ TEST(MsgpackDecoder, MalformedNumpyMapsNameTheFaultAtTheMapStart) {
   EXPECT_EQ(ErrorOf(NdArrayMapWith("|u1", {"3"}, {0, 0, 0})),
             "0: msgpack: __ndarray__ shape entry is str, not int at byte offset 0");
   std::vector<std::uint8_t> nested = {0x91};
-  const std::vector<std::uint8_t> no_data =
-      EncodeMsgpack(Value::Map{{Binary::Of("__ndarray__"), true}, {Binary::Of("dtype"), "|u1"}, {Binary::Of("shape"), Value::Array{}}});
+  const std::vector<std::uint8_t> no_data = EncodeMsgpack(Value::Map{
+      {Binary::Of("__ndarray__"), true}, {Binary::Of("dtype"), "|u1"}, {Binary::Of("shape"), Value::Array{}}});
   nested.insert(nested.end(), no_data.begin(), no_data.end());
   EXPECT_EQ(ErrorOf(nested), "1: msgpack: __ndarray__ map needs bin 'data' at byte offset 1");
 }
 
 TEST(MsgpackDecoder, NumpyScalarsBecomeTheirItem) {
-  EXPECT_TRUE(DecodeMsgpack(EncodeMsgpack(Value::Map{{Binary::Of("__npgeneric__"), true}, {Binary::Of("data"), 7},
-                                                     {Binary::Of("dtype"), "<i8"}})) == Value(7));
+  EXPECT_TRUE(DecodeMsgpack(EncodeMsgpack(Value::Map{
+                  {Binary::Of("__npgeneric__"), true}, {Binary::Of("data"), 7}, {Binary::Of("dtype"), "<i8"}})) ==
+              Value(7));
 }
 
 TEST(MsgpackDecoder, IntegersKeepTheirValueAcrossWidths) {
@@ -106,7 +108,8 @@ TEST(NdArray, ChecksSizesAndConvertsFloats) {
   EXPECT_EQ(DtypeItemSize("|u1"), 1U);
   EXPECT_THROW(DtypeItemSize("<f"), std::invalid_argument);
   EXPECT_THROW(MakeUint8Array({2, 2}, {1, 2, 3}), std::invalid_argument);
-  EXPECT_EQ(FloatArrayToDoubles(MakeFloat32Array({2}, {0.1F, -2.0F})), (std::vector<double>{static_cast<double>(0.1F), -2.0}));
+  EXPECT_EQ(FloatArrayToDoubles(MakeFloat32Array({2}, {0.1F, -2.0F})),
+            (std::vector<double>{static_cast<double>(0.1F), -2.0}));
   try {
     FloatArrayToDoubles(MakeUint8Array({1}, {1}));
     FAIL() << "no error";

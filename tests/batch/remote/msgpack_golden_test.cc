@@ -18,7 +18,8 @@ namespace {
 
 std::vector<std::uint8_t> FromHex(const std::string& hex) {
   std::vector<std::uint8_t> bytes;
-  for (std::size_t i = 0; i + 1 < hex.size(); i += 2) bytes.push_back(static_cast<std::uint8_t>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+  for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+    bytes.push_back(static_cast<std::uint8_t>(std::stoi(hex.substr(i, 2), nullptr, 16)));
   return bytes;
 }
 
@@ -84,10 +85,14 @@ TEST(MsgpackGolden, NumpyArraysDecodeToNdArrayOnlyWithBinKeys) {
 TEST(MsgpackGolden, EncodingMatchesTheReferenceHexDumps) {
   EXPECT_EQ(ToHex(EncodeMsgpack(MakeFloat32Array({2}, {1.0F, 2.0F}))),
             "84"
-            "c40b5f5f6e6461727261795f5f" "c3"
-            "c40464617461" "c4080000803f00000040"
-            "c4056474797065" "a33c6634"
-            "c4057368617065" "9102");
+            "c40b5f5f6e6461727261795f5f"
+            "c3"
+            "c40464617461"
+            "c4080000803f00000040"
+            "c4056474797065"
+            "a33c6634"
+            "c4057368617065"
+            "9102");
   EXPECT_EQ(ToHex(EncodeMsgpack(Value::Array{1.0, 3, -1, 300, true, nullptr})), "96cb3ff000000000000003ffcd012cc3c0");
   EXPECT_EQ(ToHex(EncodeMsgpack(Value::Map{})), "80");
   const std::string image = ToHex(EncodeMsgpack(testing::PatternImage({224, 224, 3})));

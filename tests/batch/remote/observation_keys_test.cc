@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/proprioception.h"
-#include "batch/vec_env.h"
 #include "batch/remote/openpi_session.h"
+#include "batch/vec_env.h"
 #include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
 #include "scenarios/registry.h"
@@ -66,7 +66,8 @@ class KeyFile : public ::testing::Test {
   }
 
   static std::string Valid(const std::string& cameras, const std::string& rest = "") {
-    return "cameras:\n" + cameras + "state: s\nprompt: p\nimage_layout: hwc\nimage_width: 64\nimage_height: 48\nletterbox: false\n" + rest;
+    return "cameras:\n" + cameras +
+           "state: s\nprompt: p\nimage_layout: hwc\nimage_width: 64\nimage_height: 48\nletterbox: false\n" + rest;
   }
 };
 
@@ -86,7 +87,8 @@ TEST_F(KeyFile, EachMistakeIsNamedWithItsKey) {
   EXPECT_NE(ErrorOf(Valid("  head: a\n", "extra: 1\n")).find("extra"), std::string::npos);
   EXPECT_NE(ErrorOf(Valid("  fixed: a\n")).find("give head a key too"), std::string::npos);
   EXPECT_NE(ErrorOf(Valid("  {}\n")).find("no camera for the policy"), std::string::npos);
-  EXPECT_NE(ErrorOf(Valid("  head: a\n  left_wrist: a\n")).find("head and left_wrist overlap at key 'a'"), std::string::npos);
+  EXPECT_NE(ErrorOf(Valid("  head: a\n  left_wrist: a\n")).find("head and left_wrist overlap at key 'a'"),
+            std::string::npos);
   EXPECT_NE(ErrorOf(Valid("  head: [obs, img]\n  left_wrist: obs\n")).find("overlap"), std::string::npos);
   EXPECT_NE(ErrorOf(Valid("  head: ''\n")).find("empty key"), std::string::npos);
   EXPECT_NE(ErrorOf(Valid("  head: []\n")).find("at least one key"), std::string::npos);
@@ -173,8 +175,8 @@ TEST_F(RenderedObservation, ABatchedRequestStacksEachEnvsRequestOnALeadingAxis) 
   const ObservationKeys keys = Preset("tavis");
   const Value batched = BuildBatchRequest(observation, keys, cameras, {0, 1});
   EXPECT_EQ(*batched.Find("batch_size"), Value(2));
-  for (const char* key : {"observation.images.OBS_HEAD", "observation.images.OBS_WRIST_LEFT", "observation.images.OBS_WRIST_RIGHT",
-                          "observation.state"}) {
+  for (const char* key : {"observation.images.OBS_HEAD", "observation.images.OBS_WRIST_LEFT",
+                          "observation.images.OBS_WRIST_RIGHT", "observation.state"}) {
     const NdArray& stacked = batched.Find(key)->as<NdArray>(key);
     ASSERT_EQ(stacked.shape.front(), 2) << key;
     std::vector<std::uint8_t> concatenated;
@@ -209,7 +211,8 @@ TEST_F(RenderedObservation, ABatchedRequestStacksEachEnvsRequestOnALeadingAxis) 
 std::filesystem::path WriteDatasetInfo(const std::string& name, const nlohmann::json& features) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / name;
   std::filesystem::create_directories(dir / "meta");
-  std::ofstream(dir / "meta" / "info.json") << nlohmann::json{{"codebase_version", "v3.0"}, {"features", features}}.dump();
+  std::ofstream(dir / "meta" / "info.json")
+      << nlohmann::json{{"codebase_version", "v3.0"}, {"features", features}}.dump();
   return dir;
 }
 
@@ -219,12 +222,12 @@ nlohmann::json ImageFeature(int width, int height) {
 
 TEST(DatasetKeys, TheDatasetsImageKeysAndSizeAreServedAndDifferencesAreNamed) {
   const nlohmann::json state = {{"dtype", "float32"}, {"shape", {34}}};
-  const std::filesystem::path dir = WriteDatasetInfo(
-      "tavis_dataset_keys_test", {{"observation.state", state},
-                                  {"observation.images.OBS_HEAD", ImageFeature(64, 48)},
-                                  {"observation.images.OBS_FIXED", ImageFeature(64, 48)},
-                                  {"observation.images.OBS_WRIST_LEFT", ImageFeature(64, 48)},
-                                  {"observation.images.OBS_WRIST_RIGHT", ImageFeature(64, 48)}});
+  const std::filesystem::path dir =
+      WriteDatasetInfo("tavis_dataset_keys_test", {{"observation.state", state},
+                                                   {"observation.images.OBS_HEAD", ImageFeature(64, 48)},
+                                                   {"observation.images.OBS_FIXED", ImageFeature(64, 48)},
+                                                   {"observation.images.OBS_WRIST_LEFT", ImageFeature(64, 48)},
+                                                   {"observation.images.OBS_WRIST_RIGHT", ImageFeature(64, 48)}});
   const ObservationKeys keys = LoadDatasetKeys(dir.string(), 34);
   EXPECT_EQ(keys.PolicyCameras(), (std::vector<std::string>{"head", "left_wrist", "right_wrist"}));
   EXPECT_EQ(keys.KeyOf("fixed"), KeyPath{"observation.images.OBS_FIXED"});
@@ -242,11 +245,13 @@ TEST(DatasetKeys, TheDatasetsImageKeysAndSizeAreServedAndDifferencesAreNamed) {
     LoadDatasetKeys(dir.string(), 19);
     ADD_FAILURE() << "a Reachy2 state size must not match a GR1T2 dataset";
   } catch (const std::invalid_argument& error) {
-    EXPECT_NE(std::string(error.what()).find("observation.state has 34 entries, but this robot's has 19"), std::string::npos)
+    EXPECT_NE(std::string(error.what()).find("observation.state has 34 entries, but this robot's has 19"),
+              std::string::npos)
         << error.what();
   }
   EXPECT_THROW(LoadDatasetKeys((dir / "nowhere").string(), 34), std::invalid_argument);
-  const std::filesystem::path no_images = WriteDatasetInfo("tavis_dataset_keys_test_no_images", {{"observation.state", state}});
+  const std::filesystem::path no_images =
+      WriteDatasetInfo("tavis_dataset_keys_test_no_images", {{"observation.state", state}});
   EXPECT_THROW(LoadDatasetKeys(no_images.string(), 34), std::invalid_argument);
 }
 
@@ -299,7 +304,8 @@ TEST_F(RenderedObservation, PythonDecodesEachPresetsLayout) {
       } else {
         const Value::Array& pair = entry.value.as<Value::Array>("pair");
         nlohmann::json shape = nlohmann::json::array();
-        for (const Value& dimension : pair[1].as<Value::Array>("shape")) shape.push_back(dimension.as<std::int64_t>("dim"));
+        for (const Value& dimension : pair[1].as<Value::Array>("shape"))
+          shape.push_back(dimension.as<std::int64_t>("dim"));
         received[key] = {pair[0].as<std::string>("dtype"), shape};
       }
     }

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include <sys/socket.h>
 #include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -52,7 +52,8 @@ struct TestObservation {
 
   Value ToValue(std::vector<std::pair<std::string, Value>> extra = {}) const {
     std::vector<std::pair<std::string, Value>> entries;
-    for (std::size_t i = 0; i < images.size(); ++i) entries.emplace_back("observation/image_" + std::to_string(i), images[i]);
+    for (std::size_t i = 0; i < images.size(); ++i)
+      entries.emplace_back("observation/image_" + std::to_string(i), images[i]);
     entries.emplace_back("observation/state", MakeFloat32Array({static_cast<std::int64_t>(state.size())}, state));
     entries.emplace_back("prompt", prompt);
     for (auto& entry : extra) entries.push_back(std::move(entry));
@@ -70,7 +71,8 @@ struct TestObservation {
     const double offset = static_cast<double>(ImageSum() % 1024) / 8 + static_cast<double>(prompt.size()) * 0.25;
     std::vector<double> actions;
     for (int t = 0; t < kHorizon; ++t) {
-      for (int d = 0; d < kActionDim; ++d) actions.push_back(static_cast<double>(state[d % state.size()]) * (t + 1) + offset + d);
+      for (int d = 0; d < kActionDim; ++d)
+        actions.push_back(static_cast<double>(state[d % state.size()]) * (t + 1) + offset + d);
     }
     return actions;
   }
@@ -78,7 +80,8 @@ struct TestObservation {
 
 TestObservation LiberoLikeObservation(int images, std::int64_t height, std::int64_t width, int seed) {
   TestObservation observation;
-  for (int i = 0; i < images; ++i) observation.images.push_back(testing::PatternImage({height, width, 3}, 200 + seed + i));
+  for (int i = 0; i < images; ++i)
+    observation.images.push_back(testing::PatternImage({height, width, 3}, 200 + seed + i));
   observation.state = {0.5F, -1.25F, 2.0F + static_cast<float>(seed), 0.0F, 1.0F, -3.5F, 0.04F, 0.04F};
   observation.prompt = "pick up the red cube";
   return observation;
@@ -117,7 +120,8 @@ TEST(OpenpiSession, ActionChunksEqualTheServersFunctionInBothDtypes) {
       for (double& value : expected) value = static_cast<double>(static_cast<float>(value));
     }
     EXPECT_EQ(chunk.values, expected) << "request " << request;
-    EXPECT_EQ(result.reply.Find("image_sum")->as<std::int64_t>("image_sum"), static_cast<std::int64_t>(observation.ImageSum()));
+    EXPECT_EQ(result.reply.Find("image_sum")->as<std::int64_t>("image_sum"),
+              static_cast<std::int64_t>(observation.ImageSum()));
     EXPECT_EQ(result.reply.Find("request")->as<std::int64_t>("request"), request);
     EXPECT_FALSE(result.reconnected);
     EXPECT_GT(result.round_trip_ms, 0.0);
@@ -146,7 +150,8 @@ TEST(OpenpiSession, CarriesMessagesOverOneMebibyte) {
     const InferResult result = session.Infer(request);
     server_ms += ReadReplyTimings(result.reply).server_infer_ms.value_or(0.0);
     EXPECT_EQ(ReadActionChunk(result.reply).values, observation.ExpectedActions());
-    EXPECT_EQ(result.reply.Find("image_sum")->as<std::int64_t>("image_sum"), static_cast<std::int64_t>(observation.ImageSum()));
+    EXPECT_EQ(result.reply.Find("image_sum")->as<std::int64_t>("image_sum"),
+              static_cast<std::int64_t>(observation.ImageSum()));
     total_ms += result.round_trip_ms;
   }
   std::cout << "[ measure  ] four 640x480x3 images, " << request_bytes << " bytes per request: mean round trip "
@@ -166,8 +171,9 @@ TEST(OpenpiSession, ServerErrorSurfacesTheTracebackAndTheSessionRecovers) {
     EXPECT_NE(error.traceback().find("Traceback (most recent call last)"), std::string::npos) << error.traceback();
     EXPECT_NE(error.traceback().find("RuntimeError: test policy asked to fail: gripper exploded"), std::string::npos);
     const std::string message = error.what();
-    EXPECT_NE(message.find("policy server error (close 1011: Internal server error. Traceback included in previous frame.)"),
-              std::string::npos)
+    EXPECT_NE(
+        message.find("policy server error (close 1011: Internal server error. Traceback included in previous frame.)"),
+        std::string::npos)
         << message;
   }
   const InferResult result = session.Infer(observation.ToValue());
@@ -310,7 +316,8 @@ TEST(HealthProbe, UnreachableServerFailsClearlyAfterTheBoundedWait) {
     FAIL() << "no error";
   } catch (const RemoteTimeout& error) {
     const std::string message = error.what();
-    EXPECT_NE(message.find("policy server 127.0.0.1:" + std::to_string(port) + " not ready"), std::string::npos) << message;
+    EXPECT_NE(message.find("policy server 127.0.0.1:" + std::to_string(port) + " not ready"), std::string::npos)
+        << message;
     EXPECT_NE(message.find("Connection refused"), std::string::npos) << message;
   }
   const auto waited = Clock::now() - start;
@@ -323,7 +330,9 @@ TEST(HealthProbe, UnreachableServerFailsClearlyAfterTheBoundedWait) {
     OpenpiSession session(options);
     FAIL() << "no error";
   } catch (const ConnectFailed& error) {
-    EXPECT_STREQ(error.what(), ("cannot connect to policy server 127.0.0.1:" + std::to_string(port) + ": Connection refused").c_str());
+    EXPECT_STREQ(
+        error.what(),
+        ("cannot connect to policy server 127.0.0.1:" + std::to_string(port) + ": Connection refused").c_str());
   }
 }
 

@@ -19,8 +19,8 @@ std::vector<std::string> WithPort(int port, std::vector<std::string> args) {
 
 PolicyServerProcess::PolicyServerProcess(const std::vector<std::string>& args, bool wait_ready)
     : port_(tavis::testing::FreeLoopbackPort()),
-      process_(tavis::testing::kDebianPython, tavis::testing::ScriptArgs(TestScript("policy_server.py"), WithPort(port_, args)),
-               kPythonHint) {
+      process_(tavis::testing::kDebianPython,
+               tavis::testing::ScriptArgs(TestScript("policy_server.py"), WithPort(port_, args)), kPythonHint) {
   if (wait_ready) WaitUntilReady();
 }
 
@@ -32,8 +32,9 @@ void PolicyServerProcess::WaitUntilReady() {
       return;
     } catch (const RemoteTimeout&) {
       if (!process_.Running()) {
-        throw std::runtime_error("policy_server.py exited before serving (its stderr above says why; are "
-                                 "python3-websockets, python3-msgpack and python3-numpy installed?)");
+        throw std::runtime_error(
+            "policy_server.py exited before serving (its stderr above says why; are "
+            "python3-websockets, python3-msgpack and python3-numpy installed?)");
       }
       if (Clock::now() > deadline) throw;
     }

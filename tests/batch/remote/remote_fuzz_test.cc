@@ -45,7 +45,9 @@ class Mutator {
         case 0: input[at] = static_cast<std::uint8_t>(Pick(256)); break;
         case 1: input[at] ^= static_cast<std::uint8_t>(1U << Pick(8)); break;
         case 2: input.resize(at); break;
-        case 3: input.insert(input.begin() + static_cast<std::ptrdiff_t>(at), static_cast<std::uint8_t>(Pick(256))); break;
+        case 3:
+          input.insert(input.begin() + static_cast<std::ptrdiff_t>(at), static_cast<std::uint8_t>(Pick(256)));
+          break;
         default: input[at] = kInteresting[Pick(sizeof kInteresting)]; break;  // length and type markers
       }
     }
@@ -55,8 +57,8 @@ class Mutator {
   std::size_t Pick(std::size_t bound) { return std::uniform_int_distribution<std::size_t>(0, bound - 1)(generator_); }
 
  private:
-  static constexpr std::uint8_t kInteresting[] = {0x00, 0x7e, 0x7f, 0x80, 0xc1, 0xc4, 0xc6, 0xca, 0xdb,
-                                                  0xdd, 0xdf, 0xff, 0xd4, 0x91, 0x8f};
+  static constexpr std::uint8_t kInteresting[] = {0x00, 0x7e, 0x7f, 0x80, 0xc1, 0xc4, 0xc6, 0xca,
+                                                  0xdb, 0xdd, 0xdf, 0xff, 0xd4, 0x91, 0x8f};
   std::vector<Bytes> seeds_;
   std::mt19937_64 generator_{20261123};
 };
@@ -89,7 +91,8 @@ Bytes ServerFrame(std::uint8_t first, const Bytes& payload) {
   Bytes frame(header + payload.size(), 0);
   frame[0] = first;
   frame[1] = static_cast<std::uint8_t>(header == 2 ? payload.size() : 127);
-  for (std::size_t i = 2; i < header; ++i) frame[i] = static_cast<std::uint8_t>(payload.size() >> (8 * (header - 1 - i)));
+  for (std::size_t i = 2; i < header; ++i)
+    frame[i] = static_cast<std::uint8_t>(payload.size() >> (8 * (header - 1 - i)));
   std::copy(payload.begin(), payload.end(), frame.begin() + static_cast<std::ptrdiff_t>(header));
   return frame;
 }

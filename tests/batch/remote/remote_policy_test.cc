@@ -18,8 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/cell_report.h"
-#include "batch/evaluation_cell.h"
 #include "batch/episode_driver.h"
+#include "batch/evaluation_cell.h"
 #include "batch/init_pose_warmup.h"
 #include "scenarios/registry.h"
 #include "tests/batch/remote/policy_server_process.h"
@@ -76,7 +76,8 @@ class RecordingPolicy : public batch::Policy {
   void Reset(const batch::Observation& observation, const std::vector<uint8_t>& started) override {
     inner_.Reset(observation, started);
   }
-  void Act(const batch::Observation& observation, const std::vector<uint8_t>& acting, batch::ActionBatch& actions) override {
+  void Act(const batch::Observation& observation, const std::vector<uint8_t>& acting,
+           batch::ActionBatch& actions) override {
     inner_.Act(observation, acting, actions);
     for (int env = 0; env < static_cast<int>(acting.size()); ++env) {
       if (!acting[static_cast<std::size_t>(env)]) continue;
@@ -161,7 +162,8 @@ void ExpectSameEpisode(const batch::EpisodeRecord& a, const batch::EpisodeRecord
   EXPECT_EQ(a.length_control_ticks, b.length_control_ticks) << what;
   EXPECT_EQ(a.solver_messages, b.solver_messages) << what;
   ASSERT_EQ(a.actions.size(), b.actions.size()) << what;
-  for (std::size_t t = 0; t < a.actions.size(); ++t) ASSERT_EQ(a.actions[t], b.actions[t]) << what << ", control tick " << t;
+  for (std::size_t t = 0; t < a.actions.size(); ++t)
+    ASSERT_EQ(a.actions[t], b.actions[t]) << what << ", control tick " << t;
 }
 
 std::filesystem::path FreshDirectory(const std::string& name) {
@@ -232,7 +234,8 @@ TEST(RemotePolicy, RecordsAreByteIdenticalServedSeriallyPerEnvAndBatched) {
   ASSERT_EQ(serial.episodes.size(), 6u);
   for (const char* mode : {"per-env", "batched"}) {
     for (std::size_t i = 0; i < serial.episodes.size(); ++i) {
-      ExpectSameEpisode(results[mode].episodes[i], serial.episodes[i], std::string(mode) + ", episode " + std::to_string(i));
+      ExpectSameEpisode(results[mode].episodes[i], serial.episodes[i],
+                        std::string(mode) + ", episode " + std::to_string(i));
     }
     EXPECT_EQ(ReadFile(written[mode] / "episodes.jsonl"), ReadFile(written["serial"] / "episodes.jsonl")) << mode;
     for (int episode = 0; episode < config.episodes; ++episode) {
@@ -313,7 +316,8 @@ TEST(RemotePolicy, AStatefulServerSeesStepZeroFirstAfterTheInitPoseWarmUp) {
   for (const auto& [key, entry] : seen.items()) {
     const int64_t episode = std::stoll(key.substr(key.find('/') + 1));
     EXPECT_EQ(entry["first_flags"], 1) << key;
-    EXPECT_EQ(entry["steps"].get<int>(), result.episodes[static_cast<std::size_t>(episode)].length_steps - batch::kInitPoseWarmupPolicySteps)
+    EXPECT_EQ(entry["steps"].get<int>(),
+              result.episodes[static_cast<std::size_t>(episode)].length_steps - batch::kInitPoseWarmupPolicySteps)
         << key;
   }
   std::filesystem::remove(steps);

@@ -73,12 +73,13 @@ TEST(WebSocketFrame, MasksEveryPayloadByteWithTheKeyCycle) {
 }
 
 TEST(WebSocketReader, ReadsRfcServerExamplesSplitAnywhere) {
-  Bytes stream = {0x81, 0x05, 'H', 'e', 'l', 'l', 'o'};           // unmasked text
+  Bytes stream = {0x81, 0x05, 'H', 'e', 'l', 'l', 'o'};                        // unmasked text
   const Bytes fragmented = {0x01, 0x03, 'H', 'e', 'l', 0x80, 0x02, 'l', 'o'};  // text in two fragments
   const Bytes ping = {0x89, 0x05, 'H', 'e', 'l', 'l', 'o'};
   Bytes binary = {0x82, 0x7e, 0x01, 0x00};  // 256 bytes, 16-bit length
   binary.resize(4 + 256, 0xab);
-  for (const Bytes* part : std::initializer_list<const Bytes*>{&fragmented, &ping, &binary}) stream.insert(stream.end(), part->begin(), part->end());
+  for (const Bytes* part : std::initializer_list<const Bytes*>{&fragmented, &ping, &binary})
+    stream.insert(stream.end(), part->begin(), part->end());
   const std::vector<WebSocketEvent> events = ReadAll(stream);
   ASSERT_EQ(events.size(), 4U);
   EXPECT_EQ(events[0].kind, WebSocketEvent::Kind::kText);
@@ -118,12 +119,14 @@ TEST(WebSocketReader, RejectsWhatRfc6455Forbids) {
   EXPECT_EQ(ReaderError({0xc2, 0x00}), "websocket frame at stream byte 0: reserved bits 0x4 set without an extension");
   EXPECT_EQ(ReaderError({0x83, 0x00}), "websocket frame at stream byte 0: unknown opcode 3");
   EXPECT_EQ(ReaderError({0x09, 0x00}), "websocket frame at stream byte 0: fragmented control frame (opcode 9)");
-  EXPECT_EQ(ReaderError({0x89, 0x7e, 0x00, 0x7e}), "websocket frame at stream byte 0: control frame payload of 126 bytes (limit 125)");
+  EXPECT_EQ(ReaderError({0x89, 0x7e, 0x00, 0x7e}),
+            "websocket frame at stream byte 0: control frame payload of 126 bytes (limit 125)");
   EXPECT_EQ(ReaderError({0x82, 0x00, 0x80, 0x00}),
             "websocket continuation frame at stream byte 2 with no fragmented message open");
   EXPECT_EQ(ReaderError({0x02, 0x00, 0x82, 0x00}),
             "websocket data frame at stream byte 2 while a fragmented message is still open");
-  EXPECT_EQ(ReaderError({0x88, 0x01, 0x03}), "websocket close frame at stream byte 0 has a 1-byte payload (a status code needs 2)");
+  EXPECT_EQ(ReaderError({0x88, 0x01, 0x03}),
+            "websocket close frame at stream byte 0 has a 1-byte payload (a status code needs 2)");
   EXPECT_EQ(ReaderError({0x82, 0x7f, 0x80, 0, 0, 0, 0, 0, 0, 0}),
             "websocket frame at stream byte 0: 64-bit length with the top bit set");
   EXPECT_EQ(ReaderError({0x02, 0x02, 0, 0, 0x80, 0x02, 0, 0}, 3),
@@ -139,27 +142,32 @@ TEST(WebSocketHandshake, AcceptKeyMatchesRfcExample) {
 }
 
 TEST(WebSocketHandshake, RequestAndResponseCheck) {
-  const std::string request = BuildUpgradeRequest(ParseWebSocketUrl("ws://example:8000"), "KEY", {"Authorization: Api-Key s"});
+  const std::string request =
+      BuildUpgradeRequest(ParseWebSocketUrl("ws://example:8000"), "KEY", {"Authorization: Api-Key s"});
   EXPECT_EQ(request,
             "GET / HTTP/1.1\r\nHost: example:8000\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
             "Sec-WebSocket-Key: KEY\r\nSec-WebSocket-Version: 13\r\nAuthorization: Api-Key s\r\n\r\n");
   const std::string key = "dGhlIHNhbXBsZSBub25jZQ==";
-  EXPECT_NO_THROW(CheckUpgradeResponse(ParseHttpResponseHead("HTTP/1.1 101 Switching Protocols\r\nupgrade: WebSocket\r\n"
-                                                             "Connection: upgrade\r\nSec-WebSocket-Accept: s3pPLMBiTxaQ9kYGzzhZRbK+xOo="),
-                                       key));
+  EXPECT_NO_THROW(CheckUpgradeResponse(
+      ParseHttpResponseHead("HTTP/1.1 101 Switching Protocols\r\nupgrade: WebSocket\r\n"
+                            "Connection: upgrade\r\nSec-WebSocket-Accept: s3pPLMBiTxaQ9kYGzzhZRbK+xOo="),
+      key));
   try {
     CheckUpgradeResponse(ParseHttpResponseHead("HTTP/1.1 101 OK\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
                                                "Sec-WebSocket-Accept: wrong"),
                          key);
     FAIL() << "no error";
   } catch (const WebSocketProtocolError& error) {
-    EXPECT_STREQ(error.what(), "websocket upgrade answered with Sec-WebSocket-Accept 'wrong', expected 's3pPLMBiTxaQ9kYGzzhZRbK+xOo='");
+    EXPECT_STREQ(
+        error.what(),
+        "websocket upgrade answered with Sec-WebSocket-Accept 'wrong', expected 's3pPLMBiTxaQ9kYGzzhZRbK+xOo='");
   }
   try {
     CheckUpgradeResponse(ParseHttpResponseHead("HTTP/1.1 426 Upgrade Required\r\nContent-Length: 0"), key);
     FAIL() << "no error";
   } catch (const WebSocketProtocolError& error) {
-    EXPECT_STREQ(error.what(), "websocket upgrade refused: HTTP 426 Upgrade Required (expected 101 Switching Protocols)");
+    EXPECT_STREQ(error.what(),
+                 "websocket upgrade refused: HTTP 426 Upgrade Required (expected 101 Switching Protocols)");
   }
   EXPECT_THROW(ParseHttpResponseHead("SSH-2.0-OpenSSH"), WebSocketProtocolError);
 }

@@ -23,9 +23,9 @@ using Json = nlohmann::ordered_json;
 
 // A cell of `label` with `successes` of `episodes` successful; head cells' successes get the
 // GALT values in turn.
-CellEpisodes Cell(const std::string& label, const std::string& task, const std::string& robot, CameraProtocol camera, int successes,
-                  int episodes, const std::vector<double>& galt = {1.0}, const std::string& seed_group = "",
-                  scenarios::Split split = scenarios::Split::kId) {
+CellEpisodes Cell(const std::string& label, const std::string& task, const std::string& robot, CameraProtocol camera,
+                  int successes, int episodes, const std::vector<double>& galt = {1.0},
+                  const std::string& seed_group = "", scenarios::Split split = scenarios::Split::kId) {
   CellEpisodes cell;
   cell.config.task = task;
   cell.config.robot = robot;
@@ -101,7 +101,8 @@ TEST(LabelledSummary, KeepsLabelsApart) {
   const std::vector<TextTable> tables = SweepTables(summary);
   ASSERT_EQ(tables[0].name, "success_tavis-head_expert");
   ASSERT_EQ(tables[1].name, "success_tavis-head_still");
-  EXPECT_NE(ToMarkdown(tables[1]).find("| wait-then-act | 0.0 [0.0, 32.4] |"), std::string::npos) << ToMarkdown(tables[1]);
+  EXPECT_NE(ToMarkdown(tables[1]).find("| wait-then-act | 0.0 [0.0, 32.4] |"), std::string::npos)
+      << ToMarkdown(tables[1]);
   // The cells name their labels.
   EXPECT_EQ(summary["cells"][2]["label"], "still");
   EXPECT_EQ(summary["cells"][2]["policy"], "hold");
@@ -112,7 +113,8 @@ TEST(LabelledSummary, SeedGroupGivesMeanAndSpreadAcrossCheckpoints) {
   const int successes[] = {2, 4, 9};  // of 12: rates 1/6, 1/3, 3/4
   for (int c = 0; c < 3; ++c) {
     const std::string label = "ckpt-" + std::to_string(c);
-    cells.push_back(Cell(label, "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, successes[c], 12, {1.0}, "recipe"));
+    cells.push_back(
+        Cell(label, "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, successes[c], 12, {1.0}, "recipe"));
     // A second evaluation seed of the same checkpoint pools into its rate: +0/12.
     CellEpisodes second = Cell(label, "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 0, 12, {1.0}, "recipe");
     second.config.seed = 1;
@@ -158,7 +160,8 @@ std::vector<std::map<std::string, std::string>> Marks(const std::string& svg, co
   for (auto it = std::sregex_iterator(svg.begin(), svg.end(), element); it != std::sregex_iterator(); ++it) {
     const std::string text = it->str();
     std::map<std::string, std::string> values;
-    for (auto d = std::sregex_iterator(text.begin(), text.end(), data); d != std::sregex_iterator(); ++d) values[(*d)[1]] = (*d)[2];
+    for (auto d = std::sregex_iterator(text.begin(), text.end(), data); d != std::sregex_iterator(); ++d)
+      values[(*d)[1]] = (*d)[2];
     if (values.count(attribute)) marks.push_back(values);
   }
   return marks;
@@ -167,7 +170,8 @@ std::vector<std::map<std::string, std::string>> Marks(const std::string& svg, co
 TEST(PaperFigures, FiguresAndHeadlineFromTheLabelsNumbers) {
   std::vector<CellEpisodes> cells = TwoLabels();
   cells.push_back(Cell("expert", "blocked-clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 7, 8));
-  const Json spec = {{"episodes", 8}, {"figures", {{"single_vs_multi", {"still", "expert"}}, {"galt_reference", "still"}}}};
+  const Json spec = {{"episodes", 8},
+                     {"figures", {{"single_vs_multi", {"still", "expert"}}, {"galt_reference", "still"}}}};
   const Json summary = SweepSummaryJson(spec, cells);
   const Json& figures = summary["figures"];
   // 3a: per task, head and fixed of the default policy (the first label).
@@ -216,8 +220,9 @@ TEST(PaperFigures, GaltAtTheWindowsEndsLandInTheirBins) {
   // -0.45 s and +3.9 s: the first bin, and beyond Figure 4's 3.0 s window (in the last bin of the
   // 4.0 s window's [-0.5, 4.0]).
   const std::vector<double> values = {-0.45, 1.0, 1.2, 3.9};
-  std::vector<CellEpisodes> cells = {Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 4, 4, values),
-                                     Cell("ref", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 2, 2, {2.0, 2.4})};
+  std::vector<CellEpisodes> cells = {
+      Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 4, 4, values),
+      Cell("ref", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 2, 2, {2.0, 2.4})};
   for (const double window : {3.0, 4.0}) {
     const Json spec = {{"episodes", 4}, {"figures", {{"galt_reference", "ref"}, {"galt_window_s", window}}}};
     const Json figure = SweepSummaryJson(spec, cells)["figures"]["fig4"];
@@ -235,7 +240,8 @@ TEST(PaperFigures, GaltAtTheWindowsEndsLandInTheirBins) {
     EXPECT_DOUBLE_EQ(row["reference"]["median"].get<double>(), 2.2);
     EXPECT_NEAR(row["relative_median_difference"].get<double>(), std::abs(median - 2.2) / 2.2, 1e-12);
     // Drawn: the bins' counts and the medians read back from the SVG.
-    const Json figures = {{"fig3a", nullptr}, {"fig3b", nullptr}, {"fig3c", nullptr}, {"fig3d", nullptr}, {"fig4", figure}};
+    const Json figures = {
+        {"fig3a", nullptr}, {"fig3b", nullptr}, {"fig3c", nullptr}, {"fig3d", nullptr}, {"fig4", figure}};
     const std::string svg = DrawPaperFigures(figures).at(0).canvas.Svg("fig4");
     int policy_total = 0;
     for (const auto& bin : Marks(svg, "count")) {
@@ -248,7 +254,8 @@ TEST(PaperFigures, GaltAtTheWindowsEndsLandInTheirBins) {
   }
   // The report's plain histograms: values outside the range are left out and counted, never
   // written outside the bins (this ran past the buffer before).
-  const Figure histogram = DrawHistogram("h", "h", {{"galt", values}}, -0.5, 4.0, 18, "s", std::make_pair(2.57, "human"));
+  const Figure histogram =
+      DrawHistogram("h", "h", {{"galt", values}}, -0.5, 4.0, 18, "s", std::make_pair(2.57, "human"));
   int total = 0;
   for (const auto& bin : Marks(histogram.canvas.Svg("h"), "count")) total += std::stoi(bin.at("count"));
   EXPECT_EQ(total, 4);
@@ -257,8 +264,8 @@ TEST(PaperFigures, GaltAtTheWindowsEndsLandInTheirBins) {
   for (const auto& bin : Marks(narrow.canvas.Svg("n"), "count")) total += std::stoi(bin.at("count"));
   EXPECT_EQ(total, 2);
   EXPECT_NE(narrow.canvas.Svg("n").find("2 outside"), std::string::npos);
-  EXPECT_EQ(HistogramCounts({-0.5, 3.5, -0.51, 3.51}, -0.5, 3.5, 20), (std::vector<int>{1, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                                                                                        0, 0, 0, 0, 0, 0, 0, 0, 0, 1}));
+  EXPECT_EQ(HistogramCounts({-0.5, 3.5, -0.51, 3.51}, -0.5, 3.5, 20),
+            (std::vector<int>{1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1}));
 }
 
 struct TextBox {
@@ -270,7 +277,9 @@ struct TextBox {
 // PNG's font or a browser's sans-serif, the wider), from the baseline up by its font size.
 std::vector<TextBox> TextBoxes(const std::string& svg) {
   std::vector<TextBox> boxes;
-  const std::regex text("<text x=\"([-0-9.e]+)\" y=\"([-0-9.e]+)\" font-size=\"([0-9.e]+)\" text-anchor=\"([a-z]+)\"[^>]*>([^<]*)</text>");
+  const std::regex text(
+      "<text x=\"([-0-9.e]+)\" y=\"([-0-9.e]+)\" font-size=\"([0-9.e]+)\" "
+      "text-anchor=\"([a-z]+)\"[^>]*>([^<]*)</text>");
   for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator(); ++it) {
     const double x = std::stod((*it)[1]), y = std::stod((*it)[2]), size = std::stod((*it)[3]);
     const std::string content = std::regex_replace((*it)[5].str(), std::regex("&amp;"), "&");
@@ -291,7 +300,8 @@ TEST(PaperFigures, LabelsNeitherOverlapNorLeaveTheCanvas) {
     cell.id += "_reachy2";
     cells.push_back(cell);
   }
-  const Json spec = {{"episodes", 8}, {"figures", {{"single_vs_multi", {"still", "expert"}}, {"galt_reference", "still"}}}};
+  const Json spec = {{"episodes", 8},
+                     {"figures", {{"single_vs_multi", {"still", "expert"}}, {"galt_reference", "still"}}}};
   const std::vector<Figure> figures = DrawPaperFigures(SweepSummaryJson(spec, cells)["figures"]);
   ASSERT_EQ(figures.size(), 5U);
   for (const Figure& figure : figures) {
@@ -318,7 +328,8 @@ TEST(PaperFigures, AblationDrawsEveryRobotOfTheArmsPresent) {
                                            Cell("expert", "clutter-pick-cube", "reachy2", CameraProtocol::kHead, 1, 4)};
   const Json figures = SweepSummaryJson({{"episodes", 4}}, cells)["figures"];
   ASSERT_FALSE(figures["fig3d"].is_null());
-  const Json only = {{"fig3a", nullptr}, {"fig3b", nullptr}, {"fig3c", nullptr}, {"fig3d", figures["fig3d"]}, {"fig4", nullptr}};
+  const Json only = {
+      {"fig3a", nullptr}, {"fig3b", nullptr}, {"fig3c", nullptr}, {"fig3d", figures["fig3d"]}, {"fig4", nullptr}};
   const auto bars = Marks(DrawPaperFigures(only).at(0).canvas.Svg("fig3d"), "arm");
   std::map<std::string, double> full_av;
   for (const auto& bar : bars) {
@@ -345,8 +356,9 @@ std::string SvgById(const std::string& html, const std::string& id) {
 // before its first bin was a heap-buffer-overflow.
 TEST(PaperFigures, ReportHistogramsDrawGaltAtBothEnds) {
   const std::vector<double> values = {-0.45, 1.0, 1.2, 3.9};
-  const std::vector<CellEpisodes> cells = {Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 4, 4, values),
-                                           Cell("ref", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 2, 2, {-0.45, 3.9})};
+  const std::vector<CellEpisodes> cells = {
+      Cell("expert", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 4, 4, values),
+      Cell("ref", "clutter-pick-cube", "gr1t2", CameraProtocol::kHead, 2, 2, {-0.45, 3.9})};
   const Json summary = SweepSummaryJson({{"episodes", 4}, {"figures", {{"galt_reference", "ref"}}}}, cells);
   const std::string html = SweepHtmlReport(summary, Json::object());
   // The per-robot histogram of the expert: 18 bins of 0.25 s from -0.5 s.

@@ -46,8 +46,8 @@ void Table(const std::vector<TextTable>& tables, const std::string& name, TextTa
 }
 
 TEST(StageFunnelSection, CountsEachStageWithEveryStageBeforeItAndTheFaultsApart) {
-  const std::vector<CellEpisodes> cells = {
-      Cell(CameraProtocol::kHead, {true, false, false, false, false}, {3, 2, 1, 0, 0}, {false, false, false, true, false})};
+  const std::vector<CellEpisodes> cells = {Cell(CameraProtocol::kHead, {true, false, false, false, false},
+                                                {3, 2, 1, 0, 0}, {false, false, false, true, false})};
   const nlohmann::ordered_json summary = SweepSummaryJson({{"episodes", 5}}, cells);
   ASSERT_EQ(summary["stages"].size(), 1U);
   const auto& row = summary["stages"][0];

@@ -10,7 +10,8 @@
 namespace tavis::batch::report {
 namespace {
 
-CellEpisodes Cell(const std::string& id, CameraProtocol camera, scenarios::Split split, const std::vector<bool>& successes) {
+CellEpisodes Cell(const std::string& id, CameraProtocol camera, scenarios::Split split,
+                  const std::vector<bool>& successes) {
   CellEpisodes cell;
   cell.id = id;
   cell.config.task = "clutter-pick-cube";
@@ -38,8 +39,9 @@ TEST(SweepSummary, PairsHeadAndFixedEpisodeByEpisode) {
   // Episode:      0     1      2      3      4      5
   // head:         yes   yes    yes    no     yes    no
   // fixed:        yes   no     no     yes    no     no    -> both 1, head only 3, fixed only 1, neither 1
-  const std::vector<CellEpisodes> cells = {Cell("h", CameraProtocol::kHead, id, {true, true, true, false, true, false}),
-                                           Cell("f", CameraProtocol::kFixed, id, {true, false, false, true, false, false})};
+  const std::vector<CellEpisodes> cells = {
+      Cell("h", CameraProtocol::kHead, id, {true, true, true, false, true, false}),
+      Cell("f", CameraProtocol::kFixed, id, {true, false, false, true, false, false})};
   const nlohmann::ordered_json summary = SweepSummaryJson({{"episodes", 6}}, cells);
   ASSERT_EQ(summary["paired"].size(), 1U);
   const auto& pair = summary["paired"][0];
@@ -73,7 +75,9 @@ TEST(SweepSummary, GivesIdMinusOodAndTablesPrintTheNumbers) {
   EXPECT_EQ(tables[0].rows[0].back(), "-") << "clutter-pick-lift was not evaluated";
   std::string markdown;
   for (const TextTable& table : SweepTables(summary)) markdown += ToMarkdown(table) + ToCsv(table) + ToLatex(table);
-  EXPECT_NE(markdown.find("| clutter-pick-cube | gr1t2 | head | ood-spatial | 75.0 | 25.0 | +50.0 |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("| clutter-pick-cube | gr1t2 | head | ood-spatial | 75.0 | 25.0 | +50.0 |"),
+            std::string::npos)
+      << markdown;
   EXPECT_NE(markdown.find("75.0 [30.1, 95.4]"), std::string::npos) << markdown;  // Wilson 3/4
   EXPECT_NE(markdown.find("\\begin{tabular}"), std::string::npos);
 }

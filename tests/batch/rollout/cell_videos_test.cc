@@ -39,8 +39,8 @@ class CellVideosTest : public ::testing::Test {
   // The cell's records, filming it with `videos` (none when videos.episodes is 0).
   std::vector<EpisodeRecord> Run(const EvaluationCellConfig& config, const EpisodeVideoSettings& videos) {
     CellVideos films(videos, config, [this] { return dir_ / "videos"; });
-    CellResult result = RunEvaluationCell(config, nullptr, [&films](const EpisodeRecord& record) { films.RecordFinished(record); },
-                                          films.Sinks());
+    CellResult result = RunEvaluationCell(
+        config, nullptr, [&films](const EpisodeRecord& record) { films.RecordFinished(record); }, films.Sinks());
     return result.episodes;
   }
 
@@ -98,7 +98,8 @@ TEST_F(CellVideosTest, PngFramesOnePerPolicyStepAndTheEndWithTheTasksBlackCamera
   long head = 0, fixed = 0;
   for (int y = height - 4 - 10; y < height - 4; ++y) {
     for (int x = 4 + 10; x < 4 + 54; ++x) head += last.pixels[(static_cast<std::size_t>(y) * width + x) * 3 + 1];
-    for (int x = 8 + 64 + 10; x < 8 + 64 + 54; ++x) fixed += last.pixels[(static_cast<std::size_t>(y) * width + x) * 3 + 1];
+    for (int x = 8 + 64 + 10; x < 8 + 64 + 54; ++x)
+      fixed += last.pixels[(static_cast<std::size_t>(y) * width + x) * 3 + 1];
   }
   EXPECT_EQ(head, 0);
   EXPECT_GT(fixed, 10 * 44 * 30);
@@ -108,7 +109,8 @@ TEST(EpisodeVideoSettings, DefaultCamerasArePoliciesThenFixed) {
   const EpisodeVideoSettings none;
   EXPECT_EQ(VideoCameras(none, {}, CameraProtocol::kHead),
             (std::vector<std::string>{"head", "left_wrist", "right_wrist", "fixed"}));
-  EXPECT_EQ(VideoCameras(none, {}, CameraProtocol::kFixed), (std::vector<std::string>{"fixed", "left_wrist", "right_wrist"}));
+  EXPECT_EQ(VideoCameras(none, {}, CameraProtocol::kFixed),
+            (std::vector<std::string>{"fixed", "left_wrist", "right_wrist"}));
   EXPECT_EQ(VideoCameras(none, {"head"}, CameraProtocol::kHead), (std::vector<std::string>{"head", "fixed"}));
   EpisodeVideoSettings chosen;
   chosen.cameras = {"right_wrist"};

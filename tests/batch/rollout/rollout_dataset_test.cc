@@ -74,7 +74,8 @@ TEST_F(RolloutDataset, LoadsAsLeRobotDatasetAndItsActionsReplayTheRecords) {
   settings.height = 48;
   CellRecording recording(settings, cell);
   const CellResult recorded = RunEvaluationCell(
-      cell, nullptr, [&recording](const EpisodeRecord& record) { recording.RecordFinished(record); }, recording.Sinks());
+      cell, nullptr, [&recording](const EpisodeRecord& record) { recording.RecordFinished(record); },
+      recording.Sinks());
   recording.Finish();
   EXPECT_EQ(Lines(recorded.episodes, cell.seed), Lines(plain.episodes, cell.seed)) << "recording changed the records";
 
@@ -83,8 +84,9 @@ TEST_F(RolloutDataset, LoadsAsLeRobotDatasetAndItsActionsReplayTheRecords) {
   ExpectStatsJsonComplete(view);
   ExpectVideosAsLeRobotReadsThem(view, scratch_);
   EXPECT_EQ(view.fps, 20);
-  EXPECT_EQ(view.video_keys, (std::vector<std::string>{"observation.images.OBS_HEAD", "observation.images.OBS_WRIST_LEFT",
-                                                       "observation.images.OBS_WRIST_RIGHT"}));
+  EXPECT_EQ(view.video_keys,
+            (std::vector<std::string>{"observation.images.OBS_HEAD", "observation.images.OBS_WRIST_LEFT",
+                                      "observation.images.OBS_WRIST_RIGHT"}));
   ASSERT_EQ(view.episodes.size(), plain.episodes.size());
   for (std::size_t i = 0; i < view.episodes.size(); ++i) {
     EXPECT_EQ(view.episodes[i].length, plain.episodes[i].length_steps) << "episode " << i;
@@ -112,7 +114,8 @@ TEST_F(RolloutDataset, LoadsAsLeRobotDatasetAndItsActionsReplayTheRecords) {
   }
   const fs::path from_dataset = fs::path(scratch_) / "from_dataset";
   fs::create_directories(from_dataset);
-  for (const auto& [episode, rows] : actions) WriteActionCsv(from_dataset / ("episode_" + std::to_string(episode) + ".csv"), rows);
+  for (const auto& [episode, rows] : actions)
+    WriteActionCsv(from_dataset / ("episode_" + std::to_string(episode) + ".csv"), rows);
   const CellResult replayed = RunEvaluationCell(Cell("replay", from_dataset.string()));
   EXPECT_EQ(Lines(replayed.episodes, cell.seed), Lines(plain.episodes, cell.seed));
 }

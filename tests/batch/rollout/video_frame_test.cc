@@ -20,16 +20,17 @@ std::vector<uint8_t> Solid(int width, int height, uint8_t r, uint8_t g, uint8_t 
 }
 
 const uint8_t* Pixel(const render::RgbImage& image, int x, int y) {
-  return image.pixels.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)) * 3;
+  return image.pixels.data() +
+         (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)) * 3;
 }
 
 TEST(VideoFrame, TilesTheCamerasUnderTheCaptionAtTheAnnouncedEvenSize) {
   const std::vector<uint8_t> red = Solid(160, 120, 200, 0, 0);
   const std::vector<uint8_t> blue = Solid(160, 120, 0, 0, 200);
   const std::vector<uint8_t> green = Solid(160, 120, 0, 200, 0);
-  const render::RgbImage frame =
-      ComposeVideoFrame({{"head", 120, 160, red.data()}, {"left_wrist", 120, 160, blue.data()}, {"fixed", 120, 160, green.data()}},
-                        {"episode 3   step 7   0.35 s", "success"});
+  const render::RgbImage frame = ComposeVideoFrame(
+      {{"head", 120, 160, red.data()}, {"left_wrist", 120, 160, blue.data()}, {"fixed", 120, 160, green.data()}},
+      {"episode 3   step 7   0.35 s", "success"});
   const auto [width, height] = VideoFrameSize(3, 160, 120);
   EXPECT_EQ(frame.width, width);
   EXPECT_EQ(frame.height, height);
@@ -62,7 +63,8 @@ TEST(VideoFrame, TilesTheCamerasUnderTheCaptionAtTheAnnouncedEvenSize) {
 TEST(VideoFrame, EveryCaptionGivesTheSameSize) {
   const std::vector<uint8_t> grey = Solid(64, 48, 90, 90, 90);
   const render::RgbImage none = ComposeVideoFrame({{"head", 48, 64, grey.data()}}, {});
-  const render::RgbImage two = ComposeVideoFrame({{"head", 48, 64, grey.data()}}, {"a long first line of text", "second"});
+  const render::RgbImage two =
+      ComposeVideoFrame({{"head", 48, 64, grey.data()}}, {"a long first line of text", "second"});
   EXPECT_EQ(none.width, two.width);
   EXPECT_EQ(none.height, two.height);
   EXPECT_THROW(ComposeVideoFrame({{"head", 48, 64, grey.data()}}, {"1", "2", "3"}), std::invalid_argument);

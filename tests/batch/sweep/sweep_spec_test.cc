@@ -57,7 +57,8 @@ TEST(SweepSpec, ExpandsTheProductInSpecOrder) {
 }
 
 TEST(SweepSpec, PerturbationsAreADimensionWhoseCellsCarryTheirLevelsInTheirLabels) {
-  const std::string text = std::string(kValid) + "perturbations: [none, camera:fov-wide, sensor:noise-low+lighting:dim]\n";
+  const std::string text =
+      std::string(kValid) + "perturbations: [none, camera:fov-wide, sensor:noise-low+lighting:dim]\n";
   const SweepSpec spec = Parse(text);
   ASSERT_EQ(spec.perturbations.size(), 3u);
   const std::vector<SweepCell> cells = ExpandCells(spec, TAVIS_CONFIG_DIR);
@@ -85,11 +86,13 @@ TEST(SweepSpec, PerturbationsAreADimensionWhoseCellsCarryTheirLevelsInTheirLabel
 // live on the machine that ran the cells only).
 TEST(SweepSpec, PolicyFilesAreNotReadWhenAskedNotTo) {
   const std::string spec = Replace(kValid, "name: expert", "name: replay\n  actions: /nonexistent/a.csv");
-  EXPECT_EQ(ParseSweepSpec(spec, "specs/bad.yaml", TAVIS_CONFIG_DIR, PolicyFiles::kNotRead).policies[0].actions_file, "/nonexistent/a.csv");
+  EXPECT_EQ(ParseSweepSpec(spec, "specs/bad.yaml", TAVIS_CONFIG_DIR, PolicyFiles::kNotRead).policies[0].actions_file,
+            "/nonexistent/a.csv");
 }
 
 TEST(SweepSpec, SuitesBringTheirTasksOnce) {
-  const SweepSpec spec = Parse(Replace(kValid, "tasks: [clutter-pick-cube]", "suites: [tavis-head, tavis-hands]\ntasks: [clutter-pick-cube]"));
+  const SweepSpec spec = Parse(
+      Replace(kValid, "tasks: [clutter-pick-cube]", "suites: [tavis-head, tavis-hands]\ntasks: [clutter-pick-cube]"));
   EXPECT_EQ(spec.tasks.size(), 8U);
 }
 
@@ -159,42 +162,59 @@ TEST(SweepSpec, LabelledPoliciesServeTheirCells) {
 // figures.galt_reference_datasets maps the sweep's TAVIS-Head tasks to LeRobot dataset folders,
 // each checked for its meta/info.json when the spec is read.
 TEST(SweepSpec, Figure4DatasetReferencesNameTheSweepsHeadTasks) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("tavis_spec_reference_" + std::to_string(getpid()));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("tavis_spec_reference_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir / "meta");
   std::ofstream(dir / "meta" / "info.json") << "{}";
-  const std::string spec = std::string(kLabelled) + "  galt_reference_datasets: {wait-then-act: " + dir.string() + "}\n";
+  const std::string spec =
+      std::string(kLabelled) + "  galt_reference_datasets: {wait-then-act: " + dir.string() + "}\n";
   const SweepSpec parsed = Parse(spec);
   EXPECT_EQ(parsed.figures["galt_reference_datasets"]["wait-then-act"], dir.string());
   EXPECT_EQ(SweepSpecJson(parsed)["figures"]["galt_reference_datasets"]["wait-then-act"], dir.string());
-  const auto error = [&spec](const std::string& from, const std::string& to) { return ErrorOf(Replace(spec, from, to)); };
-  EXPECT_NE(error("{wait-then-act:", "{multi-shelf-scan:").find("figures.galt_reference_datasets.multi-shelf-scan: the sweep does not evaluate "
-                                                               "multi-shelf-scan"),
+  const auto error = [&spec](const std::string& from, const std::string& to) {
+    return ErrorOf(Replace(spec, from, to));
+  };
+  EXPECT_NE(error("{wait-then-act:", "{multi-shelf-scan:")
+                .find("figures.galt_reference_datasets.multi-shelf-scan: the sweep does not evaluate "
+                      "multi-shelf-scan"),
             std::string::npos);
-  const std::string hands = Replace(spec, "tasks: [clutter-pick-cube, wait-then-act]", "tasks: [clutter-pick-cube, wait-then-act, peeking-box]");
-  EXPECT_NE(ErrorOf(Replace(hands, "{wait-then-act:", "{peeking-box:")).find("Figure 4 draws TAVIS-Head tasks only, not peeking-box"),
+  const std::string hands = Replace(spec, "tasks: [clutter-pick-cube, wait-then-act]",
+                                    "tasks: [clutter-pick-cube, wait-then-act, peeking-box]");
+  EXPECT_NE(ErrorOf(Replace(hands, "{wait-then-act:", "{peeking-box:"))
+                .find("Figure 4 draws TAVIS-Head tasks only, not peeking-box"),
             std::string::npos);
-  EXPECT_NE(error("{wait-then-act:", "{pick-nothing:").find("figures.galt_reference_datasets.pick-nothing: unknown key 'pick-nothing'"),
+  EXPECT_NE(error("{wait-then-act:", "{pick-nothing:")
+                .find("figures.galt_reference_datasets.pick-nothing: unknown key 'pick-nothing'"),
             std::string::npos);
-  EXPECT_NE(error(dir.string() + "}", (dir / "nowhere").string() + "}").find("is not a LeRobot dataset (no meta/info.json there)"),
+  EXPECT_NE(error(dir.string() + "}", (dir / "nowhere").string() + "}")
+                .find("is not a LeRobot dataset (no meta/info.json there)"),
             std::string::npos);
-  EXPECT_NE(error("galt_reference_datasets:", "galt_reference: still\n  galt_reference_datasets:").find("give one of them"),
-            std::string::npos);
+  EXPECT_NE(
+      error("galt_reference_datasets:", "galt_reference: still\n  galt_reference_datasets:").find("give one of them"),
+      std::string::npos);
   EXPECT_NE(error("{wait-then-act: " + dir.string() + "}", "{}").find("at least one"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 
 TEST(SweepSpec, LabelledPolicyMistakesAreNamed) {
-  const auto error = [](const std::string& from, const std::string& to) { return ErrorOf(Replace(kLabelled, from, to)); };
-  EXPECT_NE(error("label: expert-b", "label: expert-a").find("policies[1].label: 'expert-a' is used twice"), std::string::npos);
-  EXPECT_NE(error("  - label: still\n    name: hold\n", "  - name: hold\n").find("policies[2]: needs label"), std::string::npos);
+  const auto error = [](const std::string& from, const std::string& to) {
+    return ErrorOf(Replace(kLabelled, from, to));
+  };
+  EXPECT_NE(error("label: expert-b", "label: expert-a").find("policies[1].label: 'expert-a' is used twice"),
+            std::string::npos);
+  EXPECT_NE(error("  - label: still\n    name: hold\n", "  - name: hold\n").find("policies[2]: needs label"),
+            std::string::npos);
   EXPECT_NE(error("label: still", "label: still/1").find("still/1"), std::string::npos);
-  EXPECT_NE(error("[still, recipe]", "[still, nobody]").find("figures.single_vs_multi[1]: no policy has the label or seed group 'nobody'"),
+  EXPECT_NE(error("[still, recipe]", "[still, nobody]")
+                .find("figures.single_vs_multi[1]: no policy has the label or seed group 'nobody'"),
             std::string::npos);
   EXPECT_NE(error("[still, recipe]", "[still]").find("figures.single_vs_multi"), std::string::npos);
   EXPECT_NE(error("galt_window_s: 4.0", "galt_window_s: 5").find("figures.galt_window_s"), std::string::npos);
-  EXPECT_NE(error("robots: [reachy2]", "robots: [atlas]").find("policies[2].cells.robots[0]: unknown robot 'atlas'"), std::string::npos);
+  EXPECT_NE(error("robots: [reachy2]", "robots: [atlas]").find("policies[2].cells.robots[0]: unknown robot 'atlas'"),
+            std::string::npos);
   EXPECT_NE(error("cameras: [head]}", "camera: [head]}").find("camera"), std::string::npos);
-  EXPECT_NE(error("policies:\n", "policy:\n  name: expert\npolicies:\n").find("exactly one of policy"), std::string::npos);
+  EXPECT_NE(error("policies:\n", "policy:\n  name: expert\npolicies:\n").find("exactly one of policy"),
+            std::string::npos);
 }
 
 struct BadSpec {
@@ -219,40 +239,42 @@ TEST_P(SweepSpecErrors, NameFileKeyAndValue) {
 
 INSTANTIATE_TEST_SUITE_P(
     Mistakes, SweepSpecErrors,
-    ::testing::Values(BadSpec{"UnknownKey", "episodes: 3", "episodes: 3\nepisode: 4", "episode", "episode"},
-                      BadSpec{"UnknownTask", "[clutter-pick-cube]", "[clutter-pick-cub]", "tasks[0]", "clutter-pick-cub"},
-                      BadSpec{"UnknownSuite", "tasks: [clutter-pick-cube]", "suites: [tavis-feet]", "suites[0]", "tavis-feet"},
-                      BadSpec{"UnknownRobot", "[gr1t2]", "[gr1t2, atlas]", "robots[1]", "atlas"},
-                      BadSpec{"UnknownSplit", "[id, ood-spatial]", "[id, ood]", "splits[1]", "'ood'"},
-                      BadSpec{"UnknownCamera", "[head, fixed]", "[head, wrist]", "cameras[1]", "wrist"},
-                      BadSpec{"RepeatedCamera", "[head, fixed]", "[head, head]", "cameras[1]", "head"},
-                      BadSpec{"NegativeSeed", "[0, 7]", "[0, -7]", "seeds[1]", "-7"},
-                      BadSpec{"SeedTooLarge", "[0, 7]", "[18446744073709551616]", "seeds[0]", "18446744073709551616"},
-                      BadSpec{"ZeroEpisodes", "episodes: 3", "episodes: 0", "episodes", "got 0"},
-                      BadSpec{"TextEpisodes", "episodes: 3", "episodes: many", "episodes", "many"},
-                      BadSpec{"EmptyRobots", "[gr1t2]", "[]", "robots", "[]"},
-                      BadSpec{"UnknownPolicy", "name: expert", "name: oracle", "policy.name", "oracle"},
-                      BadSpec{"ReplayWithoutActions", "name: expert", "name: replay", "policy", "replay"},
-                      BadSpec{"ServersForExpert", "name: expert", "name: expert\n  servers: [ws://x:1]", "policy.servers", "expert"},
-                      BadSpec{"UnknownPolicyKey", "name: expert", "name: expert\n  temperature: 2", "policy", "temperature"},
-                      BadSpec{"MissingRobots", "robots: [gr1t2]\n", "", "robots", "robots"},
-                      BadSpec{"UnknownPerturbationLevel", "episodes: 3", "episodes: 3\nperturbations: [none, camera:sideways]",
-                              "perturbations[1]", "'sideways'"},
-                      BadSpec{"UnknownPerturbationAxis", "episodes: 3", "episodes: 3\nperturbations: [weather:rain]",
-                              "perturbations[0]", "'weather'"},
-                      BadSpec{"RepeatedPerturbation", "episodes: 3", "episodes: 3\nperturbations: [sensor:noise-low, sensor:noise-low]",
-                              "perturbations[1]", "noise-low"},
-                      BadSpec{"PerturbationAxisTwice", "episodes: 3", "episodes: 3\nperturbations: [sensor:noise-low+sensor:blur-low]",
-                              "perturbations[0]", "already chosen"},
-                      // The files a policy names are read with the spec, not when its first cell starts.
-                      BadSpec{"MissingActionsFile", "name: expert", "name: replay\n  actions: /nonexistent/a.csv", "policy.actions",
-                              "/nonexistent/a.csv: no such file"},
-                      BadSpec{"ActionsFileIsADevice", "name: expert", "name: replay\n  actions: /dev/zero", "policy.actions",
-                              "/dev/zero: is a character device"},
-                      BadSpec{"MissingKeysFile", "name: expert", "name: openpi\n  servers: [ws://x:1]\n  keys: /nonexistent/k.yaml",
-                              "policy.keys", "'/nonexistent/k.yaml' are neither a preset"},
-                      BadSpec{"MissingMatchDataset", "name: expert", "name: openpi\n  servers: [ws://x:1]\n  match_dataset: /nonexistent/d",
-                              "policy.match_dataset", "'/nonexistent/d' is not a LeRobot dataset: /nonexistent/d/meta/info.json: no such file"}),
+    ::testing::Values(
+        BadSpec{"UnknownKey", "episodes: 3", "episodes: 3\nepisode: 4", "episode", "episode"},
+        BadSpec{"UnknownTask", "[clutter-pick-cube]", "[clutter-pick-cub]", "tasks[0]", "clutter-pick-cub"},
+        BadSpec{"UnknownSuite", "tasks: [clutter-pick-cube]", "suites: [tavis-feet]", "suites[0]", "tavis-feet"},
+        BadSpec{"UnknownRobot", "[gr1t2]", "[gr1t2, atlas]", "robots[1]", "atlas"},
+        BadSpec{"UnknownSplit", "[id, ood-spatial]", "[id, ood]", "splits[1]", "'ood'"},
+        BadSpec{"UnknownCamera", "[head, fixed]", "[head, wrist]", "cameras[1]", "wrist"},
+        BadSpec{"RepeatedCamera", "[head, fixed]", "[head, head]", "cameras[1]", "head"},
+        BadSpec{"NegativeSeed", "[0, 7]", "[0, -7]", "seeds[1]", "-7"},
+        BadSpec{"SeedTooLarge", "[0, 7]", "[18446744073709551616]", "seeds[0]", "18446744073709551616"},
+        BadSpec{"ZeroEpisodes", "episodes: 3", "episodes: 0", "episodes", "got 0"},
+        BadSpec{"TextEpisodes", "episodes: 3", "episodes: many", "episodes", "many"},
+        BadSpec{"EmptyRobots", "[gr1t2]", "[]", "robots", "[]"},
+        BadSpec{"UnknownPolicy", "name: expert", "name: oracle", "policy.name", "oracle"},
+        BadSpec{"ReplayWithoutActions", "name: expert", "name: replay", "policy", "replay"},
+        BadSpec{"ServersForExpert", "name: expert", "name: expert\n  servers: [ws://x:1]", "policy.servers", "expert"},
+        BadSpec{"UnknownPolicyKey", "name: expert", "name: expert\n  temperature: 2", "policy", "temperature"},
+        BadSpec{"MissingRobots", "robots: [gr1t2]\n", "", "robots", "robots"},
+        BadSpec{"UnknownPerturbationLevel", "episodes: 3", "episodes: 3\nperturbations: [none, camera:sideways]",
+                "perturbations[1]", "'sideways'"},
+        BadSpec{"UnknownPerturbationAxis", "episodes: 3", "episodes: 3\nperturbations: [weather:rain]",
+                "perturbations[0]", "'weather'"},
+        BadSpec{"RepeatedPerturbation", "episodes: 3",
+                "episodes: 3\nperturbations: [sensor:noise-low, sensor:noise-low]", "perturbations[1]", "noise-low"},
+        BadSpec{"PerturbationAxisTwice", "episodes: 3",
+                "episodes: 3\nperturbations: [sensor:noise-low+sensor:blur-low]", "perturbations[0]", "already chosen"},
+        // The files a policy names are read with the spec, not when its first cell starts.
+        BadSpec{"MissingActionsFile", "name: expert", "name: replay\n  actions: /nonexistent/a.csv", "policy.actions",
+                "/nonexistent/a.csv: no such file"},
+        BadSpec{"ActionsFileIsADevice", "name: expert", "name: replay\n  actions: /dev/zero", "policy.actions",
+                "/dev/zero: is a character device"},
+        BadSpec{"MissingKeysFile", "name: expert", "name: openpi\n  servers: [ws://x:1]\n  keys: /nonexistent/k.yaml",
+                "policy.keys", "'/nonexistent/k.yaml' are neither a preset"},
+        BadSpec{"MissingMatchDataset", "name: expert",
+                "name: openpi\n  servers: [ws://x:1]\n  match_dataset: /nonexistent/d", "policy.match_dataset",
+                "'/nonexistent/d' is not a LeRobot dataset: /nonexistent/d/meta/info.json: no such file"}),
     [](const ::testing::TestParamInfo<BadSpec>& case_info) { return std::string(case_info.param.name); });
 
 }  // namespace

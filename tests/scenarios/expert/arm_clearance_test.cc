@@ -47,7 +47,8 @@ TEST(ArmObstacles, DefaultPoseIsClearAndAHandThroughTheScreenIsNot) {
   std::vector<double> q = model.robot.DefaultPositions();
   std::vector<RigidTransform> X_BL(model.robot.links.size());
   kinematics::ComputeLinkPoses(model.robot, q.data(), X_BL.data());
-  for (const kinematics::Side side : kinematics::kSides) EXPECT_TRUE(obstacles.ArmIsClear(model.robot, side, X_BL.data()));
+  for (const kinematics::Side side : kinematics::kSides)
+    EXPECT_TRUE(obstacles.ArmIsClear(model.robot, side, X_BL.data()));
 
   // The planner finds a left arm configuration with the hand inside the panel (x 0.27, y 0,
   // z 1.3), in the default hand orientation, unless told to keep clear of the obstacles.

@@ -67,8 +67,8 @@ namespace {
 
 using Phase = PickExpert::Phase;
 constexpr std::size_t kPhases = static_cast<std::size_t>(Phase::kGiveUp) + 1;
-constexpr std::array<const char*, kPhases> kPhaseNames = {"watch-cue", "look",     "settle", "peek",    "approach", "descend",
-                                                          "close",     "withdraw", "lift",   "retreat", "give-up"};
+constexpr std::array<const char*, kPhases> kPhaseNames = {
+    "watch-cue", "look", "settle", "peek", "approach", "descend", "close", "withdraw", "lift", "retreat", "give-up"};
 
 // What one episode's Act calls allocated. A planning tick is one on which the expert planned: it
 // started a grasp (its attempts went up) or a peek (it entered kPeek). Every other tick is
@@ -159,7 +159,8 @@ TEST(PickExpertAllocation, RetreatsAllocateOnlyToPlanAgain) {
   for (const char* robot : {"gr1t2", "reachy2"}) {
     const ActAllocations run = RunEpisode("clutter-pick-cube", robot, 0, GripReading::kClosedOnNothing);
     EXPECT_GE(run.attempts, 2) << robot << ": the expert retried";
-    ExpectSteadyTicksAllocateNothing(run, std::string("clutter-pick-cube on ") + robot + ", every grasp missing", ticks);
+    ExpectSteadyTicksAllocateNothing(run, std::string("clutter-pick-cube on ") + robot + ", every grasp missing",
+                                     ticks);
   }
   EXPECT_GT(ticks[static_cast<std::size_t>(Phase::kRetreat)], 0);
 }

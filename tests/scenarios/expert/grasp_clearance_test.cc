@@ -19,8 +19,10 @@ struct Scene {
 
   Scene(const Vec3& neighbour_position, const Vec3& neighbour_size) {
     model.robot = tavis::testing::LoadRobot("gr1t2");
-    model.objects.push_back({"cube", {ShapeKind::kBox, Vec3::Constant(0.055)}, 0.1, engine::Material::kObject, "red_cube"});
-    model.objects.push_back({"neighbour", {ShapeKind::kBox, neighbour_size}, 0.1, engine::Material::kObject, "gelatin_box"});
+    model.objects.push_back(
+        {"cube", {ShapeKind::kBox, Vec3::Constant(0.055)}, 0.1, engine::Material::kObject, "red_cube"});
+    model.objects.push_back(
+        {"neighbour", {ShapeKind::kBox, neighbour_size}, 0.1, engine::Material::kObject, "gelatin_box"});
     state.Allocate(1, model.robot.num_joints(), 2);
     Place(0, kCube);
     Place(1, neighbour_position);

@@ -74,14 +74,16 @@ class PickExpertTest : public ::testing::Test {
     const int r = kinematics::action::kArmQuaternion[kinematics::Index(side)];
     const Mat3 R_hand = Quat(action[r], action[r + 1], action[r + 2], action[r + 3]).normalized().toRotationMatrix();
     if (R) *R = R_hand;
-    const Vec3 ik = model_.robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])) + model_.robot.root_world;
+    const Vec3 ik =
+        model_.robot.CanonicalToBase(Vec3(action[p], action[p + 1], action[p + 2])) + model_.robot.root_world;
     return ik + R_hand * model_.robot.gripper.pad_center;
   }
 
   // The neck joints' positions at the reset, as the robot holds them.
   std::array<double, 3> ResetNeck() const {
     std::array<double, 3> neck{};
-    for (int i = 0; i < kinematics::kNeckDof; ++i) neck[static_cast<std::size_t>(i)] = state_.q_row(0)[model_.robot.neck_joints[i]];
+    for (int i = 0; i < kinematics::kNeckDof; ++i)
+      neck[static_cast<std::size_t>(i)] = state_.q_row(0)[model_.robot.neck_joints[i]];
     return neck;
   }
 
@@ -161,7 +163,8 @@ std::size_t FirstHandMove(const std::vector<kinematics::Action>& actions) {
     for (int entry = 0; entry < kinematics::action::kSize; ++entry) {
       const bool neck = entry == kinematics::action::kNeckRoll || entry == kinematics::action::kNeckPitch ||
                         entry == kinematics::action::kNeckYaw;
-      if (!neck && actions[tick][static_cast<std::size_t>(entry)] != actions[0][static_cast<std::size_t>(entry)]) return tick;
+      if (!neck && actions[tick][static_cast<std::size_t>(entry)] != actions[0][static_cast<std::size_t>(entry)])
+        return tick;
     }
   }
   return actions.size();
@@ -222,7 +225,8 @@ TEST_F(PickExpertTest, HeadStillReachesForTheCardsObjectAtOnceWhereGazeFirstLook
     std::vector<kinematics::Action> head_still;
     const std::vector<kinematics::Action> closings = Run(kTwentySeconds, 0.05, &head_still);
     EXPECT_LE(FirstHandMove(head_still), static_cast<std::size_t>(rest_ticks + 2)) << "episode " << episode;
-    EXPECT_GE(FirstHandMove(gaze_first), 60u) << "episode " << episode << ": the card and the target are looked at first";
+    EXPECT_GE(FirstHandMove(gaze_first), 60u)
+        << "episode " << episode << ": the card and the target are looked at first";
     // The privileged expert picks the object the card names without reading it.
     ASSERT_EQ(closings.size(), 1u) << "episode " << episode;
     EXPECT_LT((CommandedPads(closings[0], ClosingSide(closings[0])) - state_.ObjectPosition(0, Target())).norm(), 0.03)

@@ -33,7 +33,8 @@ std::vector<std::map<std::string, std::string>> Marks(const std::string& svg, co
   for (auto it = std::sregex_iterator(svg.begin(), svg.end(), element); it != std::sregex_iterator(); ++it) {
     const std::string text = it->str();
     std::map<std::string, std::string> values;
-    for (auto d = std::sregex_iterator(text.begin(), text.end(), data); d != std::sregex_iterator(); ++d) values[(*d)[1]] = (*d)[2];
+    for (auto d = std::sregex_iterator(text.begin(), text.end(), data); d != std::sregex_iterator(); ++d)
+      values[(*d)[1]] = (*d)[2];
     if (values.count(attribute)) marks.push_back(values);
   }
   return marks;
@@ -47,8 +48,9 @@ double MedianOf(std::vector<double> values) {
 
 TEST_F(DatasetReference, Figure4DrawsTheDatasetsGaltAsTavisGaltComputesIt) {
   const fs::path dataset = root_ / "demos";
-  const RunResult demos = Run("demos --task clutter-pick-cube --episodes 3 --image-size 64x48 --cameras head --quiet --out " +
-                              Quote(dataset.string()));
+  const RunResult demos =
+      Run("demos --task clutter-pick-cube --episodes 3 --image-size 64x48 --cameras head --quiet --out " +
+          Quote(dataset.string()));
   ASSERT_EQ(demos.exit_code, 0) << demos.err;
 
   // The reference as `tavis galt --dataset` reports it: one JSON line per episode, then the table.
@@ -65,12 +67,14 @@ TEST_F(DatasetReference, Figure4DrawsTheDatasetsGaltAsTavisGaltComputesIt) {
   ASSERT_EQ(episodes, 3);
   ASSERT_FALSE(reference.empty()) << galt.out;
 
-  std::ofstream(root_ / "spec.yaml") << "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\n"
-                                        "episodes: 3\nenvs: 3\npolicy: {name: expert}\n"
-                                        "figures:\n  galt_reference_datasets: {clutter-pick-cube: "
-                                     << Quote(dataset.string()) << "}\n";
+  std::ofstream(root_ / "spec.yaml")
+      << "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\nseeds: [0]\n"
+         "episodes: 3\nenvs: 3\npolicy: {name: expert}\n"
+         "figures:\n  galt_reference_datasets: {clutter-pick-cube: "
+      << Quote(dataset.string()) << "}\n";
   const fs::path out = root_ / "out";
-  const RunResult sweep = Run("sweep " + Quote((root_ / "spec.yaml").string()) + " --out " + Quote(out.string()) + " --quiet");
+  const RunResult sweep =
+      Run("sweep " + Quote((root_ / "spec.yaml").string()) + " --out " + Quote(out.string()) + " --quiet");
   ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
 
   // Figure 4's 20 bins on [-0.5, 3.5] s, the 3.0 s window: computed here from galt's lines.
@@ -113,7 +117,8 @@ TEST_F(DatasetReference, Figure4DrawsTheDatasetsGaltAsTavisGaltComputesIt) {
   EXPECT_EQ(summary["spec"]["figures"]["galt_reference_datasets"]["clutter-pick-cube"], dataset.string());
 
   // Every product read back equals summary.json (the figures' SVG data, PNGs, report.html).
-  testing::ChildProcess figures(testing::kDebianPython, {TAVIS_TEST_DATA_DIR "/sweep/check_paper_figures.py", out.string()},
+  testing::ChildProcess figures(testing::kDebianPython,
+                                {TAVIS_TEST_DATA_DIR "/sweep/check_paper_figures.py", out.string()},
                                 "needs Debian's python3-av and python3-numpy (.ci/install-deps)");
   const std::string checked = figures.ReadAllOutput(std::chrono::seconds(120));
   EXPECT_NE(checked.find("figures ok: 3 figures"), std::string::npos) << checked;
@@ -124,18 +129,23 @@ TEST_F(DatasetReference, AMissingOrUnreadableDatasetStopsTheSweepBeforeItRuns) {
     std::ofstream(root_ / "spec.yaml") << "tasks: [clutter-pick-cube]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\n"
                                           "seeds: [0]\nepisodes: 1\npolicy: {name: expert}\nfigures:\n"
                                        << figures;
-    return Run("sweep " + Quote((root_ / "spec.yaml").string()) + " --out " + Quote((root_ / "out").string()) + " --quiet");
+    return Run("sweep " + Quote((root_ / "spec.yaml").string()) + " --out " + Quote((root_ / "out").string()) +
+               " --quiet");
   };
   const std::string missing = (root_ / "nowhere").string();
   const RunResult none = spec("  galt_reference_datasets: {clutter-pick-cube: " + Quote(missing) + "}\n");
   EXPECT_EQ(none.exit_code, 1);
-  EXPECT_NE(none.err.find("figures.galt_reference_datasets.clutter-pick-cube: '" + missing + "' is not a LeRobot dataset"), std::string::npos)
+  EXPECT_NE(
+      none.err.find("figures.galt_reference_datasets.clutter-pick-cube: '" + missing + "' is not a LeRobot dataset"),
+      std::string::npos)
       << none.err;
   EXPECT_FALSE(fs::exists(root_ / "out"));
   // A folder that has meta/info.json but no data: named when the sweep starts, before any cell.
   fs::create_directories(root_ / "empty" / "meta");
-  std::ofstream(root_ / "empty" / "meta" / "info.json") << R"({"codebase_version": "v3.0", "fps": 20, "total_episodes": 1})";
-  const RunResult empty = spec("  galt_reference_datasets: {clutter-pick-cube: " + Quote((root_ / "empty").string()) + "}\n");
+  std::ofstream(root_ / "empty" / "meta" / "info.json")
+      << R"({"codebase_version": "v3.0", "fps": 20, "total_episodes": 1})";
+  const RunResult empty =
+      spec("  galt_reference_datasets: {clutter-pick-cube: " + Quote((root_ / "empty").string()) + "}\n");
   EXPECT_EQ(empty.exit_code, 1);
   EXPECT_NE(empty.err.find("figures.galt_reference_datasets.clutter-pick-cube: "), std::string::npos) << empty.err;
   EXPECT_FALSE(fs::exists(root_ / "out" / "cells" / "clutter-pick-cube_gr1t2_id_head_expert_s0" / "episodes.jsonl"));

@@ -55,7 +55,8 @@ double HeadRate(const nlohmann::json& summary, const std::string& label, const s
 
 TEST_F(LabelledSweep, KeepsLabelsApartAndItsProductsEqualTheSummary) {
   const fs::path out = root_ / "out";
-  const RunResult run = Run("sweep " + Quote((root_ / "labelled.yaml").string()) + " --out " + Quote(out.string()) + " --quiet");
+  const RunResult run =
+      Run("sweep " + Quote((root_ / "labelled.yaml").string()) + " --out " + Quote(out.string()) + " --quiet");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(ReadText(out / "summary.json"));
   ASSERT_EQ(summary["labels"].size(), 4U);
@@ -65,9 +66,12 @@ TEST_F(LabelledSweep, KeepsLabelsApartAndItsProductsEqualTheSummary) {
   EXPECT_EQ(HeadRate(summary, "still", "clutter-pick-cube"), 0.0);
   EXPECT_TRUE(fs::exists(out / "tables" / "success_tavis-head_still.md"));
   EXPECT_TRUE(fs::exists(out / "tables" / "success_tavis-head_expert-a.md"));
-  EXPECT_NE(ReadText(out / "tables" / "success_tavis-head_still.md").find("| clutter-pick-cube | 0.0 [0.0, 56.2] |"), std::string::npos)
+  EXPECT_NE(ReadText(out / "tables" / "success_tavis-head_still.md").find("| clutter-pick-cube | 0.0 [0.0, 56.2] |"),
+            std::string::npos)
       << ReadText(out / "tables" / "success_tavis-head_still.md");
-  EXPECT_EQ(nlohmann::json::parse(ReadText(out / "cells" / "clutter-pick-cube_gr1t2_id_head_still_s0" / "policy.json"))["label"], "still");
+  EXPECT_EQ(nlohmann::json::parse(
+                ReadText(out / "cells" / "clutter-pick-cube_gr1t2_id_head_still_s0" / "policy.json"))["label"],
+            "still");
   // The seed group: the three checkpoints (the same expert here, so no spread) give the rate.
   ASSERT_EQ(summary["seed_groups"].size(), 1U);
   const auto& row = summary["seed_groups"][0]["rows"][0];
@@ -79,7 +83,9 @@ TEST_F(LabelledSweep, KeepsLabelsApartAndItsProductsEqualTheSummary) {
   const std::string table = "table --in " + Quote((out / "cells").string()) + " --suite tavis-head --out ";
   const RunResult refused = Run(table + Quote((root_ / "pooled").string()));
   EXPECT_EQ(refused.exit_code, 1);
-  EXPECT_NE(refused.err.find("4 policy labels: expert-a (4 cells), expert-b (4 cells), expert-c (4 cells), still (4 cells)"), std::string::npos)
+  EXPECT_NE(
+      refused.err.find("4 policy labels: expert-a (4 cells), expert-b (4 cells), expert-c (4 cells), still (4 cells)"),
+      std::string::npos)
       << refused.err;
   EXPECT_FALSE(fs::exists(root_ / "pooled.md"));
   const RunResult still = Run(table + Quote((root_ / "still").string()) + " --label still");
@@ -87,10 +93,11 @@ TEST_F(LabelledSweep, KeepsLabelsApartAndItsProductsEqualTheSummary) {
   EXPECT_NE(ReadText(root_ / "still.md").find("0.0 [0.0, 56.2]"), std::string::npos) << ReadText(root_ / "still.md");
   fs::create_directories(root_ / "two");
   for (const char* label : {"expert-a", "expert-b"}) {
-    fs::copy(out / "cells" / ("clutter-pick-cube_gr1t2_id_head_" + std::string(label) + "_s0"),
-             root_ / "two" / label, fs::copy_options::recursive);
+    fs::copy(out / "cells" / ("clutter-pick-cube_gr1t2_id_head_" + std::string(label) + "_s0"), root_ / "two" / label,
+             fs::copy_options::recursive);
   }
-  const std::string two = "table --in " + Quote((root_ / "two").string()) + " --suite tavis-head --out " + Quote((root_ / "two_table").string());
+  const std::string two = "table --in " + Quote((root_ / "two").string()) + " --suite tavis-head --out " +
+                          Quote((root_ / "two_table").string());
   EXPECT_EQ(Run(two).exit_code, 1);
   const RunResult pooled = Run(two + " --pool-labels");
   ASSERT_EQ(pooled.exit_code, 0) << pooled.err;
@@ -100,14 +107,16 @@ TEST_F(LabelledSweep, KeepsLabelsApartAndItsProductsEqualTheSummary) {
   EXPECT_NE(ReadText(root_ / "two_table.md").find(expected), std::string::npos) << ReadText(root_ / "two_table.md");
 
   // Every product read back by an independent reader equals summary.json.
-  testing::ChildProcess figures(testing::kDebianPython, {TAVIS_TEST_DATA_DIR "/sweep/check_paper_figures.py", out.string()},
+  testing::ChildProcess figures(testing::kDebianPython,
+                                {TAVIS_TEST_DATA_DIR "/sweep/check_paper_figures.py", out.string()},
                                 "needs Debian's python3-av and python3-numpy (.ci/install-deps)");
   const std::string checked = figures.ReadAllOutput(std::chrono::seconds(120));
   EXPECT_NE(checked.find("figures ok: 5 figures"), std::string::npos) << checked;
   fs::create_directories(root_ / "chromium");
-  testing::ChildProcess chromium(testing::kDebianPython,
-                                 {TAVIS_TEST_DATA_DIR "/sweep/check_report_in_chromium.py", out.string(), (root_ / "chromium").string()},
-                                 "needs Debian's chromium and python3-av (.ci/install-deps)");
+  testing::ChildProcess chromium(
+      testing::kDebianPython,
+      {TAVIS_TEST_DATA_DIR "/sweep/check_report_in_chromium.py", out.string(), (root_ / "chromium").string()},
+      "needs Debian's chromium and python3-av (.ci/install-deps)");
   const std::string report = chromium.ReadAllOutput(std::chrono::seconds(180));
   EXPECT_NE(report.find("report ok: 16 cells"), std::string::npos) << report;
 }
