@@ -81,7 +81,7 @@ class ReplayPolicy : public PerEnvPolicy {
 };
 
 std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model,
-                                              int num_envs, scenarios::ExpertMode mode) {
+                                              int num_envs, scenarios::expert::ExpertMode mode) {
   if (scenario.make_expert == nullptr) {
     throw std::invalid_argument("task '" + scenario.name + "' has no scripted expert yet");
   }
@@ -91,7 +91,7 @@ std::unique_ptr<scenarios::Expert> MakeExpert(const scenarios::ScenarioDef& scen
 }  // namespace
 
 ExpertPolicy::ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
-                           scenarios::ExpertMode mode, int decide_every)
+                           scenarios::expert::ExpertMode mode, int decide_every)
     : expert_(MakeExpert(scenario, model, num_envs, mode)),
       decide_every_(decide_every),
       held_(static_cast<std::size_t>(num_envs)) {
@@ -125,7 +125,7 @@ void CheckBuiltinPolicyName(const std::string& name) {
 
 std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
                                           const engine::WorldModel& model, int num_envs,
-                                          const std::string& actions_file, scenarios::ExpertMode expert_mode) {
+                                          const std::string& actions_file, scenarios::expert::ExpertMode expert_mode) {
   CheckBuiltinPolicyName(name);
   if (IsPolicy(name, PolicyKind::kExpert))
     return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);

@@ -28,7 +28,7 @@ class ExpertPolicy : public PerEnvPolicy {
  public:
   // Throws std::invalid_argument if the task has no scripted expert or decide_every < 1.
   ExpertPolicy(const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
-               scenarios::ExpertMode mode = scenarios::ExpertMode::kGazeFirst, int decide_every = 1);
+               scenarios::expert::ExpertMode mode = scenarios::expert::ExpertMode::kGazeFirst, int decide_every = 1);
   std::string name() const override { return PolicyName(PolicyKind::kExpert); }
   int control_ticks_per_action() const override { return 1; }
   bool GaveUp(int env) const override { return expert_->gave_up(env); }
@@ -51,9 +51,9 @@ class ExpertPolicy : public PerEnvPolicy {
 // naming it).
 // Throws std::invalid_argument naming an unknown policy, std::runtime_error naming the file and
 // line of a malformed or non-finite action.
-std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenarios::ScenarioDef& scenario,
-                                          const engine::WorldModel& model, int num_envs,
-                                          const std::string& actions_file = "",
-                                          scenarios::ExpertMode expert_mode = scenarios::ExpertMode::kGazeFirst);
+std::unique_ptr<Policy> MakeBuiltinPolicy(
+    const std::string& name, const scenarios::ScenarioDef& scenario, const engine::WorldModel& model, int num_envs,
+    const std::string& actions_file = "",
+    scenarios::expert::ExpertMode expert_mode = scenarios::expert::ExpertMode::kGazeFirst);
 
 }  // namespace tavis::batch

@@ -35,23 +35,23 @@ class EpisodeSink {
   virtual ~EpisodeSink() = default;
   // A control tick of the lock-step schedule is about to begin: the policy will observe the
   // state as it is now.
-  virtual void TickStarting(const VecEnv& /*env*/) {}
+  virtual void TickStarting(const VecEnv& /*vec_env*/) {}
   // The slot has started episode state.episode[slot] (reset, warm-up included, and the policy reset).
-  virtual void EpisodeStarted(const VecEnv& /*env*/, int /*slot*/) {}
+  virtual void EpisodeStarted(const VecEnv& /*vec_env*/, int /*slot*/) {}
   // The action the running slot steps with on this tick (chosen now or held), before the step.
-  virtual void ActionChosen(const VecEnv& /*env*/, int /*slot*/, const kinematics::Action& /*action*/) {}
+  virtual void ActionChosen(const VecEnv& /*vec_env*/, int /*slot*/, const kinematics::Action& /*action*/) {}
   // A control tick of the lock-step schedule is done.
-  virtual void Stepped(const VecEnv& /*env*/) {}
+  virtual void Stepped(const VecEnv& /*vec_env*/) {}
   // True once the sink has all it needs of the running episode in `slot`: the driver then stops
   // it (EpisodeEnd::kStopped) before the next tick. Asked before every tick.
-  virtual bool EpisodeComplete(const VecEnv& /*env*/, int /*slot*/) const { return false; }
+  virtual bool EpisodeComplete(const VecEnv& /*vec_env*/, int /*slot*/) const { return false; }
   // The episode in `slot` has ended (state.end[slot] says how), before the slot is refilled.
-  virtual void EpisodeEnded(const VecEnv& /*env*/, int /*slot*/) {}
+  virtual void EpisodeEnded(const VecEnv& /*vec_env*/, int /*slot*/) {}
   // Per-slot schedule only, in place of TickStarting and Stepped: the slot's control tick is
   // about to begin (before its cameras are rendered and its policy observes it), and is done
   // (after the step, and after a policy that gave up has ended the episode).
-  virtual void SlotTickStarting(const VecEnv& /*env*/, int /*slot*/) {}
-  virtual void SlotStepped(const VecEnv& /*env*/, int /*slot*/) {}
+  virtual void SlotTickStarting(const VecEnv& /*vec_env*/, int /*slot*/) {}
+  virtual void SlotStepped(const VecEnv& /*vec_env*/, int /*slot*/) {}
   // True if the sink can follow slots run independently: on the per-slot schedule it is told of
   // each slot's ticks by SlotTickStarting and SlotStepped instead of TickStarting and Stepped;
   // EpisodeStarted, SlotTickStarting, ActionChosen, SlotStepped and EpisodeComplete touch only
@@ -69,7 +69,7 @@ class EpisodeDriver {
 
   // Runs episodes first_episode .. first_episode + episodes - 1 of the env's task on its slots
   // with `policy`. Sinks and the policy must outlive Run.
-  EpisodeDriver(VecEnv& env, Policy& policy, int64_t episodes, int64_t first_episode = 0);
+  EpisodeDriver(VecEnv& vec_env, Policy& policy, int64_t episodes, int64_t first_episode = 0);
 
   void AddSink(EpisodeSink& sink) { sinks_.push_back(&sink); }
   // Called after each finished episode (one call at a time, on any thread).
@@ -136,7 +136,7 @@ class EpisodeDriver {
   template <typename Body>
   double WallSeconds(Body&& body);
 
-  VecEnv& env_;
+  VecEnv& vec_env_;
   Policy& policy_;
   int64_t total_ = 0;         // episodes to run
   int64_t end_episode_ = 0;   // one past the last episode index

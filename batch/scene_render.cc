@@ -98,17 +98,15 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
   // The ground plane z = 0 (reference 2.1).
   add(render::MakePlane(), "floor", render::kBackgroundObjectId, {});
   for (const engine::StaticPart& part : model.static_parts) {
-    add(render::ToShapeGeometry(part.shape), part.appearance, render::kBackgroundObjectId,
-        {Source::kStatic, -1, 0.0, part.X_WS});
+    add(part.shape, part.appearance, render::kBackgroundObjectId, {Source::kStatic, -1, 0.0, part.X_WS});
   }
   for (int object = 0; object < model.num_objects(); ++object) {
     const engine::ObjectSpec& spec = model.objects[static_cast<std::size_t>(object)];
-    add(render::ToShapeGeometry(spec.shape), spec.appearance, object, {Source::kObject, object, 0.0, {}});
+    add(spec.shape, spec.appearance, object, {Source::kObject, object, 0.0, {}});
   }
   // Every link shape is drawn, the neck's too (physics leaves the kinematic head out).
   for (const kinematics::LinkShape& shape : robot.shapes) {
-    add(render::ToShapeGeometry(shape.shape), "robot_link", render::kBackgroundObjectId,
-        {Source::kRobotShape, shape.link, 0.0, shape.X_LS});
+    add(shape.shape, "robot_link", render::kBackgroundObjectId, {Source::kRobotShape, shape.link, 0.0, shape.X_LS});
   }
   // Grippers as the physics builds them (kinematics/gripper_geometry.h): a housing fixed to the IK
   // link and two pads on either side of the pad centre along the closing axis. The physics has no

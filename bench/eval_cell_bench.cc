@@ -19,14 +19,14 @@
 #include <string>
 #include <vector>
 
-#include "batch/evaluation_cell.h"
+#include "batch/cell/evaluation_cell.h"
 #include "scenarios/registry.h"
 
 namespace tavis::batch {
 namespace {
 
-EvaluationCellConfig DefaultCell(const char* robot) {
-  EvaluationCellConfig config;
+cell::EvaluationCellConfig DefaultCell(const char* robot) {
+  cell::EvaluationCellConfig config;
   config.task = "clutter-pick-cube";
   config.robot = robot;
   config.split = scenarios::Split::kId;
@@ -38,7 +38,7 @@ EvaluationCellConfig DefaultCell(const char* robot) {
   return config;
 }
 
-void RunCells(benchmark::State& state, const EvaluationCellConfig& config) {
+void RunCells(benchmark::State& state, const cell::EvaluationCellConfig& config) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
   double wall_s = 0.0;
   int64_t episodes = 0;
@@ -46,7 +46,7 @@ void RunCells(benchmark::State& state, const EvaluationCellConfig& config) {
   int64_t control_ticks = 0;
   int64_t images = 0;
   for (auto _ : state) {
-    const CellResult result = RunEvaluationCell(config);
+    const cell::CellResult result = cell::RunEvaluationCell(config);
     wall_s += result.wall_s;
     episodes += static_cast<int64_t>(result.episodes.size());
     successes += result.successes;
@@ -64,7 +64,7 @@ void RunCells(benchmark::State& state, const EvaluationCellConfig& config) {
 void BM_EvalCell(benchmark::State& state, const char* robot) { RunCells(state, DefaultCell(robot)); }
 
 void BM_EvalCellRendering(benchmark::State& state, const char* robot) {
-  EvaluationCellConfig config = DefaultCell(robot);
+  cell::EvaluationCellConfig config = DefaultCell(robot);
   config.render_cameras = {"head", "left_wrist", "right_wrist"};
   config.image_width = 224;
   config.image_height = 224;
@@ -79,9 +79,9 @@ void BM_AllIdExpertCells(benchmark::State& state) {
   for (auto _ : state) {
     for (const char* robot : {"gr1t2", "reachy2"}) {
       for (const scenarios::ScenarioDef& scenario : scenarios::AllScenarios()) {
-        EvaluationCellConfig config = DefaultCell(robot);
+        cell::EvaluationCellConfig config = DefaultCell(robot);
         config.task = scenario.name;
-        const CellResult result = RunEvaluationCell(config);
+        const cell::CellResult result = cell::RunEvaluationCell(config);
         episodes += static_cast<int64_t>(result.episodes.size());
         successes += result.successes;
         control_ticks += result.control_ticks;

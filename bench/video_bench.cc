@@ -1,4 +1,4 @@
-// Encoding throughput of one camera stream (frames/s, items_per_second, wall time: SVT-AV1
+// parquet::Encoding throughput of one camera stream (frames/s, items_per_second, wall time: SVT-AV1
 // works in its own threads) with the encoder pinned as in the dataset writer, as the
 // dataset writer runs it: 60 fps, episodes of 360 frames (36k frames per stream over 100
 // episodes). Budget: 4 streams of 640x480 in well under 30 minutes on 2 cores next to the
@@ -14,7 +14,7 @@
 
 #include "batch/dataset/video/video_writer.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 constexpr int kFps = 60;
@@ -45,15 +45,15 @@ std::vector<std::vector<std::uint8_t>> SceneFrames(int width, int height) {
   return frames;
 }
 
-void BM_EncodeStream(benchmark::State& state, VideoCodec codec) {
-  VideoSettings settings;
+void BM_EncodeStream(benchmark::State& state, video::VideoCodec codec) {
+  video::VideoSettings settings;
   settings.codec = codec;
   settings.width = static_cast<int>(state.range(0));
   settings.height = static_cast<int>(state.range(1));
   settings.fps = kFps;
   const auto frames = SceneFrames(settings.width, settings.height);
-  const std::string path = "/tmp/tavis_video_bench_" + VideoCodecName(codec) + ".mp4";
-  Mp4VideoWriter writer(path, settings);
+  const std::string path = "/tmp/tavis_video_bench_" + video::VideoCodecName(codec) + ".mp4";
+  video::Mp4VideoWriter writer(path, settings);
   std::int64_t frame = 0;
   for (auto _ : state) {
     if (frame % kEpisodeLength == 0) writer.BeginEpisode();
@@ -67,13 +67,13 @@ void BM_EncodeStream(benchmark::State& state, VideoCodec codec) {
   std::remove(path.c_str());
 }
 
-BENCHMARK_CAPTURE(BM_EncodeStream, h264, VideoCodec::kH264)
+BENCHMARK_CAPTURE(BM_EncodeStream, h264, video::VideoCodec::kH264)
     ->Args({640, 480})
     ->Args({224, 224})
     ->MinTime(3.0)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_EncodeStream, av1, VideoCodec::kAv1)
+BENCHMARK_CAPTURE(BM_EncodeStream, av1, video::VideoCodec::kAv1)
     ->Args({640, 480})
     ->Args({224, 224})
     ->MinTime(3.0)
@@ -81,4 +81,4 @@ BENCHMARK_CAPTURE(BM_EncodeStream, av1, VideoCodec::kAv1)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -7,20 +7,20 @@
 #include <cstdio>
 #include <cstdlib>
 
-namespace tavis::internal {
+namespace tavis::kinematics::internal {
 
 [[noreturn]] inline void InvariantFailed(const char* condition, const char* message, const char* file, int line) {
   std::fprintf(stderr, "tavis: internal invariant violated at %s:%d: %s (%s)\n", file, line, message, condition);
   std::abort();
 }
 
-}  // namespace tavis::internal
+}  // namespace tavis::kinematics::internal
 
 // TAVIS_INVARIANT(index < size, "object index in range"): cheap enough for the hot loop (one
 // predictable branch).
-#define TAVIS_INVARIANT(condition, message)                                        \
-  do {                                                                             \
-    if (__builtin_expect(!(condition), 0)) {                                       \
-      ::tavis::internal::InvariantFailed(#condition, message, __FILE__, __LINE__); \
-    }                                                                              \
+#define TAVIS_INVARIANT(condition, message)                                                    \
+  do {                                                                                         \
+    if (__builtin_expect(!(condition), 0)) {                                                   \
+      ::tavis::kinematics::internal::InvariantFailed(#condition, message, __FILE__, __LINE__); \
+    }                                                                                          \
   } while (false)

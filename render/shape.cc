@@ -20,16 +20,6 @@ ShapeGeometry MakeSphere(double radius) { return {ShapeKind::kSphere, Vec3(radiu
 
 ShapeGeometry MakePlane() { return {ShapeKind::kPlane, Vec3::Zero()}; }
 
-ShapeGeometry ToShapeGeometry(const Shape& shape) {
-  switch (shape.kind) {
-    case tavis::ShapeKind::kBox: return {ShapeKind::kBox, shape.size};
-    case tavis::ShapeKind::kCylinder: return {ShapeKind::kCylinder, shape.size};
-    case tavis::ShapeKind::kCapsule: return {ShapeKind::kCapsule, shape.size};
-    case tavis::ShapeKind::kSphere: return {ShapeKind::kSphere, shape.size};
-  }
-  return {ShapeKind::kBox, shape.size};
-}
-
 const char* ShapeKindName(ShapeKind kind) {
   switch (kind) {
     case ShapeKind::kBox: return "box";

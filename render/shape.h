@@ -9,30 +9,14 @@
 
 namespace tavis::render {
 
-enum class ShapeKind : uint8_t {
-  kBox,       // size = full extents (x, y, z), centred at the origin
-  kCylinder,  // size = (radius, radius, height); axis local z, centred at the origin
-  kCapsule,   // size = (radius, radius, distance between the two sphere centres); axis local z, centred
-  kSphere,    // size = (radius, radius, radius)
-  kPlane,     // the infinite plane z = 0 of its frame, seen from both sides; size unused (zero)
-};
-
-struct ShapeGeometry {
-  ShapeKind kind = ShapeKind::kBox;
-  Vec3 size = Vec3::Zero();
-
-  // Identical shapes share one acceleration structure; equality is exact on purpose.
-  bool operator==(const ShapeGeometry& other) const { return kind == other.kind && size == other.size; }
-};
+// The renderer draws the engine's primitives (kinematics/shape.h, one kind list), planes included.
+using ShapeGeometry = Shape;
 
 ShapeGeometry MakeBox(const Vec3& extents);
 ShapeGeometry MakeCylinder(double radius, double height);
 ShapeGeometry MakeCapsule(double radius, double segment_length);
 ShapeGeometry MakeSphere(double radius);
 ShapeGeometry MakePlane();
-
-// The same primitive as the engine's collision shape (same size convention).
-ShapeGeometry ToShapeGeometry(const Shape& shape);
 
 const char* ShapeKindName(ShapeKind kind);
 

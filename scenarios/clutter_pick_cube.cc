@@ -55,10 +55,10 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 
 const char* Prompt(const engine::BatchState&, int) { return "Find the red cube and pick it up."; }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 // Without the head image the teleoperator found the cube in the wrist picture-in-picture: the
@@ -74,7 +74,7 @@ std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, co
   const std::vector<double> q_now(state.q_row(env), state.q_row(env) + robot.num_joints());
   std::array<RigidTransform, 2> poses;
   for (const kinematics::Side side : kinematics::kSides) {
-    RigidTransform X_W_ik = HandPoseCanonical(robot, side, q_now.data());
+    RigidTransform X_W_ik = expert::HandPoseCanonical(robot, side, q_now.data());
     X_W_ik.translation() = robot.CanonicalToBase(X_W_ik.translation()) + robot.root_world;
     poses[static_cast<std::size_t>(kinematics::Index(side))] = X_W_ik;
   }
@@ -86,7 +86,7 @@ std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, co
                        .toRotationMatrix();
     const Vec3 pads = cube + kLookDistance * R.col(2);  // back along the approach (the hand's -Z)
     const RigidTransform X_W_ik = MakeTransform(pads - R * robot.gripper.pad_center, R);
-    if (SolveArmConfiguration(robot, looking, q_now, {X_W_ik.translation() - robot.root_world, Quat(R)})) {
+    if (expert::SolveArmConfiguration(robot, looking, q_now, {X_W_ik.translation() - robot.root_world, Quat(R)})) {
       poses[static_cast<std::size_t>(kinematics::Index(looking))] = X_W_ik;
       break;
     }
@@ -94,11 +94,11 @@ std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, co
   return poses;
 }
 
-std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeBlockedExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
   settings.peek_poses = &WristLookPoses;
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace

@@ -47,10 +47,10 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 
 const char* Prompt(const engine::BatchState& state, int env) { return TargetPrompt(kPrompts, state, env); }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace

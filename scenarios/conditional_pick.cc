@@ -75,11 +75,11 @@ TargetFacts Facts(const engine::BatchState& state, int env) {
   return facts;
 }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
   settings.cue_object = kCard;
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace

@@ -111,16 +111,16 @@ TargetFacts Facts(const engine::BatchState& state, int env) {
 
 // Scans the three rows bottom to top, then reaches level into the target's slot from the front
 // and pulls it straight out past the success line.
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
   for (const double shelf_z : kShelfZ) settings.scan_points.push_back(Vec3(kCentreX, 0.0, shelf_z + 0.05));
   settings.approach_distance = 0.15;
   settings.lift_to_z = std::nullopt;  // withdrawing 15 cm takes the object past the success line
-  settings.grasp_candidates = ShelfGraspCandidates();
+  settings.grasp_candidates = expert::ShelfGraspCandidates();
   settings.support_under_hand = false;
   settings.reach_heading = [](const engine::BatchState&, int) { return 0.0; };  // straight in
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace

@@ -47,15 +47,15 @@ const char* Prompt(const engine::BatchState&, int) {
   return "Reach around the screen and pick up the object behind it.";
 }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
   settings.lift_to_z = kHandsLiftSuccessZ + kExpertLiftPastSuccess;
   settings.grasp_height = 0.012;
   // Coming down from above where the arm clears the screen, else reaching in along the hand from
   // beside the screen and withdrawing the same way before lifting.
-  settings.grasp_candidates = TableAndSideGraspCandidates();
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  settings.grasp_candidates = expert::TableAndSideGraspCandidates();
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace

@@ -126,8 +126,8 @@ std::array<RigidTransform, 2> PeekPoses(const engine::WorldModel& model, const e
 
 // Looks at the box, peeks into both sides with the wrist cameras, then reaches in level through
 // the open side with the arm on that side, closes, withdraws the way it came and lifts.
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
   settings.peek_poses = &PeekPoses;
   settings.reach_side = [](const engine::BatchState& state, int env) {
@@ -147,7 +147,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
     }
   }
   settings.lift_to_z = kHandsLiftSuccessZ + kExpertLiftPastSuccess;
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace

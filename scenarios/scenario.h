@@ -84,7 +84,8 @@ struct ScenarioDef {
   // The instruction the policy receives for the env's episode (fixed at reset).
   const char* (*prompt)(const engine::BatchState& state, int env) = nullptr;
   // Null for a task without a scripted expert; `mode`: how its head leads (expert_mode.h).
-  std::unique_ptr<Expert> (*make_expert)(const engine::WorldModel& model, int num_envs, ExpertMode mode) = nullptr;
+  std::unique_ptr<Expert> (*make_expert)(const engine::WorldModel& model, int num_envs,
+                                         expert::ExpertMode mode) = nullptr;
   // Objects besides the target whose sight decides the episode, by model name (the cue card, the
   // signal light): the visibility audit measures them with the target.
   std::vector<std::string> cue_objects;

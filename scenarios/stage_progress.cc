@@ -50,11 +50,11 @@ void StageProgress::Observe(const engine::BatchState& state, int env) {
       const Vec3 cue = state.ObjectPosition(env, cue_objects_[i]);
       JointPositions q{};
       std::copy(state.q_row(env), state.q_row(env) + model_.robot.num_joints(), q.begin());
-      const std::array<double, 3> neck = FixationNeckAngles(model_.robot, q.data(), cue);
+      const std::array<double, 3> neck = expert::FixationNeckAngles(model_.robot, q.data(), cue);
       for (int k = 0; k < 3; ++k)
         q[static_cast<std::size_t>(model_.robot.neck_joints[static_cast<std::size_t>(k)])] =
             neck[static_cast<std::size_t>(k)];
-      best_gaze_error_[i] = GazeError(model_.robot, q.data(), cue);
+      best_gaze_error_[i] = expert::GazeError(model_.robot, q.data(), cue);
     }
   }
   furthest_back_ = pull_out ? std::max(furthest_back_, back) : std::min(furthest_back_, back);
@@ -98,7 +98,7 @@ bool StageProgress::Reached(const StageDef& stage, int cue_object, double best_g
                             const engine::BatchState& state, int env) const {
   switch (stage.kind) {
     case StageDef::Kind::kCueFixated:
-      return GazeError(model_.robot, state.q_row(env), state.ObjectPosition(env, cue_object)) <=
+      return expert::GazeError(model_.robot, state.q_row(env), state.ObjectPosition(env, cue_object)) <=
              best_gaze_error + stage.max_angle_rad;
     case StageDef::Kind::kTargetApproached: {
       const std::array<double, 2> distances = HandDistances(state, env);

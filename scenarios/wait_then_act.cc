@@ -75,12 +75,12 @@ const char* Prompt(const engine::BatchState&, int) {
   return "Watch the red light. When it turns green, pick up the object.";
 }
 
-std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, ExpertMode mode) {
-  PickExpertSettings settings;
+std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
+  expert::PickExpertSettings settings;
   settings.mode = mode;
   settings.cue_object = kLight;
   settings.wait_for_go = true;
-  return std::make_unique<PickExpert>(model, num_envs, settings);
+  return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 #include <tbb/info.h>
 #include <nlohmann/json.hpp>
 
-#include "batch/visibility_audit.h"
+#include "batch/audit/visibility_audit.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
@@ -26,7 +26,7 @@ namespace {
 constexpr const char* kVisibleDefinition = ">=1% of the object's pixels";
 
 struct AuditOptions {
-  batch::AuditConfig audit;
+  batch::audit::AuditConfig audit;
   std::string split = "id";
   std::string image_size = "224x224";
   std::string out;
@@ -43,15 +43,15 @@ std::string Share(int count, int total) {
 
 // One row per (task, robot,) object and camera; the fixation column counts among the episodes
 // whose expert fixated the object, and the last column the episodes it never did.
-void PrintTable(const std::vector<batch::AuditResult>& results, const AuditOptions& options) {
-  const batch::AuditConfig& config = options.audit;
+void PrintTable(const std::vector<batch::audit::AuditResult>& results, const AuditOptions& options) {
+  const batch::audit::AuditConfig& config = options.audit;
   const bool combined = results.size() > 1;
   const std::string what = combined ? "every task" : config.task + " " + config.robot;
   std::printf("%s %s, %d episodes, %dx%d, visible = %s\n", what.c_str(), options.split.c_str(), config.episodes,
               config.image_width, config.image_height, kVisibleDefinition);
   if (combined) std::printf("%-26s %-8s ", "task", "robot");
   std::printf("%-13s %-12s %-15s %-15s %s\n", "object", "camera", "at reset", "at fixation", "never fixated");
-  for (const batch::AuditResult& result : results) {
+  for (const batch::audit::AuditResult& result : results) {
     const int episodes = static_cast<int>(result.episodes.size());
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
       const int fixated = result.Fixated(static_cast<int>(o));
@@ -72,7 +72,7 @@ nlohmann::json CameraJson(const std::vector<std::string>& cameras, const std::ve
   return json;
 }
 
-nlohmann::json CellJson(const batch::AuditResult& result) {
+nlohmann::json CellJson(const batch::audit::AuditResult& result) {
   nlohmann::json summary = nlohmann::json::array();
   for (std::size_t o = 0; o < result.objects.size(); ++o) {
     for (std::size_t c = 0; c < result.cameras.size(); ++c) {
@@ -86,10 +86,10 @@ nlohmann::json CellJson(const batch::AuditResult& result) {
     }
   }
   nlohmann::json episodes = nlohmann::json::array();
-  for (const batch::EpisodeAudit& episode : result.episodes) {
+  for (const batch::audit::EpisodeAudit& episode : result.episodes) {
     nlohmann::json objects;
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
-      const batch::ObjectAudit& audit = episode.objects[o];
+      const batch::audit::ObjectAudit& audit = episode.objects[o];
       objects[result.objects[o]] = {
           {"at_reset", CameraJson(result.cameras, audit.at_reset)},
           {"at_fixation", audit.at_fixation ? CameraJson(result.cameras, *audit.at_fixation) : nlohmann::json()},
@@ -105,17 +105,17 @@ nlohmann::json CellJson(const batch::AuditResult& result) {
 }
 
 // DIR/audit.json; nothing else in DIR is touched.
-void WriteAuditJson(const std::vector<batch::AuditResult>& results, const AuditOptions& options) {
-  const batch::AuditConfig& config = options.audit;
+void WriteAuditJson(const std::vector<batch::audit::AuditResult>& results, const AuditOptions& options) {
+  const batch::audit::AuditConfig& config = options.audit;
   nlohmann::json cells = nlohmann::json::array();
-  for (const batch::AuditResult& result : results) cells.push_back(CellJson(result));
+  for (const batch::audit::AuditResult& result : results) cells.push_back(CellJson(result));
   const nlohmann::json json = {{"split", options.split},
                                {"seed", config.seed},
                                {"episodes", config.episodes},
                                {"image_width", config.image_width},
                                {"image_height", config.image_height},
                                {"visible", kVisibleDefinition},
-                               {"visible_fraction", batch::kVisibleFraction},
+                               {"visible_fraction", batch::audit::kVisibleFraction},
                                {"cells", cells}};
   std::filesystem::create_directories(options.out);
   const std::filesystem::path path = std::filesystem::path(options.out) / "audit.json";
@@ -125,7 +125,7 @@ void WriteAuditJson(const std::vector<batch::AuditResult>& results, const AuditO
 }
 
 void RunAudit(AuditOptions options, bool task_or_robot_given) {
-  batch::AuditConfig& config = options.audit;
+  batch::audit::AuditConfig& config = options.audit;
   // Every input is checked before anything is simulated.
   config.split = scenarios::ParseSplit(options.split);
   std::tie(config.image_width, config.image_height) = ParseImageSize(options.image_size);
@@ -135,7 +135,7 @@ void RunAudit(AuditOptions options, bool task_or_robot_given) {
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
 
-  std::vector<batch::AuditConfig> cells = {config};
+  std::vector<batch::audit::AuditConfig> cells = {config};
   if (options.all) {
     cells.clear();
     for (const auto& scenario : scenarios::AllScenarios()) {
@@ -146,9 +146,9 @@ void RunAudit(AuditOptions options, bool task_or_robot_given) {
       }
     }
   }
-  std::vector<batch::AuditResult> results;
-  for (const batch::AuditConfig& cell : cells) {
-    results.push_back(batch::RunVisibilityAudit(cell));
+  std::vector<batch::audit::AuditResult> results;
+  for (const batch::audit::AuditConfig& cell : cells) {
+    results.push_back(batch::audit::RunVisibilityAudit(cell));
     if (!options.quiet) {
       std::fprintf(stderr, "audit: %s %s %s: %d episodes in %.1f s\n", cell.task.c_str(), cell.robot.c_str(),
                    options.split.c_str(), cell.episodes, results.back().wall_s);

@@ -12,10 +12,10 @@
 #include <tbb/info.h>
 #include <nlohmann/json.hpp>
 
-#include "batch/atomic_file.h"
 #include "batch/dataset/demo_generation.h"
 #include "batch/dataset/video/video_log.h"
-#include "batch/output_folder.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/output_folder.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
@@ -26,7 +26,7 @@ namespace tavis::tools {
 namespace {
 
 struct DemosOptions {
-  dataset::DemoConfig config;
+  batch::dataset::DemoConfig config;
   std::string task;
   std::string suite;
   std::string split = "id";
@@ -45,44 +45,46 @@ constexpr const char* kIncompleteMarker = "INCOMPLETE";
 // The dataset's folder must hold no results yet, unless the user asked to replace the dataset
 // tavis wrote there (built beside it and swapped in once complete) or to resume the interrupted
 // recording it holds. Returns the lock on --out, held until the program ends.
-batch::OutputLock PrepareOutput(const std::string& out, bool overwrite, bool resume,
-                                std::unique_ptr<batch::OutputReplacement>* replacement) {
+batch::output::OutputLock PrepareOutput(const std::string& out, bool overwrite, bool resume,
+                                        std::unique_ptr<batch::output::OutputReplacement>* replacement) {
   namespace fs = std::filesystem;
-  batch::RequireUsableOutputPath(out);
+  batch::output::RequireUsableOutputPath(out);
   if (overwrite && resume) throw std::invalid_argument("give --overwrite or --resume, not both");
   if (resume) {
     if (!fs::exists(fs::path(out) / kIncompleteMarker)) {
       throw std::invalid_argument("--resume: " + out + " holds no interrupted recording (no " + kIncompleteMarker +
                                   " marker)");
     }
-    return batch::OutputLock(out, "demos");
+    return batch::output::OutputLock(out, "demos");
   }
-  if (!batch::HoldsNoResults(out)) {
+  if (!batch::output::HoldsNoResults(out)) {
     if (!overwrite) {
       throw std::invalid_argument("--out " + out +
                                   " is not empty; give --overwrite to replace the dataset tavis wrote there, or "
                                   "--resume to finish an interrupted recording");
     }
-    batch::RequireEmptyOrOwn(
-        out, batch::OutputKind::kDataset,
+    batch::output::RequireEmptyOrOwn(
+        out, batch::output::OutputKind::kDataset,
         "--overwrite replaces only a dataset tavis wrote: move those files away or give another --out");
   }
-  batch::OutputLock lock = batch::CreateAndLockOutput(out, "demos");
-  if (!batch::HoldsNoResults(out)) *replacement = std::make_unique<batch::OutputReplacement>(out, "demos");
-  batch::WriteOutputMarker(*replacement ? (*replacement)->staging() : fs::path(out), batch::OutputKind::kDataset);
+  batch::output::OutputLock lock = batch::output::CreateAndLockOutput(out, "demos");
+  if (!batch::output::HoldsNoResults(out))
+    *replacement = std::make_unique<batch::output::OutputReplacement>(out, "demos");
+  batch::output::WriteOutputMarker(*replacement ? (*replacement)->staging() : fs::path(out),
+                                   batch::output::OutputKind::kDataset);
   return lock;
 }
 
-nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const DemosOptions& options) {
+nlohmann::ordered_json ReportJson(const batch::dataset::DemoReport& report, const DemosOptions& options) {
   nlohmann::ordered_json tasks = nlohmann::ordered_json::array();
-  for (const dataset::DemoTaskReport& task : report.tasks) {
+  for (const batch::dataset::DemoTaskReport& task : report.tasks) {
     tasks.push_back({{"task", task.task},
                      {"written", task.written},
                      {"attempts", task.attempts},
                      {"failures", task.failures},
                      {"surplus_successes", task.surplus}});
   }
-  const dataset::DemoConfig& config = options.config;
+  const batch::dataset::DemoConfig& config = options.config;
   return {{"robot", config.robot},
           {"split", options.split},
           {"expert_mode", options.expert_mode},
@@ -113,7 +115,7 @@ nlohmann::ordered_json ReportJson(const dataset::DemoReport& report, const Demos
 }
 
 void RunDemos(DemosOptions options) {
-  dataset::DemoConfig& config = options.config;
+  batch::dataset::DemoConfig& config = options.config;
   if (!options.task.empty() && !options.suite.empty())
     throw std::invalid_argument("give either --task or --suite, not both");
   if (!options.suite.empty()) {
@@ -125,11 +127,11 @@ void RunDemos(DemosOptions options) {
     scenarios::FindScenario(config.tasks.front());
   }
   config.split = scenarios::ParseSplit(options.split);
-  config.expert_mode = scenarios::ParseExpertMode(options.expert_mode);
+  config.expert_mode = scenarios::expert::ParseExpertMode(options.expert_mode);
   std::tie(config.video.width, config.video.height) = ParseImageSize(options.image_size);
   config.cameras = options.cameras.empty() ? std::vector<std::string>{} : batch::ParseCameraList(options.cameras);
-  config.video.codec = dataset::ParseVideoCodec(options.codec);
-  config.version = dataset::ParseDatasetVersion(options.format);
+  config.video.codec = batch::dataset::video::ParseVideoCodec(options.codec);
+  config.version = batch::dataset::ParseDatasetVersion(options.format);
   if (config.out.empty()) {
     config.out =
         "datasets/tavis-" + (options.suite.empty() ? config.tasks.front() : options.suite) + "-" + config.robot;
@@ -137,33 +139,33 @@ void RunDemos(DemosOptions options) {
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   // Every value is checked before --out is touched: a bad one must not remove what --overwrite would.
-  dataset::ValidateDemoConfig(config);
-  std::unique_ptr<batch::OutputReplacement> replacement;
-  const batch::OutputLock lock = PrepareOutput(config.out, options.overwrite, config.resume, &replacement);
+  batch::dataset::ValidateDemoConfig(config);
+  std::unique_ptr<batch::output::OutputReplacement> replacement;
+  const batch::output::OutputLock lock = PrepareOutput(config.out, options.overwrite, config.resume, &replacement);
   const std::string out = config.out;
   if (replacement) config.out = replacement->staging().string();
-  dataset::ShowOnlyVideoErrors();
+  batch::dataset::video::ShowOnlyVideoErrors();
   // Until the dataset is finished the folder says so: its files are still FILE.partial and it has
   // no meta/info.json, so no loader takes it for a dataset.
   const std::filesystem::path marker = std::filesystem::path(config.out) / kIncompleteMarker;
-  batch::WriteFileAtomically(marker,
-                             "tavis demos is writing this dataset, or was interrupted: it is complete once "
-                             "meta/info.json exists and this file is gone.\n");
+  batch::output::WriteFileAtomically(marker,
+                                     "tavis demos is writing this dataset, or was interrupted: it is complete once "
+                                     "meta/info.json exists and this file is gone.\n");
 
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
-  const dataset::DemoProgress progress = [&options, &reporter](const std::string& task, int64_t written,
-                                                               int64_t wanted) {
+  const batch::dataset::DemoProgress progress = [&options, &reporter](const std::string& task, int64_t written,
+                                                                      int64_t wanted) {
     if (!options.quiet) reporter.Update(task + " (written)", written, wanted);
   };
-  const dataset::DemoReport report = dataset::GenerateDemos(config, progress);
-  batch::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json",
-                             ReportJson(report, options).dump(2) + "\n");
+  const batch::dataset::DemoReport report = batch::dataset::GenerateDemos(config, progress);
+  batch::output::WriteFileAtomically(std::filesystem::path(config.out) / "tavis_demos.json",
+                                     ReportJson(report, options).dump(2) + "\n");
   std::filesystem::remove(marker);
   if (replacement) {
     replacement->SwapIn();
     config.out = out;
   }
-  for (const dataset::DemoTaskReport& task : report.tasks) {
+  for (const batch::dataset::DemoTaskReport& task : report.tasks) {
     int64_t failed = 0;
     for (const auto& [end, count] : task.failures) failed += count;
     std::printf("%s %s %s: %lld episodes written, %lld failed of %lld attempts\n", task.task.c_str(),

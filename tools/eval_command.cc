@@ -14,13 +14,13 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "batch/atomic_file.h"
+#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/cell_report.h"
+#include "batch/cell/evaluation_cell.h"
 #include "batch/cell_profile.h"
-#include "batch/cell_record_stream.h"
-#include "batch/cell_report.h"
 #include "batch/dataset/video/video_log.h"
-#include "batch/evaluation_cell.h"
-#include "batch/output_folder.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/output_folder.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
@@ -37,7 +37,7 @@ namespace tavis::tools {
 namespace {
 
 struct EvalOptions {
-  batch::EvaluationCellConfig cell;
+  batch::cell::EvaluationCellConfig cell;
   std::string split = "id";
   std::string camera = "head";
   std::string expert_mode = "gaze-first";
@@ -53,35 +53,36 @@ struct EvalOptions {
   bool quiet = false;
   bool overwrite = false;
   bool resume = false;
-  bool one_episode = false;            // --episode I
-  batch::EpisodeVideoSettings videos;  // --videos N and how they look
+  bool one_episode = false;                     // --episode I
+  batch::rollout::EpisodeVideoSettings videos;  // --videos N and how they look
   std::string video_cameras;
   std::string video_size = "320x240";
   std::string video_format = "mp4";
-  batch::RolloutDatasetSettings record;  // --record DIR: the cell's rollouts as a LeRobot dataset
+  batch::rollout::RolloutDatasetSettings record;  // --record DIR: the cell's rollouts as a LeRobot dataset
   std::string record_cameras;
   std::string record_size = "320x240";
 };
 
 // --record DIR: a new or empty folder, locked for this run and marked as a dataset tavis writes.
-batch::OutputLock PrepareRolloutDataset(const std::string& root, const std::string& cell_out) {
+batch::output::OutputLock PrepareRolloutDataset(const std::string& root, const std::string& cell_out) {
   namespace fs = std::filesystem;
-  batch::RequireUsableOutputPath(root);
+  batch::output::RequireUsableOutputPath(root);
   if (fs::exists(root) && fs::exists(cell_out) && fs::equivalent(root, cell_out)) {
     throw std::invalid_argument("--record " + root + " is the cell's --out: give the dataset a folder of its own");
   }
-  if (!batch::HoldsNoResults(root))
+  if (!batch::output::HoldsNoResults(root))
     throw std::invalid_argument("--record " + root + " already holds files: give a new or empty folder");
-  batch::OutputLock lock = batch::CreateAndLockOutput(root, "eval");
-  batch::WriteOutputMarker(root, batch::OutputKind::kDataset);
+  batch::output::OutputLock lock = batch::output::CreateAndLockOutput(root, "eval");
+  batch::output::WriteOutputMarker(root, batch::output::OutputKind::kDataset);
   return lock;
 }
 
-std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const std::string& split, bool one_episode) {
+std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, const std::string& split,
+                               bool one_episode) {
   // A head-still expert's cell must not take the place of the gaze-first one.
-  const std::string mode = cell.expert_mode == scenarios::ExpertMode::kGazeFirst
+  const std::string mode = cell.expert_mode == scenarios::expert::ExpertMode::kGazeFirst
                                ? ""
-                               : std::string("-") + scenarios::ToString(cell.expert_mode);
+                               : std::string("-") + scenarios::expert::ToString(cell.expert_mode);
   // One chosen episode (--episode I) must not take the place of its full cell either.
   const std::string only = one_episode ? "_ep" + std::to_string(cell.episode_start) : "";
   // Nor may a perturbed cell take the place of its base cell.
@@ -96,13 +97,13 @@ std::string DefaultCellDirName(const batch::EvaluationCellConfig& cell, const st
 
 // One cell into `out`: its records streamed as episodes end (an interrupted cell keeps them and
 // --resume continues after them), the summary written last.
-batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
-                          const std::string& out) {
-  batch::RequireUsableOutputPath(out);
-  batch::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
-  std::optional<batch::OutputLock> record_lock;
+batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
+                                const std::string& out) {
+  batch::output::RequireUsableOutputPath(out);
+  batch::cell::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
+  std::optional<batch::output::OutputLock> record_lock;
   if (!options.record.root.empty()) record_lock.emplace(PrepareRolloutDataset(options.record.root, out));
-  for (const std::string& difference : batch::ServedLayoutDifferences(cell)) {
+  for (const std::string& difference : batch::cell::ServedLayoutDifferences(cell)) {
     std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": "
               << difference << "\n";
   }
@@ -112,35 +113,35 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   // --overwrite replaces only a cell tavis wrote, and builds the new one beside it: the old one
   // goes only once the new one has recorded an episode, so a run that fails before (an
   // unreachable server, a missing file, too little memory) leaves it as it was.
-  const bool replace = options.overwrite && !batch::HoldsNoResults(out);
+  const bool replace = options.overwrite && !batch::output::HoldsNoResults(out);
   if (replace) {
-    batch::RequireEmptyOrOwn(
-        out, batch::OutputKind::kEvalCell,
+    batch::output::RequireEmptyOrOwn(
+        out, batch::output::OutputKind::kEvalCell,
         "--overwrite replaces only a cell tavis wrote: move those files away or give another --out");
   }
   const bool created = !fs::exists(out);
-  batch::OutputLock lock = batch::CreateAndLockOutput(out, "eval");
-  std::unique_ptr<batch::OutputReplacement> replacement;
-  if (replace) replacement = std::make_unique<batch::OutputReplacement>(out, "eval");
+  batch::output::OutputLock lock = batch::output::CreateAndLockOutput(out, "eval");
+  std::unique_ptr<batch::output::OutputReplacement> replacement;
+  if (replace) replacement = std::make_unique<batch::output::OutputReplacement>(out, "eval");
   const std::string dir = replacement ? replacement->staging().string() : out;
-  std::unique_ptr<batch::CellRecordStream> stream_owner;
+  std::unique_ptr<batch::cell::CellRecordStream> stream_owner;
   try {
-    stream_owner = std::make_unique<batch::CellRecordStream>(dir, cell, options.resume);
+    stream_owner = std::make_unique<batch::cell::CellRecordStream>(dir, cell, options.resume);
   } catch (...) {
     if (created) fs::remove_all(out);
     throw;
   }
-  batch::CellRecordStream& stream = *stream_owner;
-  batch::EvaluationCellConfig config = cell;
+  batch::cell::CellRecordStream& stream = *stream_owner;
+  batch::cell::EvaluationCellConfig config = cell;
   config.first_episode = stream.next_episode();
-  batch::CellResult result;
+  batch::cell::CellResult result;
   // Videos go where the cell is at each write: beside the old cell until the new one is swapped in.
-  batch::CellVideos videos(options.videos, config, [&replacement, &out] {
+  batch::rollout::CellVideos videos(options.videos, config, [&replacement, &out] {
     return (replacement && !replacement->swapped() ? replacement->staging() : fs::path(out)) / "videos";
   });
-  std::unique_ptr<batch::CellRecording> recording;
-  if (!options.record.root.empty()) recording = std::make_unique<batch::CellRecording>(options.record, config);
-  const auto record = [&stream, &replacement, &out, &videos, &recording](const batch::EpisodeRecord& episode) {
+  std::unique_ptr<batch::rollout::CellRecording> recording;
+  if (!options.record.root.empty()) recording = std::make_unique<batch::rollout::CellRecording>(options.record, config);
+  const auto record = [&stream, &replacement, &out, &videos, &recording](const batch::cell::EpisodeRecord& episode) {
     stream.Write(episode);
     if (replacement && !replacement->swapped()) {
       replacement->SwapIn();
@@ -150,15 +151,15 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
     if (recording) recording->RecordFinished(episode);
   };
   // The videos' and the rollout dataset's sinks, beside the cell's recorder.
-  const batch::CellSinks video_sinks = videos.Sinks();
-  const batch::CellSinks record_sinks = recording ? recording->Sinks() : nullptr;
-  batch::CellSinks sinks;
+  const batch::cell::CellSinks video_sinks = videos.Sinks();
+  const batch::cell::CellSinks record_sinks = recording ? recording->Sinks() : nullptr;
+  batch::cell::CellSinks sinks;
   if (video_sinks || record_sinks) {
-    sinks = [&video_sinks, &record_sinks](const batch::VecEnv& env, const std::vector<std::string>& cameras) {
+    sinks = [&video_sinks, &record_sinks](const batch::VecEnv& vec_env, const std::vector<std::string>& cameras) {
       std::vector<batch::EpisodeSink*> all;
-      for (const batch::CellSinks* part : {&video_sinks, &record_sinks}) {
+      for (const batch::cell::CellSinks* part : {&video_sinks, &record_sinks}) {
         if (!*part) continue;
-        for (batch::EpisodeSink* sink : (*part)(env, cameras)) all.push_back(sink);
+        for (batch::EpisodeSink* sink : (*part)(vec_env, cameras)) all.push_back(sink);
       }
       return all;
     };
@@ -168,7 +169,8 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
     reporter.Update("", done, total);
   };
   try {
-    result = batch::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record, sinks);
+    result =
+        batch::cell::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record, sinks);
   } catch (...) {
     // A cell that failed before its first episode leaves nothing behind (and an --overwrite the
     // old cell); one that recorded episodes keeps them for --resume.
@@ -180,13 +182,13 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
     stream.MovedTo(out);
   }
   // The summary covers the whole cell: the resumed records first.
-  std::vector<batch::EpisodeRecord> episodes = stream.resumed();
-  for (batch::EpisodeRecord& episode : result.episodes) episodes.push_back(std::move(episode));
+  std::vector<batch::cell::EpisodeRecord> episodes = stream.resumed();
+  for (batch::cell::EpisodeRecord& episode : result.episodes) episodes.push_back(std::move(episode));
   result.episodes = std::move(episodes);
   result.successes = 0;
-  for (const batch::EpisodeRecord& episode : result.episodes) result.successes += episode.success ? 1 : 0;
-  batch::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
-  std::cout << batch::CellSummaryLine(result) << " -> " << out << "\n";
+  for (const batch::cell::EpisodeRecord& episode : result.episodes) result.successes += episode.success ? 1 : 0;
+  batch::cell::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
+  std::cout << batch::cell::CellSummaryLine(result) << " -> " << out << "\n";
   if (recording) {
     recording->Finish();
     std::cout << "recorded " << recording->episodes() << " episodes (" << recording->frames()
@@ -194,12 +196,12 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
   }
   if (videos.videos_written() > 0) {
     std::cout << videos.videos_written()
-              << (options.videos.format == batch::VideoFormat::kMp4 ? " videos" : " frame folders") << " -> "
+              << (options.videos.format == batch::rollout::VideoFormat::kMp4 ? " videos" : " frame folders") << " -> "
               << (fs::path(out) / "videos").string() << "\n";
   }
   if (result.profile) {
     std::cout << batch::FormatCellProfile(*result.profile);
-    batch::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
+    batch::output::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
   }
   return result;
 }
@@ -207,7 +209,7 @@ batch::CellResult RunCell(const batch::EvaluationCellConfig& cell, const EvalOpt
 // Every task of the suite, one cell each in OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed>, then the
 // suite mean as the paper reports it (task average) and pooled over episodes. A task without a
 // scripted expert is reported and makes the exit status 1; the others still run.
-void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int threads) {
+void RunSuite(batch::cell::EvaluationCellConfig cell, const EvalOptions& options, int threads) {
   std::vector<std::string> tasks;
   for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(options.suite))) {
     tasks.push_back(scenario->name);
@@ -219,7 +221,7 @@ void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int 
   for (const std::string& task : tasks) {
     cell.task = task;
     try {
-      const batch::CellResult result =
+      const batch::cell::CellResult result =
           RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, options.split, false));
       rate_sum += static_cast<double>(result.successes) / static_cast<double>(result.episodes.size());
       successes += result.successes;
@@ -244,17 +246,17 @@ void RunSuite(batch::EvaluationCellConfig cell, const EvalOptions& options, int 
 }
 
 void RunEval(const EvalOptions& options) {
-  batch::EvaluationCellConfig cell = options.cell;
+  batch::cell::EvaluationCellConfig cell = options.cell;
   cell.split = scenarios::ParseSplit(options.split);
   cell.camera = batch::ParseCameraProtocol(options.camera);
-  cell.expert_mode = scenarios::ParseExpertMode(options.expert_mode);
+  cell.expert_mode = scenarios::expert::ParseExpertMode(options.expert_mode);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
   if (options.image_size_given) std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
-  batch::ValidateEpisodeVideoSettings(options.videos);  // before anything is written
-  if (options.videos.episodes > 0 || !options.record.root.empty()) dataset::ShowOnlyVideoErrors();
+  batch::rollout::ValidateEpisodeVideoSettings(options.videos);  // before anything is written
+  if (options.videos.episodes > 0 || !options.record.root.empty()) batch::dataset::video::ShowOnlyVideoErrors();
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-  if (!options.envs_given) cell.envs = batch::DefaultEnvs(cell.policy, threads);
+  if (!options.envs_given) cell.envs = batch::cell::DefaultEnvs(cell.policy, threads);
   if (options.overwrite && options.resume) throw std::invalid_argument("give --overwrite or --resume, not both");
   if (!options.suite.empty()) {
     if (options.task_given) throw std::invalid_argument("give either --task or --suite, not both");
@@ -294,7 +296,7 @@ void RegisterEvalCommand(CLI::App& app) {
                    "black); head is head + wrists, fixed is fixed + wrists; every set pairs with head")
       ->capture_default_str();
   eval->add_option("--policy", options->cell.policy,
-                   "Policy (" + batch::CellPolicyNames() +
+                   "Policy (" + batch::cell::CellPolicyNames() +
                        "); openpi: a policy served over openpi's websocket\n"
                        "protocol (--server), acting at 20 Hz on the cameras its --keys name")
       ->capture_default_str();
@@ -319,7 +321,7 @@ void RegisterEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_option(
           "--keys", options->cell.observation_keys,
-          "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() +
+          "For --policy openpi: the request's key layout, a preset (" + batch::remote::KeyPresetNames() +
               ") or a\n"
               "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
               "hwc/chw images, image size, letterbox). tavis: the dataset's keys (observation.images.OBS_HEAD,\n"
@@ -456,7 +458,7 @@ void RegisterEvalCommand(CLI::App& app) {
     if (eval->count("--video-size") > 0) {
       std::tie(options->videos.tile_width, options->videos.tile_height) = ParseImageSize(options->video_size);
     }
-    options->videos.format = batch::ParseVideoFormat(options->video_format);
+    options->videos.format = batch::rollout::ParseVideoFormat(options->video_format);
     for (const char* record_only : {"--record-cameras", "--record-size"}) {
       if (eval->count(record_only) > 0 && options->record.root.empty()) {
         throw std::invalid_argument(std::string(record_only) + " applies to --record DIR, which is not given");
@@ -469,9 +471,9 @@ void RegisterEvalCommand(CLI::App& app) {
         throw std::invalid_argument("--record cannot --resume: the dataset holds the episodes of one run");
       if (!options->record_cameras.empty()) options->record.cameras = batch::ParseCameraList(options->record_cameras);
       std::tie(options->record.width, options->record.height) = ParseImageSize(options->record_size);
-      batch::ValidateRolloutDatasetSettings(options->record);
+      batch::rollout::ValidateRolloutDatasetSettings(options->record);
     }
-    options->cell.serving = remote::ParseServingMode(options->serving);
+    options->cell.serving = batch::remote::ParseServingMode(options->serving);
     options->cell.observation_keys_given = eval->count("--keys") > 0;
     options->task_given = eval->count("--task") > 0;
     options->image_size_given = eval->count("--image-size") > 0;

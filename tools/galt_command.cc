@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/action_csv.h"
-#include "batch/dataset/dataset_actions.h"
-#include "batch/dataset/dataset_galt.h"
-#include "batch/dataset/dataset_info.h"
-#include "batch/galt_validation.h"
+#include "batch/dataset/reader/dataset_actions.h"
+#include "batch/dataset/reader/dataset_galt.h"
+#include "batch/dataset/reader/dataset_info.h"
+#include "batch/report/galt_validation.h"
 #include "kinematics/galt.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
@@ -54,8 +54,8 @@ Dataset mode (--dataset DIR, instead of CSV files):
   mean_s and median_s. --table-only prints the table alone; --json-out FILE writes its numbers.
   Any unreadable or malformed dataset file is an error naming the file; exit status 1.)";
 
-constexpr double kMinFps = dataset::kMinDatasetFps;
-constexpr double kMaxFps = dataset::kMaxDatasetFps;
+constexpr double kMinFps = batch::dataset::reader::kMinDatasetFps;
+constexpr double kMaxFps = batch::dataset::reader::kMaxDatasetFps;
 
 struct GaltOptions {
   double fps = 0.0;  // 0: not given
@@ -115,7 +115,7 @@ void RunGaltOnFiles(const GaltOptions& options) {
 }
 
 // The rate GALT runs at: info.json's fps unless --fps overrides it.
-double DatasetRate(const dataset::DatasetInfo& info, const GaltOptions& options) {
+double DatasetRate(const batch::dataset::reader::DatasetInfo& info, const GaltOptions& options) {
   if (options.fps == 0.0) {
     if (!(info.fps >= kMinFps && info.fps <= kMaxFps)) {
       throw std::invalid_argument(options.dataset + "/meta/info.json: fps must be a number from 1 to 1000, got " +
@@ -136,13 +136,13 @@ nlohmann::json TaskJson(const std::vector<std::string>& tasks) {
   return joined;
 }
 
-void WriteTableJson(const std::string& path, const dataset::DatasetInfo& info, const GaltOptions& options, double fps,
-                    const std::vector<batch::GaltValidationRow>& rows) {
+void WriteTableJson(const std::string& path, const batch::dataset::reader::DatasetInfo& info,
+                    const GaltOptions& options, double fps, const std::vector<batch::report::GaltValidationRow>& rows) {
   nlohmann::ordered_json json;
   json["dataset"] = options.dataset;
   json["codebase_version"] = info.codebase_version;
   json["fps"] = fps;
-  json["rows"] = batch::GaltValidationJson(rows);
+  json["rows"] = batch::report::GaltValidationJson(rows);
   std::ofstream out(path);
   out << json.dump(2) << "\n";
   out.close();
@@ -150,19 +150,19 @@ void WriteTableJson(const std::string& path, const dataset::DatasetInfo& info, c
 }
 
 void RunGaltOnDataset(const GaltOptions& options) {
-  dataset::DatasetActions read = dataset::ReadDatasetActions(options.dataset);
+  batch::dataset::reader::DatasetActions read = batch::dataset::reader::ReadDatasetActions(options.dataset);
   const double fps = DatasetRate(read.info, options);
-  batch::PolicyRateStride(fps);  // refuse before any output
+  batch::report::PolicyRateStride(fps);  // refuse before any output
 
-  const dataset::DatasetGalt galt = dataset::ComputeDatasetGalt(std::move(read), fps);
-  const dataset::DatasetActions& actions = galt.actions;
+  const batch::dataset::reader::DatasetGalt galt = batch::dataset::reader::ComputeDatasetGalt(std::move(read), fps);
+  const batch::dataset::reader::DatasetActions& actions = galt.actions;
   const std::vector<kinematics::GaltResult>& results = galt.results;
-  const std::vector<batch::GaltValidationRow> rows =
-      batch::GaltValidationRows(actions.info.robot_type.value_or("unknown"), galt.views, fps, results);
+  const std::vector<batch::report::GaltValidationRow> rows =
+      batch::report::GaltValidationRows(actions.info.robot_type.value_or("unknown"), galt.views, fps, results);
 
   if (!options.table_only) {
     for (std::size_t i = 0; i < results.size(); ++i) {
-      const dataset::EpisodeActions& episode = actions.episodes[i];
+      const batch::dataset::reader::EpisodeActions& episode = actions.episodes[i];
       std::cout << ResultJson({{"episode", episode.episode_index}, {"task", TaskJson(episode.tasks)}}, std::nullopt,
                               results[i])
                        .dump()
@@ -170,7 +170,7 @@ void RunGaltOnDataset(const GaltOptions& options) {
     }
     std::cout << "\n";
   }
-  std::cout << batch::GaltValidationMarkdown(rows) << std::flush;
+  std::cout << batch::report::GaltValidationMarkdown(rows) << std::flush;
   if (!options.json_out.empty()) WriteTableJson(options.json_out, actions.info, options, fps, rows);
 }
 

@@ -58,23 +58,23 @@ std::vector<std::string> WriteViews(const batch::SceneRender& scene, const std::
 // end if earlier), writing the views as it goes.
 class ViewWriter : public batch::EpisodeSink {
  public:
-  ViewWriter(const batch::VecEnv& env, const batch::CameraSettings& settings, int steps, std::filesystem::path dir)
-      : scene_(env.model(), 1, settings), steps_(steps), dir_(std::move(dir)) {
+  ViewWriter(const batch::VecEnv& vec_env, const batch::CameraSettings& settings, int steps, std::filesystem::path dir)
+      : scene_(vec_env.model(), 1, settings), steps_(steps), dir_(std::move(dir)) {
     // As the policy receives them: a task's black cameras (blocked-clutter-pick-cube's head).
-    for (const std::string& name : env.scenario().black_cameras) {
+    for (const std::string& name : vec_env.scenario().black_cameras) {
       scene_.SetCameraEnabled(0, scene_.CameraIndex(name), false);
     }
   }
 
-  void EpisodeStarted(const batch::VecEnv& env, int) override {
-    Render(env);
+  void EpisodeStarted(const batch::VecEnv& vec_env, int) override {
+    Render(vec_env);
     for (const std::string& path : WriteViews(scene_, dir_, "reset")) written_.push_back(path);
   }
   void Stepped(const batch::VecEnv&) override { ++ticks_; }
   bool EpisodeComplete(const batch::VecEnv&, int) const override { return ticks_ >= steps_; }
-  void EpisodeEnded(const batch::VecEnv& env, int) override {
-    end_ = env.state().end[0];
-    Render(env);
+  void EpisodeEnded(const batch::VecEnv& vec_env, int) override {
+    end_ = vec_env.state().end[0];
+    Render(vec_env);
     for (const std::string& path : WriteViews(scene_, dir_, "tick" + std::to_string(ticks_))) written_.push_back(path);
     std::vector<render::LabelledImage> views;
     const render::ImageBatch& images = scene_.images();
@@ -92,9 +92,9 @@ class ViewWriter : public batch::EpisodeSink {
   const std::vector<std::string>& written() const { return written_; }
 
  private:
-  void Render(const batch::VecEnv& env) {
+  void Render(const batch::VecEnv& vec_env) {
     const uint8_t render_env = 1;
-    scene_.Render(env.state(), &render_env);
+    scene_.Render(vec_env.state(), &render_env);
   }
 
   batch::SceneRender scene_;
@@ -119,20 +119,21 @@ void RunRender(const RenderCommandOptions& options) {
 
   engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
   batch::ApplyPerturbations(options.config_dir, options.perturbations, options.seed, &model);
-  batch::VecEnv env(std::move(model), scenario, split, 1, options.seed);
+  batch::VecEnv vec_env(std::move(model), scenario, split, 1, options.seed);
   batch::CameraSettings settings;
   settings.cameras = batch::SceneCameraNames();
   settings.width = options.width;
   settings.height = options.height;
   // Tasks still without a scripted expert are shown with the robot holding its reset pose.
   const bool has_expert = scenario.make_expert != nullptr;
-  std::unique_ptr<batch::Policy> policy = batch::MakeBuiltinPolicy(
-      batch::PolicyName(has_expert ? batch::PolicyKind::kExpert : batch::PolicyKind::kHold), scenario, env.model(), 1);
+  std::unique_ptr<batch::Policy> policy =
+      batch::MakeBuiltinPolicy(batch::PolicyName(has_expert ? batch::PolicyKind::kExpert : batch::PolicyKind::kHold),
+                               scenario, vec_env.model(), 1);
 
   const std::filesystem::path dir(options.out);
   std::filesystem::create_directories(dir);
-  ViewWriter views(env, settings, options.steps, dir);
-  batch::EpisodeDriver driver(env, *policy, 1, options.episode);
+  ViewWriter views(vec_env, settings, options.steps, dir);
+  batch::EpisodeDriver driver(vec_env, *policy, 1, options.episode);
   driver.AddSink(views);
   driver.Run();
 

@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/results_table.h"
-#include "batch/stage_funnel_table.h"
+#include "batch/report/results_table.h"
+#include "batch/report/stage_funnel_table.h"
 #include "configs/robot_config.h"
 #include "scenarios/suite.h"
 #include "tools/commands.h"
@@ -32,7 +32,7 @@ struct TableOptions {
 
 // A cell's policy label: its folder's policy.json (written by `tavis sweep`), else its policy's
 // name (summary.json's "policy"), else "unlabelled".
-std::string CellLabel(const batch::CellCounts& cell) {
+std::string CellLabel(const batch::report::CellCounts& cell) {
   const std::filesystem::path policy_file = std::filesystem::path(cell.source).parent_path() / "policy.json";
   std::ifstream in(policy_file);
   if (in) {
@@ -45,11 +45,11 @@ std::string CellLabel(const batch::CellCounts& cell) {
 
 // The cells the table pools: those of --label, or all of them when they share one label or
 // --pool-labels declares the pooling; anything else is refused, naming the labels.
-std::vector<batch::CellCounts> CellsOfOneLabel(const std::vector<batch::CellCounts>& cells,
-                                               const TableOptions& options) {
+std::vector<batch::report::CellCounts> CellsOfOneLabel(const std::vector<batch::report::CellCounts>& cells,
+                                                       const TableOptions& options) {
   std::map<std::string, int> counts;
-  std::vector<batch::CellCounts> kept;
-  for (const batch::CellCounts& cell : cells) {
+  std::vector<batch::report::CellCounts> kept;
+  for (const batch::report::CellCounts& cell : cells) {
     ++counts[cell.label];
     if (options.label.empty() || cell.label == options.label) kept.push_back(cell);
   }
@@ -79,9 +79,9 @@ void RunTable(const TableOptions& options) {
     throw std::invalid_argument("--label and --pool-labels exclude each other");
   // Two labels may evaluate the same cell and seed (two checkpoints): the label is part of the
   // duplicate check.
-  const std::vector<batch::CellCounts> cells = CellsOfOneLabel(
-      batch::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir()), CellLabel), options);
-  const batch::ResultsTable table = batch::BuildResultsTable(cells, options.suite);
+  const std::vector<batch::report::CellCounts> cells = CellsOfOneLabel(
+      batch::report::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir()), CellLabel), options);
+  const batch::report::ResultsTable table = batch::report::BuildResultsTable(cells, options.suite);
   for (const std::string& source : table.skipped_empty) {
     std::cerr << "tavis table: note: " << source << " holds no episodes (n_episodes 0): left out of the table\n";
   }
@@ -94,8 +94,8 @@ void RunTable(const TableOptions& options) {
                              error.message());
   }
   WriteFile(options.out_prefix + ".md",
-            batch::FormatMarkdown(table, with_intervals) + batch::FormatFunnelMarkdown(table, cells));
-  WriteFile(options.out_prefix + ".csv", batch::FormatCsv(table, with_intervals));
+            batch::report::FormatMarkdown(table, with_intervals) + batch::report::FormatFunnelMarkdown(table, cells));
+  WriteFile(options.out_prefix + ".csv", batch::report::FormatCsv(table, with_intervals));
   std::cout << "wrote " << options.out_prefix << ".md and " << options.out_prefix << ".csv (" << table.tasks.size()
             << " tasks x " << table.columns.size() << " columns)\n";
 }

@@ -10,19 +10,19 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/builtin_policies.h"
-#include "batch/config_identity.h"
 #include "batch/dataset/demo_recorder.h"
 #include "batch/dataset/episode_spool.h"
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/episode_driver.h"
+#include "batch/output/config_identity.h"
+#include "batch/output/settings_difference.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/scene_render.h"
-#include "batch/settings_difference.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -43,7 +43,7 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
   nlohmann::json fingerprint = {{"tasks", config.tasks},
                                 {"robot", config.robot},
                                 {"split", scenarios::ToString(config.split)},
-                                {"expert_mode", scenarios::ToString(config.expert_mode)},
+                                {"expert_mode", scenarios::expert::ToString(config.expert_mode)},
                                 {"episodes", config.episodes},
                                 {"max_attempts", config.max_attempts},
                                 {"seed", config.seed},
@@ -53,13 +53,13 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
                                 {"video",
                                  {{"width", config.video.width},
                                   {"height", config.video.height},
-                                  {"codec", VideoCodecName(config.video.codec)},
+                                  {"codec", video::VideoCodecName(config.video.codec)},
                                   {"crf", config.video.crf},
                                   {"gop", config.video.gop},
                                   {"h264_preset", config.video.h264_preset},
                                   {"av1_preset", config.video.av1_preset}}},
                                 {"format", ToString(config.version)},
-                                {"identity", batch::ConfigIdentityJson(config.config_dir, config.robot)}};
+                                {"identity", batch::output::ConfigIdentityJson(config.config_dir, config.robot)}};
   // Only a perturbed recording names its perturbations, so an unperturbed spool resumes as before.
   if (!config.perturbations.empty()) {
     fingerprint["perturbations"] =
@@ -84,7 +84,7 @@ void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   // since episode i draws only on (seed, i).
   was.erase("max_attempts");
   now.erase("max_attempts");
-  const std::string differences = batch::SettingsDifference(was, now);
+  const std::string differences = batch::output::SettingsDifference(was, now);
   if (!differences.empty())
     throw std::invalid_argument("--resume with other settings than the interrupted recording: " + differences);
 }
@@ -138,9 +138,9 @@ void ValidateDemoConfig(const DemoConfig& config) {
   batch::ValidateCameraSettings(cameras);
   for (const std::string& camera : config.cameras) CameraVideoKey(camera);
   for (const std::string& choice : config.perturbations) batch::ParsePerturbationChoice(choice);
-  VideoSettings video = config.video;
+  video::VideoSettings video = config.video;
   video.fps = config.fps;
-  ValidateVideoSettings(video, "--image-size/--codec/--crf");
+  video::ValidateVideoSettings(video, "--image-size/--codec/--crf");
 }
 
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
@@ -194,14 +194,14 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     const int slots = std::min(config.envs, config.episodes);
     engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
     batch::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
-    batch::VecEnv env(std::move(model), scenario, config.split, slots, config.seed);
-    const int control_hz = static_cast<int>(env.model().physics.control_hz + 0.5);
-    const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, env.model(), slots, config.expert_mode,
+    batch::VecEnv vec_env(std::move(model), scenario, config.split, slots, config.seed);
+    const int control_hz = static_cast<int>(vec_env.model().physics.control_hz + 0.5);
+    const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, vec_env.model(), slots, config.expert_mode,
                                                               control_hz / config.expert_hz);
     DemoRecording recording;
     recording.cameras = config.cameras;
     recording.video = layout.video;
-    recording.stride = static_cast<int>(env.model().physics.control_hz + 0.5) / config.fps;
+    recording.stride = static_cast<int>(vec_env.model().physics.control_hz + 0.5) / config.fps;
     recording.task_index = static_cast<int>(task_index);
     // The round's recorder: it hands episodes over in order, so when it keeps one its failures()
     // are those of this round's episodes before it.
@@ -223,9 +223,9 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     // Rounds of as many attempts as episodes are still missing, until the task has its N.
     while (task.written < config.episodes && task.attempts < cap) {
       const int64_t round = std::min<int64_t>(config.episodes - task.written, cap - task.attempts);
-      DemoRecorder recorder(env, recording, task.attempts, keep);
+      DemoRecorder recorder(vec_env, recording, task.attempts, keep);
       round_recorder = &recorder;
-      batch::EpisodeDriver driver(env, *expert, round, task.attempts);
+      batch::EpisodeDriver driver(vec_env, *expert, round, task.attempts);
       driver.AddSink(recorder);
       if (config.lock_step) driver.RequireLockStep();
       driver.Run();
@@ -257,4 +257,4 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   return report;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

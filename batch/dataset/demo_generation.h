@@ -17,14 +17,14 @@
 #include "scenarios/expert/expert_mode.h"
 #include "scenarios/split.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 struct DemoConfig {
   std::vector<std::string> tasks;  // one dataset holds every task's episodes, tasks in this order
   std::string robot = "gr1t2";
   scenarios::Split split = scenarios::Split::kId;
   // How the expert's head leads: gaze-first (the reference's teleoperators), or head-still.
-  scenarios::ExpertMode expert_mode = scenarios::ExpertMode::kGazeFirst;
+  scenarios::expert::ExpertMode expert_mode = scenarios::expert::ExpertMode::kGazeFirst;
   int episodes = 100;    // written per task
   int max_attempts = 0;  // per task; 0: 2 * episodes + 20
   uint64_t seed = 0;
@@ -38,7 +38,7 @@ struct DemoConfig {
   // acts: served back at 20 Hz, the action rows reproduce the episode; batch::ExpertPolicy).
   int expert_hz = 60;
   std::vector<std::string> cameras = {"head", "fixed", "left_wrist", "right_wrist"};
-  VideoSettings video;  // size and codec; fps is set from `fps`
+  video::VideoSettings video;  // size and codec; fps is set from `fps`
   DatasetVersion version = DatasetVersion::kV30;
   std::string config_dir;  // holds robots/*.yaml
   // Perturbation levels, "AXIS:LEVEL" each (batch/perturbation_catalog.h): every episode is
@@ -82,4 +82,4 @@ void ValidateDemoConfig(const DemoConfig& config);
 // when its attempt cap is reached first, and std::runtime_error naming the file on an I/O failure.
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress = nullptr);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

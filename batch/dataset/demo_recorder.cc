@@ -8,7 +8,7 @@
 #include "batch/dataset/frame_capture.h"
 #include "kinematics/action.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -19,18 +19,18 @@ double SecondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 struct DemoRecorder::Slot {
   RecordedEpisode episode;
-  std::vector<EpisodeEncoder> encoders;  // per camera, for the running episode
-  kinematics::Action action{};           // this tick's
-  RecordingTimes times;                  // per-slot schedule: added to times_ when the episode ends
+  std::vector<video::EpisodeEncoder> encoders;  // per camera, for the running episode
+  kinematics::Action action{};                  // this tick's
+  RecordingTimes times;                         // per-slot schedule: added to times_ when the episode ends
 };
 
-DemoRecorder::DemoRecorder(const batch::VecEnv& env, DemoRecording recording, int64_t first_episode, Keep keep)
+DemoRecorder::DemoRecorder(const batch::VecEnv& vec_env, DemoRecording recording, int64_t first_episode, Keep keep)
     : recording_(std::move(recording)),
       keep_(std::move(keep)),
-      proprioception_(env.model().robot, env.num_envs()),
-      slots_(static_cast<std::size_t>(env.num_envs())),
-      acted_(static_cast<std::size_t>(env.num_envs()), 0),
-      recorded_(static_cast<std::size_t>(env.num_envs()), 0),
+      proprioception_(vec_env.model().robot, vec_env.num_envs()),
+      slots_(static_cast<std::size_t>(vec_env.num_envs())),
+      acted_(static_cast<std::size_t>(vec_env.num_envs()), 0),
+      recorded_(static_cast<std::size_t>(vec_env.num_envs()), 0),
       next_release_(first_episode) {
   if (recording_.stride < 1) throw std::invalid_argument("the recording stride must be at least 1");
   if (recording_.cameras.empty()) return;
@@ -38,23 +38,23 @@ DemoRecorder::DemoRecorder(const batch::VecEnv& env, DemoRecording recording, in
   cameras.cameras = recording_.cameras;
   cameras.width = recording_.video.width;
   cameras.height = recording_.video.height;
-  render_ = std::make_unique<batch::SceneRender>(env.model(), env.num_envs(), cameras);
+  render_ = std::make_unique<batch::SceneRender>(vec_env.model(), vec_env.num_envs(), cameras);
   // The task's black cameras are black in the dataset, as the reference records them.
-  for (const std::string& name : env.scenario().black_cameras) {
+  for (const std::string& name : vec_env.scenario().black_cameras) {
     const int camera = render_->CameraIndex(name);
     if (camera < 0) continue;
-    for (int slot = 0; slot < env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
+    for (int slot = 0; slot < vec_env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
   }
 }
 
 DemoRecorder::~DemoRecorder() = default;
 
-void DemoRecorder::EpisodeStarted(const batch::VecEnv& env, int slot) {
+void DemoRecorder::EpisodeStarted(const batch::VecEnv& vec_env, int slot) {
   Slot& recording = slots_[static_cast<std::size_t>(slot)];
   recording.episode = RecordedEpisode();
-  recording.episode.source_episode = env.state().episode[slot];
+  recording.episode.source_episode = vec_env.state().episode[slot];
   recording.episode.task_index = recording_.task_index;
-  recording.episode.prompt = env.scenario().prompt(env.state(), slot);
+  recording.episode.prompt = vec_env.scenario().prompt(vec_env.state(), slot);
   recording.episode.image_stats.assign(recording_.cameras.size(), ImageStats());
   recording.encoders.clear();
   for (const std::string& camera : recording_.cameras) recording.encoders.emplace_back(recording_.video, camera);
@@ -84,8 +84,8 @@ void DemoRecorder::EncodeImage(int slot, int camera) {
                    &recording.episode.image_stats[static_cast<std::size_t>(camera)]);
 }
 
-void DemoRecorder::Stepped(const batch::VecEnv& env) {
-  const engine::BatchState& state = env.state();
+void DemoRecorder::Stepped(const batch::VecEnv& vec_env) {
+  const engine::BatchState& state = vec_env.state();
   bool any = false;
   for (int slot = 0; slot < state.num_envs; ++slot) {
     recorded_[static_cast<std::size_t>(slot)] = TakesFrame(state, slot) ? 1 : 0;
@@ -114,8 +114,8 @@ void DemoRecorder::Stepped(const batch::VecEnv& env) {
   times_.encode_s += SecondsSince(start);
 }
 
-void DemoRecorder::SlotStepped(const batch::VecEnv& env, int slot) {
-  const engine::BatchState& state = env.state();
+void DemoRecorder::SlotStepped(const batch::VecEnv& vec_env, int slot) {
+  const engine::BatchState& state = vec_env.state();
   if (!TakesFrame(state, slot)) return;
   RecordingTimes& times = slots_[static_cast<std::size_t>(slot)].times;
   Clock::time_point start = Clock::now();
@@ -131,8 +131,8 @@ void DemoRecorder::SlotStepped(const batch::VecEnv& env, int slot) {
   times.encode_s += SecondsSince(start);
 }
 
-void DemoRecorder::EpisodeEnded(const batch::VecEnv& env, int slot) {
-  const engine::BatchState& state = env.state();
+void DemoRecorder::EpisodeEnded(const batch::VecEnv& vec_env, int slot) {
+  const engine::BatchState& state = vec_env.state();
   Slot& recording = slots_[static_cast<std::size_t>(slot)];
   const int64_t episode = state.episode[slot];
   times_.capture_s += recording.times.capture_s;
@@ -141,7 +141,7 @@ void DemoRecorder::EpisodeEnded(const batch::VecEnv& env, int slot) {
   recording.times = RecordingTimes();
   if (state.end[slot] == engine::EpisodeEnd::kSuccess && recording.episode.frames > 0) {
     const Clock::time_point start = Clock::now();
-    for (EpisodeEncoder& encoder : recording.encoders) recording.episode.videos.push_back(encoder.Finish());
+    for (video::EpisodeEncoder& encoder : recording.encoders) recording.episode.videos.push_back(encoder.Finish());
     times_.encode_s += SecondsSince(start);
     finished_[episode] = {std::move(recording.episode), ""};
   } else {
@@ -163,4 +163,4 @@ void DemoRecorder::Release() {
   }
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -21,11 +21,11 @@
 #include "batch/proprioception.h"
 #include "batch/scene_render.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 struct DemoRecording {
   std::vector<std::string> cameras;  // scene camera names, in the dataset's order
-  VideoSettings video;               // frame size and codec of every camera; fps = control_hz / stride
+  video::VideoSettings video;        // frame size and codec of every camera; fps = control_hz / stride
   int stride = 1;                    // record every stride-th control tick (1: 60 fps, 3: 20 fps)
   int task_index = 0;
 };
@@ -42,15 +42,15 @@ class DemoRecorder : public batch::EpisodeSink {
   using Keep = std::function<void(RecordedEpisode&&)>;
 
   // Records the episodes from `first_episode` on, run on env's slots.
-  DemoRecorder(const batch::VecEnv& env, DemoRecording recording, int64_t first_episode, Keep keep);
+  DemoRecorder(const batch::VecEnv& vec_env, DemoRecording recording, int64_t first_episode, Keep keep);
   ~DemoRecorder() override;
 
-  void EpisodeStarted(const batch::VecEnv& env, int slot) override;
-  void ActionChosen(const batch::VecEnv& env, int slot, const kinematics::Action& action) override;
-  void Stepped(const batch::VecEnv& env) override;
+  void EpisodeStarted(const batch::VecEnv& vec_env, int slot) override;
+  void ActionChosen(const batch::VecEnv& vec_env, int slot, const kinematics::Action& action) override;
+  void Stepped(const batch::VecEnv& vec_env) override;
   // The per-slot schedule's Stepped: the slot's frame, rendered by its own thread.
-  void SlotStepped(const batch::VecEnv& env, int slot) override;
-  void EpisodeEnded(const batch::VecEnv& env, int slot) override;
+  void SlotStepped(const batch::VecEnv& vec_env, int slot) override;
+  void EpisodeEnded(const batch::VecEnv& vec_env, int slot) override;
   // Per-slot frames and encoders; episodes are handed over in order whatever order they end in.
   bool works_per_slot() const override { return true; }
 
@@ -89,4 +89,4 @@ class DemoRecorder : public batch::EpisodeSink {
   RecordingTimes times_;
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

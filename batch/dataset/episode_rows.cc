@@ -5,12 +5,12 @@
 
 #include "batch/observation_contract.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
-void WriteEpisodeRows(ParquetWriter& writer, const RecordedEpisode& episode, const DatasetLayout& layout,
+void WriteEpisodeRows(parquet::ParquetWriter& writer, const RecordedEpisode& episode, const DatasetLayout& layout,
                       int64_t episode_index, int64_t first_index) {
   const std::size_t frames = static_cast<std::size_t>(episode.frames);
-  RowGroupBuilder rows = writer.NewRowGroup(frames);
+  parquet::RowGroupBuilder rows = writer.NewRowGroup(frames);
   rows.AddList("action", episode.action);
   rows.AddList(batch::contract::kStateKey, episode.state);
   rows.AddList("observation.left_eef_pos", episode.left_eef_pos);
@@ -33,4 +33,4 @@ void WriteEpisodeRows(ParquetWriter& writer, const RecordedEpisode& episode, con
   writer.WriteRowGroup(rows);
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

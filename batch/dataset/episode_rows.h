@@ -8,11 +8,11 @@
 #include "batch/dataset/parquet/parquet_writer.h"
 #include "batch/dataset/recorded_episode.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 // Appends `episode` as one row group: dataset episode `episode_index`, global index from
 // `first_index`, timestamps frame / fps.
-void WriteEpisodeRows(ParquetWriter& writer, const RecordedEpisode& episode, const DatasetLayout& layout,
+void WriteEpisodeRows(parquet::ParquetWriter& writer, const RecordedEpisode& episode, const DatasetLayout& layout,
                       int64_t episode_index, int64_t first_index);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -5,14 +5,14 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "batch/atomic_file.h"
 #include "batch/dataset/episode_rows.h"
 #include "batch/dataset/parquet/parquet_reader.h"
 #include "batch/dataset/parquet/parquet_writer.h"
 #include "batch/dataset/video/encoded_episode_file.h"
-#include "batch/json_error_text.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/json_error_text.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 nlohmann::json ReadJson(const std::filesystem::path& path) {
@@ -22,7 +22,7 @@ nlohmann::json ReadJson(const std::filesystem::path& path) {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& error) {
     throw std::runtime_error(path.string() +
-                             ": damaged spool file, not valid JSON: " + batch::JsonErrorText(error.what()));
+                             ": damaged spool file, not valid JSON: " + batch::output::JsonErrorText(error.what()));
   }
 }
 
@@ -36,11 +36,11 @@ T Field(const nlohmann::json& record, const char* key, const std::filesystem::pa
     return record.at(key).get<T>();
   } catch (const nlohmann::json::exception& error) {
     throw std::runtime_error(path.string() + ": damaged spool file, \"" + key + "\" is " +
-                             record.at(key).dump(-1).substr(0, 80) + ": " + batch::JsonErrorText(error.what()));
+                             record.at(key).dump(-1).substr(0, 80) + ": " + batch::output::JsonErrorText(error.what()));
   }
 }
 
-std::vector<float> ReadVectors(const ParquetReader& reader, const std::string& column) {
+std::vector<float> ReadVectors(const parquet::ParquetReader& reader, const std::string& column) {
   return reader.ReadListColumn<float>(column).values;
 }
 
@@ -61,12 +61,12 @@ void EpisodeSpool::Save(const RecordedEpisode& episode, const std::map<std::stri
   const std::string dir = EpisodeDir(count_);
   std::filesystem::remove_all(dir);  // what an interrupted Save left
   std::filesystem::create_directories(dir);
-  ParquetWriter data(dir + "/data.parquet", DataColumns(layout_));
+  parquet::ParquetWriter data(dir + "/data.parquet", DataColumns(layout_));
   WriteEpisodeRows(data, episode, layout_, count_, 0);
   data.Close();
   nlohmann::json histograms = nlohmann::json::array();
   for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
-    SaveEncodedEpisode(episode.videos[camera], dir + "/" + layout_.cameras[camera] + ".packets");
+    video::SaveEncodedEpisode(episode.videos[camera], dir + "/" + layout_.cameras[camera] + ".packets");
     histograms.push_back(
         {{"frames", episode.image_stats[camera].frames()}, {"histogram", episode.image_stats[camera].histogram()}});
   }
@@ -76,7 +76,7 @@ void EpisodeSpool::Save(const RecordedEpisode& episode, const std::map<std::stri
                                  {"frames", episode.frames},
                                  {"image_histograms", histograms},
                                  {"task_failures_before", task_failures_before}};
-  batch::WriteFileAtomically(dir + "/episode.json", record.dump() + "\n");
+  batch::output::WriteFileAtomically(dir + "/episode.json", record.dump() + "\n");
   ++count_;
 }
 
@@ -99,7 +99,7 @@ SpooledEpisode EpisodeSpool::Load(int64_t n) const {
   if (record.contains("task_failures_before")) {
     spooled.task_failures_before = Field<std::map<std::string, int64_t>>(record, "task_failures_before", record_path);
   }
-  const ParquetReader data(dir + "/data.parquet");
+  const parquet::ParquetReader data(dir + "/data.parquet");
   episode.action = ReadVectors(data, "action");
   episode.state = ReadVectors(data, "observation.state");
   episode.left_eef_pos = ReadVectors(data, "observation.left_eef_pos");
@@ -116,10 +116,10 @@ SpooledEpisode EpisodeSpool::Load(int64_t n) const {
                              ": damaged spool file, \"image_histograms\" needs one entry per camera (" +
                              std::to_string(layout_.cameras.size()) + ")");
   }
-  VideoSettings settings = layout_.video;
+  video::VideoSettings settings = layout_.video;
   settings.fps = layout_.fps;
   for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
-    episode.videos.push_back(LoadEncodedEpisode(dir + "/" + layout_.cameras[camera] + ".packets", settings));
+    episode.videos.push_back(video::LoadEncodedEpisode(dir + "/" + layout_.cameras[camera] + ".packets", settings));
     episode.image_stats.push_back(
         ImageStats::FromHistogram(Field<int64_t>(histograms[camera], "frames", record_path),
                                   Field<ImageStats::Histogram>(histograms[camera], "histogram", record_path)));
@@ -128,7 +128,7 @@ SpooledEpisode EpisodeSpool::Load(int64_t n) const {
 }
 
 void EpisodeSpool::SaveProgress(const nlohmann::json& progress) const {
-  batch::WriteFileAtomically(dir_ + "/progress.json", progress.dump(2) + "\n");
+  batch::output::WriteFileAtomically(dir_ + "/progress.json", progress.dump(2) + "\n");
 }
 
 nlohmann::json EpisodeSpool::LoadProgress() const {
@@ -141,4 +141,4 @@ nlohmann::json EpisodeSpool::LoadProgress() const {
 
 void EpisodeSpool::Remove() const { std::filesystem::remove_all(dir_); }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -16,7 +16,7 @@
 #include "batch/dataset/lerobot_features.h"
 #include "batch/dataset/recorded_episode.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 // A kept episode as the spool holds it, with what a resumed recording needs to report the same
 // counts as an uninterrupted one.
@@ -56,4 +56,4 @@ class EpisodeSpool {
   int64_t count_ = 0;
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

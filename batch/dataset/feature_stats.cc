@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 // numpy.quantile's default (linear) on sorted values.
@@ -147,4 +147,4 @@ FeatureStats ImageStats::Compute() const {
   return stats;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 struct FeatureStats {
   std::vector<double> min, max, mean, std, q01, q10, q50, q90, q99;  // (dims)
@@ -58,4 +58,4 @@ class ImageStats {
   Histogram histogram_{};
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

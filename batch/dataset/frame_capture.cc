@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 void Append(std::vector<float>& rows, const float* values, int size) { rows.insert(rows.end(), values, values + size); }
@@ -21,7 +21,7 @@ void AppendFrameState(const batch::ProprioceptionBatch& proprioception, int slot
   ++episode->frames;
 }
 
-void AppendFrameImage(const render::ImageBatch& images, int slot, int camera, EpisodeEncoder* encoder,
+void AppendFrameImage(const render::ImageBatch& images, int slot, int camera, video::EpisodeEncoder* encoder,
                       ImageStats* stats) {
   const uint8_t* rgb = images.rgb(slot, camera);
   const std::size_t size =
@@ -30,4 +30,4 @@ void AppendFrameImage(const render::ImageBatch& images, int slot, int camera, Ep
   stats->AddFrame(rgb, images.width(camera), images.height(camera));
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

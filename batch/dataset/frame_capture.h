@@ -9,14 +9,14 @@
 #include "kinematics/action.h"
 #include "render/image_batch.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 // Appends `action` and slot's state and end-effector poses as one row of each column.
 void AppendFrameState(const batch::ProprioceptionBatch& proprioception, int slot, const kinematics::Action& action,
                       RecordedEpisode* episode);
 
 // Encodes slot's image of `camera` as the episode's next frame and adds it to the camera's stats.
-void AppendFrameImage(const render::ImageBatch& images, int slot, int camera, EpisodeEncoder* encoder,
+void AppendFrameImage(const render::ImageBatch& images, int slot, int camera, video::EpisodeEncoder* encoder,
                       ImageStats* stats);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

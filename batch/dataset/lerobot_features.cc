@@ -5,7 +5,7 @@
 #include "batch/observation_contract.h"
 #include "kinematics/action.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 nlohmann::json Scalar(const char* dtype) { return {{"dtype", dtype}, {"shape", {1}}, {"names", nullptr}}; }
@@ -54,7 +54,7 @@ nlohmann::json FeaturesJson(const DatasetLayout& layout) {
                                           {"info",
                                            {{"video.height", layout.video.height},
                                             {"video.width", layout.video.width},
-                                            {"video.codec", VideoCodecName(layout.video.codec)},
+                                            {"video.codec", video::VideoCodecName(layout.video.codec)},
                                             {"video.pix_fmt", "yuv420p"},
                                             {"video.is_depth_map", false},
                                             {"video.fps", layout.fps},
@@ -69,17 +69,18 @@ nlohmann::json FeaturesJson(const DatasetLayout& layout) {
   return features;
 }
 
-std::vector<ColumnSpec> DataColumns(const DatasetLayout& layout) {
-  std::vector<ColumnSpec> columns;
+std::vector<parquet::ColumnSpec> DataColumns(const DatasetLayout& layout) {
+  std::vector<parquet::ColumnSpec> columns;
   for (const VectorFeature& feature : VectorFeatures(layout)) {
-    columns.push_back(ColumnSpec::List(feature.name, ValueType::kFloat, {static_cast<std::size_t>(feature.size)}));
+    columns.push_back(
+        parquet::ColumnSpec::List(feature.name, parquet::ValueType::kFloat, {static_cast<std::size_t>(feature.size)}));
   }
-  columns.push_back(ColumnSpec::Scalar("language_instruction", ValueType::kString));
-  columns.push_back(ColumnSpec::Scalar("timestamp", ValueType::kFloat));
+  columns.push_back(parquet::ColumnSpec::Scalar("language_instruction", parquet::ValueType::kString));
+  columns.push_back(parquet::ColumnSpec::Scalar("timestamp", parquet::ValueType::kFloat));
   for (const char* name : {"frame_index", "episode_index", "index", "task_index"}) {
-    columns.push_back(ColumnSpec::Scalar(name, ValueType::kInt64));
+    columns.push_back(parquet::ColumnSpec::Scalar(name, parquet::ValueType::kInt64));
   }
   return columns;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -11,7 +11,7 @@
 #include "batch/dataset/parquet/parquet_schema.h"
 #include "batch/dataset/video/video_settings.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 enum class DatasetVersion { kV30, kV21 };  // v2.1: one file per episode, for openpi fine-tuning
 
@@ -24,7 +24,7 @@ struct DatasetLayout {
   int fps = 60;
   std::string robot_type;                // the robot's name
   std::vector<std::string> cameras;      // scene camera names (head, fixed, left_wrist, right_wrist)
-  VideoSettings video;                   // size, codec; fps equals `fps`
+  video::VideoSettings video;            // size, codec; fps equals `fps`
   std::vector<std::string> state_names;  // observation.state entries
   std::vector<std::string> tasks;        // LeRobot tasks (the reference's task class names), by task_index
   // v3.0: a new data file (video file) starts when the current one would reach this size. LeRobot's
@@ -53,6 +53,6 @@ inline const std::vector<std::string> kIndexFeatures = {"timestamp", "frame_inde
 nlohmann::json FeaturesJson(const DatasetLayout& layout);
 
 // The data files' columns (no video: cameras live in the mp4 files).
-std::vector<ColumnSpec> DataColumns(const DatasetLayout& layout);
+std::vector<parquet::ColumnSpec> DataColumns(const DatasetLayout& layout);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

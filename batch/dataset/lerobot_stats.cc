@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 const std::vector<float>& VectorOf(const RecordedEpisode& episode, const std::string& feature) {
@@ -99,4 +99,4 @@ DatasetStats EpisodeStats(const RecordedEpisode& episode, const DatasetLayout& l
   return stats;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

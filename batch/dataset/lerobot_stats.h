@@ -12,7 +12,7 @@
 #include "batch/dataset/lerobot_features.h"
 #include "batch/dataset/recorded_episode.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 struct DatasetStats {
   std::map<std::string, NumericStats> numeric;  // vector and bookkeeping features
@@ -36,4 +36,4 @@ inline const std::vector<std::string> kStatNames = {"min", "max", "mean", "std",
 // The values of one statistic of `stats` (count as a one-entry list).
 std::vector<double> StatValues(const FeatureStats& stats, const std::string& stat);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

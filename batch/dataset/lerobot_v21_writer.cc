@@ -7,14 +7,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/atomic_file.h"
 #include "batch/dataset/episode_rows.h"
 #include "batch/dataset/lerobot_stats.h"
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/dataset/parquet/parquet_writer.h"
 #include "batch/dataset/video/video_writer.h"
+#include "batch/output/atomic_file.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 constexpr int64_t kChunksSize = 1000;
@@ -32,16 +32,16 @@ class V21Writer : public DatasetWriter {
     std::snprintf(name, sizeof name, "episode_%06lld", static_cast<long long>(index));
     const std::filesystem::path data = std::filesystem::path(root_) / "data" / chunk / (std::string(name) + ".parquet");
     std::filesystem::create_directories(data.parent_path());
-    ParquetWriter writer(data.string(), DataColumns(layout_));
+    parquet::ParquetWriter writer(data.string(), DataColumns(layout_));
     WriteEpisodeRows(writer, episode, layout_, index, frames_);
     writer.Close();
     for (std::size_t camera = 0; camera < layout_.cameras.size(); ++camera) {
       const std::filesystem::path video = std::filesystem::path(root_) / "videos" / chunk /
                                           CameraVideoKey(layout_.cameras[camera]) / (std::string(name) + ".mp4");
       std::filesystem::create_directories(video.parent_path());
-      VideoSettings settings = layout_.video;
+      video::VideoSettings settings = layout_.video;
       settings.fps = layout_.fps;
-      Mp4VideoWriter file(video.string(), settings);
+      video::Mp4VideoWriter file(video.string(), settings);
       file.AppendEpisode(episode.videos[camera]);
       file.Close();
     }
@@ -63,10 +63,10 @@ class V21Writer : public DatasetWriter {
     for (std::size_t i = 0; i < layout_.tasks.size(); ++i) {
       tasks += nlohmann::json{{"task_index", i}, {"task", layout_.tasks[i]}}.dump() + "\n";
     }
-    batch::WriteFileAtomically(root_ + "/meta/tasks.jsonl", tasks);
-    batch::WriteFileAtomically(root_ + "/meta/episodes.jsonl", episodes_text_);
-    batch::WriteFileAtomically(root_ + "/meta/episodes_stats.jsonl", stats_text_);
-    batch::WriteFileAtomically(root_ + "/meta/stats.json", stats_.ToJson().dump(2) + "\n");
+    batch::output::WriteFileAtomically(root_ + "/meta/tasks.jsonl", tasks);
+    batch::output::WriteFileAtomically(root_ + "/meta/episodes.jsonl", episodes_text_);
+    batch::output::WriteFileAtomically(root_ + "/meta/episodes_stats.jsonl", stats_text_);
+    batch::output::WriteFileAtomically(root_ + "/meta/stats.json", stats_.ToJson().dump(2) + "\n");
     const nlohmann::json info = {
         {"codebase_version", "v2.1"},
         {"robot_type", layout_.robot_type},
@@ -84,7 +84,7 @@ class V21Writer : public DatasetWriter {
              ? nlohmann::json()
              : nlohmann::json("videos/chunk-{episode_chunk:03d}/{video_key}/episode_{episode_index:06d}.mp4")},
         {"features", FeaturesJson(layout_)}};
-    batch::WriteFileAtomically(root_ + "/meta/info.json", info.dump(2) + "\n");
+    batch::output::WriteFileAtomically(root_ + "/meta/info.json", info.dump(2) + "\n");
   }
 
   int64_t episodes() const override { return episodes_; }
@@ -105,4 +105,4 @@ std::unique_ptr<DatasetWriter> MakeV21Writer(const std::string& root, const Data
   return std::make_unique<V21Writer>(root, layout);
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -10,14 +10,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/atomic_file.h"
 #include "batch/dataset/episode_rows.h"
 #include "batch/dataset/lerobot_stats.h"
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/dataset/parquet/parquet_writer.h"
 #include "batch/dataset/video/video_writer.h"
+#include "batch/output/atomic_file.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 // LeRobot's default (lerobot-v3-format.md 1-2).
@@ -65,7 +65,7 @@ struct EpisodeRow {
 // One camera's current mp4 file.
 struct CameraFile {
   FileIndex index;
-  std::unique_ptr<Mp4VideoWriter> writer;
+  std::unique_ptr<video::Mp4VideoWriter> writer;
 };
 
 class V30Writer : public DatasetWriter {
@@ -106,8 +106,8 @@ class V30Writer : public DatasetWriter {
     }
     WriteEpisodesTable();
     WriteTasksTable();
-    batch::WriteFileAtomically(root_ + "/meta/stats.json", stats_.ToJson().dump(2) + "\n");
-    batch::WriteFileAtomically(root_ + "/meta/info.json", InfoJson().dump(2) + "\n");
+    batch::output::WriteFileAtomically(root_ + "/meta/stats.json", stats_.ToJson().dump(2) + "\n");
+    batch::output::WriteFileAtomically(root_ + "/meta/info.json", InfoJson().dump(2) + "\n");
   }
 
   int64_t episodes() const override { return static_cast<int64_t>(rows_.size()); }
@@ -129,7 +129,7 @@ class V30Writer : public DatasetWriter {
     if (!data_) {
       const std::string path = root_ + "/" + Numbered("data/", data_index_, "parquet");
       std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-      data_ = std::make_unique<ParquetWriter>(path, DataColumns(layout_));
+      data_ = std::make_unique<parquet::ParquetWriter>(path, DataColumns(layout_));
     }
     return data_index_;
   }
@@ -146,50 +146,52 @@ class V30Writer : public DatasetWriter {
       const std::string path =
           root_ + "/" + Numbered("videos/" + CameraVideoKey(layout_.cameras[camera]) + "/", file.index, "mp4");
       std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-      VideoSettings settings = layout_.video;
+      video::VideoSettings settings = layout_.video;
       settings.fps = layout_.fps;
-      file.writer = std::make_unique<Mp4VideoWriter>(path, settings);
+      file.writer = std::make_unique<video::Mp4VideoWriter>(path, settings);
     }
     return file;
   }
 
   void WriteEpisodesTable() const {
-    std::vector<ColumnSpec> columns = {ColumnSpec::Scalar("episode_index", ValueType::kInt64),
-                                       ColumnSpec::List("tasks", ValueType::kString),
-                                       ColumnSpec::Scalar("length", ValueType::kInt64),
-                                       ColumnSpec::Scalar("data/chunk_index", ValueType::kInt64),
-                                       ColumnSpec::Scalar("data/file_index", ValueType::kInt64),
-                                       ColumnSpec::Scalar("dataset_from_index", ValueType::kInt64),
-                                       ColumnSpec::Scalar("dataset_to_index", ValueType::kInt64)};
+    std::vector<parquet::ColumnSpec> columns = {
+        parquet::ColumnSpec::Scalar("episode_index", parquet::ValueType::kInt64),
+        parquet::ColumnSpec::List("tasks", parquet::ValueType::kString),
+        parquet::ColumnSpec::Scalar("length", parquet::ValueType::kInt64),
+        parquet::ColumnSpec::Scalar("data/chunk_index", parquet::ValueType::kInt64),
+        parquet::ColumnSpec::Scalar("data/file_index", parquet::ValueType::kInt64),
+        parquet::ColumnSpec::Scalar("dataset_from_index", parquet::ValueType::kInt64),
+        parquet::ColumnSpec::Scalar("dataset_to_index", parquet::ValueType::kInt64)};
     for (const std::string& camera : layout_.cameras) {
       const std::string prefix = "videos/" + CameraVideoKey(camera) + "/";
-      columns.push_back(ColumnSpec::Scalar(prefix + "chunk_index", ValueType::kInt64));
-      columns.push_back(ColumnSpec::Scalar(prefix + "file_index", ValueType::kInt64));
-      columns.push_back(ColumnSpec::Scalar(prefix + "from_timestamp", ValueType::kDouble));
-      columns.push_back(ColumnSpec::Scalar(prefix + "to_timestamp", ValueType::kDouble));
+      columns.push_back(parquet::ColumnSpec::Scalar(prefix + "chunk_index", parquet::ValueType::kInt64));
+      columns.push_back(parquet::ColumnSpec::Scalar(prefix + "file_index", parquet::ValueType::kInt64));
+      columns.push_back(parquet::ColumnSpec::Scalar(prefix + "from_timestamp", parquet::ValueType::kDouble));
+      columns.push_back(parquet::ColumnSpec::Scalar(prefix + "to_timestamp", parquet::ValueType::kDouble));
     }
     for (const auto& [feature, stats] : rows_.front().numeric_stats) {
       for (const std::string& stat : kStatNames) {
         const bool count = stat == "count";
-        columns.push_back(ColumnSpec::List("stats/" + feature + "/" + stat,
-                                           count ? ValueType::kInt64 : ValueType::kDouble,
-                                           {count ? 1 : stats.min.size()}));
+        columns.push_back(parquet::ColumnSpec::List("stats/" + feature + "/" + stat,
+                                                    count ? parquet::ValueType::kInt64 : parquet::ValueType::kDouble,
+                                                    {count ? 1 : stats.min.size()}));
       }
     }
     for (const auto& [feature, stats] : rows_.front().image_stats) {
       for (const std::string& stat : kStatNames) {
         const bool count = stat == "count";
-        columns.push_back(count ? ColumnSpec::List("stats/" + feature + "/count", ValueType::kInt64, {1})
-                                : ColumnSpec::List("stats/" + feature + "/" + stat, ValueType::kDouble, {3, 1, 1}));
+        columns.push_back(
+            count ? parquet::ColumnSpec::List("stats/" + feature + "/count", parquet::ValueType::kInt64, {1})
+                  : parquet::ColumnSpec::List("stats/" + feature + "/" + stat, parquet::ValueType::kDouble, {3, 1, 1}));
       }
     }
-    columns.push_back(ColumnSpec::Scalar("meta/episodes/chunk_index", ValueType::kInt64));
-    columns.push_back(ColumnSpec::Scalar("meta/episodes/file_index", ValueType::kInt64));
+    columns.push_back(parquet::ColumnSpec::Scalar("meta/episodes/chunk_index", parquet::ValueType::kInt64));
+    columns.push_back(parquet::ColumnSpec::Scalar("meta/episodes/file_index", parquet::ValueType::kInt64));
 
     const std::string path = root_ + "/meta/episodes/chunk-000/file-000.parquet";
     std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-    ParquetWriter writer(path, columns);
-    RowGroupBuilder rows = writer.NewRowGroup(rows_.size());
+    parquet::ParquetWriter writer(path, columns);
+    parquet::RowGroupBuilder rows = writer.NewRowGroup(rows_.size());
     const auto column = [this](auto value_of) {
       std::vector<decltype(value_of(rows_.front()))> values;
       for (const EpisodeRow& row : rows_) values.push_back(value_of(row));
@@ -224,7 +226,7 @@ class V30Writer : public DatasetWriter {
   }
 
   // stats/<feature>/<stat> of every episode, in the columns' order.
-  void AddStatsColumns(RowGroupBuilder& rows) const {
+  void AddStatsColumns(parquet::RowGroupBuilder& rows) const {
     const auto add = [&](const std::string& feature, std::map<std::string, FeatureStats> EpisodeRow::*table) {
       for (const std::string& stat : kStatNames) {
         const std::string name = "stats/" + feature + "/" + stat;
@@ -249,17 +251,18 @@ class V30Writer : public DatasetWriter {
   // task_index -> task, with the pandas metadata that makes `task` the DataFrame's index
   // (lerobot-v3-format.md 3.3).
   void WriteTasksTable() const {
-    ParquetWriterOptions options;
+    parquet::ParquetWriterOptions options;
     options.key_value_metadata = {
         {"pandas",
          R"({"index_columns": ["task"], "column_indexes": [{"name": null, "field_name": null, "pandas_type": "unicode", )"
          R"("numpy_type": "object", "metadata": {"encoding": "UTF-8"}}], "columns": [{"name": "task_index", )"
          R"("field_name": "task_index", "pandas_type": "int64", "numpy_type": "int64", "metadata": null}, {"name": "task", )"
          R"("field_name": "task", "pandas_type": "unicode", "numpy_type": "object", "metadata": null}]})"}};
-    ParquetWriter writer(
-        root_ + "/meta/tasks.parquet",
-        {ColumnSpec::Scalar("task_index", ValueType::kInt64), ColumnSpec::Scalar("task", ValueType::kString)}, options);
-    RowGroupBuilder rows = writer.NewRowGroup(layout_.tasks.size());
+    parquet::ParquetWriter writer(root_ + "/meta/tasks.parquet",
+                                  {parquet::ColumnSpec::Scalar("task_index", parquet::ValueType::kInt64),
+                                   parquet::ColumnSpec::Scalar("task", parquet::ValueType::kString)},
+                                  options);
+    parquet::RowGroupBuilder rows = writer.NewRowGroup(layout_.tasks.size());
     std::vector<int64_t> index;
     for (std::size_t i = 0; i < layout_.tasks.size(); ++i) index.push_back(static_cast<int64_t>(i));
     rows.Add("task_index", index);
@@ -289,7 +292,7 @@ class V30Writer : public DatasetWriter {
 
   std::string root_;
   DatasetLayout layout_;
-  std::unique_ptr<ParquetWriter> data_;
+  std::unique_ptr<parquet::ParquetWriter> data_;
   FileIndex data_index_;
   std::vector<CameraFile> cameras_;
   std::vector<EpisodeRow> rows_;
@@ -303,4 +306,4 @@ std::unique_ptr<DatasetWriter> MakeV30Writer(const std::string& root, const Data
   return std::make_unique<V30Writer>(root, layout);
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -1,6 +1,6 @@
 #include "batch/dataset/lerobot_writer.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 // Defined with their layouts (lerobot_v30_writer.cc, lerobot_v21_writer.cc).
 std::unique_ptr<DatasetWriter> MakeV30Writer(const std::string& root, const DatasetLayout& layout);
@@ -10,4 +10,4 @@ std::unique_ptr<DatasetWriter> MakeDatasetWriter(const std::string& root, const 
   return layout.version == DatasetVersion::kV30 ? MakeV30Writer(root, layout) : MakeV21Writer(root, layout);
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

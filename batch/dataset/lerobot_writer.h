@@ -20,7 +20,7 @@
 #include "batch/dataset/lerobot_features.h"
 #include "batch/dataset/recorded_episode.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 class DatasetWriter {
  public:
@@ -37,4 +37,4 @@ class DatasetWriter {
 // A writer of `layout.version` into `root` (created; it should be empty).
 std::unique_ptr<DatasetWriter> MakeDatasetWriter(const std::string& root, const DatasetLayout& layout);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -11,7 +11,7 @@
 #include "batch/dataset/feature_stats.h"
 #include "batch/dataset/video/episode_encoder.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 
 struct RecordedEpisode {
   int64_t source_episode = 0;  // the simulator's episode index (its randomness is (seed, index))
@@ -23,8 +23,8 @@ struct RecordedEpisode {
   std::vector<float> state;                          // the robot's observation.state
   std::vector<float> left_eef_pos, right_eef_pos;    // 3, canonical frame
   std::vector<float> left_eef_quat, right_eef_quat;  // 4, world frame (w, x, y, z)
-  std::vector<EncodedEpisode> videos;                // per recorded camera, in the dataset's camera order
+  std::vector<video::EncodedEpisode> videos;         // per recorded camera, in the dataset's camera order
   std::vector<ImageStats> image_stats;               // per recorded camera
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -1,8 +1,8 @@
-// tavis._tavis: the pybind11 layer over PythonVecEnv (docs/python.md). Images and
+// tavis._tavis: the pybind11 layer over gym::GymVecEnv (docs/python.md). Images and
 // observation.state are returned as numpy views of the simulator's buffers (no copy, read-only,
 // their base is the env, so the env outlives them; the package copies them unless asked not to);
 // the GIL is released while the env resets, steps, renders and while a built-in policy acts, and
-// every call holds the env (PythonVecEnv::Exclusive), so a second thread gets RuntimeError. Bad
+// every call holds the env (gym::GymVecEnv::Exclusive), so a second thread gets RuntimeError. Bad
 // input raises ValueError, an unknown name KeyError, before anything moves; memory the env cannot
 // have raises MemoryError.
 #include <pybind11/numpy.h>
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "batch/builtin_policies.h"
-#include "batch/cell_report.h"
-#include "batch/python/python_vec_env.h"
+#include "batch/cell/cell_report.h"
+#include "batch/gym/gym_vec_env.h"
 #include "batch/scene_render.h"
 #include "configs/yaml_reader.h"
 #include "kinematics/action.h"
@@ -23,7 +23,7 @@
 
 namespace py = pybind11;
 
-namespace tavis::batch {
+namespace tavis::batch::python {
 namespace {
 
 constexpr int kActionSize = kinematics::action::kSize;
@@ -39,7 +39,7 @@ py::array View(const py::dtype& dtype, std::vector<py::ssize_t> shape, std::vect
 // The images of each camera as (num_envs, H, W, 3) uint8, keyed by camera name. The batch is
 // env-major (render::ImageBatch), so a camera's images are one view with the env stride.
 py::dict Pixels(const py::object& self, const render::ImageBatch* images) {
-  const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+  const gym::GymVecEnv& env = self.cast<const gym::GymVecEnv&>();
   py::dict pixels;
   if (images == nullptr) return pixels;
   const py::dtype u8 = py::dtype::of<uint8_t>();
@@ -55,7 +55,7 @@ py::dict Pixels(const py::object& self, const render::ImageBatch* images) {
 }
 
 py::array AgentPos(const py::object& self) {
-  const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+  const gym::GymVecEnv& env = self.cast<const gym::GymVecEnv&>();
   const py::ssize_t row = env.state_size();
   return View(py::dtype::of<float>(), {env.num_envs(), row},
               {row * static_cast<py::ssize_t>(sizeof(float)), sizeof(float)}, env.agent_pos(), self);
@@ -63,7 +63,7 @@ py::array AgentPos(const py::object& self) {
 
 // The actions as a contiguous (num_envs x 19) float64 buffer; ValueError for another shape or a
 // dtype other than float32 / float64.
-std::vector<double> Actions(const PythonVecEnv& env, const py::handle& actions) {
+std::vector<double> Actions(const gym::GymVecEnv& env, const py::handle& actions) {
   if (!py::isinstance<py::array>(actions)) {
     throw py::value_error("actions must be a numpy array of shape (" + std::to_string(env.num_envs()) + ", " +
                           std::to_string(kActionSize) + "), got " +
@@ -96,36 +96,37 @@ py::array_t<bool> Flags(const std::vector<uint8_t>& values) {
   return flags;
 }
 
-using Exclusive = PythonVecEnv::Exclusive;
+using Exclusive = gym::GymVecEnv::Exclusive;
 
-PythonVecEnv* MakeEnv(PythonVecEnvConfig config) {
+gym::GymVecEnv* MakeEnv(gym::GymVecEnvConfig config) {
   py::gil_scoped_release release;
-  return new PythonVecEnv(config);
+  return new gym::GymVecEnv(config);
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::python
 
 PYBIND11_MODULE(_tavis, m) {
-  using namespace tavis;         // NOLINT: the module's one scope
-  using namespace tavis::batch;  // NOLINT
+  using namespace tavis;                 // NOLINT: the module's one scope
+  using namespace tavis::batch;          // NOLINT
+  using namespace tavis::batch::python;  // NOLINT: the helpers above
   m.doc() = "TAVIS-C++ batched env (the pybind11 core of the tavis package; see docs/python.md)";
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
       if (thrown) std::rethrow_exception(thrown);
-    } catch (const UnknownName& error) {
+    } catch (const gym::UnknownName& error) {
       PyErr_SetString(PyExc_KeyError, error.what());
     } catch (const configs::ConfigError& error) {
       PyErr_SetString(PyExc_ValueError, error.what());
-    } catch (const OutOfMemory& error) {
+    } catch (const gym::OutOfMemory& error) {
       PyErr_SetString(PyExc_MemoryError, error.what());
-    } catch (const EnvBusy& error) {
+    } catch (const gym::EnvBusy& error) {
       PyErr_SetString(PyExc_RuntimeError, error.what());
     }
   });
 
   m.attr("ACTION_SIZE") = kActionSize;
-  m.attr("MAX_ENVS") = kMaxPythonEnvs;
+  m.attr("MAX_ENVS") = gym::kMaxGymEnvs;
   m.attr("DEFAULT_CONFIG_DIR") = TAVIS_DEFAULT_CONFIG_DIR;
   m.def("camera_names", &SceneCameraNames, "The cameras: head, fixed, left_wrist, right_wrist");
   m.def("known_tasks", &scenarios::KnownTasks, "The tasks, comma-separated");
@@ -136,7 +137,7 @@ PYBIND11_MODULE(_tavis, m) {
       .def_property_readonly("name", &Policy::name)
       .def_property_readonly("control_ticks_per_action", &Policy::control_ticks_per_action);
 
-  py::class_<PythonVecEnv>(m, "VecEnvCore")
+  py::class_<gym::GymVecEnv>(m, "VecEnvCore")
       .def(py::init([](const std::string& task, const std::string& robot, const std::string& split, int num_envs,
                        uint64_t seed, const std::string& camera, const std::vector<std::string>& cameras,
                        std::pair<int, int> image_size, int threads, int control_ticks_per_step, bool autoreset,
@@ -147,15 +148,15 @@ PYBIND11_MODULE(_tavis, m) {
            py::arg("task"), py::arg("robot"), py::arg("split"), py::arg("num_envs"), py::arg("seed"), py::arg("camera"),
            py::arg("cameras"), py::arg("image_size"), py::arg("threads"), py::arg("control_ticks_per_step"),
            py::arg("autoreset"), py::arg("config_dir"))
-      .def_property_readonly("num_envs", &PythonVecEnv::num_envs)
-      .def_property_readonly("state_size", &PythonVecEnv::state_size)
-      .def_property_readonly("control_ticks_per_step", &PythonVecEnv::control_ticks_per_step)
-      .def_property_readonly("max_episode_steps", &PythonVecEnv::max_episode_steps)
-      .def_property_readonly("camera_names", &PythonVecEnv::camera_names)
-      .def_property_readonly("busy", &PythonVecEnv::busy, "Whether a call holds the env now (another thread's)")
+      .def_property_readonly("num_envs", &gym::GymVecEnv::num_envs)
+      .def_property_readonly("state_size", &gym::GymVecEnv::state_size)
+      .def_property_readonly("control_ticks_per_step", &gym::GymVecEnv::control_ticks_per_step)
+      .def_property_readonly("max_episode_steps", &gym::GymVecEnv::max_episode_steps)
+      .def_property_readonly("camera_names", &gym::GymVecEnv::camera_names)
+      .def_property_readonly("busy", &gym::GymVecEnv::busy, "Whether a call holds the env now (another thread's)")
       .def(
           "reset",
-          [](PythonVecEnv& env, const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes) {
+          [](gym::GymVecEnv& env, const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes) {
             const Exclusive use(env, "reset");
             py::gil_scoped_release release;
             env.Reset(mask, episodes);
@@ -163,7 +164,7 @@ PYBIND11_MODULE(_tavis, m) {
           py::arg("mask"), py::arg("episodes"))
       .def(
           "step",
-          [](PythonVecEnv& env, const py::handle& actions) {
+          [](gym::GymVecEnv& env, const py::handle& actions) {
             const std::vector<double> values = Actions(env, actions);
             const Exclusive use(env, "step");
             py::gil_scoped_release release;
@@ -173,7 +174,7 @@ PYBIND11_MODULE(_tavis, m) {
       .def(
           "pixels",
           [](const py::object& self) {
-            const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+            const gym::GymVecEnv& env = self.cast<const gym::GymVecEnv&>();
             const Exclusive use(env, "pixels");
             return Pixels(self, env.images());
           },
@@ -181,7 +182,7 @@ PYBIND11_MODULE(_tavis, m) {
       .def(
           "final_pixels",
           [](const py::object& self) {
-            const PythonVecEnv& env = self.cast<const PythonVecEnv&>();
+            const gym::GymVecEnv& env = self.cast<const gym::GymVecEnv&>();
             const Exclusive use(env, "final_pixels");
             return Pixels(self, env.final_images());
           },
@@ -190,58 +191,58 @@ PYBIND11_MODULE(_tavis, m) {
       .def(
           "agent_pos",
           [](const py::object& self) {
-            const Exclusive use(self.cast<const PythonVecEnv&>(), "agent_pos");
+            const Exclusive use(self.cast<const gym::GymVecEnv&>(), "agent_pos");
             return AgentPos(self);
           },
           "A view of observation.state, (N, D) float32, valid until the next step")
       .def("prompts",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "prompts");
              std::vector<std::string> prompts;
              for (int i = 0; i < env.num_envs(); ++i) prompts.emplace_back(env.prompt(i));
              return prompts;
            })
       .def("episodes",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "episodes");
              std::vector<int64_t> episodes;
              for (int i = 0; i < env.num_envs(); ++i) episodes.push_back(env.episode(i));
              return Copy(episodes);
            })
       .def("rewards",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "rewards");
              return Copy(env.rewards());
            })
       .def("terminated",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "terminated");
              return Flags(env.terminated());
            })
       .def("truncated",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "truncated");
              return Flags(env.truncated());
            })
       .def("ended",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "ended");
              return Flags(env.ended());
            })
       .def("ended_episodes",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "ended_episodes");
              return Copy(env.ended_episode());
            })
       .def("ended_how",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "ended_how");
              std::vector<std::string> ends;
              for (engine::EpisodeEnd end : env.ended_how()) ends.emplace_back(engine::ToString(end));
              return ends;
            })
       .def("final_agent_pos",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "final_agent_pos");
              py::array_t<float> rows({env.num_envs(), env.state_size()});
              std::copy(env.final_state().begin(), env.final_state().end(), rows.mutable_data());
@@ -249,7 +250,7 @@ PYBIND11_MODULE(_tavis, m) {
            })
       .def(
           "make_policy",
-          [](PythonVecEnv& env, const std::string& name, const std::string& actions_file) {
+          [](gym::GymVecEnv& env, const std::string& name, const std::string& actions_file) {
             const Exclusive use(env, "make_policy");
             py::gil_scoped_release release;
             return env.MakePolicy(name, actions_file);
@@ -257,7 +258,7 @@ PYBIND11_MODULE(_tavis, m) {
           py::arg("name"), py::arg("actions_file") = "", py::keep_alive<0, 1>())
       .def(
           "act",
-          [](PythonVecEnv& env, Policy& policy) {
+          [](gym::GymVecEnv& env, Policy& policy) {
             py::array_t<double> actions({env.num_envs(), kActionSize});
             double* data = actions.mutable_data();
             {
@@ -270,7 +271,7 @@ PYBIND11_MODULE(_tavis, m) {
           py::arg("policy"))
       .def(
           "neutral_actions",
-          [](PythonVecEnv& env) {
+          [](gym::GymVecEnv& env) {
             py::array_t<double> actions({env.num_envs(), kActionSize});
             double* data = actions.mutable_data();
             {
@@ -283,16 +284,16 @@ PYBIND11_MODULE(_tavis, m) {
           "The hold policy's actions for every env, (N, 19) float64: arms at their reset pose, head "
           "still, grippers open")
       .def("episode_json_lines",
-           [](const PythonVecEnv& env) {
+           [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "episode_json_lines");
              std::vector<std::string> lines;
              for (const auto& [episode, record] : env.records())
-               lines.push_back(EpisodeJsonLine(record, env.config().seed));
+               lines.push_back(cell::EpisodeJsonLine(record, env.config().seed));
              return lines;
            })
       .def(
           "write_results",
-          [](const PythonVecEnv& env, const std::string& out_dir, const std::string& policy, int64_t first,
+          [](const gym::GymVecEnv& env, const std::string& out_dir, const std::string& policy, int64_t first,
              int64_t count) {
             const Exclusive use(env, "write_results");
             py::gil_scoped_release release;

@@ -8,7 +8,7 @@
 #include "batch/remote/remote_error.h"
 #include "batch/remote/tcp_socket.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 struct Probe {
@@ -62,4 +62,4 @@ Readiness WaitForHealthz(const WebSocketUrl& server, std::chrono::milliseconds t
                       std::to_string(waited) + " ms (last attempt: " + failure + ")");
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -10,7 +10,7 @@
 
 #include "batch/remote/websocket_url.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 enum class Readiness {
   kHealthy,    // /healthz answered 200
@@ -24,4 +24,4 @@ enum class Readiness {
 Readiness WaitForHealthz(const WebSocketUrl& server, std::chrono::milliseconds timeout,
                          std::chrono::milliseconds retry_interval = std::chrono::milliseconds(100));
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -6,7 +6,7 @@
 
 #include "batch/remote/remote_error.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 constexpr std::size_t kMaxHeadBytes = 16 * 1024;
@@ -86,4 +86,4 @@ HttpResponseStart ReadHttpResponseStart(TcpSocket& socket, Deadline deadline) {
   }
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

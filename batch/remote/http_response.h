@@ -11,7 +11,7 @@
 
 #include "batch/remote/tcp_socket.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 struct HttpResponseHead {
   int status = 0;
@@ -35,4 +35,4 @@ struct HttpResponseStart {
 // Throws RemoteTimeout at the deadline, ConnectionLost when the peer closes first.
 HttpResponseStart ReadHttpResponseStart(TcpSocket& socket, Deadline deadline);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

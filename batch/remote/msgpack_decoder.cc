@@ -6,7 +6,7 @@
 
 #include "batch/remote/remote_error.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 class Decoder {
@@ -180,4 +180,4 @@ class Decoder {
 
 Value DecodeMsgpack(const std::uint8_t* data, std::size_t size) { return Decoder(data, size).DecodeWhole(); }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

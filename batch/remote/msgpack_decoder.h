@@ -9,7 +9,7 @@
 
 #include "batch/remote/msgpack_value.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 // Decodes exactly one value spanning the whole buffer. Every length is checked against the bytes
 // left before anything is read or allocated, and nesting is limited to kMaxMsgpackDepth, so any
@@ -21,4 +21,4 @@ inline Value DecodeMsgpack(const std::vector<std::uint8_t>& bytes) { return Deco
 
 inline constexpr int kMaxMsgpackDepth = 512;
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

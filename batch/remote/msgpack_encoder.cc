@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 void AppendBigEndian(std::uint64_t number, int bytes, std::vector<std::uint8_t>& out) {
@@ -164,4 +164,4 @@ std::vector<std::uint8_t> EncodeMsgpack(const Value& value) {
   return out;
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -8,7 +8,7 @@
 
 #include "batch/remote/msgpack_value.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 std::vector<std::uint8_t> EncodeMsgpack(const Value& value);
 
@@ -16,4 +16,4 @@ std::vector<std::uint8_t> EncodeMsgpack(const Value& value);
 // data size does not match its dtype and shape, or a container of 2^32 or more entries.
 void AppendMsgpack(const Value& value, std::vector<std::uint8_t>& out);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -3,7 +3,7 @@
 #include <array>
 #include <stdexcept>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 std::string Value::TypeNameOf(std::size_t index) {
   static constexpr std::array<const char*, std::variant_size_v<Storage>> kNames = {
@@ -37,4 +37,4 @@ double NumberAsDouble(const Value& value, std::string_view what) {
   throw std::invalid_argument(std::string(what) + ": expected a number, got " + value.TypeName());
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -14,7 +14,7 @@
 
 #include "batch/remote/ndarray.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 // msgpack bin (Python bytes), kept apart from str (Python str) as use_bin_type=True does.
 struct Binary {
@@ -104,4 +104,4 @@ struct MapEntry {
 // naming `what` and the type for anything else.
 double NumberAsDouble(const Value& value, std::string_view what);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string_view>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
@@ -92,4 +92,4 @@ std::vector<double> FloatArrayToDoubles(const NdArray& array) {
   throw std::invalid_argument("expected a float array of dtype '<f4' or '<f8', got dtype '" + array.dtype + "'");
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

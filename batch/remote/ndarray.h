@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 struct NdArray {
   std::string dtype;
@@ -39,4 +39,4 @@ NdArray MakeFloat64Array(std::vector<std::int64_t> shape, const std::vector<doub
 // dtype throws std::invalid_argument naming it.
 std::vector<double> FloatArrayToDoubles(const NdArray& array);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -12,7 +12,7 @@
 #include "batch/scene_render.h"
 #include "configs/yaml_reader.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 constexpr const char* kContractPreset = "tavis";
@@ -418,4 +418,4 @@ Value BuildBatchRequest(const batch::Observation& observation, const Observation
   return Nest(RequestEntries(observation, keys, cameras, envs, true), 0);
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -30,7 +30,7 @@
 #include "batch/policy.h"
 #include "batch/remote/msgpack_value.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 using KeyPath = std::vector<std::string>;  // one entry: a top-level key; more: nested maps
 
@@ -98,4 +98,4 @@ Value BuildRequest(const batch::Observation& observation, const ObservationKeys&
 Value BuildBatchRequest(const batch::Observation& observation, const ObservationKeys& keys,
                         const std::vector<std::string>& cameras, const std::vector<int>& envs);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 std::optional<double> NumberAt(const Value& reply, std::string_view group, std::string_view key) {
@@ -63,4 +63,4 @@ ReplyTimings ReadReplyTimings(const Value& reply) {
           NumberAt(reply, "policy_timing", "infer_ms")};
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -8,7 +8,7 @@
 
 #include "batch/remote/msgpack_value.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 struct ActionChunk {
   int horizon = 0;
@@ -37,4 +37,4 @@ struct ReplyTimings {
 // The timings present in the reply; absent or non-numeric entries stay empty.
 ReplyTimings ReadReplyTimings(const Value& reply);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -6,7 +6,7 @@
 #include "batch/remote/msgpack_encoder.h"
 #include "batch/remote/remote_error.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 // After the traceback, how long to wait for the close frame that carries the status code.
@@ -93,4 +93,4 @@ void OpenpiSession::ServiceKeepalive() {
   if (!client_ || !client_->ServicePending()) Connect();
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -14,7 +14,7 @@
 #include "batch/remote/websocket_client.h"
 #include "batch/remote/websocket_url.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 // The largest reply accepted by default: a chunk of 100,000 rows of 19 float64 (15.2 MB) with
 // room for the server's timing fields. openpi's chunks are tens of rows.
@@ -75,4 +75,4 @@ class OpenpiSession {
   int connections_ = 0;
 };
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

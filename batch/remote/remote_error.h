@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 // Bytes that break the msgpack or msgpack-numpy rules; `offset` is where in the message.
 class MsgpackError : public std::runtime_error {
@@ -86,4 +86,4 @@ class PolicyServerError : public std::runtime_error {
   std::uint16_t close_code_;
 };
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

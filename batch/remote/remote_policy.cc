@@ -12,7 +12,7 @@
 #include "batch/remote/remote_error.h"
 #include "batch/remote/websocket_url.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 std::string EnvContext(const batch::Observation& observation, const std::vector<int>& envs, const std::string& server) {
@@ -255,4 +255,4 @@ RequestTimings RemotePolicy::timings() const {
   return timings;
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -36,7 +36,7 @@
 #include "batch/remote/openpi_reply.h"
 #include "batch/remote/openpi_session.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 enum class ServingMode { kSerial, kPerEnv, kBatched };
 
@@ -124,4 +124,4 @@ class RemotePolicy : public batch::Policy {
   RequestTimings timings_;
 };
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

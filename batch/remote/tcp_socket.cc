@@ -15,7 +15,7 @@
 
 #include "batch/remote/remote_error.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 int MillisecondsUntil(Deadline deadline) {
@@ -139,4 +139,4 @@ std::size_t TcpSocket::ReceiveSome(std::uint8_t* buffer, std::size_t capacity, D
   }
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 using Clock = std::chrono::steady_clock;
 using Deadline = Clock::time_point;
@@ -48,4 +48,4 @@ class TcpSocket {
   std::string peer_;  // "host:port", for error messages
 };
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <type_traits>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 nlohmann::json Number(double number) {
@@ -43,4 +43,4 @@ nlohmann::json ToJson(const Value& value) {
       value.storage());
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -6,11 +6,11 @@
 
 #include "batch/remote/msgpack_value.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 // nil, bool, numbers, str, list and dict as themselves (dict keys that are not str are written as
 // their JSON text); bytes as {"bytes": size}; an ndarray as {"ndarray": {"dtype", "shape"}}; a
 // non-finite float as "nan", "inf" or "-inf".
 nlohmann::json ToJson(const Value& value);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -7,7 +7,7 @@
 #include "batch/remote/remote_error.h"
 #include "batch/remote/websocket_handshake.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 constexpr std::size_t kReceiveChunkBytes = 256 * 1024;
@@ -158,4 +158,4 @@ bool WebSocketClient::ServicePending() {
   return open_;
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -14,7 +14,7 @@
 #include "batch/remote/websocket_reader.h"
 #include "batch/remote/websocket_url.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 struct WebSocketMessage {
   bool text = false;  // a text frame: for openpi, the server's traceback
@@ -70,4 +70,4 @@ class WebSocketClient {
   bool open_ = true;
 };
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

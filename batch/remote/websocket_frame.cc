@@ -5,7 +5,7 @@
 
 #include "batch/remote/remote_error.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 constexpr std::uint8_t kFinBit = 0x80;
@@ -92,4 +92,4 @@ std::size_t ParseServerFrame(const std::uint8_t* data, std::size_t size, std::ui
   return header + static_cast<std::size_t>(length);
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

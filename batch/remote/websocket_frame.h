@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 enum class Opcode : std::uint8_t {
   kContinuation = 0x0,
@@ -38,4 +38,4 @@ void AppendClientFrame(Opcode opcode, const std::uint8_t* payload, std::size_t s
 std::size_t ParseServerFrame(const std::uint8_t* data, std::size_t size, std::uint64_t max_payload,
                              std::uint64_t stream_offset, Frame& frame);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -9,7 +9,7 @@
 
 #include "batch/remote/remote_error.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 constexpr std::string_view kAcceptGuid = "258EAFA5-E914-47DA-95CA-C5AB0DC85B11";
@@ -79,4 +79,4 @@ void CheckUpgradeResponse(const HttpResponseHead& response, std::string_view key
   }
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -10,7 +10,7 @@
 #include "batch/remote/http_response.h"
 #include "batch/remote/websocket_url.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 // base64 of 16 random bytes, a fresh Sec-WebSocket-Key.
 std::string MakeWebSocketKey();
@@ -30,4 +30,4 @@ std::string BuildUpgradeRequest(const WebSocketUrl& url, std::string_view key,
 // and no extension we did not ask for.
 void CheckUpgradeResponse(const HttpResponseHead& response, std::string_view key);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

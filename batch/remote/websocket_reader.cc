@@ -4,7 +4,7 @@
 
 #include "batch/remote/remote_error.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 // RFC 6455 section 7.1.5: the code reported for a close frame without a status.
@@ -77,4 +77,4 @@ std::optional<WebSocketEvent> WebSocketReader::Next() {
   }
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

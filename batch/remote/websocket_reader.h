@@ -11,7 +11,7 @@
 
 #include "batch/remote/websocket_frame.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 struct WebSocketEvent {
   enum class Kind { kText, kBinary, kPing, kPong, kClose };
@@ -40,4 +40,4 @@ class WebSocketReader {
   std::optional<WebSocketEvent> open_message_;  // a fragmented message waiting for its FIN frame
 };
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 std::string WebSocketUrl::Authority() const {
   const bool ipv6 = host.find(':') != std::string::npos;
@@ -47,4 +47,4 @@ WebSocketUrl ParseWebSocketUrl(const std::string& url) {
   return parsed;
 }
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -3,7 +3,7 @@
 
 #include <string>
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 
 struct WebSocketUrl {
   std::string host;  // a name, an IPv4 address, or an IPv6 address without its brackets
@@ -18,4 +18,4 @@ struct WebSocketUrl {
 // which this client does not do), the host is empty, or the port is not 1-65535.
 WebSocketUrl ParseWebSocketUrl(const std::string& url);
 
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

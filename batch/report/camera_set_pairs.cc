@@ -22,7 +22,7 @@ Json CameraSetPairRows(const std::vector<CellEpisodes>& cells) {
     const SeedKey seed_key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split),
                            cell.config.seed};
     std::vector<bool>& successes = outcomes[seed_key][camera];
-    for (const EpisodeRecord& record : cell.episodes) successes.push_back(record.success);
+    for (const cell::EpisodeRecord& record : cell.episodes) successes.push_back(record.success);
     const RowKey row_key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split), camera};
     if (camera == "head" || camera == "fixed") continue;
     bool seen = false;

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <optional>
 
+#include "batch/cell/statistics.h"
 #include "batch/report/seed_groups.h"
-#include "batch/statistics.h"
 
 namespace tavis::batch::report {
 namespace {
@@ -208,7 +208,7 @@ Json HistogramJson(const std::vector<double>& all, double window, double high) {
                {"n_outside_window", all.size() - kept.size()},
                {"median", nullptr},
                {"counts", HistogramCounts(kept, kGaltFigureLow, high, kGaltFigureBins)}};
-  if (!kept.empty()) json["median"] = Median(kept);
+  if (!kept.empty()) json["median"] = cell::Median(kept);
   return json;
 }
 

@@ -38,7 +38,7 @@ Json PerturbationPairRows(const std::vector<CellEpisodes>& cells) {
                      ToString(cell.config.camera)};
     const std::string perturbation = Joined(cell.config.perturbations);
     std::vector<bool>& successes = outcomes[key][perturbation][cell.config.seed];
-    for (const EpisodeRecord& record : cell.episodes) successes.push_back(record.success);
+    for (const cell::EpisodeRecord& record : cell.episodes) successes.push_back(record.success);
     if (perturbation.empty()) continue;
     bool seen = false;
     for (const auto& row : order) seen = seen || (row.first == key && row.second == perturbation);

@@ -4,7 +4,7 @@
 #include <string>
 #include <tuple>
 
-#include "batch/stage_record.h"
+#include "batch/cell/stage_record.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch::report {
@@ -14,25 +14,25 @@ using Json = nlohmann::ordered_json;
 Json StageFunnelRows(const std::vector<CellEpisodes>& cells) {
   using Key = std::tuple<std::string, std::string, std::string, std::string>;
   std::vector<Key> order;
-  std::map<Key, std::vector<EpisodeRecord>> episodes;
+  std::map<Key, std::vector<cell::EpisodeRecord>> episodes;
   for (const CellEpisodes& cell : cells) {
     const Key key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split),
                   ToString(cell.config.camera)};
     if (!episodes.count(key)) order.push_back(key);
-    std::vector<EpisodeRecord>& pooled = episodes[key];
+    std::vector<cell::EpisodeRecord>& pooled = episodes[key];
     pooled.insert(pooled.end(), cell.episodes.begin(), cell.episodes.end());
   }
   Json rows = Json::array();
   for (const Key& key : order) {
     const auto& [task, robot, split, camera] = key;
-    const std::vector<EpisodeRecord>& records = episodes[key];
+    const std::vector<cell::EpisodeRecord>& records = episodes[key];
     int64_t successes = 0, faults = 0;
-    for (const EpisodeRecord& record : records) {
+    for (const cell::EpisodeRecord& record : records) {
       successes += record.success ? 1 : 0;
       faults += record.end == engine::EpisodeEnd::kPhysicsBlowUp ? 1 : 0;
     }
     Json stages = Json::array();
-    for (const FunnelStep& step : StageFunnel(StageNames(task), records)) {
+    for (const cell::FunnelStep& step : cell::StageFunnel(cell::StageNames(task), records)) {
       stages.push_back({{"stage", step.stage}, {"reached", step.reached}});
     }
     rows.push_back({{"task", task},

@@ -7,16 +7,16 @@
 #include <tuple>
 #include <utility>
 
-#include "batch/galt_summary.h"
-#include "batch/galt_validation.h"
+#include "batch/cell/galt_summary.h"
+#include "batch/cell/statistics.h"
 #include "batch/report/camera_set_pairs.h"
+#include "batch/report/galt_validation.h"
 #include "batch/report/paired_statistics.h"
 #include "batch/report/paper_figures.h"
 #include "batch/report/perturbation_pairs.h"
+#include "batch/report/results_table.h"
 #include "batch/report/seed_groups.h"
 #include "batch/report/stage_funnel_section.h"
-#include "batch/results_table.h"
-#include "batch/statistics.h"
 #include "scenarios/registry.h"
 
 namespace tavis::batch::report {
@@ -28,7 +28,7 @@ using Json = nlohmann::ordered_json;
 Json SpreadJson(std::vector<double> values) {
   Json spread = {{"n", values.size()}, {"mean", nullptr}, {"median", nullptr}, {"std", nullptr}};
   if (values.empty()) return spread;
-  const Spread of = SpreadOf(std::move(values));
+  const cell::Spread of = cell::SpreadOf(std::move(values));
   spread["mean"] = of.mean;
   spread["median"] = of.median;
   spread["std"] = of.std;
@@ -36,7 +36,7 @@ Json SpreadJson(std::vector<double> values) {
 }
 
 Json RateJson(int64_t successes, int64_t episodes) {
-  const ProportionInterval ci = WilsonInterval(successes, episodes);
+  const cell::ProportionInterval ci = cell::WilsonInterval(successes, episodes);
   return {{"n_episodes", episodes},
           {"n_successful", successes},
           {"success_rate", episodes > 0 ? static_cast<double>(successes) / static_cast<double>(episodes) : 0.0},
@@ -60,14 +60,16 @@ struct Group {
   std::vector<kinematics::GaltResult> galt;  // successful episodes' (head cells)
 };
 
-double LengthSeconds(const EpisodeRecord& record) { return static_cast<double>(record.length_steps) / kPolicyRateHz; }
+double LengthSeconds(const cell::EpisodeRecord& record) {
+  return static_cast<double>(record.length_steps) / kPolicyRateHz;
+}
 
 Json CellJson(const CellEpisodes& cell) {
   int64_t successes = 0;
   std::vector<double> lengths;
   std::vector<kinematics::GaltResult> galt;
   Json galt_values = Json::array();
-  for (const EpisodeRecord& record : cell.episodes) {
+  for (const cell::EpisodeRecord& record : cell.episodes) {
     if (!record.success) continue;
     ++successes;
     lengths.push_back(LengthSeconds(record));
@@ -93,7 +95,7 @@ Json CellJson(const CellEpisodes& cell) {
   json["successful_length_s"] = SpreadJson(lengths);
   json["successful_length_s"]["values"] = length_values;
   if (!UsesFixedView(cell.config.camera)) {
-    json["galt"] = GaltSummaryJson(SummarizeGalt(galt));
+    json["galt"] = cell::GaltSummaryJson(cell::SummarizeGalt(galt));
     json["galt"]["values_s"] = galt_values;
   } else {
     json["galt"] = nullptr;
@@ -110,8 +112,8 @@ Json SuccessJson(const std::string& suite, const std::vector<CellEpisodes>& cell
     std::tie(entry.task, entry.robot, entry.split, entry.camera) = KeyOf(cell);
     entry.policy = cell.config.policy;
     entry.n_episodes = static_cast<int64_t>(cell.episodes.size());
-    entry.n_successful =
-        std::count_if(cell.episodes.begin(), cell.episodes.end(), [](const EpisodeRecord& r) { return r.success; });
+    entry.n_successful = std::count_if(cell.episodes.begin(), cell.episodes.end(),
+                                       [](const cell::EpisodeRecord& r) { return r.success; });
     counts.push_back(entry);
   }
   const ResultsTable table = BuildResultsTable(counts, suite);
@@ -176,7 +178,7 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
     Group& group = groups[key];
     std::vector<bool>& outcomes =
         pairs[{cell.config.task, cell.config.robot, std::get<2>(key), cell.config.seed}][ToString(cell.config.camera)];
-    for (const EpisodeRecord& record : cell.episodes) {
+    for (const cell::EpisodeRecord& record : cell.episodes) {
       ++group.episodes;
       outcomes.push_back(record.success);
       if (!record.success) continue;
@@ -273,14 +275,14 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
   for (const GroupKey& key : order) {
     const auto& [task, robot, split, camera] = key;
     if (camera != "head") continue;
-    const GaltSummary galt_summary = SummarizeGalt(groups[key].galt);
+    const cell::GaltSummary galt_summary = cell::SummarizeGalt(groups[key].galt);
     Json row = {
         {"robot", robot},
         {"task", task},
         {"split", split},
         {"detection_rate",
          galt_summary.n_episodes > 0 ? static_cast<double>(galt_summary.n_valid) / galt_summary.n_episodes : 0.0}};
-    row.update(Json(GaltSummaryJson(galt_summary)));
+    row.update(Json(cell::GaltSummaryJson(galt_summary)));
     galt.push_back(row);
   }
   std::stable_sort(galt.begin(), galt.end(), [](const Json& a, const Json& b) { return a["robot"] < b["robot"]; });

@@ -7,17 +7,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/episode_recorder.h"
-#include "batch/evaluation_cell.h"
+#include "batch/cell/episode_recorder.h"
+#include "batch/cell/evaluation_cell.h"
 
 namespace tavis::batch::report {
 
 struct CellEpisodes {
   std::string id;
-  EvaluationCellConfig config;
-  std::vector<EpisodeRecord> episodes;  // in episode order
-  std::string label;                    // the policy's label (empty: its policy name)
-  std::string seed_group;               // empty: none
+  cell::EvaluationCellConfig config;
+  std::vector<cell::EpisodeRecord> episodes;  // in episode order
+  std::string label;                          // the policy's label (empty: its policy name)
+  std::string seed_group;                     // empty: none
   nlohmann::ordered_json server_metadata = nlohmann::ordered_json::array();  // what its servers reported
 };
 

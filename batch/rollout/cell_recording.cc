@@ -2,13 +2,13 @@
 
 #include <stdexcept>
 
-#include "batch/atomic_file.h"
-#include "batch/cell_report.h"
+#include "batch/cell/cell_report.h"
 #include "batch/dataset/lerobot_features.h"
+#include "batch/output/atomic_file.h"
 #include "batch/rollout/observed_cameras.h"
 #include "batch/scene_render.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
 void ValidateRolloutDatasetSettings(const RolloutDatasetSettings& settings) {
   CameraSettings cameras;
@@ -17,40 +17,40 @@ void ValidateRolloutDatasetSettings(const RolloutDatasetSettings& settings) {
   cameras.height = settings.height;
   ValidateCameraSettings(cameras);
   for (const std::string& camera : settings.cameras) dataset::CameraVideoKey(camera);
-  dataset::VideoSettings video;
+  dataset::video::VideoSettings video;
   video.width = settings.width;
   video.height = settings.height;
   video.fps = 20;
   video.codec = settings.codec;
-  dataset::ValidateVideoSettings(video, "--record-size");
+  dataset::video::ValidateVideoSettings(video, "--record-size");
 }
 
-CellRecording::CellRecording(RolloutDatasetSettings settings, const EvaluationCellConfig& cell)
+CellRecording::CellRecording(RolloutDatasetSettings settings, const cell::EvaluationCellConfig& cell)
     : settings_(std::move(settings)), cell_(cell) {
   ValidateRolloutDatasetSettings(settings_);
 }
 
 CellRecording::~CellRecording() = default;
 
-CellSinks CellRecording::Sinks() {
-  return [this](const VecEnv& env, const std::vector<std::string>& policy_cameras) -> std::vector<EpisodeSink*> {
+cell::CellSinks CellRecording::Sinks() {
+  return [this](const VecEnv& vec_env, const std::vector<std::string>& policy_cameras) -> std::vector<EpisodeSink*> {
     dataset::DatasetLayout layout;
     layout.version = dataset::DatasetVersion::kV30;
-    layout.fps = static_cast<int>(env.model().physics.policy_hz + 0.5);
+    layout.fps = static_cast<int>(vec_env.model().physics.policy_hz + 0.5);
     layout.robot_type = cell_.robot;
     layout.cameras = settings_.cameras.empty() ? ObservedCameras(policy_cameras, cell_.camera) : settings_.cameras;
     layout.video.width = settings_.width;
     layout.video.height = settings_.height;
     layout.video.fps = layout.fps;
     layout.video.codec = settings_.codec;
-    for (const kinematics::StateEntry& entry : env.model().robot.observation_state)
+    for (const kinematics::StateEntry& entry : vec_env.model().robot.observation_state)
       layout.state_names.push_back(entry.name);
-    layout.tasks = {env.scenario().class_name};
+    layout.tasks = {vec_env.scenario().class_name};
     writer_ = dataset::MakeDatasetWriter(settings_.root, layout);
     recorder_ = std::make_unique<RolloutRecorder>(
-        env, cell_.camera, layout.cameras, layout.video,
-        [this](dataset::RecordedEpisode&& episode, const EpisodeRecord& record) {
-          std::string line = EpisodeJsonLine(record, cell_.seed) + "\n";
+        vec_env, cell_.camera, layout.cameras, layout.video,
+        [this](dataset::RecordedEpisode&& episode, const cell::EpisodeRecord& record) {
+          std::string line = cell::EpisodeJsonLine(record, cell_.seed) + "\n";
           if (episode.frames > 0) {
             line.insert(1, "\"episode_index\":" + std::to_string(writer_->episodes()) + ",");
             writer_->Add(episode);
@@ -63,14 +63,14 @@ CellSinks CellRecording::Sinks() {
   };
 }
 
-void CellRecording::RecordFinished(const EpisodeRecord& record) {
+void CellRecording::RecordFinished(const cell::EpisodeRecord& record) {
   if (recorder_) recorder_->RecordFinished(record);
 }
 
 void CellRecording::Finish() {
   if (!writer_) return;
-  WriteFileAtomically(settings_.root + "/tavis_rollouts.jsonl", rollouts_);
+  output::WriteFileAtomically(settings_.root + "/tavis_rollouts.jsonl", rollouts_);
   writer_->Finish();
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

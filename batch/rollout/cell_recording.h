@@ -12,19 +12,19 @@
 #include <string>
 #include <vector>
 
+#include "batch/cell/evaluation_cell.h"
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/dataset/video/video_settings.h"
-#include "batch/evaluation_cell.h"
 #include "batch/rollout/rollout_recorder.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
 struct RolloutDatasetSettings {
   std::string root;                  // the dataset's folder (new or empty; the caller prepares it)
   std::vector<std::string> cameras;  // empty: ObservedCameras
   int width = 320;                   // the observation contract's size
   int height = 240;
-  dataset::VideoCodec codec = dataset::VideoCodec::kH264;
+  dataset::video::VideoCodec codec = dataset::video::VideoCodec::kH264;
 };
 
 // Throws std::invalid_argument naming a bad camera or size (a camera without a dataset key, an
@@ -34,13 +34,13 @@ void ValidateRolloutDatasetSettings(const RolloutDatasetSettings& settings);
 class CellRecording {
  public:
   // Records every episode `cell` runs. Throws as ValidateRolloutDatasetSettings.
-  CellRecording(RolloutDatasetSettings settings, const EvaluationCellConfig& cell);
+  CellRecording(RolloutDatasetSettings settings, const cell::EvaluationCellConfig& cell);
   ~CellRecording();
 
-  // For RunEvaluationCell; opens the dataset writer.
-  CellSinks Sinks();
+  // For cell::RunEvaluationCell; opens the dataset writer.
+  cell::CellSinks Sinks();
   // Call with every record the cell writes.
-  void RecordFinished(const EpisodeRecord& record);
+  void RecordFinished(const cell::EpisodeRecord& record);
   // Writes the metadata; the dataset is complete.
   void Finish();
 
@@ -49,10 +49,10 @@ class CellRecording {
 
  private:
   RolloutDatasetSettings settings_;
-  EvaluationCellConfig cell_;
+  cell::EvaluationCellConfig cell_;
   std::unique_ptr<dataset::DatasetWriter> writer_;
   std::unique_ptr<RolloutRecorder> recorder_;
   std::string rollouts_;  // tavis_rollouts.jsonl's lines
 };
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -1,8 +1,8 @@
 #include "batch/rollout/cell_videos.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
-CellVideos::CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig& cell,
+CellVideos::CellVideos(EpisodeVideoSettings settings, const cell::EvaluationCellConfig& cell,
                        std::function<std::filesystem::path()> folder)
     : settings_(std::move(settings)),
       protocol_(cell.camera),
@@ -14,17 +14,17 @@ CellVideos::CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig
 
 CellVideos::~CellVideos() = default;
 
-CellSinks CellVideos::Sinks() {
+cell::CellSinks CellVideos::Sinks() {
   if (first_to_run_ >= cell_start_ + settings_.episodes) return nullptr;
-  return [this](const VecEnv& env, const std::vector<std::string>& policy_cameras) -> std::vector<EpisodeSink*> {
+  return [this](const VecEnv& vec_env, const std::vector<std::string>& policy_cameras) -> std::vector<EpisodeSink*> {
     recorder_ = std::make_unique<EpisodeVideoRecorder>(
-        env, settings_, VideoCameras(settings_, policy_cameras, protocol_), cell_start_, folder_);
+        vec_env, settings_, VideoCameras(settings_, policy_cameras, protocol_), cell_start_, folder_);
     return {recorder_.get()};
   };
 }
 
-void CellVideos::RecordFinished(const EpisodeRecord& record) {
+void CellVideos::RecordFinished(const cell::EpisodeRecord& record) {
   if (recorder_) recorder_->RecordFinished(record);
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -1,5 +1,5 @@
 // An evaluation cell's videos, as `tavis eval` and `tavis sweep` plug them in: the sink factory
-// for RunEvaluationCell (CellSinks) and the hook its records go through, so that each filmed
+// for cell::RunEvaluationCell (cell::CellSinks) and the hook its records go through, so that each filmed
 // episode's video is completed with its outcome as soon as its record is written.
 #pragma once
 
@@ -8,24 +8,24 @@
 #include <functional>
 #include <memory>
 
-#include "batch/evaluation_cell.h"
+#include "batch/cell/evaluation_cell.h"
 #include "batch/rollout/episode_videos.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
 class CellVideos {
  public:
   // Films the first settings.episodes episodes of `cell` into folder() (asked at every write).
   // Throws std::invalid_argument as ValidateEpisodeVideoSettings.
-  CellVideos(EpisodeVideoSettings settings, const EvaluationCellConfig& cell,
+  CellVideos(EpisodeVideoSettings settings, const cell::EvaluationCellConfig& cell,
              std::function<std::filesystem::path()> folder);
   ~CellVideos();
 
-  // For RunEvaluationCell: no sink when no episode is filmed, or when none of the episodes
+  // For cell::RunEvaluationCell: no sink when no episode is filmed, or when none of the episodes
   // still to run (a resumed cell) is among the filmed ones.
-  CellSinks Sinks();
+  cell::CellSinks Sinks();
   // Call with every record the cell writes.
-  void RecordFinished(const EpisodeRecord& record);
+  void RecordFinished(const cell::EpisodeRecord& record);
   int64_t videos_written() const { return recorder_ ? recorder_->videos_written() : 0; }
 
  private:
@@ -37,4 +37,4 @@ class CellVideos {
   std::unique_ptr<EpisodeVideoRecorder> recorder_;
 };
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

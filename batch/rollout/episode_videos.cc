@@ -11,7 +11,7 @@
 #include "batch/rollout/video_frame.h"
 #include "scenarios/stage_progress.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 namespace {
 
 namespace fs = std::filesystem;
@@ -23,7 +23,7 @@ std::string StepCaption(int64_t episode, int control_step, int ticks_per_frame, 
   return text;
 }
 
-std::string OutcomeCaption(const EpisodeRecord& record) {
+std::string OutcomeCaption(const cell::EpisodeRecord& record) {
   std::string text = engine::ToString(record.end);
   if (record.end == engine::EpisodeEnd::kInvalidAction && !record.invalid_action.reason.empty()) {
     text += " (" + record.invalid_action.reason + ")";
@@ -44,21 +44,21 @@ std::string OutcomeCaption(const EpisodeRecord& record) {
 
 struct EpisodeVideoRecorder::Film {
   int64_t episode = 0;
-  std::optional<dataset::EpisodeEncoder> encoder;  // mp4
+  std::optional<dataset::video::EpisodeEncoder> encoder;  // mp4
   int64_t frames = 0;
   std::vector<render::RgbImage> end_views;  // [camera] at the episode's end
   std::string prompt;
   std::optional<scenarios::StageProgress> stages;  // shown in the caption as the episode goes
   std::vector<std::string> stage_names;
 
-  std::vector<StageReached> StagesSoFar() const {
-    std::vector<StageReached> reached;
+  std::vector<cell::StageReached> StagesSoFar() const {
+    std::vector<cell::StageReached> reached;
     for (std::size_t i = 0; i < stage_names.size(); ++i) reached.push_back({stage_names[i], stages->first_ticks()[i]});
     return reached;
   }
 };
 
-std::string StageCaption(const std::vector<StageReached>& stages) {
+std::string StageCaption(const std::vector<cell::StageReached>& stages) {
   if (stages.empty()) return "";
   int furthest = -1;
   for (std::size_t i = 0; i < stages.size(); ++i) {
@@ -100,34 +100,34 @@ std::string EpisodeVideoName(int64_t episode, VideoFormat format) {
   return "episode_" + std::to_string(episode) + (format == VideoFormat::kMp4 ? ".mp4" : "");
 }
 
-EpisodeVideoRecorder::EpisodeVideoRecorder(const VecEnv& env, EpisodeVideoSettings settings,
+EpisodeVideoRecorder::EpisodeVideoRecorder(const VecEnv& vec_env, EpisodeVideoSettings settings,
                                            std::vector<std::string> cameras, int64_t cell_start,
                                            std::function<fs::path()> folder)
     : settings_(std::move(settings)),
       cameras_(std::move(cameras)),
       cell_start_(cell_start),
       folder_(std::move(folder)),
-      ticks_per_frame_(env.model().physics.controls_per_policy()),
-      control_hz_(env.model().physics.control_hz),
-      running_(static_cast<std::size_t>(env.num_envs())),
-      render_slots_(static_cast<std::size_t>(env.num_envs()), 0) {
+      ticks_per_frame_(vec_env.model().physics.controls_per_policy()),
+      control_hz_(vec_env.model().physics.control_hz),
+      running_(static_cast<std::size_t>(vec_env.num_envs())),
+      render_slots_(static_cast<std::size_t>(vec_env.num_envs()), 0) {
   ValidateEpisodeVideoSettings(settings_);
   CameraSettings camera_settings;
   camera_settings.cameras = cameras_;
   camera_settings.width = settings_.tile_width;
   camera_settings.height = settings_.tile_height;
-  render_ = std::make_unique<SceneRender>(env.model(), env.num_envs(), camera_settings);
+  render_ = std::make_unique<SceneRender>(vec_env.model(), vec_env.num_envs(), camera_settings);
   // The task's black cameras are black here too, as the policy receives them.
-  for (const std::string& name : env.scenario().black_cameras) {
+  for (const std::string& name : vec_env.scenario().black_cameras) {
     const int camera = render_->CameraIndex(name);
     if (camera < 0) continue;
-    for (int slot = 0; slot < env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
+    for (int slot = 0; slot < vec_env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
   }
   std::tie(video_.width, video_.height) =
       VideoFrameSize(static_cast<int>(cameras_.size()), settings_.tile_width, settings_.tile_height);
-  video_.fps = static_cast<int>(env.model().physics.policy_hz + 0.5);
+  video_.fps = static_cast<int>(vec_env.model().physics.policy_hz + 0.5);
   video_.gop = video_.fps;  // a keyframe a second: these are watched, not sampled frame by frame
-  dataset::ValidateVideoSettings(video_, "episode videos");
+  dataset::video::ValidateVideoSettings(video_, "episode videos");
 }
 
 EpisodeVideoRecorder::~EpisodeVideoRecorder() = default;
@@ -136,17 +136,17 @@ bool EpisodeVideoRecorder::Filmed(int64_t episode) const {
   return episode >= cell_start_ && episode - cell_start_ < settings_.episodes;
 }
 
-void EpisodeVideoRecorder::EpisodeStarted(const VecEnv& env, int slot) {
+void EpisodeVideoRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   std::unique_ptr<Film>& film = running_[static_cast<std::size_t>(slot)];
   film.reset();
-  const int64_t episode = env.state().episode[slot];
+  const int64_t episode = vec_env.state().episode[slot];
   if (!Filmed(episode)) return;
   film = std::make_unique<Film>();
   film->episode = episode;
-  film->prompt = env.scenario().prompt(env.state(), slot);
-  film->stages.emplace(env.scenario(), env.model());
+  film->prompt = vec_env.scenario().prompt(vec_env.state(), slot);
+  film->stages.emplace(vec_env.scenario(), vec_env.model());
   film->stages->Start();
-  for (const scenarios::StageDef& stage : env.scenario().stages) film->stage_names.push_back(stage.name);
+  for (const scenarios::StageDef& stage : vec_env.scenario().stages) film->stage_names.push_back(stage.name);
   if (settings_.format == VideoFormat::kMp4) {
     film->encoder.emplace(video_, EpisodeVideoName(episode, settings_.format));
   } else {
@@ -177,10 +177,10 @@ void EpisodeVideoRecorder::Write(Film& film, const render::RgbImage& frame) {
   ++film.frames;
 }
 
-void EpisodeVideoRecorder::TickStarting(const VecEnv& env) {
-  const engine::BatchState& state = env.state();
+void EpisodeVideoRecorder::TickStarting(const VecEnv& vec_env) {
+  const engine::BatchState& state = vec_env.state();
   bool any = false;
-  for (int slot = 0; slot < env.num_envs(); ++slot) {
+  for (int slot = 0; slot < vec_env.num_envs(); ++slot) {
     // What the policy observes: the state at each of the episode's policy ticks, before it acts.
     const bool take = running_[static_cast<std::size_t>(slot)] && state.running(slot) &&
                       state.control_step[slot] % ticks_per_frame_ == 0;
@@ -190,7 +190,7 @@ void EpisodeVideoRecorder::TickStarting(const VecEnv& env) {
   if (!any) return;
   render_->Render(state, render_slots_.data());
   // Each filmed slot has its own encoder (or files): compose and encode them in parallel.
-  tbb::parallel_for(0, env.num_envs(), [&](int slot) {
+  tbb::parallel_for(0, vec_env.num_envs(), [&](int slot) {
     if (!render_slots_[static_cast<std::size_t>(slot)]) return;
     Film& film = *running_[static_cast<std::size_t>(slot)];
     Write(film, Frame(slot, {StepCaption(film.episode, state.control_step[slot], ticks_per_frame_, control_hz_) +
@@ -199,19 +199,19 @@ void EpisodeVideoRecorder::TickStarting(const VecEnv& env) {
   });
 }
 
-void EpisodeVideoRecorder::ActionChosen(const VecEnv& env, int slot, const kinematics::Action&) {
+void EpisodeVideoRecorder::ActionChosen(const VecEnv& vec_env, int slot, const kinematics::Action&) {
   // Every control tick's state, as the cell's recorder follows the stages, so the caption agrees
   // with the episode's record.
   const std::unique_ptr<Film>& film = running_[static_cast<std::size_t>(slot)];
-  if (film) film->stages->Observe(env.state(), slot);
+  if (film) film->stages->Observe(vec_env.state(), slot);
 }
 
-void EpisodeVideoRecorder::EpisodeEnded(const VecEnv& env, int slot) {
+void EpisodeVideoRecorder::EpisodeEnded(const VecEnv& vec_env, int slot) {
   std::unique_ptr<Film>& film = running_[static_cast<std::size_t>(slot)];
   if (!film) return;
   std::fill(render_slots_.begin(), render_slots_.end(), 0);
   render_slots_[static_cast<std::size_t>(slot)] = 1;
-  render_->Render(env.state(), render_slots_.data());
+  render_->Render(vec_env.state(), render_slots_.data());
   const render::ImageBatch& images = render_->images();
   for (int camera = 0; camera < render_->num_cameras(); ++camera) {
     render::RgbImage view;
@@ -224,7 +224,7 @@ void EpisodeVideoRecorder::EpisodeEnded(const VecEnv& env, int slot) {
   ended_[film->episode] = std::move(film);
 }
 
-void EpisodeVideoRecorder::RecordFinished(const EpisodeRecord& record) {
+void EpisodeVideoRecorder::RecordFinished(const cell::EpisodeRecord& record) {
   const auto found = ended_.find(record.episode);
   if (found == ended_.end()) return;
   Film& film = *found->second;
@@ -240,9 +240,9 @@ void EpisodeVideoRecorder::RecordFinished(const EpisodeRecord& record) {
   const fs::path folder = folder_();
   if (film.encoder) {
     for (int hold = 0; hold < kOutcomeFrames; ++hold) Write(film, frame);
-    const dataset::EncodedEpisode encoded = film.encoder->Finish();
+    const dataset::video::EncodedEpisode encoded = film.encoder->Finish();
     fs::create_directories(folder);
-    dataset::Mp4VideoWriter writer((folder / EpisodeVideoName(film.episode, settings_.format)).string(), video_);
+    dataset::video::Mp4VideoWriter writer((folder / EpisodeVideoName(film.episode, settings_.format)).string(), video_);
     writer.AppendEpisode(encoded);
     writer.Close();
   } else {
@@ -252,4 +252,4 @@ void EpisodeVideoRecorder::RecordFinished(const EpisodeRecord& record) {
   ++videos_written_;
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

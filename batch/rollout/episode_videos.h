@@ -3,7 +3,7 @@
 // every frame to the episode's encoder as it comes. A frame is taken at each of the episode's
 // policy ticks (20 Hz: what the policy observed, before it acted) and once more at its end,
 // held for one second with the outcome and GALT, which are known only from the episode's record
-// (EpisodeVideoRecorder::RecordFinished). An episode of L policy steps (EpisodeRecord::
+// (EpisodeVideoRecorder::RecordFinished). An episode of L policy steps (cell::EpisodeRecord::
 // length_steps) gives an mp4 of L + kOutcomeFrames frames, or L + 1 PNGs.
 #pragma once
 
@@ -17,13 +17,13 @@
 #include <vector>
 
 #include "batch/camera_protocol.h"
+#include "batch/cell/episode_recorder.h"
 #include "batch/dataset/video/episode_encoder.h"
 #include "batch/episode_driver.h"
-#include "batch/episode_recorder.h"
 #include "batch/scene_render.h"
 #include "render/image_io.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
 enum class VideoFormat { kMp4, kPng };
 
@@ -53,7 +53,7 @@ std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings,
 
 // The caption's stage: the furthest of the task's stages reached so far (a task declares them
 // in the order it is done), e.g. "   stage 3/4 target_grasped"; empty for a task without stages.
-std::string StageCaption(const std::vector<StageReached>& stages);
+std::string StageCaption(const std::vector<cell::StageReached>& stages);
 
 // The file name of episode i's video (mp4) or frame folder (png) inside the videos folder.
 std::string EpisodeVideoName(int64_t episode, VideoFormat format);
@@ -63,18 +63,18 @@ class EpisodeVideoRecorder : public EpisodeSink {
   // Films episodes cell_start .. cell_start + settings.episodes - 1 of the env's cell, showing
   // `cameras`, into folder() (asked at every write: a cell being built beside the one it
   // replaces moves once its first episode is recorded). Throws as ValidateEpisodeVideoSettings.
-  EpisodeVideoRecorder(const VecEnv& env, EpisodeVideoSettings settings, std::vector<std::string> cameras,
+  EpisodeVideoRecorder(const VecEnv& vec_env, EpisodeVideoSettings settings, std::vector<std::string> cameras,
                        int64_t cell_start, std::function<std::filesystem::path()> folder);
   ~EpisodeVideoRecorder() override;
 
-  void EpisodeStarted(const VecEnv& env, int slot) override;
-  void TickStarting(const VecEnv& env) override;
-  void ActionChosen(const VecEnv& env, int slot, const kinematics::Action& action) override;
-  void EpisodeEnded(const VecEnv& env, int slot) override;
+  void EpisodeStarted(const VecEnv& vec_env, int slot) override;
+  void TickStarting(const VecEnv& vec_env) override;
+  void ActionChosen(const VecEnv& vec_env, int slot, const kinematics::Action& action) override;
+  void EpisodeEnded(const VecEnv& vec_env, int slot) override;
 
   // The cell has recorded `record`: a filmed episode gets its outcome frames and its file is
   // completed. Throws std::runtime_error naming the file when it cannot be written.
-  void RecordFinished(const EpisodeRecord& record);
+  void RecordFinished(const cell::EpisodeRecord& record);
 
   int64_t videos_written() const { return videos_written_; }
   const std::vector<std::string>& cameras() const { return cameras_; }
@@ -91,7 +91,7 @@ class EpisodeVideoRecorder : public EpisodeSink {
   std::vector<std::string> cameras_;
   int64_t cell_start_;
   std::function<std::filesystem::path()> folder_;
-  dataset::VideoSettings video_;
+  dataset::video::VideoSettings video_;
   int ticks_per_frame_;  // control ticks per policy tick
   double control_hz_;
   std::unique_ptr<SceneRender> render_;
@@ -101,4 +101,4 @@ class EpisodeVideoRecorder : public EpisodeSink {
   int64_t videos_written_ = 0;
 };
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -1,6 +1,6 @@
 #include "batch/rollout/observed_cameras.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
 std::vector<std::string> ObservedCameras(const std::vector<std::string>& policy_cameras, CameraProtocol protocol) {
   // The observation contract's cameras (docs/observation.md).
@@ -8,4 +8,4 @@ std::vector<std::string> ObservedCameras(const std::vector<std::string>& policy_
   return ProtocolCameras(policy_cameras.empty() ? contract : policy_cameras, protocol);
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -8,8 +8,8 @@
 
 #include "batch/camera_protocol.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
 std::vector<std::string> ObservedCameras(const std::vector<std::string>& policy_cameras, CameraProtocol protocol);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -6,7 +6,7 @@
 
 #include "batch/dataset/frame_capture.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 namespace {
 
 bool Finite(const kinematics::Action& action) {
@@ -21,43 +21,43 @@ bool Finite(const kinematics::Action& action) {
 struct RolloutRecorder::Slot {
   bool recording = false;
   dataset::RecordedEpisode episode;
-  std::vector<dataset::EpisodeEncoder> encoders;  // per camera, for the running episode
-  kinematics::Action action{};                    // this tick's
+  std::vector<dataset::video::EpisodeEncoder> encoders;  // per camera, for the running episode
+  kinematics::Action action{};                           // this tick's
 };
 
-RolloutRecorder::RolloutRecorder(const VecEnv& env, CameraProtocol protocol, std::vector<std::string> cameras,
-                                 dataset::VideoSettings video, Keep keep)
+RolloutRecorder::RolloutRecorder(const VecEnv& vec_env, CameraProtocol protocol, std::vector<std::string> cameras,
+                                 dataset::video::VideoSettings video, Keep keep)
     : cameras_(std::move(cameras)),
       video_(video),
       keep_(std::move(keep)),
-      ticks_per_frame_(env.model().physics.controls_per_policy()),
-      proprioception_(env.model().robot, env.num_envs()),
-      slots_(static_cast<std::size_t>(env.num_envs())),
-      observed_(static_cast<std::size_t>(env.num_envs()), 0),
-      acted_(static_cast<std::size_t>(env.num_envs()), 0) {
+      ticks_per_frame_(vec_env.model().physics.controls_per_policy()),
+      proprioception_(vec_env.model().robot, vec_env.num_envs()),
+      slots_(static_cast<std::size_t>(vec_env.num_envs())),
+      observed_(static_cast<std::size_t>(vec_env.num_envs()), 0),
+      acted_(static_cast<std::size_t>(vec_env.num_envs()), 0) {
   proprioception_.SetCameraProtocol(protocol);
   if (cameras_.empty()) return;
   CameraSettings settings;
   settings.cameras = cameras_;
   settings.width = video_.width;
   settings.height = video_.height;
-  render_ = std::make_unique<SceneRender>(env.model(), env.num_envs(), settings);
+  render_ = std::make_unique<SceneRender>(vec_env.model(), vec_env.num_envs(), settings);
   // The task's black cameras are black here too, as the policy receives them.
-  for (const std::string& name : env.scenario().black_cameras) {
+  for (const std::string& name : vec_env.scenario().black_cameras) {
     const int camera = render_->CameraIndex(name);
     if (camera < 0) continue;
-    for (int slot = 0; slot < env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
+    for (int slot = 0; slot < vec_env.num_envs(); ++slot) render_->SetCameraEnabled(slot, camera, false);
   }
 }
 
 RolloutRecorder::~RolloutRecorder() = default;
 
-void RolloutRecorder::EpisodeStarted(const VecEnv& env, int slot) {
+void RolloutRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   Slot& recording = slots_[static_cast<std::size_t>(slot)];
   recording.recording = true;
   recording.episode = dataset::RecordedEpisode();
-  recording.episode.source_episode = env.state().episode[slot];
-  recording.episode.prompt = env.scenario().prompt(env.state(), slot);
+  recording.episode.source_episode = vec_env.state().episode[slot];
+  recording.episode.prompt = vec_env.scenario().prompt(vec_env.state(), slot);
   recording.episode.image_stats.assign(cameras_.size(), dataset::ImageStats());
   recording.encoders.clear();
   for (const std::string& camera : cameras_) recording.encoders.emplace_back(video_, camera);
@@ -71,8 +71,8 @@ bool RolloutRecorder::Observes(const engine::BatchState& state, int slot) {
   return take;
 }
 
-void RolloutRecorder::TickStarting(const VecEnv& env) {
-  const engine::BatchState& state = env.state();
+void RolloutRecorder::TickStarting(const VecEnv& vec_env) {
+  const engine::BatchState& state = vec_env.state();
   bool any = false;
   for (int slot = 0; slot < state.num_envs; ++slot) any = Observes(state, slot) || any;
   if (!any) return;
@@ -81,8 +81,8 @@ void RolloutRecorder::TickStarting(const VecEnv& env) {
   if (render_) render_->Render(state, observed_.data());
 }
 
-void RolloutRecorder::SlotTickStarting(const VecEnv& env, int slot) {
-  const engine::BatchState& state = env.state();
+void RolloutRecorder::SlotTickStarting(const VecEnv& vec_env, int slot) {
+  const engine::BatchState& state = vec_env.state();
   if (!Observes(state, slot)) return;
   proprioception_.UpdateEnv(state, slot);
   if (render_) render_->RenderEnv(state, slot);
@@ -105,8 +105,8 @@ void RolloutRecorder::AppendImage(int slot, int camera) {
                             &recording.episode.image_stats[static_cast<std::size_t>(camera)]);
 }
 
-void RolloutRecorder::Stepped(const VecEnv& env) {
-  const int slots = env.num_envs();
+void RolloutRecorder::Stepped(const VecEnv& vec_env) {
+  const int slots = vec_env.num_envs();
   const int cameras = static_cast<int>(cameras_.size());
   // Every (slot, camera) stream is its own encoder: the frames are taken in parallel.
   tbb::parallel_for(0, slots * std::max(cameras, 1), [&](int item) {
@@ -129,13 +129,14 @@ void RolloutRecorder::SlotStepped(const VecEnv&, int slot) {
 void RolloutRecorder::EpisodeEnded(const VecEnv&, int slot) {
   Slot& recording = slots_[static_cast<std::size_t>(slot)];
   if (!recording.recording) return;
-  for (dataset::EpisodeEncoder& encoder : recording.encoders) recording.episode.videos.push_back(encoder.Finish());
+  for (dataset::video::EpisodeEncoder& encoder : recording.encoders)
+    recording.episode.videos.push_back(encoder.Finish());
   recording.encoders.clear();
   recording.recording = false;
   ended_[recording.episode.source_episode] = std::move(recording.episode);
 }
 
-void RolloutRecorder::RecordFinished(const EpisodeRecord& record) {
+void RolloutRecorder::RecordFinished(const cell::EpisodeRecord& record) {
   const auto found = ended_.find(record.episode);
   if (found == ended_.end()) return;
   dataset::RecordedEpisode episode = std::move(found->second);
@@ -143,4 +144,4 @@ void RolloutRecorder::RecordFinished(const EpisodeRecord& record) {
   keep_(std::move(episode), record);
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 namespace {
 
 const int kFont = cv::FONT_HERSHEY_SIMPLEX;
@@ -71,4 +71,4 @@ render::RgbImage ComposeVideoFrame(const std::vector<render::LabelledImage>& vie
   return frame;
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -8,7 +8,7 @@
 
 #include "render/image_io.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 
 // `views` must be non-empty with even sizes (ValidateVideoTileSize); `caption` holds the band's
 // lines, top first (more than kCaptionLines are refused: the band's height is fixed, so every
@@ -21,4 +21,4 @@ inline constexpr int kCaptionLines = 2;
 // The frame size ComposeVideoFrame gives for `cameras` tiles of tile_width x tile_height.
 std::pair<int, int> VideoFrameSize(int cameras, int tile_width, int tile_height);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

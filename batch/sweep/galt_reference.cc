@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "batch/dataset/dataset_galt.h"
+#include "batch/dataset/reader/dataset_galt.h"
 
 namespace tavis::batch::sweep {
 
@@ -19,7 +19,7 @@ nlohmann::ordered_json DatasetGaltReference(const nlohmann::ordered_json& figure
     const std::string dir = dir_json.get<std::string>();
     if (read.count(dir) == 0) {
       try {
-        read[dir] = dataset::DatasetGaltSeconds(dir);
+        read[dir] = dataset::reader::DatasetGaltSeconds(dir);
       } catch (const std::exception& error) {
         throw std::runtime_error("figures.galt_reference_datasets." + task + ": " + error.what());
       }

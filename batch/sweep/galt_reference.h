@@ -8,7 +8,7 @@ namespace tavis::batch::sweep {
 
 // null when `figures` (SweepSpec::figures) names no dataset; otherwise {source, datasets: {task:
 // DIR}, tasks: {task: [seconds, ...]}}, each task's values those `tavis galt --dataset DIR` detects
-// (dataset::DatasetGaltSeconds: every episode at the dataset's fps, reason ok or ok_post_anchor).
+// (dataset::reader::DatasetGaltSeconds: every episode at the dataset's fps, reason ok or ok_post_anchor).
 // `source` is the folder when every task names the same one, otherwise "datasets". Throws
 // std::runtime_error naming the key and the file when a dataset cannot be read.
 nlohmann::ordered_json DatasetGaltReference(const nlohmann::ordered_json& figures);

@@ -108,7 +108,7 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
     try {
       CheckBuiltinPolicyName(policy.name);
     } catch (const std::invalid_argument&) {
-      node.Required("name").Fail("unknown policy '" + policy.name + "' (known: " + CellPolicyNames() + ")");
+      node.Required("name").Fail("unknown policy '" + policy.name + "' (known: " + cell::CellPolicyNames() + ")");
     }
   }
   if (IsPolicy(policy.name, PolicyKind::kReplay) && policy.actions_file.empty())
@@ -127,12 +127,12 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
   return policy;
 }
 
-bool PolicySpec::Serves(const EvaluationCellConfig& cell) const {
+bool PolicySpec::Serves(const cell::EvaluationCellConfig& cell) const {
   return Allows(tasks, cell.task) && Allows(robots, cell.robot) && Allows(splits, cell.split) &&
          Allows(cameras, cell.camera);
 }
 
-void PolicySpec::ApplyTo(EvaluationCellConfig& cell) const {
+void PolicySpec::ApplyTo(cell::EvaluationCellConfig& cell) const {
   cell.policy = name;
   cell.actions_file = actions_file;
   cell.servers = servers;

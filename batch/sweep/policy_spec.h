@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/evaluation_cell.h"
+#include "batch/cell/evaluation_cell.h"
 #include "configs/yaml_reader.h"
 
 namespace tavis::batch::sweep {
@@ -32,9 +32,9 @@ struct PolicySpec {
   std::vector<scenarios::Split> splits;
   std::vector<CameraProtocol> cameras;
 
-  bool Serves(const EvaluationCellConfig& cell) const;
+  bool Serves(const cell::EvaluationCellConfig& cell) const;
   // Copies the policy and its options into a cell's settings.
-  void ApplyTo(EvaluationCellConfig& cell) const;
+  void ApplyTo(cell::EvaluationCellConfig& cell) const;
 };
 
 // Whether reading a spec reads the files its policies name: a sweep about to run does (so that it

@@ -4,10 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/atomic_file.h"
-#include "batch/cell_record_stream.h"
-#include "batch/cell_report.h"
-#include "batch/output_folder.h"
+#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/cell_report.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/output_folder.h"
 #include "batch/rollout/cell_videos.h"
 
 namespace tavis::batch::sweep {
@@ -27,16 +27,17 @@ std::optional<nlohmann::json> ReadJson(const fs::path& path) {
 
 }  // namespace
 
-std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const fs::path& dir, const EvaluationCellConfig& config) {
+std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path& dir,
+                                                                 const cell::EvaluationCellConfig& config) {
   const std::optional<nlohmann::json> settings = ReadJson(dir / "cell.json");
   const std::optional<nlohmann::json> summary = ReadJson(dir / "summary.json");
-  if (!settings || !summary || *settings != CellSettingsJson(config)) return std::nullopt;
+  if (!settings || !summary || *settings != cell::CellSettingsJson(config)) return std::nullopt;
   std::ifstream in(dir / "episodes.jsonl", std::ios::binary);
-  std::vector<EpisodeRecord> records;
+  std::vector<cell::EpisodeRecord> records;
   int64_t successes = 0;
   for (std::string line; std::getline(in, line);) {
     try {
-      records.push_back(ParseEpisodeJsonLine(line));
+      records.push_back(cell::ParseEpisodeJsonLine(line));
     } catch (const std::exception&) {
       return std::nullopt;
     }
@@ -51,34 +52,34 @@ std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const fs::path& dir, 
   return records;
 }
 
-CellResult RunCellInto(const EvaluationCellConfig& config, const fs::path& dir, int threads,
-                       const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
-                       const EpisodeVideoSettings& videos) {
+cell::CellResult RunCellInto(const cell::EvaluationCellConfig& config, const fs::path& dir, int threads,
+                             const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
+                             const rollout::EpisodeVideoSettings& videos) {
   // A folder with settings continues; anything else there (a cell that failed before writing its
   // settings, or one whose summary does not match its records) starts over.
   const bool resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
   if (!resume) fs::remove_all(dir);
   // The sweep's lock keeps other sweeps out; this one keeps out an `eval --resume` of the cell.
-  const OutputLock lock = CreateAndLockOutput(dir, "sweep");
-  CellRecordStream stream(dir.string(), config, resume);
-  WriteFileAtomically(dir / "policy.json",
-                      nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
-  EvaluationCellConfig remaining = config;
+  const output::OutputLock lock = output::CreateAndLockOutput(dir, "sweep");
+  cell::CellRecordStream stream(dir.string(), config, resume);
+  output::WriteFileAtomically(dir / "policy.json",
+                              nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
+  cell::EvaluationCellConfig remaining = config;
   remaining.first_episode = stream.next_episode();
-  CellVideos films(videos, remaining, [&dir] { return dir / "videos"; });
-  CellResult result = RunEvaluationCell(
+  rollout::CellVideos films(videos, remaining, [&dir] { return dir / "videos"; });
+  cell::CellResult result = cell::RunEvaluationCell(
       remaining, progress,
-      [&stream, &films](const EpisodeRecord& record) {
+      [&stream, &films](const cell::EpisodeRecord& record) {
         stream.Write(record);
         films.RecordFinished(record);
       },
       films.Sinks());
-  std::vector<EpisodeRecord> episodes = stream.resumed();
-  for (EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
+  std::vector<cell::EpisodeRecord> episodes = stream.resumed();
+  for (cell::EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
   result.episodes = std::move(episodes);
   result.successes = 0;
-  for (const EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
-  WriteCellSummary(result, {threads, stream.next_episode()}, dir.string());
+  for (const cell::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
+  cell::WriteCellSummary(result, {threads, stream.next_episode()}, dir.string());
   return result;
 }
 

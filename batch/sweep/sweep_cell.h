@@ -7,9 +7,9 @@
 #include <optional>
 #include <vector>
 
+#include "batch/cell/episode_recorder.h"
+#include "batch/cell/evaluation_cell.h"
 #include "batch/episode_driver.h"
-#include "batch/episode_recorder.h"
-#include "batch/evaluation_cell.h"
 #include "batch/rollout/episode_videos.h"
 
 namespace tavis::batch::sweep {
@@ -17,15 +17,15 @@ namespace tavis::batch::sweep {
 // The cell's records when DIR holds it complete: cell.json with these settings, summary.json,
 // and episodes.jsonl with exactly episodes 0 .. N-1 whose successes match the summary's count.
 // nullopt otherwise (absent, interrupted, or not matching: such a folder is run again).
-std::optional<std::vector<EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir,
-                                                           const EvaluationCellConfig& config);
+std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir,
+                                                                 const cell::EvaluationCellConfig& config);
 
 // Runs the cell into DIR (continuing an interrupted one), writes its summary.json last and
 // returns the whole cell's result (the kept records first). DIR/policy.json names the policy's
 // label and seed group, so that tools reading the folder (`tavis table`) keep labels apart.
 // `videos` films the cell's first episodes into DIR/videos (none by default).
-CellResult RunCellInto(const EvaluationCellConfig& config, const std::filesystem::path& dir, int threads,
-                       const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
-                       const EpisodeVideoSettings& videos = {});
+cell::CellResult RunCellInto(const cell::EvaluationCellConfig& config, const std::filesystem::path& dir, int threads,
+                             const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
+                             const rollout::EpisodeVideoSettings& videos = {});
 
 }  // namespace tavis::batch::sweep

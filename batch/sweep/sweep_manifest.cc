@@ -10,10 +10,10 @@
 #include <stdexcept>
 #include <thread>
 
-#include "batch/atomic_file.h"
-#include "batch/json_error_text.h"
-#include "batch/program_version.h"
-#include "batch/settings_difference.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/json_error_text.h"
+#include "batch/output/program_version.h"
+#include "batch/output/settings_difference.h"
 
 namespace tavis::batch::sweep {
 namespace {
@@ -28,8 +28,6 @@ std::string UtcNow() {
 }
 
 }  // namespace
-
-std::string ProgramVersion() { return batch::ProgramVersion(); }
 
 nlohmann::ordered_json MachineJson() {
   char host[256] = {};
@@ -49,7 +47,7 @@ SweepManifest::SweepManifest(const SweepSpec& spec, const std::string& spec_yaml
            {"spec", SweepSpecJson(spec)},
            {"spec_file", spec.source},
            {"spec_yaml", spec_yaml},
-           {"version", ProgramVersion()},
+           {"version", output::ProgramVersion()},
            {"machine", MachineJson()},
            {"shard", {{"index", shard.index}, {"count", shard.count}}},
            {"cells", cells},
@@ -65,7 +63,7 @@ nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
     manifest = nlohmann::ordered_json::parse(in);
   } catch (const nlohmann::json::exception& error) {
     throw std::runtime_error(path.string() +
-                             ": damaged sweep manifest, not valid JSON: " + JsonErrorText(error.what()));
+                             ": damaged sweep manifest, not valid JSON: " + output::JsonErrorText(error.what()));
   }
   if (!manifest.is_object()) throw std::runtime_error(path.string() + ": damaged sweep manifest, not a JSON object");
   for (const char* key : {"spec", "spec_yaml", "version", "shard", "cells"}) {
@@ -100,7 +98,7 @@ void SweepManifest::RequireSameSweep(const nlohmann::ordered_json& existing, con
   };
   const nlohmann::json was = compared(existing);
   const nlohmann::json now = compared(json_);
-  const std::string difference = SettingsDifference(was, now);
+  const std::string difference = output::SettingsDifference(was, now);
   if (!difference.empty()) {
     throw std::invalid_argument(dir.string() + " holds another sweep (" + difference +
                                 "); give another --out, or remove it to start over");
@@ -128,7 +126,7 @@ nlohmann::ordered_json SweepManifest::Json() const {
 
 void SweepManifest::Write(const std::filesystem::path& dir) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  WriteFileAtomically(dir / "manifest.json", json_.dump(2) + "\n");
+  output::WriteFileAtomically(dir / "manifest.json", json_.dump(2) + "\n");
 }
 
 }  // namespace tavis::batch::sweep

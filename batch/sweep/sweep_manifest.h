@@ -14,9 +14,6 @@
 
 namespace tavis::batch::sweep {
 
-// `git describe --always --tags --dirty` of the source tree the program was built from.
-std::string ProgramVersion();
-
 // hostname, cores and the kernel (uname), for telling runs apart.
 nlohmann::ordered_json MachineJson();
 

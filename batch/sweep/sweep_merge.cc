@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "batch/atomic_file.h"
-#include "batch/output_folder.h"
-#include "batch/settings_difference.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/output_folder.h"
+#include "batch/output/settings_difference.h"
 #include "batch/sweep/sweep_cell.h"
 #include "batch/sweep/sweep_manifest.h"
 #include "batch/sweep/sweep_results.h"
@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-// The settings shards must share, flattened for SettingsDifference ("/spec/episodes 6 -> 5").
+// The settings shards must share, flattened for output::SettingsDifference ("/spec/episodes 6 -> 5").
 nlohmann::json SweepIdentity(const Json& manifest) {
   return nlohmann::json::parse(
       Json{{"spec", manifest["spec"]}, {"version", manifest["version"]}, {"shard count", manifest["shard"]["count"]}}
@@ -30,7 +30,7 @@ nlohmann::json SweepIdentity(const Json& manifest) {
 void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
                  const std::string& config_dir) {
   if (shard_dirs.empty()) throw std::invalid_argument("merge needs the shards' output folders");
-  RequireUsableOutputPath(out_dir);
+  output::RequireUsableOutputPath(out_dir);
   std::vector<Json> manifests;
   for (const std::string& dir : shard_dirs) manifests.push_back(SweepManifest::Read(dir));
   const Json& first = manifests.front();
@@ -38,7 +38,7 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   std::vector<std::string> shard_of(static_cast<std::size_t>(count));
   std::vector<const Json*> manifest_of(static_cast<std::size_t>(count), nullptr);
   for (std::size_t s = 0; s < manifests.size(); ++s) {
-    const std::string difference = SettingsDifference(SweepIdentity(first), SweepIdentity(manifests[s]));
+    const std::string difference = output::SettingsDifference(SweepIdentity(first), SweepIdentity(manifests[s]));
     if (!difference.empty()) {
       throw std::invalid_argument("shards of different sweeps: " + shard_dirs[s] + " differs from " +
                                   shard_dirs.front() + ": " + difference);
@@ -66,10 +66,12 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
                      PolicyFiles::kNotRead);
   const std::vector<SweepCell> cells = ExpandCells(spec, config_dir);
   const fs::path out = out_dir;
-  if (!HoldsNoResults(out)) throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
-  const OutputLock lock = CreateAndLockOutput(out, "sweep merge");
-  if (!HoldsNoResults(out)) throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
-  WriteOutputMarker(out, OutputKind::kSweep);
+  if (!output::HoldsNoResults(out))
+    throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
+  const output::OutputLock lock = output::CreateAndLockOutput(out, "sweep merge");
+  if (!output::HoldsNoResults(out))
+    throw std::invalid_argument(out_dir + " already holds files; merge into a new folder");
+  output::WriteOutputMarker(out, output::OutputKind::kSweep);
   fs::create_directories(out / "cells");
   SweepManifest manifest(spec, first["spec_yaml"].get<std::string>(), Shard{0, 1}, {});
   Json merged = manifest.Json();
@@ -88,7 +90,7 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
     fs::copy(from, out / "cells" / cells[i].id, fs::copy_options::recursive);
     merged["cells"][cells[i].id] = "complete";
   }
-  WriteFileAtomically(out / "manifest.json", merged.dump(2) + "\n");
+  output::WriteFileAtomically(out / "manifest.json", merged.dump(2) + "\n");
   WriteSweepResults(out, SweepSpecJson(spec), cells, merged);
 }
 

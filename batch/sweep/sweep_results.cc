@@ -3,7 +3,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "batch/atomic_file.h"
+#include "batch/output/atomic_file.h"
 #include "batch/report/figure_drawing.h"
 #include "batch/report/html_report.h"
 #include "batch/report/paper_table.h"
@@ -30,30 +30,30 @@ void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered
   std::vector<report::CellEpisodes> episodes;
   for (const SweepCell& cell : cells) {
     const std::filesystem::path cell_dir = dir / "cells" / cell.id;
-    std::optional<std::vector<EpisodeRecord>> records = ReadCompleteCell(cell_dir, cell.config);
+    std::optional<std::vector<cell::EpisodeRecord>> records = ReadCompleteCell(cell_dir, cell.config);
     if (!records) throw std::runtime_error(cell_dir.string() + " is not a complete cell of this sweep");
     episodes.push_back(
         {cell.id, cell.config, std::move(*records), cell.label, cell.seed_group, ServerMetadata(cell_dir)});
   }
   const nlohmann::ordered_json summary = report::SweepSummaryJson(
       spec_json, episodes, DatasetGaltReference(spec_json.value("figures", nlohmann::ordered_json::object())));
-  WriteFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
+  output::WriteFileAtomically(dir / "summary.json", summary.dump(2) + "\n");
   std::filesystem::create_directories(dir / "tables");
   for (const report::TextTable& table : report::SweepTables(summary)) {
-    WriteFileAtomically(dir / "tables" / (table.name + ".md"), report::ToMarkdown(table));
-    WriteFileAtomically(dir / "tables" / (table.name + ".csv"), report::ToCsv(table));
-    WriteFileAtomically(dir / "tables" / (table.name + ".tex"), report::ToLatex(table));
+    output::WriteFileAtomically(dir / "tables" / (table.name + ".md"), report::ToMarkdown(table));
+    output::WriteFileAtomically(dir / "tables" / (table.name + ".csv"), report::ToCsv(table));
+    output::WriteFileAtomically(dir / "tables" / (table.name + ".tex"), report::ToLatex(table));
   }
   for (const nlohmann::ordered_json& label : summary["labels"]) {
     const std::string name = label["label"];
-    WriteFileAtomically(dir / "tables" / ("table1_" + name + ".tex"), report::PaperTable1Latex(summary, name));
+    output::WriteFileAtomically(dir / "tables" / ("table1_" + name + ".tex"), report::PaperTable1Latex(summary, name));
   }
   std::filesystem::create_directories(dir / "figures");
   for (const report::Figure& figure : report::DrawPaperFigures(summary["figures"])) {
-    WriteFileAtomically(dir / "figures" / (figure.name + ".svg"), figure.canvas.Svg(figure.name));
-    WriteFileAtomically(dir / "figures" / (figure.name + ".png"), figure.canvas.Png());
+    output::WriteFileAtomically(dir / "figures" / (figure.name + ".svg"), figure.canvas.Svg(figure.name));
+    output::WriteFileAtomically(dir / "figures" / (figure.name + ".png"), figure.canvas.Png());
   }
-  WriteFileAtomically(dir / "report.html", report::SweepHtmlReport(summary, manifest));
+  output::WriteFileAtomically(dir / "report.html", report::SweepHtmlReport(summary, manifest));
 }
 
 }  // namespace tavis::batch::sweep

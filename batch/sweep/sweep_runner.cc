@@ -12,9 +12,9 @@
 
 #include <tbb/global_control.h>
 
-#include "batch/cell_report.h"
+#include "batch/cell/cell_report.h"
 #include "batch/dataset/video/video_log.h"
-#include "batch/output_folder.h"
+#include "batch/output/output_folder.h"
 #include "batch/sweep/galt_reference.h"
 #include "batch/sweep/sweep_cell.h"
 #include "batch/sweep/sweep_manifest.h"
@@ -54,17 +54,18 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   }
   std::vector<std::string> ids;
   for (const SweepCell& cell : mine) ids.push_back(cell.id);
-  for (const SweepCell& cell : mine) CheckEvaluationCell(cell.config);  // bad settings fail before any work
+  for (const SweepCell& cell : mine) cell::CheckEvaluationCell(cell.config);  // bad settings fail before any work
   DatasetGaltReference(spec.figures);  // an unreadable reference dataset fails before any work, not after it
 
   SweepManifest manifest(spec, options.spec_yaml, options.shard, ids);
   // A sweep writes only into a new folder or its own: never beside a user's files or into an
   // eval cell, and never while another process writes the same sweep.
-  RequireUsableOutputPath(out);
-  RequireEmptyOrOwn(out, OutputKind::kSweep, "give a new --out for the sweep, or this sweep's own folder to finish it");
-  const OutputLock lock = CreateAndLockOutput(out, "sweep");
+  output::RequireUsableOutputPath(out);
+  output::RequireEmptyOrOwn(out, output::OutputKind::kSweep,
+                            "give a new --out for the sweep, or this sweep's own folder to finish it");
+  const output::OutputLock lock = output::CreateAndLockOutput(out, "sweep");
   if (fs::exists(out / "manifest.json")) manifest.RequireSameSweep(SweepManifest::Read(out), out);
-  WriteOutputMarker(out, OutputKind::kSweep);
+  output::WriteOutputMarker(out, output::OutputKind::kSweep);
   fs::create_directories(out / "cells");
 
   std::vector<const SweepCell*> to_run;
@@ -85,7 +86,7 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   manifest.Write(out);
 
   const bool all_per_slot =
-      std::all_of(to_run.begin(), to_run.end(), [](const SweepCell* cell) { return RunsPerSlot(cell->config); });
+      std::all_of(to_run.begin(), to_run.end(), [](const SweepCell* cell) { return cell::RunsPerSlot(cell->config); });
   const int default_jobs = DefaultConcurrentCells(all_per_slot, options.threads);
   const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : default_jobs,
                                              static_cast<int>(to_run.size())));
@@ -99,9 +100,9 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   std::atomic<bool> failed{false};
   std::exception_ptr first_error;
   std::mutex error_mutex;
-  EpisodeVideoSettings videos;
+  rollout::EpisodeVideoSettings videos;
   videos.episodes = options.videos.value_or(spec.videos);
-  if (videos.episodes > 0) dataset::ShowOnlyVideoErrors();
+  if (videos.episodes > 0) dataset::video::ShowOnlyVideoErrors();
   const auto worker = [&] {
     for (std::size_t i = next++; i < to_run.size() && !failed; i = next++) {
       const SweepCell& cell = *to_run[i];
@@ -109,7 +110,7 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
         manifest.SetState(cell.id, "running");
         manifest.Write(out);
         int64_t reported = 0;
-        const CellResult result = RunCellInto(
+        const cell::CellResult result = RunCellInto(
             cell.config, out / "cells" / cell.id, options.threads,
             [&progress, &reported](int64_t finished, int64_t) {
               progress.AddEpisodes(finished - reported);
@@ -118,7 +119,7 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
             cell.label, cell.seed_group, videos);
         manifest.SetState(cell.id, "complete");
         manifest.Write(out);
-        progress.CellFinished(CellSummaryLine(result));
+        progress.CellFinished(cell::CellSummaryLine(result));
       } catch (...) {
         manifest.SetState(cell.id, "failed");
         std::lock_guard<std::mutex> error_lock(error_mutex);

@@ -26,7 +26,7 @@ struct SweepRunOptions {
 };
 
 // Cells run at once by default on `threads` cores: one per 4 threads (at least one) when every
-// cell runs per slot (RunsPerSlot: built-in policies), else one per thread.
+// cell runs per slot (cell::RunsPerSlot: built-in policies), else one per thread.
 int DefaultConcurrentCells(bool all_per_slot, int threads);
 
 void RunSweep(const SweepSpec& spec, const SweepRunOptions& options);

@@ -230,7 +230,7 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
             for (const std::vector<std::string>& perturbations : spec.perturbations) {
               for (const uint64_t seed : spec.seeds) {
                 SweepCell cell;
-                EvaluationCellConfig& config = cell.config;
+                cell::EvaluationCellConfig& config = cell.config;
                 config.task = task;
                 config.robot = robot;
                 config.split = split;

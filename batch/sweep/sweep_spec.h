@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/evaluation_cell.h"
+#include "batch/cell/evaluation_cell.h"
 #include "batch/sweep/policy_spec.h"
 
 namespace tavis::batch::sweep {
@@ -41,7 +41,7 @@ struct SweepSpec {
 
 struct SweepCell {
   std::string id;  // <task>_<robot>_<split>_<camera>_<label>_s<seed>, its folder under cells/
-  EvaluationCellConfig config;
+  cell::EvaluationCellConfig config;
   std::string label;
   std::string seed_group;
 };

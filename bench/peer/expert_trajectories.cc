@@ -13,21 +13,21 @@ ExpertTrajectories RecordExpertTrajectories(const std::string& config_dir, const
                                             const std::string& robot, int episodes, int ticks) {
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
   const kinematics::RobotModel robot_model = configs::LoadRobotModel(configs::RobotConfigPath(config_dir, robot));
-  batch::VecEnv env(batch::BuildWorldModel(robot_model, scenario), scenario, scenarios::Split::kId, episodes, 0);
-  batch::ExpertPolicy policy(scenario, env.model(), episodes);
+  batch::VecEnv vec_env(batch::BuildWorldModel(robot_model, scenario), scenario, scenarios::Split::kId, episodes, 0);
+  batch::ExpertPolicy policy(scenario, vec_env.model(), episodes);
 
   std::vector<batch::EpisodeStart> starts;
   for (int e = 0; e < episodes; ++e) starts.push_back({e, e});
-  env.Reset(starts);
-  const engine::BatchState& state = env.state();
+  vec_env.Reset(starts);
+  const engine::BatchState& state = vec_env.state();
   std::vector<const char*> prompts(static_cast<std::size_t>(episodes));
   for (int e = 0; e < episodes; ++e) prompts[static_cast<std::size_t>(e)] = scenario.prompt(state, e);
-  const batch::Observation observation{env.model(), state, nullptr, prompts, nullptr};
+  const batch::Observation observation{vec_env.model(), state, nullptr, prompts, nullptr};
   std::vector<uint8_t> all(static_cast<std::size_t>(episodes), 1);
   policy.Reset(observation, all);
 
   ExpertTrajectories out;
-  out.model = env.model();
+  out.model = vec_env.model();
   out.ticks = ticks;
   const int nj = state.num_joints;
   const int no = state.num_objects;
@@ -44,7 +44,7 @@ ExpertTrajectories RecordExpertTrajectories(const std::string& config_dir, const
     std::vector<uint8_t> acting(static_cast<std::size_t>(episodes));
     for (int e = 0; e < episodes; ++e) acting[static_cast<std::size_t>(e)] = state.running(e) ? 1 : 0;
     policy.Act(observation, acting, actions);
-    env.Step(actions);
+    vec_env.Step(actions);
     for (int e = 0; e < episodes; ++e) {
       EpisodeTrajectory& t = out.episodes[static_cast<std::size_t>(e)];
       // An ended episode is no longer stepped, so its row holds its last command.

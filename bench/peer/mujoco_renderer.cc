@@ -25,18 +25,18 @@ std::string GeomOf(const render::ShapeGeometry& shape) {
   std::ostringstream s;
   s.precision(9);
   switch (shape.kind) {
-    case render::ShapeKind::kBox:
+    case ShapeKind::kBox:
       s << "type=\"box\" size=\"" << 0.5 * shape.size.x() << ' ' << 0.5 * shape.size.y() << ' ' << 0.5 * shape.size.z()
         << '"';
       break;
-    case render::ShapeKind::kCylinder:
+    case ShapeKind::kCylinder:
       s << "type=\"cylinder\" size=\"" << shape.size.x() << ' ' << 0.5 * shape.size.z() << '"';
       break;
-    case render::ShapeKind::kCapsule:
+    case ShapeKind::kCapsule:
       s << "type=\"capsule\" size=\"" << shape.size.x() << ' ' << 0.5 * shape.size.z() << '"';
       break;
-    case render::ShapeKind::kSphere: s << "type=\"sphere\" size=\"" << shape.size.x() << '"'; break;
-    case render::ShapeKind::kPlane: s << "type=\"plane\" size=\"20 20 1\""; break;
+    case ShapeKind::kSphere: s << "type=\"sphere\" size=\"" << shape.size.x() << '"'; break;
+    case ShapeKind::kPlane: s << "type=\"plane\" size=\"20 20 1\""; break;
   }
   return s.str();
 }

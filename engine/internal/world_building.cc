@@ -50,6 +50,7 @@ void SetMass(dBodyID body, const Shape& shape, double mass) {
     case ShapeKind::kCylinder: dMassSetCylinderTotal(&m, mass, kOdeAxisZ, shape.Radius(), shape.Length()); break;
     case ShapeKind::kCapsule: dMassSetCapsuleTotal(&m, mass, kOdeAxisZ, shape.Radius(), shape.Length()); break;
     case ShapeKind::kSphere: dMassSetSphereTotal(&m, mass, shape.Radius()); break;
+    case ShapeKind::kPlane: TAVIS_INVARIANT(false, "a plane has no mass: bodies are solids"); break;
   }
   dBodySetMass(body, &m);
 }
@@ -255,6 +256,7 @@ dGeomID PhysicsWorld::Impl::CreateGeom(dSpaceID geom_space, const Shape& shape) 
     }
     case ShapeKind::kCapsule: return dCreateCapsule(geom_space, shape.Radius(), shape.Length());
     case ShapeKind::kSphere: return dCreateSphere(geom_space, shape.Radius());
+    case ShapeKind::kPlane: TAVIS_INVARIANT(false, "a plane is not a body's geom: the floor is ODE's plane"); break;
   }
   return nullptr;
 }

@@ -5,7 +5,7 @@
 
 #include "kinematics/forward_kinematics.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 // Two box edges whose directions' cross product is shorter than this (the sine of the angle
@@ -121,4 +121,4 @@ bool ArmObstacles::JointPathIsClear(const kinematics::RobotModel& robot, kinemat
   return true;
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -11,7 +11,7 @@
 #include "kinematics/robot_model.h"
 #include "scenarios/expert/grasp_clearance.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 // True if the two boxes come closer than `margin` (separating-axis test on the boxes grown by it).
 bool BoxesOverlap(const OrientedBox& a, const OrientedBox& b, double margin);
@@ -44,4 +44,4 @@ class ArmObstacles {
   Vec3 root_world_ = Vec3::Zero();  // the base frame's origin in the world
 };
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -6,7 +6,7 @@
 #include "kinematics/robot_buffers.h"
 #include "scenarios/expert/arm_clearance.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 constexpr double kPositionTolerance = 0.002;
@@ -118,4 +118,4 @@ RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics
   return X;
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

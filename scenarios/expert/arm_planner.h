@@ -10,7 +10,7 @@
 
 #include "kinematics/inverse_kinematics.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 class ArmObstacles;
 
@@ -35,4 +35,4 @@ bool CanTrackStraightPath(const kinematics::RobotModel& robot, kinematics::Side 
 // IK link pose (canonical frame) for joint vector q. Allocates nothing: experts call it every tick.
 RigidTransform HandPoseCanonical(const kinematics::RobotModel& robot, kinematics::Side side, const double* q);
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 ExpertMode ParseExpertMode(const std::string& text) {
   if (text == "gaze-first") return ExpertMode::kGazeFirst;
@@ -20,4 +20,4 @@ const char* ToString(ExpertMode mode) {
 
 const char* ExpertModeNames() { return "gaze-first, head-still"; }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -5,7 +5,7 @@
 
 #include <string>
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 enum class ExpertMode {
   // Reads the cue and fixates the target, lets the head settle, then acts (the default).
@@ -22,4 +22,4 @@ const char* ToString(ExpertMode mode);
 // "gaze-first, head-still", for --help texts.
 const char* ExpertModeNames();
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

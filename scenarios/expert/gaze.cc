@@ -6,7 +6,7 @@
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/robot_buffers.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 // Direction to the target in the head camera frame (x forward, y left, z up).
@@ -66,4 +66,4 @@ double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec
   return std::acos(std::clamp(t.normalized().x(), -1.0, 1.0));
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

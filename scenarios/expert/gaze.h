@@ -6,7 +6,7 @@
 
 #include "kinematics/robot_model.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 enum class NeckLimits { kRespect, kIgnore };
 
@@ -20,4 +20,4 @@ std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, co
 // Angle (rad) between the head camera's optical axis and the direction to `target_world`.
 double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world);
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 std::vector<GraspCandidate> TableGraspCandidates() {
   constexpr double kQuarter = M_PI / 2;
@@ -36,4 +36,4 @@ std::vector<GraspCandidate> ShelfGraspCandidates() {
   return candidates;
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

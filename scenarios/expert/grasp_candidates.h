@@ -3,7 +3,7 @@
 
 #include <vector>
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 // A grasp orientation: the approach (the hand's -Z) tilted `tilt` rad from straight down toward
 // the heading (the object's folded yaw plus heading_offset), the hand then turned `turn` about
@@ -30,4 +30,4 @@ std::vector<GraspCandidate> TableAndSideGraspCandidates();
 // rad, so that the jaws can meet a turned object's faces.
 std::vector<GraspCandidate> ShelfGraspCandidates();
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -4,7 +4,7 @@
 
 #include "kinematics/gripper_geometry.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 bool Inside(const OrientedBox& box, const Vec3& p_W, double margin) {
@@ -55,4 +55,4 @@ bool OpenHandClearsNeighbours(const engine::WorldModel& model, const engine::Bat
   return true;
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -9,7 +9,7 @@
 #include "kinematics/pose.h"
 #include "kinematics/robot_model.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 // An oriented box: its pose (in whichever frame the caller works) and half extents.
 struct OrientedBox {
@@ -40,4 +40,4 @@ enum class HandParts { kPads, kPadsAndHousing };
 bool OpenHandClearsNeighbours(const engine::WorldModel& model, const engine::BatchState& state, int env, int target,
                               const RigidTransform& X_W_ik, double open_gap, double margin, HandParts parts);
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -8,7 +8,7 @@
 #include "scenarios/expert/arm_planner.h"
 #include "scenarios/expert/grasp_clearance.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 constexpr double kWithdrawRise = 0.015;  // m: the pads rise this much while withdrawing
@@ -345,4 +345,4 @@ std::optional<GraspPlan> PlanGrasp(const engine::WorldModel& model, const engine
   return GraspPlanner(model, state, env, settings, side).Plan(failed);
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -13,7 +13,7 @@
 #include "kinematics/robot_model.h"
 #include "scenarios/expert/pick_expert_settings.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 constexpr double kArmClearance = 0.005;  // m: planned gap between the arm and fixed obstacles
 
@@ -35,4 +35,4 @@ std::optional<GraspPlan> PlanGrasp(const engine::WorldModel& model, const engine
                                    const PickExpertSettings& settings, kinematics::Side side,
                                    const std::vector<bool>& failed);
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

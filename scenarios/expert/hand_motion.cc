@@ -5,7 +5,7 @@
 
 #include "scenarios/expert/arm_planner.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 using kinematics::Side;
 
@@ -63,4 +63,4 @@ bool HandMotion::MoveToward(const engine::WorldModel& model, Side side, const Ar
   return fraction >= 1.0;
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -11,7 +11,7 @@
 #include "kinematics/robot_buffers.h"
 #include "kinematics/robot_model.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 class HandMotion {
  public:
@@ -50,4 +50,4 @@ class HandMotion {
   std::array<Segment, 2> segments_;
 };
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

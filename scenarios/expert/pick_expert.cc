@@ -11,7 +11,7 @@
 #include "scenarios/expert/arm_planner.h"
 #include "scenarios/expert/gaze.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 // m: a gripper this close to its fully shut gap holds nothing (the thinnest object is 21 mm).
@@ -298,4 +298,4 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
   }
 }
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

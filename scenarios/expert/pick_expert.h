@@ -23,7 +23,7 @@
 #include "scenarios/expert/pick_expert_settings.h"
 #include "scenarios/scenario.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 class PickExpert : public Expert {
  public:
@@ -101,4 +101,4 @@ class PickExpert : public Expert {
   std::vector<EnvMemory> memory_;
 };
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -12,7 +12,7 @@
 #include "scenarios/expert/expert_mode.h"
 #include "scenarios/expert/grasp_candidates.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 
 struct PickExpertSettings {
   // Gaze-first: the head reads the cue and fixates the target before the hands move (the
@@ -63,4 +63,4 @@ struct PickExpertSettings {
   int max_attempts = 3;           // grasps tried before the expert gives up
 };
 
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "altered_hold_policy.h"
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
 #include "scenarios/registry.h"
+#include "tests/support/altered_hold_policy.h"
 #include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
@@ -73,15 +73,15 @@ TEST(CameraProtocol, CameraSetsKeepOneViewAndBlackOutTheRest) {
 // Per episode: the object poses at its start and the largest neck angle reached.
 class NeckAndLayout : public EpisodeSink {
  public:
-  void EpisodeStarted(const VecEnv& env, int slot) override {
-    const engine::BatchState& state = env.state();
+  void EpisodeStarted(const VecEnv& vec_env, int slot) override {
+    const engine::BatchState& state = vec_env.state();
     layouts.emplace_back(state.object_pose_row(slot, 0),
                          state.object_pose_row(slot, 0) + engine::kObjectPoseSize * state.num_objects);
   }
-  void Stepped(const VecEnv& env) override {
-    for (int slot = 0; slot < env.num_envs(); ++slot) {
-      for (int joint : env.model().robot.neck_joints) {
-        largest_neck = std::max(largest_neck, std::abs(env.state().q_row(slot)[joint]));
+  void Stepped(const VecEnv& vec_env) override {
+    for (int slot = 0; slot < vec_env.num_envs(); ++slot) {
+      for (int joint : vec_env.model().robot.neck_joints) {
+        largest_neck = std::max(largest_neck, std::abs(vec_env.state().q_row(slot)[joint]));
       }
     }
   }
@@ -94,14 +94,14 @@ NeckAndLayout RunProtocol(CameraProtocol protocol) {
   const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   engine::WorldModel model = BuildWorldModel(robot, scenario);
   model.physics.episode_length_s = 1.0;
-  VecEnv env(std::move(model), scenario, scenarios::Split::kId, 2, 11);
+  VecEnv vec_env(std::move(model), scenario, scenarios::Split::kId, 2, 11);
   // The hold policy with the head pitched and turned: a policy that moves its head.
-  AlteredHoldPolicy policy(env, "look-around", 3, [](const Observation&, int, kinematics::Action& action) {
+  testing::AlteredHoldPolicy policy(vec_env, "look-around", 3, [](const Observation&, int, kinematics::Action& action) {
     action[kinematics::action::kNeckPitch] = 0.4;
     action[kinematics::action::kNeckYaw] = -0.6;
   });
   NeckAndLayout sink;
-  EpisodeDriver driver(env, policy, 3);
+  EpisodeDriver driver(vec_env, policy, 3);
   driver.AddSink(sink);
   driver.SetCameraProtocol(protocol);
   driver.Run();

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "altered_hold_policy.h"
 #include "batch/builtin_policies.h"
-#include "batch/episode_recorder.h"
+#include "batch/cell/episode_recorder.h"
 #include "scenarios/registry.h"
+#include "tests/support/altered_hold_policy.h"
 #include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
@@ -30,13 +30,13 @@ engine::WorldModel Model(const std::string& task, double episode_length_s) {
   return model;
 }
 
-// An EpisodeRecorder sink that keeps the env's records, in episode order.
+// An cell::EpisodeRecorder sink that keeps the env's records, in episode order.
 struct RecordCollector {
-  explicit RecordCollector(const VecEnv& env, const RecordSettings& settings = RecordSettings())
-      : recorder(env.num_envs(), env.model().physics.max_control_steps(), settings, 0,
-                 [this](EpisodeRecord&& record) { records.push_back(std::move(record)); }) {}
-  std::vector<EpisodeRecord> records;
-  EpisodeRecorder recorder;
+  explicit RecordCollector(const VecEnv& vec_env, const cell::RecordSettings& settings = cell::RecordSettings())
+      : recorder(vec_env.num_envs(), vec_env.model().physics.max_control_steps(), settings, 0,
+                 [this](cell::EpisodeRecord&& record) { records.push_back(std::move(record)); }) {}
+  std::vector<cell::EpisodeRecord> records;
+  cell::EpisodeRecorder recorder;
 };
 
 // What a sink saw: each episode's start slot and tick count, in the order of the callbacks.
@@ -51,14 +51,14 @@ struct Event {
 class EventLog : public EpisodeSink {
  public:
   explicit EventLog(int stop_after_ticks = -1) : stop_after_ticks_(stop_after_ticks) {}
-  void EpisodeStarted(const VecEnv& env, int slot) override { Add('S', env, slot); }
-  void EpisodeEnded(const VecEnv& env, int slot) override {
-    Add('E', env, slot);
-    final_q.emplace_back(env.state().q_row(slot), env.state().q_row(slot) + env.state().num_joints);
+  void EpisodeStarted(const VecEnv& vec_env, int slot) override { Add('S', vec_env, slot); }
+  void EpisodeEnded(const VecEnv& vec_env, int slot) override {
+    Add('E', vec_env, slot);
+    final_q.emplace_back(vec_env.state().q_row(slot), vec_env.state().q_row(slot) + vec_env.state().num_joints);
   }
   void ActionChosen(const VecEnv&, int, const kinematics::Action&) override { ++action_ticks; }
-  bool EpisodeComplete(const VecEnv& env, int slot) const override {
-    return stop_after_ticks_ >= 0 && env.state().control_step[slot] >= stop_after_ticks_;
+  bool EpisodeComplete(const VecEnv& vec_env, int slot) const override {
+    return stop_after_ticks_ >= 0 && vec_env.state().control_step[slot] >= stop_after_ticks_;
   }
 
   std::vector<Event> events;
@@ -66,19 +66,19 @@ class EventLog : public EpisodeSink {
   int64_t action_ticks = 0;
 
  private:
-  void Add(char kind, const VecEnv& env, int slot) {
-    const engine::BatchState& state = env.state();
+  void Add(char kind, const VecEnv& vec_env, int slot) {
+    const engine::BatchState& state = vec_env.state();
     events.push_back({kind, slot, state.episode[slot], state.end[slot], state.control_step[slot]});
   }
   int stop_after_ticks_;
 };
 
 TEST(EpisodeDriver, RunsEveryEpisodeOnceDealingThemInIndexOrder) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
-             1);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 3, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 3);
   EventLog log;
-  EpisodeDriver driver(env, *hold, 7);
+  EpisodeDriver driver(vec_env, *hold, 7);
   driver.AddSink(log);
   std::vector<int64_t> progress;
   driver.SetProgress([&](int64_t finished, int64_t total) {
@@ -101,15 +101,15 @@ TEST(EpisodeDriver, RunsEveryEpisodeOnceDealingThemInIndexOrder) {
   }
   EXPECT_EQ(driver.control_ticks(), 7 * 15);
   EXPECT_EQ(log.action_ticks, 7 * 15);
-  for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(env.state().episode[slot], -1) << "slots are released at the end";
+  for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(vec_env.state().episode[slot], -1) << "slots are released at the end";
 }
 
 TEST(EpisodeDriver, StopsAnEpisodeOnceASinkHasWhatItNeeds) {
-  VecEnv env(Model("clutter-pick-cube", 2.0), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
-             1);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
+  VecEnv vec_env(Model("clutter-pick-cube", 2.0), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 2, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
   EventLog log(/*stop_after_ticks=*/5);
-  EpisodeDriver driver(env, *hold, 3, /*first_episode=*/4);
+  EpisodeDriver driver(vec_env, *hold, 3, /*first_episode=*/4);
   driver.AddSink(log);
   driver.Run();
   int ended = 0;
@@ -129,8 +129,9 @@ TEST(EpisodeDriver, StopsAnEpisodeOnceASinkHasWhatItNeeds) {
 // is asked to act exactly on its ticks. Its actions are the reset pose's, from the hold policy.
 class CheckingPolicy : public Policy {
  public:
-  explicit CheckingPolicy(const VecEnv& env)
-      : scenario_(env.scenario()), hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
+  explicit CheckingPolicy(const VecEnv& vec_env)
+      : scenario_(vec_env.scenario()),
+        hold_(MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), vec_env.num_envs())) {}
   std::string name() const override { return "checking"; }
   int control_ticks_per_action() const override { return 3; }
   void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
@@ -160,30 +161,31 @@ class CheckingPolicy : public Policy {
 
 TEST(EpisodeDriver, ABatchedPolicySeesEachEnvsPromptAndActsOnItsTicks) {
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario("clutter-pick-lift");
-  VecEnv env(Model("clutter-pick-lift", 0.25), scenario, scenarios::Split::kId, 2, 5);
-  CheckingPolicy policy(env);
-  EpisodeDriver driver(env, policy, 4);
+  VecEnv vec_env(Model("clutter-pick-lift", 0.25), scenario, scenarios::Split::kId, 2, 5);
+  CheckingPolicy policy(vec_env);
+  EpisodeDriver driver(vec_env, policy, 4);
   driver.Run();
   EXPECT_EQ(policy.acts, 4 * 5) << "15 ticks held 3 at a time";
-  EXPECT_EQ(policy.prompts.size(), 4u * 15u) << "every running env's prompt on every tick";
+  EXPECT_EQ(policy.prompts.size(), 4u * 15u) << "every running vec_env's prompt on every tick";
 }
 
 TEST(EpisodeDriver, ANonFiniteActionEndsOnlyItsEpisodeNamingTheEntry) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
-             1);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 2, 1);
   // The hold policy, except that episode 2 commands a NaN neck yaw on its fourth tick.
-  AlteredHoldPolicy policy(env, "nan", 1, [](const Observation& observation, int slot, kinematics::Action& action) {
-    if (observation.state.episode[slot] == 2 && observation.state.control_step[slot] == 4) {
-      action[kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
-    }
-  });
-  RecordCollector collected(env);
-  std::vector<EpisodeRecord>& records = collected.records;
-  EpisodeDriver driver(env, policy, 4);
+  testing::AlteredHoldPolicy policy(
+      vec_env, "nan", 1, [](const Observation& observation, int slot, kinematics::Action& action) {
+        if (observation.state.episode[slot] == 2 && observation.state.control_step[slot] == 4) {
+          action[kinematics::action::kNeckYaw] = std::numeric_limits<double>::quiet_NaN();
+        }
+      });
+  RecordCollector collected(vec_env);
+  std::vector<cell::EpisodeRecord>& records = collected.records;
+  EpisodeDriver driver(vec_env, policy, 4);
   driver.AddSink(collected.recorder);
   driver.Run();
   ASSERT_EQ(records.size(), 4U);
-  for (const EpisodeRecord& record : records) {
+  for (const cell::EpisodeRecord& record : records) {
     if (record.episode != 2) {
       EXPECT_EQ(record.end, engine::EpisodeEnd::kTimeOut) << "episode " << record.episode;
       continue;
@@ -199,8 +201,8 @@ TEST(EpisodeDriver, ANonFiniteActionEndsOnlyItsEpisodeNamingTheEntry) {
 // The hold policy, except that it cannot act for episode 1: it reports a fault instead.
 class FaultyHoldPolicy : public Policy {
  public:
-  explicit FaultyHoldPolicy(const VecEnv& env)
-      : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())) {}
+  explicit FaultyHoldPolicy(const VecEnv& vec_env)
+      : hold_(MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), vec_env.num_envs())) {}
   std::string name() const override { return "faulty"; }
   int control_ticks_per_action() const override { return hold_->control_ticks_per_action(); }
   void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
@@ -223,12 +225,12 @@ class FaultyHoldPolicy : public Policy {
 };
 
 TEST(EpisodeDriver, APolicyFaultEndsOnlyItsEpisodeWithTheReason) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
-             1);
-  FaultyHoldPolicy policy(env);
-  RecordCollector collected(env);
-  std::vector<EpisodeRecord>& records = collected.records;
-  EpisodeDriver driver(env, policy, 3);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 2, 1);
+  FaultyHoldPolicy policy(vec_env);
+  RecordCollector collected(vec_env);
+  std::vector<cell::EpisodeRecord>& records = collected.records;
+  EpisodeDriver driver(vec_env, policy, 3);
   driver.AddSink(collected.recorder);
   driver.Run();
   ASSERT_EQ(records.size(), 3U);
@@ -244,9 +246,9 @@ TEST(EpisodeDriver, APolicyFaultEndsOnlyItsEpisodeWithTheReason) {
 // every 3 ticks).
 class GivingUpHoldPolicy : public PerEnvPolicy {
  public:
-  explicit GivingUpHoldPolicy(const VecEnv& env)
-      : hold_(MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs())),
-        gave_up_(static_cast<std::size_t>(env.num_envs()), 0) {}
+  explicit GivingUpHoldPolicy(const VecEnv& vec_env)
+      : hold_(MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), vec_env.num_envs())),
+        gave_up_(static_cast<std::size_t>(vec_env.num_envs()), 0) {}
   std::string name() const override { return "giving-up"; }
   int control_ticks_per_action() const override { return hold_->control_ticks_per_action(); }
   bool GaveUp(int env) const override { return gave_up_[static_cast<std::size_t>(env)] != 0; }
@@ -270,18 +272,18 @@ class GivingUpHoldPolicy : public PerEnvPolicy {
 TEST(EpisodeDriver, APolicyThatGivesUpEndsItsEpisodeAfterThatTicksStepOnEitherSchedule) {
   for (const bool lock_step : {true, false}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-    VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
-               1);
-    GivingUpHoldPolicy policy(env);
-    RecordCollector collected(env);
-    std::vector<EpisodeRecord>& records = collected.records;
-    EpisodeDriver driver(env, policy, 7);
+    VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"),
+                   scenarios::Split::kId, 3, 1);
+    GivingUpHoldPolicy policy(vec_env);
+    RecordCollector collected(vec_env);
+    std::vector<cell::EpisodeRecord>& records = collected.records;
+    EpisodeDriver driver(vec_env, policy, 7);
     driver.AddSink(collected.recorder);
     if (lock_step) driver.RequireLockStep();
     ASSERT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
     driver.Run();
     ASSERT_EQ(records.size(), 7u);
-    for (const EpisodeRecord& record : records) {
+    for (const cell::EpisodeRecord& record : records) {
       const bool odd = record.episode % 2 == 1;
       EXPECT_EQ(record.end, odd ? engine::EpisodeEnd::kGaveUp : engine::EpisodeEnd::kTimeOut)
           << "episode " << record.episode << (lock_step ? " lock-step" : " per slot");
@@ -296,11 +298,11 @@ TEST(EpisodeDriver, APolicyThatGivesUpEndsItsEpisodeAfterThatTicksStepOnEitherSc
 // depend on the number of slots or threads.
 std::vector<std::vector<double>> WarmUpEndStates(int slots, std::size_t threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  VecEnv env(Model("clutter-pick-cube", 0.75), scenarios::FindScenario("clutter-pick-cube"),
-             scenarios::Split::kOodInitPose, slots, 9);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), slots);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.75), scenarios::FindScenario("clutter-pick-cube"),
+                 scenarios::Split::kOodInitPose, slots, 9);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), slots);
   EventLog log;
-  EpisodeDriver driver(env, *hold, 5);
+  EpisodeDriver driver(vec_env, *hold, 5);
   driver.AddSink(log);
   driver.Run();
   std::vector<std::vector<double>> by_episode(5);
@@ -329,12 +331,13 @@ class PerSlotLog : public EpisodeSink {
   void ActionChosen(const VecEnv&, int slot, const kinematics::Action&) override {
     ++ticks_[static_cast<std::size_t>(slot)];
   }
-  bool EpisodeComplete(const VecEnv& env, int slot) const override {
-    return stop_after_ticks_ >= 0 && env.state().control_step[slot] >= stop_after_ticks_;
+  bool EpisodeComplete(const VecEnv& vec_env, int slot) const override {
+    return stop_after_ticks_ >= 0 && vec_env.state().control_step[slot] >= stop_after_ticks_;
   }
-  void EpisodeEnded(const VecEnv& env, int slot) override {
+  void EpisodeEnded(const VecEnv& vec_env, int slot) override {
     if (static_cast<int>(ended.size()) == throw_at_end_) throw std::runtime_error("disk full");
-    ended.push_back({'E', slot, env.state().episode[slot], env.state().end[slot], env.state().control_step[slot]});
+    ended.push_back(
+        {'E', slot, vec_env.state().episode[slot], vec_env.state().end[slot], vec_env.state().control_step[slot]});
     action_ticks += ticks_[static_cast<std::size_t>(slot)];
   }
   bool works_per_slot() const override { return true; }
@@ -354,30 +357,30 @@ engine::WorldModel TaskModel(const std::string& task) {
 }
 
 TEST(EpisodeDriver, RunsPerSlotOnlyWhenPolicyCamerasAndEverySinkAllowIt) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
-             1);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 2, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
   PerSlotLog per_slot(2, -1);
   EventLog lock_step;
   {
-    EpisodeDriver driver(env, *hold, 1);
+    EpisodeDriver driver(vec_env, *hold, 1);
     driver.AddSink(per_slot);
     EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kPerSlot);
     driver.AddSink(lock_step);
     EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep) << "a sink that needs the common tick";
   }
   {
-    EpisodeDriver driver(env, *hold, 1);
+    EpisodeDriver driver(vec_env, *hold, 1);
     driver.RequireLockStep();
     EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep);
   }
   {
-    CheckingPolicy batched(env);
-    EpisodeDriver driver(env, batched, 1);
+    CheckingPolicy batched(vec_env);
+    EpisodeDriver driver(vec_env, batched, 1);
     EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kLockStep) << "a policy answering the whole batch";
   }
-  env.EnableCameras({{"head"}, 32, 24});
-  EpisodeDriver driver(env, *hold, 1);
+  vec_env.EnableCameras({{"head"}, 32, 24});
+  EpisodeDriver driver(vec_env, *hold, 1);
   EXPECT_EQ(driver.schedule(), EpisodeDriver::Schedule::kPerSlot) << "each slot renders at its own policy ticks";
 }
 
@@ -388,10 +391,10 @@ class ImageLog : public EpisodeSink {
  public:
   explicit ImageLog(int slots) : running_(static_cast<std::size_t>(slots)) {}
   void EpisodeStarted(const VecEnv&, int slot) override { running_[static_cast<std::size_t>(slot)].clear(); }
-  void ActionChosen(const VecEnv& env, int slot, const kinematics::Action&) override {
-    const engine::BatchState& state = env.state();
-    if (state.control_step[slot] % env.model().physics.controls_per_policy() != 0) return;
-    const render::ImageBatch& images = *env.images();
+  void ActionChosen(const VecEnv& vec_env, int slot, const kinematics::Action&) override {
+    const engine::BatchState& state = vec_env.state();
+    if (state.control_step[slot] % vec_env.model().physics.controls_per_policy() != 0) return;
+    const render::ImageBatch& images = *vec_env.images();
     for (int camera = 0; camera < images.n_cameras(); ++camera) {
       const uint8_t* rgb = images.rgb(slot, camera);
       const std::size_t size =
@@ -402,8 +405,8 @@ class ImageLog : public EpisodeSink {
       lit_pixels += static_cast<int64_t>(std::count_if(rgb, rgb + size, [](uint8_t value) { return value != 0; }));
     }
   }
-  void EpisodeEnded(const VecEnv& env, int slot) override {
-    by_episode[env.state().episode[slot]] = std::move(running_[static_cast<std::size_t>(slot)]);
+  void EpisodeEnded(const VecEnv& vec_env, int slot) override {
+    by_episode[vec_env.state().episode[slot]] = std::move(running_[static_cast<std::size_t>(slot)]);
   }
   bool works_per_slot() const override { return true; }
 
@@ -415,7 +418,7 @@ class ImageLog : public EpisodeSink {
 };
 
 struct RenderedRun {
-  std::vector<EpisodeRecord> records;
+  std::vector<cell::EpisodeRecord> records;
   std::map<int64_t, std::vector<uint64_t>> images;
   int64_t lit_pixels = 0;
   int64_t rendered_images = 0;
@@ -426,24 +429,24 @@ struct RenderedRun {
 // tick, as `tavis eval --render-cameras` runs it.
 RenderedRun RenderedExpert(bool lock_step, std::size_t threads, int slots) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  VecEnv env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, slots,
-             5);
-  env.EnableCameras({{"head", "left_wrist"}, 32, 24});
-  std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", env.scenario(), env.model(), slots);
-  RecordSettings settings;
+  VecEnv vec_env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 slots, 5);
+  vec_env.EnableCameras({{"head", "left_wrist"}, 32, 24});
+  std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", vec_env.scenario(), vec_env.model(), slots);
+  cell::RecordSettings settings;
   settings.galt_stride = 1;
-  settings.galt_fps = env.model().physics.control_hz;
+  settings.galt_fps = vec_env.model().physics.control_hz;
   settings.keep_actions = true;
-  RecordCollector collected(env, settings);
+  RecordCollector collected(vec_env, settings);
   ImageLog images(slots);
-  EpisodeDriver driver(env, *expert, 4);
+  EpisodeDriver driver(vec_env, *expert, 4);
   driver.AddSink(images);
   driver.AddSink(collected.recorder);
   if (lock_step) driver.RequireLockStep();
   EXPECT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
   driver.EnableProfile();
   driver.Run();
-  return {collected.records, images.by_episode, images.lit_pixels.load(), env.rendered_images(), driver.profile()};
+  return {collected.records, images.by_episode, images.lit_pixels.load(), vec_env.rendered_images(), driver.profile()};
 }
 
 double Stage(const CellProfile& profile, const std::string& name) {
@@ -491,7 +494,7 @@ TEST(EpisodeDriver, ARenderedExpertCellGivesTheSameRecordsAndImagesOnEitherSched
   ASSERT_EQ(lock_step.images.size(), 4u);
   EXPECT_GT(lock_step.lit_pixels, 0) << "the cameras see the scene";
   int64_t policy_ticks = 0;
-  for (const EpisodeRecord& record : lock_step.records) {
+  for (const cell::EpisodeRecord& record : lock_step.records) {
     const auto& hashes = lock_step.images.at(record.episode);
     EXPECT_EQ(hashes.size(), 2u * static_cast<std::size_t>(record.length_steps)) << "two cameras at every policy tick";
     policy_ticks += static_cast<int64_t>(hashes.size()) / 2;
@@ -508,8 +511,8 @@ TEST(EpisodeDriver, ARenderedExpertCellGivesTheSameRecordsAndImagesOnEitherSched
                               std::to_string(variant.threads) + " threads, " + std::to_string(variant.slots) + " slots";
     ASSERT_EQ(run.records.size(), lock_step.records.size()) << label;
     for (std::size_t i = 0; i < run.records.size(); ++i) {
-      const EpisodeRecord& a = lock_step.records[i];
-      const EpisodeRecord& b = run.records[i];
+      const cell::EpisodeRecord& a = lock_step.records[i];
+      const cell::EpisodeRecord& b = run.records[i];
       EXPECT_EQ(b.episode, a.episode) << label;
       EXPECT_EQ(b.end, a.end) << label << ", episode " << a.episode;
       EXPECT_EQ(b.length_control_ticks, a.length_control_ticks) << label << ", episode " << a.episode;
@@ -522,11 +525,11 @@ TEST(EpisodeDriver, ARenderedExpertCellGivesTheSameRecordsAndImagesOnEitherSched
 
 TEST(EpisodeDriver, PerSlotScheduleRunsEveryEpisodeOnceAndStopsThoseASinkIsDoneWith) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
-             1);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 3, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 3);
   PerSlotLog log(3, /*stop_after_ticks=*/5);
-  EpisodeDriver driver(env, *hold, 7, /*first_episode=*/2);
+  EpisodeDriver driver(vec_env, *hold, 7, /*first_episode=*/2);
   driver.AddSink(log);
   std::vector<int64_t> progress;
   driver.SetProgress([&](int64_t finished, int64_t total) {
@@ -547,22 +550,23 @@ TEST(EpisodeDriver, PerSlotScheduleRunsEveryEpisodeOnceAndStopsThoseASinkIsDoneW
   EXPECT_EQ(episodes, (std::vector<int64_t>{2, 3, 4, 5, 6, 7, 8}));
   EXPECT_EQ(driver.control_ticks(), 7 * 5);
   EXPECT_EQ(log.action_ticks, 7 * 5);
-  for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(env.state().episode[slot], -1) << "slots are released at the end";
+  for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(vec_env.state().episode[slot], -1) << "slots are released at the end";
 }
 
 // The expert's records (outcome, length, GALT, every tick's action) of a few clutter-pick-cube
 // episodes, on either schedule and thread count.
-std::vector<EpisodeRecord> ExpertRecords(bool lock_step, std::size_t threads) {
+std::vector<cell::EpisodeRecord> ExpertRecords(bool lock_step, std::size_t threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  VecEnv env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3, 5);
-  std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", env.scenario(), env.model(), 3);
-  RecordSettings settings;
+  VecEnv vec_env(TaskModel("clutter-pick-cube"), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
+                 5);
+  std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", vec_env.scenario(), vec_env.model(), 3);
+  cell::RecordSettings settings;
   settings.galt_stride = 1;
-  settings.galt_fps = env.model().physics.control_hz;
+  settings.galt_fps = vec_env.model().physics.control_hz;
   settings.keep_actions = true;
-  RecordCollector collected(env, settings);
-  std::vector<EpisodeRecord>& records = collected.records;
-  EpisodeDriver driver(env, *expert, 5);
+  RecordCollector collected(vec_env, settings);
+  std::vector<cell::EpisodeRecord>& records = collected.records;
+  EpisodeDriver driver(vec_env, *expert, 5);
   driver.AddSink(collected.recorder);
   if (lock_step) driver.RequireLockStep();
   EXPECT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
@@ -571,13 +575,13 @@ std::vector<EpisodeRecord> ExpertRecords(bool lock_step, std::size_t threads) {
 }
 
 TEST(EpisodeDriver, PerSlotScheduleRecordsExactlyWhatLockStepRecords) {
-  const std::vector<EpisodeRecord> lock_step = ExpertRecords(true, 2);
+  const std::vector<cell::EpisodeRecord> lock_step = ExpertRecords(true, 2);
   ASSERT_EQ(lock_step.size(), 5u);
   int successes = 0;
-  for (const EpisodeRecord& record : lock_step) successes += record.success ? 1 : 0;
+  for (const cell::EpisodeRecord& record : lock_step) successes += record.success ? 1 : 0;
   EXPECT_GE(successes, 4) << "the expert solves the task";
   for (std::size_t threads : {1, 2}) {
-    const std::vector<EpisodeRecord> per_slot = ExpertRecords(false, threads);
+    const std::vector<cell::EpisodeRecord> per_slot = ExpertRecords(false, threads);
     ASSERT_EQ(per_slot.size(), lock_step.size());
     for (std::size_t i = 0; i < lock_step.size(); ++i) {
       EXPECT_EQ(per_slot[i].episode, lock_step[i].episode) << "records in episode order";
@@ -594,11 +598,11 @@ TEST(EpisodeDriver, PerSlotScheduleRecordsExactlyWhatLockStepRecords) {
 
 TEST(EpisodeDriver, ASinkFailingOnThePerSlotScheduleStopsTheRunEarly) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 2,
-             1);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 2);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 2, 1);
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
   PerSlotLog log(2, -1, /*throw_at_end=*/1);
-  EpisodeDriver driver(env, *hold, 40);
+  EpisodeDriver driver(vec_env, *hold, 40);
   driver.AddSink(log);
   int64_t finished = 0;
   driver.SetProgress([&](int64_t done, int64_t) { finished = done; });
@@ -612,19 +616,19 @@ TEST(EpisodeDriver, ASinkFailingOnThePerSlotScheduleStopsTheRunEarly) {
 // all running envs.
 class PhaseLog : public EpisodeSink {
  public:
-  void TickStarting(const VecEnv& env) override {
-    const engine::BatchState& state = env.state();
+  void TickStarting(const VecEnv& vec_env) override {
+    const engine::BatchState& state = vec_env.state();
     int phase = -1;
     for (int slot = 0; slot < state.num_envs; ++slot) {
       if (!state.running(slot)) continue;
-      const int slot_phase = state.control_step[slot] % env.model().physics.controls_per_policy();
+      const int slot_phase = state.control_step[slot] % vec_env.model().physics.controls_per_policy();
       if (phase >= 0 && slot_phase != phase) ++out_of_phase_ticks;
       phase = slot_phase;
     }
   }
   // Episode i stops after 4 + i % 3 ticks: without alignment the slots would drift apart.
-  bool EpisodeComplete(const VecEnv& env, int slot) const override {
-    return env.state().control_step[slot] >= 4 + env.state().episode[slot] % 3;
+  bool EpisodeComplete(const VecEnv& vec_env, int slot) const override {
+    return vec_env.state().control_step[slot] >= 4 + vec_env.state().episode[slot] % 3;
   }
   void EpisodeEnded(const VecEnv&, int) override { ++ended; }
 
@@ -633,12 +637,12 @@ class PhaseLog : public EpisodeSink {
 };
 
 TEST(EpisodeDriver, WithCamerasEpisodesStartOnTheBatchsPolicyTicks) {
-  VecEnv env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId, 3,
-             1);
-  env.EnableCameras({{"head"}, 32, 24});
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), 3);
+  VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"), scenarios::Split::kId,
+                 3, 1);
+  vec_env.EnableCameras({{"head"}, 32, 24});
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 3);
   PhaseLog log;
-  EpisodeDriver driver(env, *hold, 8);
+  EpisodeDriver driver(vec_env, *hold, 8);
   driver.AddSink(log);
   driver.Run();
   EXPECT_EQ(log.ended, 8);

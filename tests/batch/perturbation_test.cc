@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "batch/cell_record_stream.h"
-#include "batch/evaluation_cell.h"
+#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/evaluation_cell.h"
 #include "batch/perturbed_view.h"
 #include "batch/report/perturbation_pairs.h"
 #include "batch/scene_render.h"
@@ -45,22 +45,22 @@ Views RenderReset(const std::vector<std::string>& choices, int64_t episode = 0,
   const kinematics::RobotModel robot = configs::LoadRobotModel(configs::RobotConfigPath(TAVIS_CONFIG_DIR, "gr1t2"));
   engine::WorldModel model = BuildWorldModel(robot, scenario);
   ApplyPerturbations(TAVIS_CONFIG_DIR, choices, 5, &model);
-  VecEnv env(std::move(model), scenario, scenarios::Split::kId, 1, 5);
+  VecEnv vec_env(std::move(model), scenario, scenarios::Split::kId, 1, 5);
   CameraSettings settings;
   settings.cameras = SceneCameraNames();
   settings.width = kWidth;
   settings.height = kHeight;
-  env.EnableCameras(settings);  // the task's black cameras start blocked
-  env.Reset({{0, episode}});
-  env.RenderPolicyTick();
+  vec_env.EnableCameras(settings);  // the task's black cameras start blocked
+  vec_env.Reset({{0, episode}});
+  vec_env.RenderPolicyTick();
   Views views;
-  const render::ImageBatch& images = *env.images();
+  const render::ImageBatch& images = *vec_env.images();
   for (int c = 0; c < images.n_cameras(); ++c) {
     const uint8_t* rgb = images.rgb(0, c);
     views.rgb.emplace_back(rgb, rgb + 3 * kWidth * kHeight);
   }
-  for (int object = 0; object < env.model().num_objects(); ++object) {
-    const double* pose = env.state().object_pose_row(0, object);
+  for (int object = 0; object < vec_env.model().num_objects(); ++object) {
+    const double* pose = vec_env.state().object_pose_row(0, object);
     views.object_poses.insert(views.object_poses.end(), pose, pose + 7);
   }
   return views;
@@ -191,12 +191,12 @@ TEST(PerturbationCatalog, ChoicesAreCheckedAgainstTheFiles) {
 }
 
 TEST(PerturbationCatalog, CellFilesRecordTheLevelsAndTheBaseCellIsAsBefore) {
-  EvaluationCellConfig config;
+  cell::EvaluationCellConfig config;
   config.config_dir = TAVIS_CONFIG_DIR;
-  const nlohmann::json base = CellSettingsJson(config);
+  const nlohmann::json base = cell::CellSettingsJson(config);
   EXPECT_FALSE(base.contains("perturbations")) << "a base cell's cell.json keeps its old keys";
   config.perturbations = {"lighting:warm"};
-  const nlohmann::json perturbed = CellSettingsJson(config);
+  const nlohmann::json perturbed = cell::CellSettingsJson(config);
   ASSERT_TRUE(perturbed.contains("perturbations"));
   EXPECT_EQ(perturbed["perturbations"][0]["axis"], "lighting");
   EXPECT_EQ(perturbed["perturbations"][0]["level"], "warm");
@@ -320,7 +320,7 @@ TEST(PerturbationAxes, SensorNoiseHasItsDeclaredSpreadAndRepeatsPerEpisodeAndTic
   const int fixed = CameraIndexOf("fixed");
   const std::vector<uint8_t>& clean = base.rgb[static_cast<std::size_t>(fixed)];
   const std::vector<uint8_t>& dirty = noisy.rgb[static_cast<std::size_t>(fixed)];
-  // Spread of the difference over unclipped values: the declared 16 levels.
+  // cell::Spread of the difference over unclipped values: the declared 16 levels.
   double sum = 0.0, sum_sq = 0.0;
   int n = 0;
   for (std::size_t i = 0; i < clean.size(); ++i) {
@@ -364,7 +364,7 @@ TEST(PerturbationAxes, SensorBlurSoftensEdgesAndBlockedCamerasStayBlack) {
 }
 
 TEST(PerturbationAxes, ViewAxesLeaveTheExpertsEpisodesExactlyAsInTheBaseCell) {
-  EvaluationCellConfig base;
+  cell::EvaluationCellConfig base;
   base.task = "clutter-pick-cube";
   base.robot = "reachy2";
   base.policy = "expert";
@@ -376,12 +376,12 @@ TEST(PerturbationAxes, ViewAxesLeaveTheExpertsEpisodesExactlyAsInTheBaseCell) {
   base.render_cameras = {"head", "fixed"};  // rendered under the perturbation every policy tick
   base.image_width = 32;
   base.image_height = 24;
-  const CellResult reference = RunEvaluationCell(base);
+  const cell::CellResult reference = cell::RunEvaluationCell(base);
   for (const char* choice : {"camera:head-mount-large", "lighting:low-side-sun", "sensor:noise-high"}) {
     SCOPED_TRACE(choice);
-    EvaluationCellConfig perturbed = base;
+    cell::EvaluationCellConfig perturbed = base;
     perturbed.perturbations = {choice};
-    const CellResult result = RunEvaluationCell(perturbed);
+    const cell::CellResult result = cell::RunEvaluationCell(perturbed);
     ASSERT_EQ(result.episodes.size(), reference.episodes.size());
     for (std::size_t i = 0; i < result.episodes.size(); ++i) {
       EXPECT_EQ(result.episodes[i].success, reference.episodes[i].success);
@@ -404,7 +404,7 @@ TEST(PerturbationPairs, PerturbedCellsPairWithTheirBaseCellEpisodeByEpisode) {
     episodes.config.seed = seed;
     episodes.config.perturbations = perturbations;
     for (const bool success : successes) {
-      EpisodeRecord record;
+      cell::EpisodeRecord record;
       record.success = success;
       episodes.episodes.push_back(record);
     }

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "batch/builtin_policies.h"
-#include "batch/evaluation_cell.h"
+#include "batch/cell/evaluation_cell.h"
 
 namespace tavis::batch {
 namespace {
@@ -31,7 +31,7 @@ TEST(PolicyKinds, UnknownNamesAreNoPolicy) {
 // The lists the help texts and errors print, as they were written before the table.
 TEST(PolicyKinds, NameListsKeepTheirWording) {
   EXPECT_EQ(std::string(BuiltinPolicyNames()), "expert, hold, replay");
-  EXPECT_EQ(CellPolicyNames(), "expert, hold, replay, openpi");
+  EXPECT_EQ(cell::CellPolicyNames(), "expert, hold, replay, openpi");
   EXPECT_NO_THROW(CheckBuiltinPolicyName("replay"));
   EXPECT_THROW(CheckBuiltinPolicyName("openpi"), std::invalid_argument);  // served, not built in
   EXPECT_THROW(CheckBuiltinPolicyName("random"), std::invalid_argument);

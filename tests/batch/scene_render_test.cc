@@ -76,18 +76,19 @@ std::vector<uint8_t> Rgb(const render::ImageBatch& images, int env, int camera) 
 }
 
 // The render stage of a policy tick, then its images.
-const render::ImageBatch* RenderNow(VecEnv& env) {
-  env.RenderPolicyTick();
-  return env.images();
+const render::ImageBatch* RenderNow(VecEnv& vec_env) {
+  vec_env.RenderPolicyTick();
+  return vec_env.images();
 }
 
 // Runs every env with the scenario's expert for `ticks` control ticks.
-void RunExpert(VecEnv& env, scenarios::Expert& expert, int ticks) {
-  std::vector<kinematics::Action> actions(static_cast<std::size_t>(env.num_envs()));
+void RunExpert(VecEnv& vec_env, scenarios::Expert& expert, int ticks) {
+  std::vector<kinematics::Action> actions(static_cast<std::size_t>(vec_env.num_envs()));
   for (int t = 0; t < ticks; ++t) {
-    env.RenderPolicyTick();
-    for (int slot = 0; slot < env.num_envs(); ++slot) expert.Act(env.model(), env.state(), slot, actions[slot]);
-    env.Step(actions);
+    vec_env.RenderPolicyTick();
+    for (int slot = 0; slot < vec_env.num_envs(); ++slot)
+      expert.Act(vec_env.model(), vec_env.state(), slot, actions[slot]);
+    vec_env.Step(actions);
   }
 }
 
@@ -141,11 +142,11 @@ TEST(SceneRender, RejectsUnknownOrRepeatedCamerasAndBadSizes) {
 // A colour the task gives an object (state.object_rgb, e.g. a cue card's) replaces its palette
 // colour in that env only; a hidden object is not drawn.
 TEST(SceneRender, TaskColoursAndHiddenObjectsFollowTheState) {
-  VecEnv env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 1, 0);
-  env.ResetEnv(0, 1);
-  engine::BatchState state = env.state();  // a copy the test may edit
-  const int cube = env.model().ObjectIndex("red_cube");
-  SceneRender scene(env.model(), 1, Cameras({"fixed"}, 160, 120, /*with_object_id=*/true));
+  VecEnv vec_env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 1, 0);
+  vec_env.ResetEnv(0, 1);
+  engine::BatchState state = vec_env.state();  // a copy the test may edit
+  const int cube = vec_env.model().ObjectIndex("red_cube");
+  SceneRender scene(vec_env.model(), 1, Cameras({"fixed"}, 160, 120, /*with_object_id=*/true));
   const uint8_t render_env = 1;
   // Mean RGB over the cube's pixels.
   auto cube_colour = [&]() {
@@ -186,48 +187,48 @@ TEST(VecEnvCameras, NothingIsRenderedWithoutCamerasAndOnlyPolicyTicksWithThem) {
   EXPECT_EQ(RenderNow(plain), nullptr);
   EXPECT_EQ(plain.rendered_images(), 0);
 
-  VecEnv env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 1);
-  env.EnableCameras(Cameras({"head", "left_wrist"}, 32, 24));
-  env.ResetEnv(0, 0);
-  env.ResetEnv(1, 1);
-  const int per_policy = env.model().physics.controls_per_policy();
+  VecEnv vec_env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 1);
+  vec_env.EnableCameras(Cameras({"head", "left_wrist"}, 32, 24));
+  vec_env.ResetEnv(0, 0);
+  vec_env.ResetEnv(1, 1);
+  const int per_policy = vec_env.model().physics.controls_per_policy();
   ASSERT_EQ(per_policy, 3);
   std::unique_ptr<scenarios::Expert> expert =
-      scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
-  for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
+      scenarios::FindScenario(kTask).make_expert(vec_env.model(), 2, scenarios::expert::ExpertMode::kGazeFirst);
+  for (int slot = 0; slot < 2; ++slot) expert->Reset(vec_env.model(), vec_env.state(), slot);
 
   // Slot 1 is one tick behind slot 0, so their policy ticks differ.
   std::vector<kinematics::Action> actions(2);
-  expert->Act(env.model(), env.state(), 0, actions[0]);
-  env.Release(1);
-  env.Step(actions);
-  env.ResetEnv(1, 1);
-  expert->Reset(env.model(), env.state(), 1);
+  expert->Act(vec_env.model(), vec_env.state(), 0, actions[0]);
+  vec_env.Release(1);
+  vec_env.Step(actions);
+  vec_env.ResetEnv(1, 1);
+  expert->Reset(vec_env.model(), vec_env.state(), 1);
   int64_t expected = 0;
   for (int tick = 0; tick < 9; ++tick) {
-    const render::ImageBatch* observed = RenderNow(env);
+    const render::ImageBatch* observed = RenderNow(vec_env);
     ASSERT_NE(observed, nullptr);
     for (int slot = 0; slot < 2; ++slot) {
-      if (env.state().control_step[slot] % per_policy == 0) expected += 2;
+      if (vec_env.state().control_step[slot] % per_policy == 0) expected += 2;
     }
-    EXPECT_EQ(env.rendered_images(), expected) << "tick " << tick;
-    env.RenderPolicyTick();  // a second look at the same tick renders nothing new
-    EXPECT_EQ(env.rendered_images(), expected) << "tick " << tick;
-    for (int slot = 0; slot < 2; ++slot) expert->Act(env.model(), env.state(), slot, actions[slot]);
-    env.Step(actions);
+    EXPECT_EQ(vec_env.rendered_images(), expected) << "tick " << tick;
+    vec_env.RenderPolicyTick();  // a second look at the same tick renders nothing new
+    EXPECT_EQ(vec_env.rendered_images(), expected) << "tick " << tick;
+    for (int slot = 0; slot < 2; ++slot) expert->Act(vec_env.model(), vec_env.state(), slot, actions[slot]);
+    vec_env.Step(actions);
   }
-  EXPECT_EQ(expected, 2 * 3 + 2 * 3) << "each env rendered on 3 of 9 ticks, 2 cameras";
+  EXPECT_EQ(expected, 2 * 3 + 2 * 3) << "each vec_env rendered on 3 of 9 ticks, 2 cameras";
 }
 
 // Where the centre of an object projects in an env's head image, by forward kinematics.
-render::PixelProjection ProjectIntoHead(const VecEnv& env, int slot, int object, int width, int height) {
-  const kinematics::RobotModel& robot = env.model().robot;
+render::PixelProjection ProjectIntoHead(const VecEnv& vec_env, int slot, int object, int width, int height) {
+  const kinematics::RobotModel& robot = vec_env.model().robot;
   std::vector<RigidTransform> X_BL(robot.links.size());
-  kinematics::ComputeLinkPoses(robot, env.state().q_row(slot), X_BL.data());
+  kinematics::ComputeLinkPoses(robot, vec_env.state().q_row(slot), X_BL.data());
   const RigidTransform X_WC = MakeTransform(robot.root_world, Mat3::Identity()) *
                               kinematics::CameraPose(robot, robot.CameraIndex("head"), X_BL.data());
   return render::ProjectWorldPoint(render::HeadCameraSpec(width, height), X_WC,
-                                   env.state().ObjectPosition(slot, object));
+                                   vec_env.state().ObjectPosition(slot, object));
 }
 
 // Tracks when the expert's gaze has settled on its first fixation: the commanded neck has turned
@@ -240,9 +241,9 @@ class GazeSettling {
       : held_ticks_(static_cast<std::size_t>(num_envs), 0), last_target_(static_cast<std::size_t>(num_envs)) {}
 
   // Call once per control tick, before the policy acts.
-  bool Settled(const VecEnv& env, int slot) {
-    const engine::BatchState& state = env.state();
-    const kinematics::RobotModel& robot = env.model().robot;
+  bool Settled(const VecEnv& vec_env, int slot) {
+    const engine::BatchState& state = vec_env.state();
+    const kinematics::RobotModel& robot = vec_env.model().robot;
     const std::size_t row = static_cast<std::size_t>(slot) * static_cast<std::size_t>(state.num_joints);
     std::array<double, 3> target{};
     bool reached = true;
@@ -284,35 +285,36 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
     // gripper hides it once the head has turned.
     const std::vector<int64_t> episodes = gr1t2 ? std::vector<int64_t>{0, 1, 2} : std::vector<int64_t>{6, 7, 11, 12};
     const int n = static_cast<int>(episodes.size());
-    VecEnv env(Model(robot), scenarios::FindScenario(kTask), scenarios::Split::kId, n, 0);
-    env.EnableCameras(Cameras({"head"}, kWidth, kHeight, /*with_object_id=*/true));
-    const int cube = env.model().ObjectIndex("red_cube");
+    VecEnv vec_env(Model(robot), scenarios::FindScenario(kTask), scenarios::Split::kId, n, 0);
+    vec_env.EnableCameras(Cameras({"head"}, kWidth, kHeight, /*with_object_id=*/true));
+    const int cube = vec_env.model().ObjectIndex("red_cube");
     std::unique_ptr<scenarios::Expert> expert =
-        scenarios::FindScenario(kTask).make_expert(env.model(), n, scenarios::ExpertMode::kGazeFirst);
+        scenarios::FindScenario(kTask).make_expert(vec_env.model(), n, scenarios::expert::ExpertMode::kGazeFirst);
     GazeSettling gaze(n);
     for (int slot = 0; slot < n; ++slot) {
-      env.ResetEnv(slot, episodes[static_cast<std::size_t>(slot)]);
-      expert->Reset(env.model(), env.state(), slot);
+      vec_env.ResetEnv(slot, episodes[static_cast<std::size_t>(slot)]);
+      expert->Reset(vec_env.model(), vec_env.state(), slot);
     }
-    const render::ImageBatch& images = *RenderNow(env);
+    const render::ImageBatch& images = *RenderNow(vec_env);
     for (int slot = 0; slot < n; ++slot) {
       EXPECT_EQ(FindObject(images, slot, 0, cube).count, 0)
           << "episode " << episodes[static_cast<std::size_t>(slot)] << ": the cube must start out of the head's view";
     }
 
-    // Step until every env's expert has settled its gaze, at a policy tick.
+    // Step until every vec_env's expert has settled its gaze, at a policy tick.
     std::vector<bool> checked(static_cast<std::size_t>(n), false);
     std::vector<kinematics::Action> actions(static_cast<std::size_t>(n));
     for (int tick = 0; tick < 240 && std::count(checked.begin(), checked.end(), true) < n; ++tick) {
-      const render::ImageBatch* observed = RenderNow(env);
+      const render::ImageBatch* observed = RenderNow(vec_env);
       for (int slot = 0; slot < n; ++slot) {
-        const bool fixated = gaze.Settled(env, slot);
-        if (checked[static_cast<std::size_t>(slot)] || !fixated || env.state().control_step[slot] % 3 != 0) continue;
+        const bool fixated = gaze.Settled(vec_env, slot);
+        if (checked[static_cast<std::size_t>(slot)] || !fixated || vec_env.state().control_step[slot] % 3 != 0)
+          continue;
         SCOPED_TRACE("episode " + std::to_string(episodes[static_cast<std::size_t>(slot)]) + ", tick " +
                      std::to_string(tick));
         const Blob blob = FindObject(*observed, slot, 0, cube);
         EXPECT_GT(blob.count, 40);
-        const render::PixelProjection centre = ProjectIntoHead(env, slot, cube, kWidth, kHeight);
+        const render::PixelProjection centre = ProjectIntoHead(vec_env, slot, cube, kWidth, kHeight);
         EXPECT_NEAR(blob.u, centre.u, 4.0);
         EXPECT_NEAR(blob.v, centre.v, 4.0);
         if (gr1t2) {
@@ -323,29 +325,29 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
         }
         checked[static_cast<std::size_t>(slot)] = true;
       }
-      for (int slot = 0; slot < n; ++slot) expert->Act(env.model(), env.state(), slot, actions[slot]);
-      env.Step(actions);
+      for (int slot = 0; slot < n; ++slot) expert->Act(vec_env.model(), vec_env.state(), slot, actions[slot]);
+      vec_env.Step(actions);
     }
     EXPECT_EQ(std::count(checked.begin(), checked.end(), true), n) << "the expert never settled its gaze";
 
     // Forced to look away (neck yawed 1.4 rad to the side away from the cube, level), the head
     // loses the cube again while the hand keeps reaching.
     for (int tick = 0; tick < 45; ++tick) {
-      env.RenderPolicyTick();
+      vec_env.RenderPolicyTick();
       for (int slot = 0; slot < n; ++slot) {
-        expert->Act(env.model(), env.state(), slot, actions[slot]);
+        expert->Act(vec_env.model(), vec_env.state(), slot, actions[slot]);
         actions[slot][kinematics::action::kNeckPitch] = 0.0;
-        actions[slot][kinematics::action::kNeckYaw] = env.state().ObjectPosition(slot, cube).y() > 0 ? -1.4 : 1.4;
+        actions[slot][kinematics::action::kNeckYaw] = vec_env.state().ObjectPosition(slot, cube).y() > 0 ? -1.4 : 1.4;
       }
-      env.Step(actions);
+      vec_env.Step(actions);
     }
-    while (env.state().control_step[0] % 3 != 0) {
-      for (int slot = 0; slot < n; ++slot) expert->Act(env.model(), env.state(), slot, actions[slot]);
-      env.Step(actions);
+    while (vec_env.state().control_step[0] % 3 != 0) {
+      for (int slot = 0; slot < n; ++slot) expert->Act(vec_env.model(), vec_env.state(), slot, actions[slot]);
+      vec_env.Step(actions);
     }
-    const render::ImageBatch& away = *RenderNow(env);
+    const render::ImageBatch& away = *RenderNow(vec_env);
     for (int slot = 0; slot < n; ++slot) {
-      ASSERT_EQ(env.state().end[slot], engine::EpisodeEnd::kRunning);
+      ASSERT_EQ(vec_env.state().end[slot], engine::EpisodeEnd::kRunning);
       EXPECT_EQ(FindObject(away, slot, 0, cube).count, 0)
           << "episode " << episodes[static_cast<std::size_t>(slot)] << ": the head looks away";
     }
@@ -355,17 +357,17 @@ TEST(VecEnvCameras, HeadSeesTheCubeOnlyOnceTheExpertFixatesIt) {
 // The blocked-clutter-pick-cube plumbing (reference 4.8): a blocked head renders all zero while
 // the env's wrists and the other env's head render normally.
 TEST(VecEnvCameras, BlockedHeadImageIsAllZero) {
-  VecEnv env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 4);
-  env.EnableCameras(Cameras({"head", "left_wrist", "right_wrist"}, 48, 36));
-  env.ResetEnv(0, 0);
-  env.ResetEnv(1, 0);  // the same episode in both slots
-  env.SetCameraBlocked(0, env.renderer()->CameraIndex("head"), true);
+  VecEnv vec_env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 4);
+  vec_env.EnableCameras(Cameras({"head", "left_wrist", "right_wrist"}, 48, 36));
+  vec_env.ResetEnv(0, 0);
+  vec_env.ResetEnv(1, 0);  // the same episode in both slots
+  vec_env.SetCameraBlocked(0, vec_env.renderer()->CameraIndex("head"), true);
   std::unique_ptr<scenarios::Expert> expert =
-      scenarios::FindScenario(kTask).make_expert(env.model(), 2, scenarios::ExpertMode::kGazeFirst);
-  for (int slot = 0; slot < 2; ++slot) expert->Reset(env.model(), env.state(), slot);
-  RunExpert(env, *expert, 60);  // the head has turned to the table by now
+      scenarios::FindScenario(kTask).make_expert(vec_env.model(), 2, scenarios::expert::ExpertMode::kGazeFirst);
+  for (int slot = 0; slot < 2; ++slot) expert->Reset(vec_env.model(), vec_env.state(), slot);
+  RunExpert(vec_env, *expert, 60);  // the head has turned to the table by now
 
-  const render::ImageBatch& images = *RenderNow(env);
+  const render::ImageBatch& images = *RenderNow(vec_env);
   EXPECT_TRUE(AllZero(images, 0, 0));
   EXPECT_FALSE(AllZero(images, 1, 0));
   for (int camera : {1, 2}) {
@@ -373,8 +375,8 @@ TEST(VecEnvCameras, BlockedHeadImageIsAllZero) {
     EXPECT_EQ(Rgb(images, 0, camera), Rgb(images, 1, camera)) << "camera " << camera << ": same episode, same view";
   }
   // Unblocking takes effect at once, with the same view as the unblocked slot.
-  env.SetCameraBlocked(0, 0, false);
-  const render::ImageBatch& unblocked = *RenderNow(env);
+  vec_env.SetCameraBlocked(0, 0, false);
+  const render::ImageBatch& unblocked = *RenderNow(vec_env);
   EXPECT_EQ(Rgb(unblocked, 0, 0), Rgb(unblocked, 1, 0));
 }
 
@@ -403,27 +405,27 @@ TEST(VecEnvCameras, BlockedClutterPickCubeHasABlackHeadInEveryEnv) {
 // Every image rendered over a few policy ticks of three staggered episodes.
 std::vector<std::vector<uint8_t>> RecordImages(int threads, int slots) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  VecEnv env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, slots, 9);
-  env.EnableCameras(Cameras(SceneCameraNames(), 40, 30));
+  VecEnv vec_env(Model("gr1t2"), scenarios::FindScenario(kTask), scenarios::Split::kId, slots, 9);
+  vec_env.EnableCameras(Cameras(SceneCameraNames(), 40, 30));
   std::unique_ptr<scenarios::Expert> expert =
-      scenarios::FindScenario(kTask).make_expert(env.model(), slots, scenarios::ExpertMode::kGazeFirst);
+      scenarios::FindScenario(kTask).make_expert(vec_env.model(), slots, scenarios::expert::ExpertMode::kGazeFirst);
   std::vector<std::vector<uint8_t>> frames;
   std::vector<kinematics::Action> actions(static_cast<std::size_t>(slots));
   // Episodes 0, 1, 2 start one tick apart in slots 0, 1, 2 (or share slot 0 with one slot).
-  for (int slot = 0; slot < slots; ++slot) env.Release(slot);
+  for (int slot = 0; slot < slots; ++slot) vec_env.Release(slot);
   std::vector<int> start_tick = {0, 1, 2};
   const int ticks = 45;
   for (int episode = 0; episode < 3; ++episode) {
     if (slots == 1) {
-      env.ResetEnv(0, episode);
-      expert->Reset(env.model(), env.state(), 0);
+      vec_env.ResetEnv(0, episode);
+      expert->Reset(vec_env.model(), vec_env.state(), 0);
       for (int tick = 0; tick < ticks; ++tick) {
-        const render::ImageBatch* observed = RenderNow(env);
-        if (env.state().control_step[0] % 3 == 0) {
+        const render::ImageBatch* observed = RenderNow(vec_env);
+        if (vec_env.state().control_step[0] % 3 == 0) {
           for (int c = 0; c < 4; ++c) frames.push_back(Rgb(*observed, 0, c));
         }
-        expert->Act(env.model(), env.state(), 0, actions[0]);
-        env.Step(actions);
+        expert->Act(vec_env.model(), vec_env.state(), 0, actions[0]);
+        vec_env.Step(actions);
       }
     }
   }
@@ -433,21 +435,21 @@ std::vector<std::vector<uint8_t>> RecordImages(int threads, int slots) {
   for (int tick = 0; tick < ticks + 2; ++tick) {
     for (int slot = 0; slot < 3; ++slot) {
       if (tick == start_tick[static_cast<std::size_t>(slot)]) {
-        env.ResetEnv(slot, slot);
-        expert->Reset(env.model(), env.state(), slot);
+        vec_env.ResetEnv(slot, slot);
+        expert->Reset(vec_env.model(), vec_env.state(), slot);
       }
-      if (tick == start_tick[static_cast<std::size_t>(slot)] + ticks) env.Release(slot);
+      if (tick == start_tick[static_cast<std::size_t>(slot)] + ticks) vec_env.Release(slot);
     }
-    const render::ImageBatch* observed = RenderNow(env);
+    const render::ImageBatch* observed = RenderNow(vec_env);
     for (int slot = 0; slot < 3; ++slot) {
-      if (env.state().episode[slot] < 0 || env.state().control_step[slot] % 3 != 0) continue;
+      if (vec_env.state().episode[slot] < 0 || vec_env.state().control_step[slot] % 3 != 0) continue;
       for (int c = 0; c < 4; ++c) per_episode[static_cast<std::size_t>(slot)].push_back(Rgb(*observed, slot, c));
     }
     for (int slot = 0; slot < 3; ++slot) {
-      if (env.state().episode[slot] >= 0)
-        expert->Act(env.model(), env.state(), slot, actions[static_cast<std::size_t>(slot)]);
+      if (vec_env.state().episode[slot] >= 0)
+        expert->Act(vec_env.model(), vec_env.state(), slot, actions[static_cast<std::size_t>(slot)]);
     }
-    env.Step(actions);
+    vec_env.Step(actions);
   }
   for (auto& episode_frames : per_episode) {
     for (auto& frame : episode_frames) frames.push_back(std::move(frame));

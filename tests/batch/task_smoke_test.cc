@@ -31,29 +31,29 @@ TEST_P(TaskSmoke, FiftyTicksStayFiniteAndAreEvaluated) {
   for (const scenarios::Split split :
        {scenarios::Split::kId, scenarios::Split::kOodSpatial, scenarios::Split::kOodInitPose}) {
     SCOPED_TRACE(scenarios::ToString(split));
-    VecEnv env(BuildWorldModel(robot, scenario), scenario, split, 1, 3);
-    env.ResetEnv(0, 2);
+    VecEnv vec_env(BuildWorldModel(robot, scenario), scenario, split, 1, 3);
+    vec_env.ResetEnv(0, 2);
     const std::string policy_name = scenario.make_expert != nullptr ? "expert" : "hold";
-    std::unique_ptr<Policy> policy = MakeBuiltinPolicy(policy_name, scenario, env.model(), 1);
-    const std::vector<const char*> prompts = {scenario.prompt(env.state(), 0)};
-    const Observation observation{env.model(), env.state(), nullptr, prompts};
+    std::unique_ptr<Policy> policy = MakeBuiltinPolicy(policy_name, scenario, vec_env.model(), 1);
+    const std::vector<const char*> prompts = {scenario.prompt(vec_env.state(), 0)};
+    const Observation observation{vec_env.model(), vec_env.state(), nullptr, prompts};
     const std::vector<uint8_t> only_env = {1};
     policy->Reset(observation, only_env);
     EXPECT_FALSE(std::string(prompts[0]).empty());
     std::vector<kinematics::Action> actions(1);
-    const int start = env.state().control_step[0];
+    const int start = vec_env.state().control_step[0];
     for (int tick = 0; tick < 50; ++tick) {
       policy->Act(observation, only_env, actions);
       for (double value : actions[0]) ASSERT_TRUE(std::isfinite(value)) << "tick " << tick;
-      env.Step(actions);
-      ASSERT_EQ(env.state().end[0], engine::EpisodeEnd::kRunning)
-          << "tick " << tick << ": " << engine::ToString(env.state().end[0]);
+      vec_env.Step(actions);
+      ASSERT_EQ(vec_env.state().end[0], engine::EpisodeEnd::kRunning)
+          << "tick " << tick << ": " << engine::ToString(vec_env.state().end[0]);
     }
-    EXPECT_EQ(env.state().control_step[0], start + 50);
-    for (double q : env.state().q) EXPECT_TRUE(std::isfinite(q));
-    for (double p : env.state().object_pose) EXPECT_TRUE(std::isfinite(p));
+    EXPECT_EQ(vec_env.state().control_step[0], start + 50);
+    for (double q : vec_env.state().q) EXPECT_TRUE(std::isfinite(q));
+    for (double p : vec_env.state().object_pose) EXPECT_TRUE(std::isfinite(p));
     // Nothing is lifted in the first 50 ticks, so the success rule, evaluated, says no.
-    EXPECT_FALSE(scenario.Succeeded(env.state(), 0));
+    EXPECT_FALSE(scenario.Succeeded(vec_env.state(), 0));
   }
 }
 

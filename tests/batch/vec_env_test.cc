@@ -27,27 +27,27 @@ engine::WorldModel Model(const std::string& robot_name, double episode_length_s)
 }
 
 // The "hold" policy's action for every env after its reset: arms at the reset pose, grippers open.
-std::vector<kinematics::Action> HoldActions(const VecEnv& env) {
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", env.scenario(), env.model(), env.num_envs());
-  const std::vector<const char*> prompts(static_cast<std::size_t>(env.num_envs()), nullptr);
-  const Observation observation{env.model(), env.state(), nullptr, prompts};
-  const std::vector<uint8_t> every_env(static_cast<std::size_t>(env.num_envs()), 1);
-  std::vector<kinematics::Action> actions(env.num_envs());
+std::vector<kinematics::Action> HoldActions(const VecEnv& vec_env) {
+  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), vec_env.num_envs());
+  const std::vector<const char*> prompts(static_cast<std::size_t>(vec_env.num_envs()), nullptr);
+  const Observation observation{vec_env.model(), vec_env.state(), nullptr, prompts};
+  const std::vector<uint8_t> every_env(static_cast<std::size_t>(vec_env.num_envs()), 1);
+  std::vector<kinematics::Action> actions(vec_env.num_envs());
   hold->Reset(observation, every_env);
   hold->Act(observation, every_env, actions);
   return actions;
 }
 
 TEST(VecEnv, NonFiniteActionEndsOnlyThatEpisodeAndReportsTheEntry) {
-  VecEnv env(Model("gr1t2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kId, 3, 7);
-  for (int slot = 0; slot < 3; ++slot) env.ResetEnv(slot, slot);
-  std::vector<kinematics::Action> actions = HoldActions(env);
+  VecEnv vec_env(Model("gr1t2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kId, 3, 7);
+  for (int slot = 0; slot < 3; ++slot) vec_env.ResetEnv(slot, slot);
+  std::vector<kinematics::Action> actions = HoldActions(vec_env);
   actions[0][kinematics::action::kNeckPitch] = std::numeric_limits<double>::quiet_NaN();
   actions[2][kinematics::action::kGripper[1]] = -std::numeric_limits<double>::infinity();
   actions[2][kinematics::action::kArmPosition[0] + 1] = std::numeric_limits<double>::infinity();
 
-  ASSERT_NO_THROW(env.Step(actions));
-  const engine::BatchState& state = env.state();
+  ASSERT_NO_THROW(vec_env.Step(actions));
+  const engine::BatchState& state = vec_env.state();
   EXPECT_EQ(state.end[0], engine::EpisodeEnd::kInvalidAction);
   EXPECT_EQ(state.invalid_action[0].entry, kinematics::action::kNeckPitch);
   EXPECT_TRUE(std::isnan(state.invalid_action[0].value));
@@ -62,14 +62,14 @@ TEST(VecEnv, NonFiniteActionEndsOnlyThatEpisodeAndReportsTheEntry) {
   EXPECT_EQ(state.invalid_action[2].value, std::numeric_limits<double>::infinity());
 
   // Ended episodes are not stepped again, even with a good action.
-  actions = HoldActions(env);
-  ASSERT_NO_THROW(env.Step(actions));
+  actions = HoldActions(vec_env);
+  ASSERT_NO_THROW(vec_env.Step(actions));
   EXPECT_EQ(state.end[0], engine::EpisodeEnd::kInvalidAction);
   EXPECT_EQ(state.control_step[0], 0);
   EXPECT_EQ(state.control_step[1], 2);
 
   // A reset clears the invalid-action report.
-  env.ResetEnv(0, 3);
+  vec_env.ResetEnv(0, 3);
   EXPECT_EQ(state.end[0], engine::EpisodeEnd::kRunning);
   EXPECT_EQ(state.invalid_action[0].entry, -1);
 }
@@ -78,17 +78,17 @@ TEST(VecEnv, NonFiniteActionEndsOnlyThatEpisodeAndReportsTheEntry) {
 // left: the stage check reads the command at the first tick, so a leftover closed command made
 // `target_grasped` depend on which episode the slot ran before (and on thread timing per slot).
 TEST(VecEnv, AResetCommandsTheGrippersOpenWhateverThePreviousEpisodeLeft) {
-  VecEnv env(Model("reachy2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 7);
-  for (int slot = 0; slot < 2; ++slot) env.ResetEnv(slot, slot);
-  std::vector<kinematics::Action> actions = HoldActions(env);
+  VecEnv vec_env(Model("reachy2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 7);
+  for (int slot = 0; slot < 2; ++slot) vec_env.ResetEnv(slot, slot);
+  std::vector<kinematics::Action> actions = HoldActions(vec_env);
   for (kinematics::Action& action : actions) {
     for (int hand = 0; hand < 2; ++hand) action[kinematics::action::kGripper[hand]] = 1.0;  // close
   }
-  env.Step(actions);
-  const engine::BatchState& state = env.state();
+  vec_env.Step(actions);
+  const engine::BatchState& state = vec_env.state();
   ASSERT_EQ(state.gripper_command_row(0)[0], 1.0);
   ASSERT_EQ(state.gripper_command_row(1)[1], 1.0);
-  env.ResetEnv(0, 2);
+  vec_env.ResetEnv(0, 2);
   EXPECT_EQ(state.gripper_command_row(0)[0], -1.0);
   EXPECT_EQ(state.gripper_command_row(0)[1], -1.0);
   EXPECT_EQ(state.gripper_command_row(1)[1], 1.0) << "only the reset slot is touched";
@@ -97,18 +97,18 @@ TEST(VecEnv, AResetCommandsTheGrippersOpenWhateverThePreviousEpisodeLeft) {
 TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
   for (const char* robot_name : {"gr1t2", "reachy2"}) {
     SCOPED_TRACE(robot_name);
-    VecEnv env(Model(robot_name, 2.0), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 11);
-    const int max_ticks = env.model().physics.max_control_steps();
+    VecEnv vec_env(Model(robot_name, 2.0), scenarios::FindScenario(kTask), scenarios::Split::kId, 2, 11);
+    const int max_ticks = vec_env.model().physics.max_control_steps();
     ASSERT_EQ(max_ticks, 120);
-    const engine::BatchState& state = env.state();
+    const engine::BatchState& state = vec_env.state();
     const int joints = state.num_joints;
-    for (int slot = 0; slot < 2; ++slot) env.ResetEnv(slot, slot);
+    for (int slot = 0; slot < 2; ++slot) vec_env.ResetEnv(slot, slot);
     const std::vector<double> q_reset(state.q.begin(), state.q.end());
-    const std::vector<kinematics::Action> actions = HoldActions(env);
+    const std::vector<kinematics::Action> actions = HoldActions(vec_env);
 
     double max_arm_drift = 0.0;
     for (int tick = 1; tick <= max_ticks; ++tick) {
-      ASSERT_NO_THROW(env.Step(actions));
+      ASSERT_NO_THROW(vec_env.Step(actions));
       for (int slot = 0; slot < 2; ++slot) {
         ASSERT_EQ(state.control_step[slot], tick) << "slot " << slot;
         const engine::EpisodeEnd expected =
@@ -120,7 +120,7 @@ TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
           ASSERT_TRUE(std::isfinite(q)) << "slot " << slot << ", joint " << j << ", tick " << tick;
         }
         for (kinematics::Side side : kinematics::kSides) {
-          for (int joint : env.model().robot.arm(side).joints) {
+          for (int joint : vec_env.model().robot.arm(side).joints) {
             const size_t k = static_cast<size_t>(slot) * joints + joint;
             max_arm_drift = std::max(max_arm_drift, std::abs(state.q[k] - q_reset[k]));
           }
@@ -132,7 +132,7 @@ TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
 
     // Once timed out, further steps change nothing.
     const std::vector<double> q_end(state.q.begin(), state.q.end());
-    env.Step(actions);
+    vec_env.Step(actions);
     EXPECT_EQ(state.control_step[0], max_ticks);
     EXPECT_EQ(state.q, q_end);
   }
@@ -142,13 +142,13 @@ TEST(VecEnv, HoldKeepsEpisodesRunningUntilTheTimeOut) {
 TEST(VecEnv, StageTimingReportsEachStageAndLeavesTheResultsAlone) {
   std::vector<double> q_by_timing[2];
   for (const bool timed : {false, true}) {
-    VecEnv env(Model("gr1t2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kOodInitPose, 2, 7);
-    env.EnableStageTiming(timed);
-    for (int slot = 0; slot < 2; ++slot) env.ResetEnv(slot, slot);
-    const std::vector<kinematics::Action> actions = HoldActions(env);
-    for (int tick = 0; tick < 6; ++tick) env.Step(actions);
-    q_by_timing[timed ? 1 : 0] = env.state().q;
-    const std::array<double, kNumStages> seconds = env.stage_seconds();
+    VecEnv vec_env(Model("gr1t2", 2.0), scenarios::FindScenario(kTask), scenarios::Split::kOodInitPose, 2, 7);
+    vec_env.EnableStageTiming(timed);
+    for (int slot = 0; slot < 2; ++slot) vec_env.ResetEnv(slot, slot);
+    const std::vector<kinematics::Action> actions = HoldActions(vec_env);
+    for (int tick = 0; tick < 6; ++tick) vec_env.Step(actions);
+    q_by_timing[timed ? 1 : 0] = vec_env.state().q;
+    const std::array<double, kNumStages> seconds = vec_env.stage_seconds();
     for (const Stage stage : {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask,
                               Stage::kEndEpisodes, Stage::kReset}) {
       if (timed) {

@@ -33,7 +33,7 @@ std::vector<double> LeftArmAt(const kinematics::RobotModel& robot, const Vec3& t
                               const std::vector<double>& q_start) {
   const Mat3 R = Eigen::AngleAxisd(-0.8, Vec3::UnitY()).toRotationMatrix();
   const kinematics::PoseTarget target{tcp_world - robot.root_world - R * robot.gripper.tcp, Quat(R)};
-  const auto q = scenarios::SolveArmConfiguration(robot, Side::kLeft, q_start, target);
+  const auto q = scenarios::expert::SolveArmConfiguration(robot, Side::kLeft, q_start, target);
   EXPECT_TRUE(q.has_value()) << "no arm configuration for the test pose";
   return q ? *q : q_start;
 }

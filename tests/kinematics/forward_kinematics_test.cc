@@ -10,8 +10,8 @@
 namespace tavis::kinematics {
 namespace {
 
+using ::tavis::testing::LoadRobot;
 using testing::LinkPoses;
-using testing::LoadRobot;
 
 // robots-kinematics.md 1.6: TAVIS's default pose puts the wrist at the teleop rest position.
 TEST(ForwardKinematics, Gr1t2DefaultPoseMatchesReference) {

@@ -13,7 +13,7 @@ constexpr double kTolerance = 1e-12;  // m
 
 class GripperGeometryTest : public ::testing::TestWithParam<std::string> {
  protected:
-  GripperGeometryTest() : robot_(testing::LoadRobot(GetParam())), geometry_(robot_.gripper) {}
+  GripperGeometryTest() : robot_(::tavis::testing::LoadRobot(GetParam())), geometry_(robot_.gripper) {}
 
   const GripperSpec& spec() const { return robot_.gripper; }
   // Distance between the pads' inner faces along the closing axis at a commanded gap.

@@ -9,8 +9,8 @@
 namespace tavis::kinematics {
 namespace {
 
+using ::tavis::testing::LoadRobot;
 using testing::LinkPoses;
-using testing::LoadRobot;
 
 // Iterates IkStep as the simulator does (each step from the reached configuration), clamping
 // to the joint limits as the physics joints would.

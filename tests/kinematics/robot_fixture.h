@@ -6,7 +6,7 @@
 #include "kinematics/forward_kinematics.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::testing {
+namespace tavis::kinematics::testing {
 
 inline std::vector<RigidTransform> LinkPoses(const kinematics::RobotModel& robot, const std::vector<double>& q) {
   std::vector<RigidTransform> X_BL(robot.links.size());
@@ -14,4 +14,4 @@ inline std::vector<RigidTransform> LinkPoses(const kinematics::RobotModel& robot
   return X_BL;
 }
 
-}  // namespace tavis::testing
+}  // namespace tavis::kinematics::testing

@@ -66,11 +66,13 @@ TEST(ShapeTest, CapsuleIsAsTallAsItsDiameterAndAsWideAsItsLength) {
   EXPECT_NEAR(row_pixels, 2.0 * fx * std::tan(end_angle), 1.5);
 }
 
-TEST(ShapeTest, EngineShapesConvertOneToOne) {
-  const Shape can{tavis::ShapeKind::kCylinder, Vec3(0.03, 0.03, 0.1)};
-  EXPECT_EQ(ToShapeGeometry(can), MakeCylinder(0.03, 0.1));
-  const Shape link{tavis::ShapeKind::kCapsule, Vec3(0.04, 0.04, 0.2)};
-  EXPECT_EQ(ToShapeGeometry(link), MakeCapsule(0.04, 0.2));
+TEST(ShapeTest, TheMakersFollowTheEnginesSizeConvention) {
+  const Shape can{ShapeKind::kCylinder, Vec3(0.03, 0.03, 0.1)};
+  EXPECT_EQ(can, MakeCylinder(0.03, 0.1));
+  const Shape link{ShapeKind::kCapsule, Vec3(0.04, 0.04, 0.2)};
+  EXPECT_EQ(link, MakeCapsule(0.04, 0.2));
+  EXPECT_FALSE(link == MakeCapsule(0.04, 0.21));
+  EXPECT_TRUE(BoundingHalfSize(MakePlane()).array().isInf().all());
 }
 
 TEST(ShapeTest, IdenticalShapesShareOneBvh) {

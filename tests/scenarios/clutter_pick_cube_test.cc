@@ -70,10 +70,10 @@ TEST(Gaze, FixationCentresTheTargetInTheHeadCamera) {
     std::vector<double> q = robot.DefaultPositions();
     // Reachy2's neck pitches at most 30 degrees down: a far table point stays within reach.
     const Vec3 target = robot.name == "reachy2" ? Vec3(0.75, -0.18, 1.03) : Vec3(0.42, -0.18, 1.03);
-    const auto neck = FixationNeckAngles(robot, q.data(), target);
+    const auto neck = expert::FixationNeckAngles(robot, q.data(), target);
     for (int i = 0; i < 3; ++i) q[robot.neck_joints[i]] = neck[i];
-    EXPECT_LT(GazeError(robot, q.data(), target), 0.01) << name;
-    EXPECT_GT(GazeError(robot, robot.DefaultPositions().data(), target), 0.3) << name << ": should need a turn";
+    EXPECT_LT(expert::GazeError(robot, q.data(), target), 0.01) << name;
+    EXPECT_GT(expert::GazeError(robot, robot.DefaultPositions().data(), target), 0.3) << name << ": should need a turn";
   }
 }
 

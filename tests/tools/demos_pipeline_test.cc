@@ -27,7 +27,7 @@ using DemosPipeline = TavisCommandTest;
 nlohmann::json ReadJson(const fs::path& path) { return nlohmann::json::parse(ReadText(path)); }
 
 // The pixels of the image `tavis render` wrote at `path`.
-dataset::testing::RgbFrame Png(const fs::path& path) { return render::ReadPng(path.string()).pixels; }
+batch::dataset::testing::RgbFrame Png(const fs::path& path) { return render::ReadPng(path.string()).pixels; }
 
 // The files of a dataset folder (its Snapshot) by their path inside it, without the run's report.
 std::map<std::string, std::string> DatasetFiles(const std::map<std::string, std::string>& snapshot,
@@ -51,14 +51,14 @@ TEST_F(DemosPipeline, TheFrameLeRobotLooksUpIsTheImageRenderedAfterThatAction) {
   const RunResult render = Run("render --task clutter-pick-cube --seed 0 --episode 0 --width 128 --height 96 --steps " +
                                std::to_string(kFrame + 1) + " --out " + Quote((root_ / "views").string()));
   ASSERT_EQ(render.exit_code, 0) << render.err;
-  const dataset::testing::PyAvReport report = dataset::testing::CheckVideoWithPyAv(
+  const batch::dataset::testing::PyAvReport report = batch::dataset::testing::CheckVideoWithPyAv(
       (dataset_dir / "videos/observation.images.OBS_HEAD/chunk-000/file-000.mp4").string(), 60,
       {{0.0, kFrame}, {0.0, 0}}, root_.string());
   ASSERT_TRUE(report.frames[0] && report.frames[1]) << report.stream.dump();
-  const dataset::testing::RgbFrame rendered =
+  const batch::dataset::testing::RgbFrame rendered =
       Png(root_ / "views" / ("tick" + std::to_string(kFrame + 1) + "_head.png"));
-  const double same = dataset::testing::Psnr(*report.frames[0], rendered);
-  const double earlier = dataset::testing::Psnr(*report.frames[1], rendered);
+  const double same = batch::dataset::testing::Psnr(*report.frames[0], rendered);
+  const double earlier = batch::dataset::testing::Psnr(*report.frames[1], rendered);
   // H.264 at crf 23 keeps about 31-32 dB of these small frames, about what separates neighbouring
   // ticks, so this checks the frame to within a tick or two (an off-by-one is not resolved); the
   // scene a second earlier is below 15 dB.

@@ -254,7 +254,8 @@ TEST_F(EvalCommand, HelpExitsZeroAndListsOptions) {
 // A served policy through the real program: its episodes' actions are saved and replay them
 // without the server; a server that fails leaves no results.
 TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeavesNoResults) {
-  remote::testing::PolicyServerProcess server({"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001"});
+  batch::remote::testing::PolicyServerProcess server(
+      {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001"});
   const fs::path dir = root_ / "served";
   const std::string cell = "eval --episodes 2 --envs 2 --seed 6 --quiet --image-size 32x24 ";
   const RunResult run = Run(cell + "--policy openpi --server " + server.address() + " --out " + Quote(dir.string()));
@@ -280,7 +281,7 @@ TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeave
   ASSERT_EQ(one.exit_code, 0) << one.err;
   EXPECT_EQ(Lines(ReadText(one_dir / "episodes.jsonl")), std::vector<std::string>{served[1]});
 
-  remote::testing::PolicyServerProcess failing(
+  batch::remote::testing::PolicyServerProcess failing(
       {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001", "--fail-at-request", "3"});
   const fs::path failed_dir = root_ / "failed";
   const RunResult failed =

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/dataset/dataset_actions.h"
+#include "batch/dataset/reader/dataset_actions.h"
 #include "kinematics/action.h"
 #include "tests/support/robot_loading.h"
 #include "tool_runner.h"
@@ -27,8 +27,8 @@ bool IsNeckEntry(int entry) {
 }
 
 // Frames before the recorded arms or grippers first differ from frame 0.
-int StillFramesAtStart(const dataset::EpisodeActions& episode) {
-  const int width = dataset::kDatasetActionWidth;
+int StillFramesAtStart(const batch::dataset::reader::EpisodeActions& episode) {
+  const int width = batch::dataset::reader::kDatasetActionWidth;
   for (int frame = 1; frame < episode.num_steps; ++frame) {
     for (int entry = 0; entry < width; ++entry) {
       const std::size_t at = static_cast<std::size_t>(frame * width + entry);
@@ -49,15 +49,18 @@ TEST_F(ExpertModeCommand, HeadStillDemosHoldTheNeckAtItsResetPoseInEveryFrameAnd
   const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   const std::vector<double> q_reset = robot.DefaultPositions();  // the id split starts here
   const int neck[3] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch, kinematics::action::kNeckYaw};
-  const dataset::DatasetActions head_still = dataset::ReadDatasetActions(root_ / "head_still");
-  const dataset::DatasetActions gaze_first = dataset::ReadDatasetActions(root_ / "gaze_first");
+  const batch::dataset::reader::DatasetActions head_still =
+      batch::dataset::reader::ReadDatasetActions(root_ / "head_still");
+  const batch::dataset::reader::DatasetActions gaze_first =
+      batch::dataset::reader::ReadDatasetActions(root_ / "gaze_first");
   ASSERT_EQ(head_still.episodes.size(), 3u);
   ASSERT_EQ(gaze_first.episodes.size(), 3u);
   for (std::size_t e = 0; e < head_still.episodes.size(); ++e) {
-    const dataset::EpisodeActions& episode = head_still.episodes[e];
+    const batch::dataset::reader::EpisodeActions& episode = head_still.episodes[e];
     for (int frame = 0; frame < episode.num_steps; ++frame) {
       for (int i = 0; i < 3; ++i) {
-        const double value = episode.values[static_cast<std::size_t>(frame * dataset::kDatasetActionWidth + neck[i])];
+        const double value =
+            episode.values[static_cast<std::size_t>(frame * batch::dataset::reader::kDatasetActionWidth + neck[i])];
         // float32 in the dataset
         ASSERT_EQ(value, static_cast<float>(q_reset[static_cast<std::size_t>(robot.neck_joints[i])]))
             << "episode " << e << " frame " << frame << " neck entry " << neck[i];

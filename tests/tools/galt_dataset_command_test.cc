@@ -17,11 +17,11 @@
 namespace tavis::tools {
 namespace {
 
-using dataset::testing::ExpectedGaltLine;
-using dataset::testing::LoadGaltVector;
-using dataset::testing::SyntheticDatasetOptions;
-using dataset::testing::SyntheticEpisode;
-using dataset::testing::WriteSyntheticDataset;
+using batch::dataset::testing::ExpectedGaltLine;
+using batch::dataset::testing::LoadGaltVector;
+using batch::dataset::testing::SyntheticDatasetOptions;
+using batch::dataset::testing::SyntheticEpisode;
+using batch::dataset::testing::WriteSyntheticDataset;
 
 const std::vector<std::string> kVectors = {"ep0097.csv", "ep0107.csv", "ep0079.csv"};
 

@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "batch/output_folder.h"
+#include "batch/output/output_folder.h"
 #include "tool_runner.h"
 
 namespace tavis::tools {
@@ -182,7 +182,7 @@ TEST_F(OutputSafety, LockedCellIsRefusedAndAKilledWritersLockIsTakenOver) {
   ASSERT_TRUE(KillWhenLinesAppear(cell_args + " --out " + Quote(cell.string()), cell / "episodes.jsonl", 2, SIGKILL));
   const std::string kept = ReadText(cell / "episodes.jsonl");
   {
-    const batch::OutputLock holder(cell, "eval");
+    const batch::output::OutputLock holder(cell, "eval");
     const RunResult refused = Run(cell_args + " --resume --out " + Quote(cell.string()));
     EXPECT_EQ(refused.exit_code, 1);
     EXPECT_NE(refused.err.find("pid " + std::to_string(getpid())), std::string::npos) << refused.err;
@@ -200,12 +200,12 @@ TEST_F(OutputSafety, LockedDatasetIsRefusedAndThenWrittenAsAnUnlockedOne) {
   const fs::path dataset = root_ / "dataset";
   fs::create_directories(dataset);
   {
-    const batch::OutputLock holder(dataset, "demos");
+    const batch::output::OutputLock holder(dataset, "demos");
     const RunResult refused = Run(kDemos + " --out " + Quote(dataset.string()));
     EXPECT_EQ(refused.exit_code, 1);
     EXPECT_NE(refused.err.find("is being written by tavis demos (pid " + std::to_string(getpid())), std::string::npos)
         << refused.err;
-    EXPECT_TRUE(batch::HoldsNoResults(dataset));
+    EXPECT_TRUE(batch::output::HoldsNoResults(dataset));
   }
   const RunResult written = Run(kDemos + " --out " + Quote(dataset.string()));
   ASSERT_EQ(written.exit_code, 0) << written.err;
@@ -235,7 +235,7 @@ TEST_F(SweepSafety, LockedSweepIsRefusedAndThenRunsLikeAnUnlockedOne) {
   const fs::path sweep = root_ / "sweep";
   fs::create_directories(sweep);
   {
-    const batch::OutputLock holder(sweep, "sweep");
+    const batch::output::OutputLock holder(sweep, "sweep");
     const RunResult refused = Sweep(sweep);
     EXPECT_EQ(refused.exit_code, 1);
     EXPECT_NE(refused.err.find("is being written by tavis sweep (pid " + std::to_string(getpid())), std::string::npos)

@@ -5,7 +5,7 @@
 
 #include <stdexcept>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 namespace {
 
 // The largest expansion of a snappy block: a 3-byte copy element yields at most 64 bytes.
@@ -76,4 +76,4 @@ void Decompress(Codec codec, const std::uint8_t* data, std::size_t size, std::si
   }
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -9,7 +9,7 @@
 
 #include "batch/dataset/parquet/parquet_format.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 // Appends `body` compressed with `codec` to `out`. Throws std::invalid_argument for a codec
 // other than UNCOMPRESSED or SNAPPY.
@@ -21,4 +21,4 @@ void AppendCompressed(Codec codec, const std::vector<std::uint8_t>& body, std::v
 void Decompress(Codec codec, const std::uint8_t* data, std::size_t size, std::size_t uncompressed_size,
                 const std::string& context, std::vector<std::uint8_t>& out);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

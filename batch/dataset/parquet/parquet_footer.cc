@@ -1,6 +1,6 @@
 #include "batch/dataset/parquet/parquet_footer.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 namespace {
 
 // Calls `read_element` once per element of the list field of `type`.
@@ -160,4 +160,4 @@ PageHeader ReadPageHeader(ThriftCompactReader& thrift) {
   return page;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -13,7 +13,7 @@
 #include "batch/dataset/parquet/parquet_schema.h"
 #include "batch/dataset/parquet/thrift_compact.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 struct ColumnChunkMetadata {
   PhysicalType type = PhysicalType::kInt64;
@@ -59,4 +59,4 @@ struct PageHeader {
 
 PageHeader ReadPageHeader(ThriftCompactReader& thrift);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

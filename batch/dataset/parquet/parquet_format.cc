@@ -1,6 +1,6 @@
 #include "batch/dataset/parquet/parquet_format.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 std::string PhysicalTypeName(PhysicalType type) {
   switch (type) {
@@ -45,4 +45,4 @@ std::string EncodingName(Encoding encoding) {
   return "encoding " + std::to_string(static_cast<std::int32_t>(encoding));
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 enum class PhysicalType : std::int32_t {
   kBoolean = 0,
@@ -57,4 +57,4 @@ std::string PhysicalTypeName(PhysicalType type);
 std::string CodecName(Codec codec);
 std::string EncodingName(Encoding encoding);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -15,7 +15,7 @@
 #include "batch/dataset/parquet/thrift_compact.h"
 #include "batch/dataset/parquet/value_decoding.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 namespace {
 
 constexpr char kMagic[] = "PAR1";
@@ -359,4 +359,4 @@ std::vector<T> ParquetReader::ReadColumn(const std::string& name) const {
 TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)
 #undef TAVIS_PARQUET_INSTANTIATE
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -26,7 +26,7 @@
 
 #include "batch/dataset/parquet/parquet_schema.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 struct FileMetadata;
 
@@ -76,4 +76,4 @@ class ParquetReader {
   std::vector<LeafColumn> leaves_;
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

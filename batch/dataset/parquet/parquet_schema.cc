@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <unordered_set>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 namespace {
 
 // SchemaElement field ids.
@@ -199,4 +199,4 @@ std::vector<LeafColumn> LeafColumnsOf(const std::vector<SchemaElement>& elements
   return leaves;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -15,7 +15,7 @@
 #include "batch/dataset/parquet/parquet_format.h"
 #include "batch/dataset/parquet/thrift_compact.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 // The value types a writer stores; kString is BYTE_ARRAY with the STRING logical type.
 enum class ValueType { kBool, kInt32, kInt64, kFloat, kDouble, kString };
@@ -105,4 +105,4 @@ struct LeafColumn {
 // `context` for an inconsistent tree (children counts that do not add up, a leaf without a type).
 std::vector<LeafColumn> LeafColumnsOf(const std::vector<SchemaElement>& elements, const std::string& context);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

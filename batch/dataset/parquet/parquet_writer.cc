@@ -16,7 +16,7 @@
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "PLAIN values are copied as little-endian bytes");
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 struct WriterSchema {
   std::vector<ColumnSpec> columns;
@@ -337,4 +337,4 @@ void ParquetWriter::Close() {
   closed_ = true;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -28,7 +28,7 @@
 #include "batch/dataset/parquet/parquet_format.h"
 #include "batch/dataset/parquet/parquet_schema.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 struct ParquetWriterOptions {
   Codec codec = Codec::kSnappy;  // kUncompressed or kSnappy
@@ -143,4 +143,4 @@ class ParquetWriter {
   std::vector<RowGroupLocation> row_groups_;
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

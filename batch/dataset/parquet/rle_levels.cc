@@ -5,7 +5,7 @@
 
 #include "batch/dataset/parquet/thrift_compact.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 int LevelBitWidth(std::uint32_t max_level) {
   int width = 0;
@@ -93,4 +93,4 @@ void DecodeHybrid(const std::uint8_t* data, std::size_t size, int bit_width, std
   }
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 // Bits needed to store `max_level` (0 for 0).
 int LevelBitWidth(std::uint32_t max_level);
@@ -27,4 +27,4 @@ std::uint32_t LoadUint32Le(const std::uint8_t* bytes);
 void DecodeHybrid(const std::uint8_t* data, std::size_t size, int bit_width, std::size_t count, std::uint32_t max_value,
                   const std::string& context, std::vector<std::uint32_t>& out);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -3,7 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 namespace {
 
 // Deeper nesting than Parquet's metadata ever uses means a corrupt or hostile footer.
@@ -123,7 +123,8 @@ std::uint8_t ThriftCompactReader::ReadByte() {
 
 std::uint64_t ThriftCompactReader::ReadUleb128() {
   std::uint64_t value = 0;
-  if (!tavis::dataset::ReadUleb128(data_, size_, position_, value)) Fail("varint past the end or longer than 10 bytes");
+  if (!tavis::batch::dataset::parquet::ReadUleb128(data_, size_, position_, value))
+    Fail("varint past the end or longer than 10 bytes");
   return value;
 }
 
@@ -248,4 +249,4 @@ void ThriftCompactReader::SkipValue(ThriftType type, int depth) {
   Fail("cannot skip thrift type " + std::to_string(Nibble(type)));
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

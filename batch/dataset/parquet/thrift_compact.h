@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 // The type nibbles of the compact protocol.
 enum class ThriftType : std::uint8_t {
@@ -105,4 +105,4 @@ class ThriftCompactReader {
   int struct_depth_ = 0;
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

@@ -10,7 +10,7 @@
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "PLAIN values are read as little-endian bytes");
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 namespace {
 
 [[noreturn]] void Fail(const std::string& context, const std::string& what) {
@@ -182,4 +182,4 @@ void DecodeValues(Encoding encoding, const std::uint8_t* data, std::size_t size,
 TAVIS_PARQUET_FOR_EACH_VALUE_TYPE(TAVIS_PARQUET_INSTANTIATE)
 #undef TAVIS_PARQUET_INSTANTIATE
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

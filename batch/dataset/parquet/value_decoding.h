@@ -11,7 +11,7 @@
 
 #include "batch/dataset/parquet/parquet_format.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::parquet {
 
 // Appends `count` values of type T (bool, std::int32_t, std::int64_t, float, double,
 // std::string) decoded from [data, data + size) to `out`. Throws std::runtime_error starting
@@ -20,4 +20,4 @@ template <typename T>
 void DecodeValues(Encoding encoding, const std::uint8_t* data, std::size_t size, std::size_t count,
                   const std::string& context, std::vector<T>& out);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::parquet

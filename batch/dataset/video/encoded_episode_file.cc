@@ -14,7 +14,7 @@ extern "C" {
 #include "batch/dataset/video/encoder_context.h"
 #include "batch/dataset/video/ffmpeg_error.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 namespace {
 
 constexpr char kMagic[8] = {'T', 'A', 'V', 'I', 'S', 'P', 'K', '1'};
@@ -123,4 +123,4 @@ EncodedEpisode LoadEncodedEpisode(const std::string& path, const VideoSettings& 
   return episode;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

@@ -10,7 +10,7 @@
 #include "batch/dataset/video/episode_encoder.h"
 #include "batch/dataset/video/video_settings.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 // Written to PATH.partial, then renamed. Throws std::runtime_error naming the file on failure.
 void SaveEncodedEpisode(const EncodedEpisode& episode, const std::string& path);
@@ -19,4 +19,4 @@ void SaveEncodedEpisode(const EncodedEpisode& episode, const std::string& path);
 // Throws std::runtime_error naming the file when it is missing, truncated or not such a file.
 EncodedEpisode LoadEncodedEpisode(const std::string& path, const VideoSettings& settings);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

@@ -11,7 +11,7 @@ extern "C" {
 
 #include "batch/dataset/video/video_settings.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 struct StreamParameters {
   StreamParameters() = default;
@@ -24,13 +24,13 @@ struct StreamParameters {
   AVRational frame_rate{0, 1};
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video
 
-namespace tavis::dataset::internal {
+namespace tavis::batch::dataset::video::internal {
 
 // Encoders are opened and freed one at a time across the process: SVT-AV1 1.4's
 // svt_av1_enc_init_handle sets up process-wide state without a lock, and encoders opened
-// concurrently on several threads crashed in it. Encoding itself runs in parallel.
+// concurrently on several threads crashed in it. parquet::Encoding itself runs in parallel.
 struct CodecContextFree {
   void operator()(AVCodecContext* context) const;
 };
@@ -43,4 +43,4 @@ CodecContextPtr OpenEncoder(const VideoSettings& settings, const std::string& na
 // The stream parameters of an open encoder.
 std::shared_ptr<const StreamParameters> ParametersOf(const AVCodecContext& encoder, const std::string& name);
 
-}  // namespace tavis::dataset::internal
+}  // namespace tavis::batch::dataset::video::internal

@@ -1,6 +1,6 @@
 #include "batch/dataset/video/encoder_options.h"
 
-namespace tavis::dataset::internal {
+namespace tavis::batch::dataset::video::internal {
 
 EncoderChoice ChooseEncoder(const VideoSettings& settings) {
   if (settings.codec == VideoCodec::kAv1) {
@@ -13,4 +13,4 @@ EncoderChoice ChooseEncoder(const VideoSettings& settings) {
   return {"libx264", {{"preset", settings.h264_preset}, {"crf", std::to_string(crf)}}};
 }
 
-}  // namespace tavis::dataset::internal
+}  // namespace tavis::batch::dataset::video::internal

@@ -10,7 +10,7 @@
 
 #include "batch/dataset/video/video_settings.h"
 
-namespace tavis::dataset::internal {
+namespace tavis::batch::dataset::video::internal {
 
 struct EncoderChoice {
   std::string encoder_name;                                          // e.g. "libx264", "libsvtav1"
@@ -19,4 +19,4 @@ struct EncoderChoice {
 
 EncoderChoice ChooseEncoder(const VideoSettings& settings);
 
-}  // namespace tavis::dataset::internal
+}  // namespace tavis::batch::dataset::video::internal

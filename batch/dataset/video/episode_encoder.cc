@@ -14,7 +14,7 @@ extern "C" {
 #include "batch/dataset/video/encoder_options.h"
 #include "batch/dataset/video/ffmpeg_error.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 namespace internal {
 namespace {
 
@@ -181,4 +181,4 @@ std::int64_t EpisodeEncoder::frames() const { return impl_->episode.frames; }
 std::int64_t EpisodeEncoder::bytes() const { return impl_->episode.bytes(); }
 const VideoSettings& EpisodeEncoder::settings() const { return impl_->settings; }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

@@ -14,7 +14,7 @@
 
 #include "batch/dataset/video/video_settings.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 struct EncodedPacket {
   std::vector<std::uint8_t> data;
@@ -57,4 +57,4 @@ class EpisodeEncoder {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

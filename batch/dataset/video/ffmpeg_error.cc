@@ -6,7 +6,7 @@ extern "C" {
 #include <libavutil/error.h>
 }
 
-namespace tavis::dataset::internal {
+namespace tavis::batch::dataset::video::internal {
 
 std::string FfmpegErrorText(int code) {
   char text[AV_ERROR_MAX_STRING_SIZE] = {};
@@ -23,4 +23,4 @@ int CheckFfmpeg(int code, const std::string& path, const std::string& what) {
   return code;
 }
 
-}  // namespace tavis::dataset::internal
+}  // namespace tavis::batch::dataset::video::internal

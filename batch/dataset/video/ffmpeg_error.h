@@ -3,7 +3,7 @@
 
 #include <string>
 
-namespace tavis::dataset::internal {
+namespace tavis::batch::dataset::video::internal {
 
 // FFmpeg's text for an AVERROR code (av_strerror).
 std::string FfmpegErrorText(int code);
@@ -14,4 +14,4 @@ std::string FfmpegErrorText(int code);
 // Calls ThrowFfmpegError when `code` is negative; returns `code` otherwise.
 int CheckFfmpeg(int code, const std::string& path, const std::string& what);
 
-}  // namespace tavis::dataset::internal
+}  // namespace tavis::batch::dataset::video::internal

@@ -6,11 +6,11 @@ extern "C" {
 #include <libavutil/log.h>
 }
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 void ShowOnlyVideoErrors() {
   av_log_set_level(AV_LOG_ERROR);
   setenv("SVT_LOG", "1", 0);  // SVT-AV1's own logger: errors only, unless the user chose a level
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

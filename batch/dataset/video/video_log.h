@@ -2,8 +2,8 @@
 // episode and camera): a recording run shows only their errors.
 #pragma once
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 void ShowOnlyVideoErrors();
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

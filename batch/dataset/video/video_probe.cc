@@ -10,7 +10,7 @@ extern "C" {
 
 #include "batch/dataset/video/ffmpeg_error.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 namespace {
 
 struct InputClose {
@@ -42,4 +42,4 @@ VideoProbe ProbeVideo(const std::string& path) {
   return probe;
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

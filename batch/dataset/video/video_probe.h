@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 struct VideoProbe {
   std::string codec;    // FFmpeg's codec name: "h264", "av1"
@@ -23,4 +23,4 @@ struct VideoProbe {
 // no video stream.
 VideoProbe ProbeVideo(const std::string& path);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

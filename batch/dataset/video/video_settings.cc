@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 namespace {
 
 [[noreturn]] void Reject(const std::string& path, const std::string& problem) {
@@ -44,4 +44,4 @@ void ValidateVideoSettings(const VideoSettings& settings, const std::string& pat
   }
 }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

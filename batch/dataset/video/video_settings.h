@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 enum class VideoCodec {
   kH264,  // libx264: decodes everywhere (OpenCV included); the default
@@ -34,4 +34,4 @@ VideoCodec ParseVideoCodec(const std::string& name);
 // outside the codec's range.
 void ValidateVideoSettings(const VideoSettings& settings, const std::string& path);
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

@@ -15,7 +15,7 @@ extern "C" {
 #include "batch/dataset/video/encoder_context.h"
 #include "batch/dataset/video/ffmpeg_error.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 namespace {
 
 using internal::CheckFfmpeg;
@@ -183,4 +183,4 @@ std::int64_t Mp4VideoWriter::bytes_written() const {
 const std::string& Mp4VideoWriter::path() const { return impl_->path; }
 const VideoSettings& Mp4VideoWriter::settings() const { return impl_->settings; }
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

@@ -29,7 +29,7 @@
 #include "batch/dataset/video/episode_encoder.h"
 #include "batch/dataset/video/video_settings.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset::video {
 
 class Mp4VideoWriter {
  public:
@@ -65,4 +65,4 @@ class Mp4VideoWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset::video

@@ -1,7 +1,7 @@
-// ReadDatasetActions: the actions of v3.0 and v2.1 datasets come back per episode, in frame
+// reader::ReadDatasetActions: the actions of v3.0 and v2.1 datasets come back per episode, in frame
 // order, with their tasks; every malformed input fails with an error naming the file and the
 // problem.
-#include "batch/dataset/dataset_actions.h"
+#include "batch/dataset/reader/dataset_actions.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@
 #include "tests/batch/dataset/parquet_fixtures.h"
 #include "tests/batch/dataset/synthetic_dataset.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 namespace fs = std::filesystem;
@@ -30,11 +30,11 @@ std::vector<SyntheticEpisode> ThreeEpisodes() {
   return episodes;
 }
 
-void ExpectSameActions(const DatasetActions& read, const std::vector<SyntheticEpisode>& written) {
+void ExpectSameActions(const reader::DatasetActions& read, const std::vector<SyntheticEpisode>& written) {
   ASSERT_EQ(read.episodes.size(), written.size());
   for (std::size_t e = 0; e < written.size(); ++e) {
     SCOPED_TRACE("episode " + std::to_string(e));
-    const EpisodeActions& episode = read.episodes[e];
+    const reader::EpisodeActions& episode = read.episodes[e];
     EXPECT_EQ(episode.episode_index, written[e].episode_index);
     EXPECT_EQ(episode.tasks, written[e].tasks);
     ASSERT_EQ(episode.num_steps, written[e].num_steps);
@@ -47,7 +47,7 @@ void ExpectSameActions(const DatasetActions& read, const std::vector<SyntheticEp
 
 std::string ReadError(const fs::path& dir) {
   try {
-    ReadDatasetActions(dir);
+    reader::ReadDatasetActions(dir);
   } catch (const std::runtime_error& error) {
     return error.what();
   }
@@ -64,9 +64,9 @@ TEST_F(DatasetActionsTest, ReadsV30EpisodesAcrossTwoDataFiles) {
   const std::vector<SyntheticEpisode> episodes = ThreeEpisodes();
   WriteSyntheticDataset(dir_, episodes);
   ASSERT_TRUE(fs::exists(dir_ / "data/chunk-000/file-001.parquet"));
-  const DatasetActions read = ReadDatasetActions(dir_);
+  const reader::DatasetActions read = reader::ReadDatasetActions(dir_);
   EXPECT_EQ(read.info.codebase_version, "v3.0");
-  EXPECT_EQ(read.info.layout, DatasetLayout::kV30);
+  EXPECT_EQ(read.info.version, reader::DatasetVersion::kV30);
   EXPECT_EQ(read.info.fps, 60.0);
   EXPECT_EQ(read.info.robot_type, "gr1t2");
   EXPECT_EQ(read.info.total_episodes, 3);
@@ -80,8 +80,8 @@ TEST_F(DatasetActionsTest, ReadsV21OneFilePerEpisodeWithJsonlTasks) {
   options.robot_type = std::nullopt;
   WriteSyntheticDataset(dir_, episodes, options);
   ASSERT_TRUE(fs::exists(dir_ / "data/chunk-000/episode_000002.parquet"));
-  const DatasetActions read = ReadDatasetActions(dir_);
-  EXPECT_EQ(read.info.layout, DatasetLayout::kV21);
+  const reader::DatasetActions read = reader::ReadDatasetActions(dir_);
+  EXPECT_EQ(read.info.version, reader::DatasetVersion::kV21);
   EXPECT_EQ(read.info.robot_type, std::nullopt);
   ExpectSameActions(read, episodes);
 }
@@ -91,7 +91,7 @@ TEST_F(DatasetActionsTest, TasksAreOptional) {
   WriteSyntheticDataset(dir_, episodes);
   fs::remove_all(dir_ / "meta" / "episodes");
   for (SyntheticEpisode& episode : episodes) episode.tasks.clear();
-  ExpectSameActions(ReadDatasetActions(dir_), episodes);
+  ExpectSameActions(reader::ReadDatasetActions(dir_), episodes);
 }
 
 TEST_F(DatasetActionsTest, MissingInfoJsonIsNamed) {
@@ -175,4 +175,4 @@ TEST_F(DatasetActionsTest, NoDataFilesIsNamed) {
 }
 
 }  // namespace
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -15,7 +15,7 @@
 #include "tests/batch/dataset/lerobot_dataset_checks.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 using namespace testing;  // NOLINT: the test support's many helpers
@@ -31,7 +31,7 @@ DemoConfig SmallConfig(const std::string& out) {
   config.cameras = {"head", "left_wrist"};
   config.video.width = 64;
   config.video.height = 48;
-  config.video.codec = VideoCodec::kH264;
+  config.video.codec = video::VideoCodec::kH264;
   config.config_dir = TAVIS_CONFIG_DIR;
   config.out = out;
   return config;
@@ -57,7 +57,7 @@ std::map<std::string, std::vector<std::uint8_t>> Files(const std::string& root) 
 class DemoGeneration : public ::testing::Test {
  protected:
   void SetUp() override {
-    ShowOnlyVideoErrors();
+    video::ShowOnlyVideoErrors();
     scratch_ = ScratchDir();
   }
   std::string scratch_;
@@ -116,4 +116,4 @@ TEST_F(DemoGeneration, OneAndTwoThreadsAndEitherScheduleWriteTheSameBytes) {
 }
 
 }  // namespace
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 TEST(NumericStats, MatchNumpysPopulationStdAndLinearQuantiles) {
@@ -80,4 +80,4 @@ TEST(ImageStats, LargeFramesAreSampledOnAGridOfAbout150Pixels) {
 }
 
 }  // namespace
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 void ExpectRowsHoldKnownValues(const DatasetView& view, const KnownDataset& known) {
   ASSERT_EQ(view.episodes.size(), known.episodes.size());
@@ -48,4 +48,4 @@ void ExpectLookedUpFramesAreKnown(const LookedUpFrames& frames, const KnownDatas
   }
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -6,7 +6,7 @@
 #include "tests/batch/dataset/lerobot_dataset_checks.h"
 #include "tests/batch/dataset/lerobot_dataset_view.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 // Episode order, lengths, tasks, prompts and every float of every vector column (bit-exact).
 void ExpectRowsHoldKnownValues(const DatasetView& view, const KnownDataset& known);
@@ -15,4 +15,4 @@ void ExpectRowsHoldKnownValues(const DatasetView& view, const KnownDataset& know
 // (PSNR < 25 dB), so the check discriminates.
 void ExpectLookedUpFramesAreKnown(const LookedUpFrames& frames, const KnownDataset& known);
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

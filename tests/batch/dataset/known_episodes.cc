@@ -6,7 +6,7 @@
 #include "batch/dataset/video/episode_encoder.h"
 #include "batch/dataset/video/video_log.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 constexpr int kWidth = 64, kHeight = 48;
@@ -26,7 +26,7 @@ float KnownValue(int feature, int episode, int frame, int dim) {
 }
 
 KnownDataset MakeKnownDataset(DatasetVersion version) {
-  ShowOnlyVideoErrors();  // x264's per-stream report would bury the test output
+  video::ShowOnlyVideoErrors();  // x264's per-stream report would bury the test output
   KnownDataset dataset;
   DatasetLayout& layout = dataset.layout;
   layout.version = version;
@@ -54,7 +54,7 @@ KnownDataset MakeKnownDataset(DatasetVersion version) {
       *columns[f] = KnownRows(static_cast<int>(f), episode, frames, features[f].size);
     dataset.frames.emplace_back();
     for (std::size_t camera = 0; camera < layout.cameras.size(); ++camera) {
-      EpisodeEncoder encoder(layout.video, layout.cameras[camera]);
+      video::EpisodeEncoder encoder(layout.video, layout.cameras[camera]);
       ImageStats stats;
       std::vector<RgbFrame>& encoded = dataset.frames.back().emplace_back();
       for (int k = 0; k < frames; ++k) {
@@ -77,4 +77,4 @@ void WriteKnownDataset(const KnownDataset& dataset, const std::string& root) {
   writer->Finish();
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -10,7 +10,7 @@
 #include "batch/dataset/recorded_episode.h"
 #include "tests/batch/dataset/synthetic_frames.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 inline const std::vector<int> kKnownLengths = {7, 12, 5};
 inline const std::vector<int> kKnownTaskIndex = {0, 1, 0};
@@ -32,4 +32,4 @@ KnownDataset MakeKnownDataset(DatasetVersion version);
 // Writes `dataset` with MakeDatasetWriter into `root`.
 void WriteKnownDataset(const KnownDataset& dataset, const std::string& root);
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -9,7 +9,7 @@
 
 #include "tests/batch/dataset/pyav_video.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 const std::vector<std::string> kStats = {"min", "max", "mean", "std", "count", "q01", "q10", "q50", "q90", "q99"};
@@ -159,4 +159,4 @@ LookedUpFrames ExpectVideosAsLeRobotReadsThem(const DatasetView& view, const std
   return found;
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

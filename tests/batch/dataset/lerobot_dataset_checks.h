@@ -10,7 +10,7 @@
 #include "tests/batch/dataset/lerobot_dataset_view.h"
 #include "tests/batch/dataset/synthetic_frames.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 // Columns = info.json's non-video features, vector widths = their shapes, hyparquet and DuckDB
 // agree on every row, index 0..N-1 in file order, each episode a run of frame_index 0..len-1 with
@@ -28,4 +28,4 @@ using LookedUpFrames = std::map<std::tuple<std::string, int64_t, int>, RgbFrame>
 // one's; LeRobot's lookup finds the first, middle and last frame of every episode (returned).
 LookedUpFrames ExpectVideosAsLeRobotReadsThem(const DatasetView& view, const std::string& scratch_dir);
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -9,7 +9,7 @@
 
 #include "tests/batch/dataset/node_parquet.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 namespace fs = std::filesystem;
@@ -154,4 +154,4 @@ DatasetView LoadDataset(const std::string& root) {
   return view;
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

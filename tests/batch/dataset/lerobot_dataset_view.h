@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 // Where one episode lives in one camera's mp4 files.
 struct VideoSpan {
@@ -47,4 +47,4 @@ int64_t Int(const nlohmann::json& value);
 // root/folder/*/*.extension, sorted (LeRobot's glob of chunk folders).
 std::vector<std::string> SortedFiles(const std::string& root, const std::string& folder, const std::string& extension);
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

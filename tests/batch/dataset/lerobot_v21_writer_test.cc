@@ -9,7 +9,7 @@
 
 #include "tests/batch/dataset/known_dataset_expectations.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 using namespace testing;  // NOLINT: the test support's many helpers
@@ -88,4 +88,4 @@ TEST_F(LeRobotV21Writer, ReadersSeeTheWrittenRowsAndFrames) {
 }
 
 }  // namespace
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -13,7 +13,7 @@
 #include "tests/batch/dataset/known_dataset_expectations.h"
 #include "tests/batch/dataset/node_parquet.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 using namespace testing;  // NOLINT: the test support's many helpers
@@ -170,4 +170,4 @@ TEST(LeRobotV30Writer, VideosPlayTheEncodedFramesAtLeRobotsTimestamps) {
 }
 
 }  // namespace
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -7,7 +7,7 @@
 
 #include "tests/support/child_process.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 constexpr const char* kHint =
@@ -54,4 +54,4 @@ void WriteWithDuckdb(const std::string& path, std::size_t rows, const std::strin
            compression});
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

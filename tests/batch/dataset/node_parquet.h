@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <string>
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 // What tests/js/read_parquet.mjs prints for `path`: {"hyparquet": {...}, "duckdb": {...}}.
 nlohmann::json ReadWithIndependentReaders(const std::string& path);
@@ -21,4 +21,4 @@ nlohmann::json QueryWithDuckdb(const std::string& sql);
 void WriteWithDuckdb(const std::string& path, std::size_t rows, const std::string& parquet_version,
                      std::size_t row_group_size, const std::string& compression = "snappy");
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

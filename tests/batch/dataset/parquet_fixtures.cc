@@ -8,7 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 using nlohmann::json;
@@ -38,7 +38,7 @@ json Nested(const std::vector<T>& values, std::size_t first, const std::vector<s
 
 // Per-row JSON of a column's values: scalars, fixed-shape lists, or lists of `row_lengths`.
 template <typename T>
-std::vector<json> RowsAsJson(const ColumnSpec& spec, std::size_t num_rows, const std::vector<T>& values,
+std::vector<json> RowsAsJson(const parquet::ColumnSpec& spec, std::size_t num_rows, const std::vector<T>& values,
                              const std::vector<std::size_t>& row_lengths) {
   std::vector<json> rows;
   std::size_t next = 0;
@@ -59,7 +59,7 @@ std::vector<json> RowsAsJson(const ColumnSpec& spec, std::size_t num_rows, const
 // Writes a row group column by column and records the rows it holds.
 class RecordedRowGroup {
  public:
-  RecordedRowGroup(ParquetWriter& writer, WrittenTable& table, std::size_t num_rows)
+  RecordedRowGroup(parquet::ParquetWriter& writer, WrittenTable& table, std::size_t num_rows)
       : writer_(writer), table_(table), rows_(writer.NewRowGroup(num_rows)), first_row_(table.rows.size()) {
     for (std::size_t row = 0; row < num_rows; ++row) table_.rows.push_back(json::object());
   }
@@ -85,8 +85,8 @@ class RecordedRowGroup {
  private:
   template <typename T>
   void Record(const std::string& name, const std::vector<T>& values, const std::vector<std::size_t>& row_lengths) {
-    const ColumnSpec* spec = nullptr;
-    for (const ColumnSpec& column : table_.columns) {
+    const parquet::ColumnSpec* spec = nullptr;
+    for (const parquet::ColumnSpec& column : table_.columns) {
       if (column.name == name) spec = &column;
     }
     if (spec == nullptr) throw std::logic_error("fixture column " + name + " not declared");
@@ -94,13 +94,13 @@ class RecordedRowGroup {
     for (std::size_t row = 0; row < rows.size(); ++row) table_.rows[first_row_ + row][name] = rows[row];
   }
 
-  ParquetWriter& writer_;
+  parquet::ParquetWriter& writer_;
   WrittenTable& table_;
-  RowGroupBuilder rows_;
+  parquet::RowGroupBuilder rows_;
   std::size_t first_row_;
 };
 
-WrittenTable Declare(const std::string& path, std::vector<ColumnSpec> columns,
+WrittenTable Declare(const std::string& path, std::vector<parquet::ColumnSpec> columns,
                      std::vector<std::pair<std::string, std::string>> key_value_metadata = {}) {
   WrittenTable table;
   table.path = path;
@@ -109,8 +109,8 @@ WrittenTable Declare(const std::string& path, std::vector<ColumnSpec> columns,
   return table;
 }
 
-ParquetWriterOptions OptionsOf(const WrittenTable& table, Codec codec) {
-  ParquetWriterOptions options;
+parquet::ParquetWriterOptions OptionsOf(const WrittenTable& table, parquet::Codec codec) {
+  parquet::ParquetWriterOptions options;
   options.codec = codec;
   options.key_value_metadata = table.key_value_metadata;
   return options;
@@ -130,17 +130,19 @@ float StateValue(std::size_t row, std::size_t item) {
 
 }  // namespace
 
-WrittenTable WriteDataTable(const std::string& path, Codec codec) {
+WrittenTable WriteDataTable(const std::string& path, parquet::Codec codec) {
   constexpr std::size_t kStateSize = 34;
   constexpr std::size_t kActionSize = 19;
-  WrittenTable table = Declare(
-      path, {ColumnSpec::List("observation.state", ValueType::kFloat, {kStateSize}),
-             ColumnSpec::List("action", ValueType::kFloat, {kActionSize}),
-             ColumnSpec::Scalar("language_instruction", ValueType::kString),
-             ColumnSpec::Scalar("timestamp", ValueType::kFloat), ColumnSpec::Scalar("frame_index", ValueType::kInt64),
-             ColumnSpec::Scalar("episode_index", ValueType::kInt64), ColumnSpec::Scalar("index", ValueType::kInt64),
-             ColumnSpec::Scalar("task_index", ValueType::kInt64)});
-  ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
+  WrittenTable table =
+      Declare(path, {parquet::ColumnSpec::List("observation.state", parquet::ValueType::kFloat, {kStateSize}),
+                     parquet::ColumnSpec::List("action", parquet::ValueType::kFloat, {kActionSize}),
+                     parquet::ColumnSpec::Scalar("language_instruction", parquet::ValueType::kString),
+                     parquet::ColumnSpec::Scalar("timestamp", parquet::ValueType::kFloat),
+                     parquet::ColumnSpec::Scalar("frame_index", parquet::ValueType::kInt64),
+                     parquet::ColumnSpec::Scalar("episode_index", parquet::ValueType::kInt64),
+                     parquet::ColumnSpec::Scalar("index", parquet::ValueType::kInt64),
+                     parquet::ColumnSpec::Scalar("task_index", parquet::ValueType::kInt64)});
+  parquet::ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
   const std::vector<std::size_t> episode_lengths{7, 12, 3};
   const std::vector<std::string> prompts{"Pick up the red cube.", "Öffne die Schublade — bitte", ""};
   std::int64_t index = 0;
@@ -173,16 +175,17 @@ WrittenTable WriteDataTable(const std::string& path, Codec codec) {
   return table;
 }
 
-WrittenTable WriteTasksTable(const std::string& path, Codec codec) {
+WrittenTable WriteTasksTable(const std::string& path, parquet::Codec codec) {
   const std::string pandas =
       R"({"index_columns": ["task"], "column_indexes": [{"name": null, "field_name": null, "pandas_type": "unicode", )"
       R"("numpy_type": "object", "metadata": {"encoding": "UTF-8"}}], "columns": [{"name": "task_index", )"
       R"("field_name": "task_index", "pandas_type": "int64", "numpy_type": "int64", "metadata": null}, )"
       R"({"name": "task", "field_name": "task", "pandas_type": "unicode", "numpy_type": "object", "metadata": null}]})";
-  WrittenTable table = Declare(
-      path, {ColumnSpec::Scalar("task_index", ValueType::kInt64), ColumnSpec::Scalar("task", ValueType::kString)},
-      {{"pandas", pandas}});
-  ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
+  WrittenTable table = Declare(path,
+                               {parquet::ColumnSpec::Scalar("task_index", parquet::ValueType::kInt64),
+                                parquet::ColumnSpec::Scalar("task", parquet::ValueType::kString)},
+                               {{"pandas", pandas}});
+  parquet::ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
   RecordedRowGroup rows(writer, table, 3);
   rows.Add("task_index", std::vector<std::int64_t>{0, 1, 2});
   rows.Add("task", std::vector<std::string>{"ConditionalPickTask", "OpenDrawerTask", "PeekingBoxTask"});
@@ -191,18 +194,22 @@ WrittenTable WriteTasksTable(const std::string& path, Codec codec) {
   return table;
 }
 
-WrittenTable WriteEpisodesTable(const std::string& path, Codec codec) {
+WrittenTable WriteEpisodesTable(const std::string& path, parquet::Codec codec) {
   WrittenTable table = Declare(
-      path, {ColumnSpec::Scalar("episode_index", ValueType::kInt64), ColumnSpec::List("tasks", ValueType::kString),
-             ColumnSpec::Scalar("length", ValueType::kInt64), ColumnSpec::Scalar("data/chunk_index", ValueType::kInt64),
-             ColumnSpec::Scalar("videos/observation.images.head/from_timestamp", ValueType::kDouble),
-             ColumnSpec::List("stats/action/mean", ValueType::kDouble, {4}),
-             ColumnSpec::List("stats/action/count", ValueType::kInt64, {1}),
-             ColumnSpec::List("stats/observation.images.head/mean", ValueType::kDouble, {3, 1, 1}),
-             ColumnSpec::List("stats/grid/max", ValueType::kDouble, {2, 3}),
-             ColumnSpec::Scalar("success", ValueType::kBool), ColumnSpec::Scalar("seed", ValueType::kInt32),
-             ColumnSpec::List("camera_ids", ValueType::kInt32, {2}), ColumnSpec::List("flags", ValueType::kBool)});
-  ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
+      path, {parquet::ColumnSpec::Scalar("episode_index", parquet::ValueType::kInt64),
+             parquet::ColumnSpec::List("tasks", parquet::ValueType::kString),
+             parquet::ColumnSpec::Scalar("length", parquet::ValueType::kInt64),
+             parquet::ColumnSpec::Scalar("data/chunk_index", parquet::ValueType::kInt64),
+             parquet::ColumnSpec::Scalar("videos/observation.images.head/from_timestamp", parquet::ValueType::kDouble),
+             parquet::ColumnSpec::List("stats/action/mean", parquet::ValueType::kDouble, {4}),
+             parquet::ColumnSpec::List("stats/action/count", parquet::ValueType::kInt64, {1}),
+             parquet::ColumnSpec::List("stats/observation.images.head/mean", parquet::ValueType::kDouble, {3, 1, 1}),
+             parquet::ColumnSpec::List("stats/grid/max", parquet::ValueType::kDouble, {2, 3}),
+             parquet::ColumnSpec::Scalar("success", parquet::ValueType::kBool),
+             parquet::ColumnSpec::Scalar("seed", parquet::ValueType::kInt32),
+             parquet::ColumnSpec::List("camera_ids", parquet::ValueType::kInt32, {2}),
+             parquet::ColumnSpec::List("flags", parquet::ValueType::kBool)});
+  parquet::ParquetWriter writer(path, table.columns, OptionsOf(table, codec));
   const auto write_group = [&](std::int64_t first_episode, std::vector<std::vector<std::string>> tasks) {
     const std::size_t episodes = tasks.size();
     std::vector<std::string> flat_tasks;
@@ -258,20 +265,20 @@ namespace {
 
 // Calls `visit` with a value of the C++ type that holds `type`.
 template <typename Visit>
-void WithValueType(ValueType type, const Visit& visit) {
+void WithValueType(parquet::ValueType type, const Visit& visit) {
   switch (type) {
-    case ValueType::kBool: return visit(bool{});
-    case ValueType::kInt32: return visit(std::int32_t{});
-    case ValueType::kInt64: return visit(std::int64_t{});
-    case ValueType::kFloat: return visit(float{});
-    case ValueType::kDouble: return visit(double{});
-    case ValueType::kString: return visit(std::string{});
+    case parquet::ValueType::kBool: return visit(bool{});
+    case parquet::ValueType::kInt32: return visit(std::int32_t{});
+    case parquet::ValueType::kInt64: return visit(std::int64_t{});
+    case parquet::ValueType::kFloat: return visit(float{});
+    case parquet::ValueType::kDouble: return visit(double{});
+    case parquet::ValueType::kString: return visit(std::string{});
   }
 }
 
 template <typename T>
-void ReadColumnAsJson(const ParquetReader& reader, const ColumnSpec& spec, json& rows) {
-  const ListColumn<T> column = reader.ReadListColumn<T>(spec.name);
+void ReadColumnAsJson(const parquet::ParquetReader& reader, const parquet::ColumnSpec& spec, json& rows) {
+  const parquet::ListColumn<T> column = reader.ReadListColumn<T>(spec.name);
   if (column.row_lengths.size() != rows.size()) {
     throw std::logic_error(spec.name + ": " + std::to_string(column.row_lengths.size()) + " rows read");
   }
@@ -289,19 +296,19 @@ void ReadColumnAsJson(const ParquetReader& reader, const ColumnSpec& spec, json&
 
 }  // namespace
 
-json ReadWithOurReader(const std::string& path, const std::vector<ColumnSpec>& columns) {
-  const ParquetReader reader(path);
+json ReadWithOurReader(const std::string& path, const std::vector<parquet::ColumnSpec>& columns) {
+  const parquet::ParquetReader reader(path);
   json rows = json::array();
   for (std::int64_t row = 0; row < reader.num_rows(); ++row) rows.push_back(json::object());
-  for (const ColumnSpec& spec : columns) {
+  for (const parquet::ColumnSpec& spec : columns) {
     WithValueType(spec.type, [&](auto type) { ReadColumnAsJson<decltype(type)>(reader, spec, rows); });
   }
   return rows;
 }
 
-void ReadEveryColumn(const std::string& path, const std::vector<ColumnSpec>& columns) {
-  const ParquetReader reader(path);
-  for (const ColumnSpec& spec : columns) {
+void ReadEveryColumn(const std::string& path, const std::vector<parquet::ColumnSpec>& columns) {
+  const parquet::ParquetReader reader(path);
+  for (const parquet::ColumnSpec& spec : columns) {
     WithValueType(spec.type, [&](auto type) { reader.ReadListColumn<decltype(type)>(spec.name); });
   }
 }
@@ -317,4 +324,4 @@ ScratchDir::~ScratchDir() {
   std::filesystem::remove_all(path_, ignored);
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -1,4 +1,4 @@
-// Files our ParquetWriter makes, read back by readers we did not write (hyparquet and DuckDB,
+// Files our parquet::ParquetWriter makes, read back by readers we did not write (hyparquet and DuckDB,
 // tests/js/read_parquet.mjs): the schema, row and row-group counts, key-value metadata and every
 // value must be what was written (floats exactly), UNCOMPRESSED and SNAPPY alike.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include "tests/batch/dataset/node_parquet.h"
 #include "tests/batch/dataset/parquet_fixtures.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 using nlohmann::json;
@@ -24,15 +24,16 @@ struct ExpectedElement {
   std::string converted_type;  // empty for none
 };
 
-std::vector<ExpectedElement> ExpectedSchema(const std::vector<ColumnSpec>& columns) {
+std::vector<ExpectedElement> ExpectedSchema(const std::vector<parquet::ColumnSpec>& columns) {
   std::vector<ExpectedElement> elements;
-  for (const ColumnSpec& column : columns) {
+  for (const parquet::ColumnSpec& column : columns) {
     for (int level = 0; level < column.list_depth(); ++level) {
       elements.push_back({level == 0 ? column.name : "element", "", "LIST"});
       elements.push_back({"list", "", ""});
     }
-    elements.push_back({column.is_list ? "element" : column.name, PhysicalTypeName(PhysicalTypeOf(column.type)),
-                        column.type == ValueType::kString ? "UTF8" : ""});
+    elements.push_back({column.is_list ? "element" : column.name,
+                        parquet::PhysicalTypeName(parquet::PhysicalTypeOf(column.type)),
+                        column.type == parquet::ValueType::kString ? "UTF8" : ""});
   }
   return elements;
 }
@@ -61,7 +62,7 @@ void ExpectRows(const std::string& reader, const json& rows, const WrittenTable&
   int mismatches = 0;
   for (std::size_t row = 0; row < rows.size(); ++row) {
     EXPECT_EQ(rows[row].size(), table.columns.size()) << reader << " row " << row << ": " << rows[row].dump();
-    for (const ColumnSpec& column : table.columns) {
+    for (const parquet::ColumnSpec& column : table.columns) {
       const json& actual = rows[row].contains(column.name) ? rows[row][column.name] : json();
       const json& expected = table.rows[row][column.name];
       if (actual != expected && ++mismatches <= 5) {
@@ -81,7 +82,7 @@ void ExpectKeyValueMetadata(const std::string& reader, const json& entries, cons
   }
 }
 
-void ExpectBothReadersSeeTheTable(const WrittenTable& table, Codec codec) {
+void ExpectBothReadersSeeTheTable(const WrittenTable& table, parquet::Codec codec) {
   const json output = ReadWithIndependentReaders(table.path);
   for (const char* reader : {"hyparquet", "duckdb"}) {
     SCOPED_TRACE(std::string(reader) + " reading " + table.path);
@@ -92,7 +93,7 @@ void ExpectBothReadersSeeTheTable(const WrittenTable& table, Codec codec) {
     ExpectKeyValueMetadata(reader, seen["key_value_metadata"], table);
     ExpectRows(reader, seen["rows"], table);
   }
-  EXPECT_EQ(output["duckdb"]["codecs"], json::array({CodecName(codec)}));
+  EXPECT_EQ(output["duckdb"]["codecs"], json::array({parquet::CodecName(codec)}));
   // hyparquet reports the STRING and LIST logical types as written.
   for (const json& element : output["hyparquet"]["schema"]) {
     const std::string converted = TextOrEmpty(element, "converted_type");
@@ -104,7 +105,7 @@ void ExpectBothReadersSeeTheTable(const WrittenTable& table, Codec codec) {
   }
 }
 
-class ParquetIndependentReaders : public ::testing::TestWithParam<Codec> {
+class ParquetIndependentReaders : public ::testing::TestWithParam<parquet::Codec> {
  protected:
   ScratchDir dir_;
 };
@@ -121,8 +122,11 @@ TEST_P(ParquetIndependentReaders, ReadTheEpisodesFileWithNestedListsAndSlashName
   ExpectBothReadersSeeTheTable(WriteEpisodesTable(dir_.File("episodes.parquet"), GetParam()), GetParam());
 }
 
-INSTANTIATE_TEST_SUITE_P(Codecs, ParquetIndependentReaders, ::testing::Values(Codec::kUncompressed, Codec::kSnappy),
-                         [](const ::testing::TestParamInfo<Codec>& param) { return CodecName(param.param); });
+INSTANTIATE_TEST_SUITE_P(Codecs, ParquetIndependentReaders,
+                         ::testing::Values(parquet::Codec::kUncompressed, parquet::Codec::kSnappy),
+                         [](const ::testing::TestParamInfo<parquet::Codec>& param) {
+                           return parquet::CodecName(param.param);
+                         });
 
 }  // namespace
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

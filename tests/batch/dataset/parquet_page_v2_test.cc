@@ -17,7 +17,7 @@
 #include "tests/batch/dataset/node_parquet.h"
 #include "tests/batch/dataset/parquet_fixtures.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
@@ -30,7 +30,7 @@ void AppendInt64(std::int64_t value, Bytes& out) {
 // One optional INT64 column "x" holding 5, null, 7 in a single SNAPPY data page v2.
 Bytes FileWithDataPageV2() {
   Bytes definition_levels;
-  AppendRleRuns({1, 0, 1}, 1, definition_levels);
+  parquet::AppendRleRuns({1, 0, 1}, 1, definition_levels);
   Bytes values;
   AppendInt64(5, values);
   AppendInt64(7, values);
@@ -39,15 +39,15 @@ Bytes FileWithDataPageV2() {
 
   Bytes file{'P', 'A', 'R', '1'};
   const auto page_offset = static_cast<std::int64_t>(file.size());
-  ThriftCompactWriter header(file);
-  header.I32Field(1, static_cast<std::int32_t>(PageType::kDataPageV2));
+  parquet::ThriftCompactWriter header(file);
+  header.I32Field(1, static_cast<std::int32_t>(parquet::PageType::kDataPageV2));
   header.I32Field(2, static_cast<std::int32_t>(definition_levels.size() + values.size()));
   header.I32Field(3, static_cast<std::int32_t>(definition_levels.size() + compressed.size()));
   header.BeginStructField(8);
   header.I32Field(1, 3);  // num_values
   header.I32Field(2, 1);  // num_nulls
   header.I32Field(3, 3);  // num_rows
-  header.I32Field(4, static_cast<std::int32_t>(Encoding::kPlain));
+  header.I32Field(4, static_cast<std::int32_t>(parquet::Encoding::kPlain));
   header.I32Field(5, static_cast<std::int32_t>(definition_levels.size()));
   header.I32Field(6, 0);
   header.BoolField(7, true);
@@ -61,23 +61,23 @@ Bytes FileWithDataPageV2() {
       header_size + static_cast<std::int64_t>(definition_levels.size() + values.size());
 
   Bytes footer;
-  ThriftCompactWriter thrift(footer);
+  parquet::ThriftCompactWriter thrift(footer);
   thrift.I32Field(1, 2);
-  AppendSchemaField({ColumnSpec::Scalar("x", ValueType::kInt64)}, thrift);
+  parquet::AppendSchemaField({parquet::ColumnSpec::Scalar("x", parquet::ValueType::kInt64)}, thrift);
   thrift.I64Field(3, 3);
-  thrift.ListField(4, ThriftType::kStruct, 1);
+  thrift.ListField(4, parquet::ThriftType::kStruct, 1);
   thrift.BeginStruct();
-  thrift.ListField(1, ThriftType::kStruct, 1);
+  thrift.ListField(1, parquet::ThriftType::kStruct, 1);
   thrift.BeginStruct();
   thrift.I64Field(2, page_offset);
   thrift.BeginStructField(3);
-  thrift.I32Field(1, static_cast<std::int32_t>(PhysicalType::kInt64));
-  thrift.ListField(2, ThriftType::kI32, 2);
-  thrift.I32(static_cast<std::int32_t>(Encoding::kPlain));
-  thrift.I32(static_cast<std::int32_t>(Encoding::kRle));
-  thrift.ListField(3, ThriftType::kBinary, 1);
+  thrift.I32Field(1, static_cast<std::int32_t>(parquet::PhysicalType::kInt64));
+  thrift.ListField(2, parquet::ThriftType::kI32, 2);
+  thrift.I32(static_cast<std::int32_t>(parquet::Encoding::kPlain));
+  thrift.I32(static_cast<std::int32_t>(parquet::Encoding::kRle));
+  thrift.ListField(3, parquet::ThriftType::kBinary, 1);
   thrift.Binary("x");
-  thrift.I32Field(4, static_cast<std::int32_t>(Codec::kSnappy));
+  thrift.I32Field(4, static_cast<std::int32_t>(parquet::Codec::kSnappy));
   thrift.I64Field(5, 3);
   thrift.I64Field(6, uncompressed_size);
   thrift.I64Field(7, chunk_size);
@@ -106,8 +106,8 @@ TEST(ParquetPageV2, ReadLikeTheIndependentReaders) {
   EXPECT_EQ(independent["hyparquet"]["rows"], expected);
   EXPECT_EQ(independent["duckdb"]["rows"], expected);
 
-  const ParquetReader reader(path);
-  const ListColumn<std::int64_t> x = reader.ReadListColumn<std::int64_t>("x");
+  const parquet::ParquetReader reader(path);
+  const parquet::ListColumn<std::int64_t> x = reader.ReadListColumn<std::int64_t>("x");
   EXPECT_EQ(x.values, (std::vector<std::int64_t>{5, 7}));
   EXPECT_EQ(x.row_lengths, (std::vector<std::size_t>{1, 0, 1}));
   try {
@@ -119,4 +119,4 @@ TEST(ParquetPageV2, ReadLikeTheIndependentReaders) {
 }
 
 }  // namespace
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

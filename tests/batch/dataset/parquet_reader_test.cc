@@ -1,4 +1,4 @@
-// ParquetReader: everything our writer writes comes back; files DuckDB writes (dictionaries,
+// parquet::ParquetReader: everything our writer writes comes back; files DuckDB writes (dictionaries,
 // delta and byte-stream-split encodings, ZSTD) read exactly; truncated, corrupt and
 // unsupported files fail with errors naming the file and the problem, never a crash.
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 #include "tests/batch/dataset/node_parquet.h"
 #include "tests/batch/dataset/parquet_fixtures.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 using Bytes = std::vector<char>;
@@ -29,14 +29,14 @@ void WriteBytes(const std::string& path, const Bytes& bytes) {
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-std::vector<std::string> NamesOf(const std::vector<ColumnSpec>& columns) {
+std::vector<std::string> NamesOf(const std::vector<parquet::ColumnSpec>& columns) {
   std::vector<std::string> names;
-  for (const ColumnSpec& column : columns) names.push_back(column.name);
+  for (const parquet::ColumnSpec& column : columns) names.push_back(column.name);
   return names;
 }
 
 // The message of the std::runtime_error that opening and reading every column throws.
-std::string ErrorReadingAll(const std::string& path, const std::vector<ColumnSpec>& columns) {
+std::string ErrorReadingAll(const std::string& path, const std::vector<parquet::ColumnSpec>& columns) {
   try {
     ReadEveryColumn(path, columns);
   } catch (const std::runtime_error& error) {
@@ -45,7 +45,7 @@ std::string ErrorReadingAll(const std::string& path, const std::vector<ColumnSpe
   return "";
 }
 
-class ParquetReaderRoundTrip : public ::testing::TestWithParam<Codec> {
+class ParquetReaderRoundTrip : public ::testing::TestWithParam<parquet::Codec> {
  protected:
   ScratchDir dir_;
 };
@@ -55,28 +55,31 @@ TEST_P(ParquetReaderRoundTrip, ReadsBackEveryTableTheWriterWrites) {
        {WriteDataTable(dir_.File("data.parquet"), GetParam()), WriteTasksTable(dir_.File("tasks.parquet"), GetParam()),
         WriteEpisodesTable(dir_.File("episodes.parquet"), GetParam())}) {
     SCOPED_TRACE(table.path);
-    const ParquetReader reader(table.path);
+    const parquet::ParquetReader reader(table.path);
     EXPECT_EQ(reader.num_rows(), static_cast<std::int64_t>(table.rows.size()));
     EXPECT_EQ(reader.num_row_groups(), table.row_groups);
     EXPECT_EQ(reader.column_names(), NamesOf(table.columns));
     EXPECT_EQ(reader.key_value_metadata(), table.key_value_metadata);
-    EXPECT_EQ(reader.created_by(), ParquetWriterOptions{}.created_by);
+    EXPECT_EQ(reader.created_by(), parquet::ParquetWriterOptions{}.created_by);
     EXPECT_EQ(ReadWithOurReader(table.path, table.columns), table.rows);
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Codecs, ParquetReaderRoundTrip, ::testing::Values(Codec::kUncompressed, Codec::kSnappy),
-                         [](const ::testing::TestParamInfo<Codec>& param) { return CodecName(param.param); });
+INSTANTIATE_TEST_SUITE_P(Codecs, ParquetReaderRoundTrip,
+                         ::testing::Values(parquet::Codec::kUncompressed, parquet::Codec::kSnappy),
+                         [](const ::testing::TestParamInfo<parquet::Codec>& param) {
+                           return parquet::CodecName(param.param);
+                         });
 
 TEST(ParquetReader, TypedColumnsAndErrorsThatNameTheColumn) {
   const ScratchDir dir;
-  const WrittenTable table = WriteDataTable(dir.File("data.parquet"), Codec::kSnappy);
-  const ParquetReader reader(table.path);
+  const WrittenTable table = WriteDataTable(dir.File("data.parquet"), parquet::Codec::kSnappy);
+  const parquet::ParquetReader reader(table.path);
   const std::vector<std::int64_t> frames = reader.ReadColumn<std::int64_t>("frame_index");
   ASSERT_EQ(frames.size(), 22U);
   EXPECT_EQ(frames[6], 6);
   EXPECT_EQ(frames[7], 0);  // the second episode starts
-  const ListColumn<float> actions = reader.ReadListColumn<float>("action");
+  const parquet::ListColumn<float> actions = reader.ReadListColumn<float>("action");
   EXPECT_EQ(actions.row_lengths, std::vector<std::size_t>(22, 19));
   EXPECT_EQ(reader.columns()[0].path, (std::vector<std::string>{"observation.state", "list", "element"}));
   EXPECT_EQ(reader.columns()[0].max_repetition_level, 1);
@@ -110,7 +113,7 @@ TEST_P(ParquetReaderDuckdbFiles, ReadsEveryValueDuckdbWrote) {
   const std::string path = dir.File("duckdb.parquet");
   constexpr std::size_t kRows = 5000;
   WriteWithDuckdb(path, kRows, GetParam().first, 2048, GetParam().second);
-  const ParquetReader reader(path);
+  const parquet::ParquetReader reader(path);
   ASSERT_EQ(reader.num_rows(), static_cast<std::int64_t>(kRows));
   EXPECT_GE(reader.num_row_groups(), 2U);
   const std::vector<std::int64_t> id = reader.ReadColumn<std::int64_t>("id");
@@ -119,7 +122,7 @@ TEST_P(ParquetReaderDuckdbFiles, ReadsEveryValueDuckdbWrote) {
   const std::vector<double> third = reader.ReadColumn<double>("third");
   const std::vector<std::string> label = reader.ReadColumn<std::string>("label");
   const std::vector<std::string> name = reader.ReadColumn<std::string>("name");
-  const ListColumn<float> vec = reader.ReadListColumn<float>("vec");
+  const parquet::ListColumn<float> vec = reader.ReadListColumn<float>("vec");
   ASSERT_EQ(vec.row_lengths.size(), kRows);
   int mismatches = 0;
   std::size_t next_item = 0;
@@ -155,7 +158,7 @@ TEST(ParquetReader, UnsupportedCodecIsNamedWithColumnAndFile) {
   const ScratchDir dir;
   const std::string path = dir.File("gzip.parquet");
   WriteWithDuckdb(path, 10, "v1", 0, "gzip");
-  const ParquetReader reader(path);
+  const parquet::ParquetReader reader(path);
   try {
     reader.ReadColumn<std::int64_t>("id");
     FAIL() << "GZIP read";
@@ -166,7 +169,7 @@ TEST(ParquetReader, UnsupportedCodecIsNamedWithColumnAndFile) {
 
 TEST(ParquetReader, TruncatedFilesAreRejectedByName) {
   const ScratchDir dir;
-  const WrittenTable table = WriteDataTable(dir.File("data.parquet"), Codec::kUncompressed);
+  const WrittenTable table = WriteDataTable(dir.File("data.parquet"), parquet::Codec::kUncompressed);
   const Bytes bytes = ReadBytes(table.path);
   const std::string cut_path = dir.File("cut.parquet");
   for (const std::size_t cut :
@@ -182,7 +185,7 @@ TEST(ParquetReader, TruncatedFilesAreRejectedByName) {
 
 TEST(ParquetReader, BadMagicFooterLengthAndMissingPagesAreNamed) {
   const ScratchDir dir;
-  const WrittenTable table = WriteDataTable(dir.File("data.parquet"), Codec::kSnappy);
+  const WrittenTable table = WriteDataTable(dir.File("data.parquet"), parquet::Codec::kSnappy);
   const Bytes bytes = ReadBytes(table.path);
   const std::string path = dir.File("bad.parquet");
 
@@ -211,17 +214,19 @@ TEST(ParquetReader, BadMagicFooterLengthAndMissingPagesAreNamed) {
 
 // A small file with every kind of level structure (scalars, variable and nested lists), so that
 // corrupting each of its bytes stays fast.
-std::vector<ColumnSpec> WriteSmallTable(const std::string& path, Codec codec) {
-  const std::vector<ColumnSpec> columns{
-      ColumnSpec::Scalar("id", ValueType::kInt64), ColumnSpec::List("tags", ValueType::kString),
-      ColumnSpec::List("stats/img/mean", ValueType::kDouble, {3, 1, 1}), ColumnSpec::Scalar("ok", ValueType::kBool),
-      ColumnSpec::List("v", ValueType::kFloat, {2})};
-  ParquetWriterOptions options;
+std::vector<parquet::ColumnSpec> WriteSmallTable(const std::string& path, parquet::Codec codec) {
+  const std::vector<parquet::ColumnSpec> columns{
+      parquet::ColumnSpec::Scalar("id", parquet::ValueType::kInt64),
+      parquet::ColumnSpec::List("tags", parquet::ValueType::kString),
+      parquet::ColumnSpec::List("stats/img/mean", parquet::ValueType::kDouble, {3, 1, 1}),
+      parquet::ColumnSpec::Scalar("ok", parquet::ValueType::kBool),
+      parquet::ColumnSpec::List("v", parquet::ValueType::kFloat, {2})};
+  parquet::ParquetWriterOptions options;
   options.codec = codec;
   options.key_value_metadata = {{"k", "v"}};
-  ParquetWriter writer(path, columns, options);
+  parquet::ParquetWriter writer(path, columns, options);
   for (std::size_t rows : {2, 3}) {
-    RowGroupBuilder group = writer.NewRowGroup(rows);
+    parquet::RowGroupBuilder group = writer.NewRowGroup(rows);
     group.Add("id", std::vector<std::int64_t>(rows, 7));
     std::vector<std::size_t> tag_counts(rows, 1);
     tag_counts[0] = 0;
@@ -239,9 +244,9 @@ std::vector<ColumnSpec> WriteSmallTable(const std::string& path, Codec codec) {
 // std::runtime_error naming the file; anything else (a crash, std::bad_alloc) fails the test.
 TEST(ParquetReader, EveryCorruptedByteGivesValuesOrANamedError) {
   const ScratchDir dir;
-  for (const Codec codec : {Codec::kSnappy, Codec::kUncompressed}) {
+  for (const parquet::Codec codec : {parquet::Codec::kSnappy, parquet::Codec::kUncompressed}) {
     const std::string original = dir.File("small.parquet");
-    const std::vector<ColumnSpec> columns = WriteSmallTable(original, codec);
+    const std::vector<parquet::ColumnSpec> columns = WriteSmallTable(original, codec);
     const Bytes bytes = ReadBytes(original);
     const std::string path = dir.File("corrupt.parquet");
     int errors = 0;
@@ -255,9 +260,9 @@ TEST(ParquetReader, EveryCorruptedByteGivesValuesOrANamedError) {
       ASSERT_EQ(error.rfind(path + ": ", 0) == 0 || error.find(" of " + path) != std::string::npos, true)
           << "byte " << at << ": " << error;
     }
-    EXPECT_GT(errors, static_cast<int>(bytes.size() / 4)) << CodecName(codec);
+    EXPECT_GT(errors, static_cast<int>(bytes.size() / 4)) << parquet::CodecName(codec);
   }
 }
 
 }  // namespace
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

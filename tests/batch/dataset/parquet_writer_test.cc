@@ -1,4 +1,4 @@
-// ParquetWriter: byte-identical output for identical input, the file appears under its name only
+// parquet::ParquetWriter: byte-identical output for identical input, the file appears under its name only
 // at Close, I/O failures name the path and the system's reason, and schema and row-group mistakes
 // throw std::invalid_argument naming the column.
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@
 #include "batch/dataset/parquet/parquet_writer.h"
 #include "tests/batch/dataset/parquet_fixtures.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 std::vector<char> ReadBytes(const std::string& path) {
@@ -36,11 +36,11 @@ std::string ErrorOf(const Run& run) {
   return "";
 }
 
-const std::vector<ColumnSpec> kColumns{ColumnSpec::Scalar("frame_index", ValueType::kInt64),
-                                       ColumnSpec::List("action", ValueType::kFloat, {3}),
-                                       ColumnSpec::List("tasks", ValueType::kString)};
+const std::vector<parquet::ColumnSpec> kColumns{parquet::ColumnSpec::Scalar("frame_index", parquet::ValueType::kInt64),
+                                                parquet::ColumnSpec::List("action", parquet::ValueType::kFloat, {3}),
+                                                parquet::ColumnSpec::List("tasks", parquet::ValueType::kString)};
 
-void FillRows(RowGroupBuilder& rows, std::size_t count) {
+void FillRows(parquet::RowGroupBuilder& rows, std::size_t count) {
   rows.Add("frame_index", std::vector<std::int64_t>(count, 1));
   rows.AddList("action", std::vector<float>(count * 3, 0.5f));
   rows.AddList("tasks", std::vector<std::string>(count, "t"), std::vector<std::size_t>(count, 1));
@@ -48,8 +48,8 @@ void FillRows(RowGroupBuilder& rows, std::size_t count) {
 
 TEST(ParquetWriter, SameInputGivesByteIdenticalFiles) {
   const ScratchDir dir;
-  for (const Codec codec : {Codec::kUncompressed, Codec::kSnappy}) {
-    const std::string name = CodecName(codec);
+  for (const parquet::Codec codec : {parquet::Codec::kUncompressed, parquet::Codec::kSnappy}) {
+    const std::string name = parquet::CodecName(codec);
     WriteEpisodesTable(dir.File(name + "-a.parquet"), codec);
     WriteEpisodesTable(dir.File(name + "-b.parquet"), codec);
     const std::vector<char> first = ReadBytes(dir.File(name + "-a.parquet"));
@@ -63,9 +63,9 @@ TEST(ParquetWriter, SameInputGivesByteIdenticalFiles) {
 TEST(ParquetWriter, FileAppearsUnderItsNameOnlyAtClose) {
   const ScratchDir dir;
   const std::string path = dir.File("data.parquet");
-  ParquetWriter writer(path, kColumns);
+  parquet::ParquetWriter writer(path, kColumns);
   EXPECT_EQ(writer.bytes_written(), 4U);  // the magic
-  RowGroupBuilder rows = writer.NewRowGroup(5);
+  parquet::RowGroupBuilder rows = writer.NewRowGroup(5);
   FillRows(rows, 5);
   writer.WriteRowGroup(rows);
   const std::uint64_t after_one = writer.bytes_written();
@@ -86,8 +86,8 @@ TEST(ParquetWriter, DestroyedWithoutCloseLeavesNoFile) {
   const ScratchDir dir;
   const std::string path = dir.File("data.parquet");
   {
-    ParquetWriter writer(path, kColumns);
-    RowGroupBuilder rows = writer.NewRowGroup(1);
+    parquet::ParquetWriter writer(path, kColumns);
+    parquet::RowGroupBuilder rows = writer.NewRowGroup(1);
     FillRows(rows, 1);
     writer.WriteRowGroup(rows);
   }
@@ -97,11 +97,11 @@ TEST(ParquetWriter, DestroyedWithoutCloseLeavesNoFile) {
 TEST(ParquetWriter, UnwritablePathsAreNamedWithTheReason) {
   const ScratchDir dir;
   const std::string missing = dir.File("no/such/dir/data.parquet");
-  EXPECT_EQ(ErrorOf<std::runtime_error>([&] { ParquetWriter(missing, kColumns); }),
+  EXPECT_EQ(ErrorOf<std::runtime_error>([&] { parquet::ParquetWriter(missing, kColumns); }),
             "cannot create Parquet file " + missing + ".partial: No such file or directory");
   const std::string blocked = dir.File("blocked.parquet");
   std::filesystem::create_directory(blocked + ".partial");
-  EXPECT_EQ(ErrorOf<std::runtime_error>([&] { ParquetWriter(blocked, kColumns); }),
+  EXPECT_EQ(ErrorOf<std::runtime_error>([&] { parquet::ParquetWriter(blocked, kColumns); }),
             "cannot create Parquet file " + blocked + ".partial: Is a directory");
 }
 
@@ -109,7 +109,7 @@ TEST(ParquetWriter, FullDiskIsNamedAndLeavesNoFile) {
   const ScratchDir dir;
   const std::string path = dir.File("data.parquet");
   ASSERT_EQ(::symlink("/dev/full", (path + ".partial").c_str()), 0);  // writes through it fail with ENOSPC
-  EXPECT_EQ(ErrorOf<std::runtime_error>([&] { ParquetWriter(path, kColumns); }),
+  EXPECT_EQ(ErrorOf<std::runtime_error>([&] { parquet::ParquetWriter(path, kColumns); }),
             "cannot write Parquet file " + path + ".partial: No space left on device");
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
@@ -126,10 +126,10 @@ TEST(ParquetWriter, FailedRowGroupWriteIsNamedAndStopsTheWriter) {
   ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
   std::string error;
   {
-    ParquetWriterOptions options;
-    options.codec = Codec::kUncompressed;
-    ParquetWriter writer(path, kColumns, options);
-    RowGroupBuilder rows = writer.NewRowGroup(1000);
+    parquet::ParquetWriterOptions options;
+    options.codec = parquet::Codec::kUncompressed;
+    parquet::ParquetWriter writer(path, kColumns, options);
+    parquet::RowGroupBuilder rows = writer.NewRowGroup(1000);
     FillRows(rows, 1000);
     error = ErrorOf<std::runtime_error>([&] { writer.WriteRowGroup(rows); });
     EXPECT_NE(ErrorOf<std::runtime_error>([&] { writer.Close(); }).find("after a failed write"), std::string::npos);
@@ -142,36 +142,38 @@ TEST(ParquetWriter, FailedRowGroupWriteIsNamedAndStopsTheWriter) {
 
 TEST(ParquetWriter, SchemaMistakesNameTheColumn) {
   const ScratchDir dir;
-  const auto error_for = [&](std::vector<ColumnSpec> columns) {
-    return ErrorOf<std::invalid_argument>([&] { ParquetWriter(dir.File("x.parquet"), columns); });
+  const auto error_for = [&](std::vector<parquet::ColumnSpec> columns) {
+    return ErrorOf<std::invalid_argument>([&] { parquet::ParquetWriter(dir.File("x.parquet"), columns); });
   };
-  const ColumnSpec ok = ColumnSpec::Scalar("ok", ValueType::kInt64);
+  const parquet::ColumnSpec ok = parquet::ColumnSpec::Scalar("ok", parquet::ValueType::kInt64);
   EXPECT_EQ(error_for({ok, ok}), "Parquet column \"ok\" declared twice");
-  EXPECT_EQ(error_for({ColumnSpec::Scalar("", ValueType::kInt64)}), "Parquet column with an empty name");
+  EXPECT_EQ(error_for({parquet::ColumnSpec::Scalar("", parquet::ValueType::kInt64)}),
+            "Parquet column with an empty name");
   for (const char* name : {"stats//mean", "/stats", "stats/"}) {
-    EXPECT_EQ(error_for({ColumnSpec::Scalar(name, ValueType::kInt64)}),
+    EXPECT_EQ(error_for({parquet::ColumnSpec::Scalar(name, parquet::ValueType::kInt64)}),
               "Parquet column \"" + std::string(name) + "\": empty part between '/' separators");
   }
-  EXPECT_EQ(error_for({ColumnSpec::Scalar("tab\there", ValueType::kInt64)}),
+  EXPECT_EQ(error_for({parquet::ColumnSpec::Scalar("tab\there", parquet::ValueType::kInt64)}),
             "Parquet column \"tab\there\": control character in the name");
-  EXPECT_EQ(error_for({ColumnSpec::List("img", ValueType::kDouble, {3, 0, 1})}),
+  EXPECT_EQ(error_for({parquet::ColumnSpec::List("img", parquet::ValueType::kDouble, {3, 0, 1})}),
             "Parquet column \"img\": shape with a 0 axis");
   EXPECT_EQ(error_for({}), "a Parquet schema needs at least one column");
-  EXPECT_EQ(error_for({ColumnSpec::Scalar("data/chunk_index", ValueType::kInt64),
-                       ColumnSpec::List("stats/observation.images.head/mean", ValueType::kDouble, {3, 1, 1})}),
+  EXPECT_EQ(error_for({parquet::ColumnSpec::Scalar("data/chunk_index", parquet::ValueType::kInt64),
+                       parquet::ColumnSpec::List("stats/observation.images.head/mean", parquet::ValueType::kDouble,
+                                                 {3, 1, 1})}),
             "");
-  ParquetWriterOptions zstd;
-  zstd.codec = Codec::kZstd;
+  parquet::ParquetWriterOptions zstd;
+  zstd.codec = parquet::Codec::kZstd;
   EXPECT_NE(ErrorOf<std::invalid_argument>([&] {
-              ParquetWriter(dir.File("z.parquet"), kColumns, zstd);
+              parquet::ParquetWriter(dir.File("z.parquet"), kColumns, zstd);
             }).find("unsupported codec ZSTD"),
             std::string::npos);
 }
 
 TEST(ParquetWriter, RowGroupMistakesNameTheColumn) {
   const ScratchDir dir;
-  ParquetWriter writer(dir.File("x.parquet"), kColumns);
-  RowGroupBuilder rows = writer.NewRowGroup(2);
+  parquet::ParquetWriter writer(dir.File("x.parquet"), kColumns);
+  parquet::RowGroupBuilder rows = writer.NewRowGroup(2);
   const auto error_of = [](const auto& run) { return ErrorOf<std::invalid_argument>(run); };
   EXPECT_EQ(error_of([&] { rows.Add("frame_index", std::vector<std::int64_t>(3)); }),
             "Parquet column \"frame_index\": 3 values for 2 rows of 1 (expected 2)");
@@ -201,12 +203,12 @@ TEST(ParquetWriter, RowGroupMistakesNameTheColumn) {
   EXPECT_EQ(error_of([&] { writer.WriteRowGroup(rows); }),
             "Parquet column \"action\": not filled in the row group for " + dir.File("x.parquet"));
   EXPECT_EQ(error_of([&] { writer.NewRowGroup(0); }), "a Parquet row group needs at least one row");
-  ParquetWriter other(dir.File("y.parquet"), kColumns);
-  RowGroupBuilder foreign = other.NewRowGroup(1);
+  parquet::ParquetWriter other(dir.File("y.parquet"), kColumns);
+  parquet::RowGroupBuilder foreign = other.NewRowGroup(1);
   FillRows(foreign, 1);
   EXPECT_EQ(error_of([&] { writer.WriteRowGroup(foreign); }),
             "row group from another Parquet writer given to " + dir.File("x.parquet"));
 }
 
 }  // namespace
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -5,7 +5,7 @@
 
 #include "tests/support/child_process.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 PyAvReport CheckVideoWithPyAv(const std::string& path, int fps, const std::vector<FrameQuery>& queries,
                               const std::string& scratch_dir) {
@@ -31,4 +31,4 @@ PyAvReport CheckVideoWithPyAv(const std::string& path, int fps, const std::vecto
   return report;
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -10,7 +10,7 @@
 
 #include "tests/batch/dataset/synthetic_frames.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 struct FrameQuery {
   double from_timestamp = 0;  // the episode's start in the file, as the episodes table holds it
@@ -26,4 +26,4 @@ struct PyAvReport {
 PyAvReport CheckVideoWithPyAv(const std::string& path, int fps, const std::vector<FrameQuery>& queries,
                               const std::string& scratch_dir);
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

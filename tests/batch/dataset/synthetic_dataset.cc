@@ -9,7 +9,7 @@
 
 #include "batch/dataset/parquet/parquet_writer.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace fs = std::filesystem;
 
 namespace {
@@ -38,10 +38,10 @@ void WriteInfo(const fs::path& dir, std::int64_t total_episodes, const Synthetic
 // v3.0 meta/episodes/chunk-000/file-000.parquet: episode_index and tasks.
 void WriteEpisodesParquet(const fs::path& dir, const std::vector<SyntheticEpisode>& episodes) {
   fs::create_directories(dir / "meta" / "episodes" / "chunk-000");
-  ParquetWriter writer(
-      (dir / "meta" / "episodes" / "chunk-000" / "file-000.parquet").string(),
-      {ColumnSpec::Scalar("episode_index", ValueType::kInt64), ColumnSpec::List("tasks", ValueType::kString)});
-  RowGroupBuilder rows = writer.NewRowGroup(episodes.size());
+  parquet::ParquetWriter writer((dir / "meta" / "episodes" / "chunk-000" / "file-000.parquet").string(),
+                                {parquet::ColumnSpec::Scalar("episode_index", parquet::ValueType::kInt64),
+                                 parquet::ColumnSpec::List("tasks", parquet::ValueType::kString)});
+  parquet::RowGroupBuilder rows = writer.NewRowGroup(episodes.size());
   std::vector<std::int64_t> indices;
   std::vector<std::string> tasks;
   std::vector<std::size_t> lengths;
@@ -73,15 +73,16 @@ void WriteEpisodesJsonl(const fs::path& dir, const std::vector<SyntheticEpisode>
 void WriteDataFile(const fs::path& path, const std::vector<SyntheticEpisode>& episodes, std::int64_t first_index,
                    double fps) {
   fs::create_directories(path.parent_path());
-  ParquetWriter writer(
-      path.string(),
-      {ColumnSpec::List("action", ValueType::kFloat), ColumnSpec::Scalar("episode_index", ValueType::kInt64),
-       ColumnSpec::Scalar("frame_index", ValueType::kInt64), ColumnSpec::Scalar("index", ValueType::kInt64),
-       ColumnSpec::Scalar("timestamp", ValueType::kFloat)});
+  parquet::ParquetWriter writer(path.string(),
+                                {parquet::ColumnSpec::List("action", parquet::ValueType::kFloat),
+                                 parquet::ColumnSpec::Scalar("episode_index", parquet::ValueType::kInt64),
+                                 parquet::ColumnSpec::Scalar("frame_index", parquet::ValueType::kInt64),
+                                 parquet::ColumnSpec::Scalar("index", parquet::ValueType::kInt64),
+                                 parquet::ColumnSpec::Scalar("timestamp", parquet::ValueType::kFloat)});
   std::int64_t index = first_index;
   for (const SyntheticEpisode& episode : episodes) {
     const auto steps = static_cast<std::size_t>(episode.num_steps);
-    RowGroupBuilder rows = writer.NewRowGroup(steps);
+    parquet::RowGroupBuilder rows = writer.NewRowGroup(steps);
     std::vector<float> actions(episode.actions.begin(), episode.actions.end());
     std::vector<std::int64_t> frames = episode.frame_index, episode_index(steps, episode.episode_index), global(steps);
     std::vector<float> timestamps(steps);
@@ -153,4 +154,4 @@ std::string ExpectedGaltLine(const std::string& name) {
   throw std::runtime_error("no expected result for " + name);
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 struct SyntheticEpisode {
   std::int64_t episode_index = 0;
@@ -48,4 +48,4 @@ std::string ExpectedGaltLine(const std::string& name);
 // The directory of the copied conformance vectors.
 std::filesystem::path GaltVectorDir();
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

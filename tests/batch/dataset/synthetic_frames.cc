@@ -11,7 +11,7 @@
 
 #include "batch/dataset/video/video_writer.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
@@ -59,9 +59,9 @@ double Psnr(const RgbFrame& a, const RgbFrame& b) {
   return 10.0 * std::log10(255.0 * 255.0 * static_cast<double>(a.size()) / squared_error);
 }
 
-std::vector<RgbFrame> WriteEpisodes(const std::string& path, const VideoSettings& settings,
+std::vector<RgbFrame> WriteEpisodes(const std::string& path, const video::VideoSettings& settings,
                                     const std::vector<int>& episode_lengths) {
-  Mp4VideoWriter writer(path, settings);
+  video::Mp4VideoWriter writer(path, settings);
   std::vector<RgbFrame> frames;
   for (std::size_t episode = 0; episode < episode_lengths.size(); ++episode) {
     writer.BeginEpisode();
@@ -91,4 +91,4 @@ std::vector<std::uint8_t> ReadBytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

@@ -9,7 +9,7 @@
 
 #include "batch/dataset/video/video_settings.h"
 
-namespace tavis::dataset::testing {
+namespace tavis::batch::dataset::testing {
 
 using RgbFrame = std::vector<std::uint8_t>;
 
@@ -21,7 +21,7 @@ double Psnr(const RgbFrame& a, const RgbFrame& b);
 
 // Encodes episodes of the given lengths into `path` (BeginEpisode before each) and returns
 // every frame written, in file order.
-std::vector<RgbFrame> WriteEpisodes(const std::string& path, const VideoSettings& settings,
+std::vector<RgbFrame> WriteEpisodes(const std::string& path, const video::VideoSettings& settings,
                                     const std::vector<int>& episode_lengths);
 
 // A fresh empty folder under the test temp dir, named after the running test.
@@ -29,4 +29,4 @@ std::string ScratchDir();
 
 std::vector<std::uint8_t> ReadBytes(const std::string& path);
 
-}  // namespace tavis::dataset::testing
+}  // namespace tavis::batch::dataset::testing

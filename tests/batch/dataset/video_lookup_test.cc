@@ -14,7 +14,7 @@
 #include "tests/batch/dataset/synthetic_frames.h"
 #include "tests/support/child_process.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 using testing::Psnr;
@@ -25,13 +25,13 @@ const std::vector<int> kEpisodeLengths = {7, 12, 5};
 constexpr int kFps = 30;
 
 struct LookupCase {
-  VideoCodec codec;
+  video::VideoCodec codec;
   int width;
   int height;
 };
 
 std::string CaseName(const ::testing::TestParamInfo<LookupCase>& info) {
-  return VideoCodecName(info.param.codec) + "_" + std::to_string(info.param.width) + "x" +
+  return video::VideoCodecName(info.param.codec) + "_" + std::to_string(info.param.width) + "x" +
          std::to_string(info.param.height);
 }
 
@@ -45,7 +45,7 @@ class VideoLookupTest : public ::testing::TestWithParam<LookupCase> {
   void SetUp() override {
     dir_ = testing::ScratchDir();
     path_ = dir_ + "/video.mp4";
-    VideoSettings settings;
+    video::VideoSettings settings;
     settings.codec = GetParam().codec;
     settings.width = GetParam().width;
     settings.height = GetParam().height;
@@ -135,7 +135,7 @@ TEST_P(VideoLookupTest, FfprobeSeesTheCodecAndEqualRates) {
       "is Debian's ffmpeg installed?");
   const nlohmann::json stream = nlohmann::json::parse(ffprobe.ReadAllOutput(std::chrono::seconds(30)))["streams"][0];
   const std::string total = std::to_string(EpisodeStart(3));
-  EXPECT_EQ(stream["codec_name"], VideoCodecName(GetParam().codec));
+  EXPECT_EQ(stream["codec_name"], video::VideoCodecName(GetParam().codec));
   EXPECT_EQ(stream["pix_fmt"], "yuv420p");
   EXPECT_EQ(stream["avg_frame_rate"], std::to_string(kFps) + "/1");
   EXPECT_EQ(stream["r_frame_rate"], std::to_string(kFps) + "/1");
@@ -144,10 +144,11 @@ TEST_P(VideoLookupTest, FfprobeSeesTheCodecAndEqualRates) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Codecs, VideoLookupTest,
-                         ::testing::Values(LookupCase{VideoCodec::kH264, 64, 48}, LookupCase{VideoCodec::kAv1, 64, 64},
-                                           LookupCase{VideoCodec::kH264, 224, 224},
-                                           LookupCase{VideoCodec::kAv1, 224, 224}),
+                         ::testing::Values(LookupCase{video::VideoCodec::kH264, 64, 48},
+                                           LookupCase{video::VideoCodec::kAv1, 64, 64},
+                                           LookupCase{video::VideoCodec::kH264, 224, 224},
+                                           LookupCase{video::VideoCodec::kAv1, 224, 224}),
                          CaseName);
 
 }  // namespace
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

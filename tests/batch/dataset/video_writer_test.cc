@@ -1,5 +1,5 @@
-// Mp4VideoWriter's own contract: settings checked up front, errors that name the file, the
-// partial-file protocol, byte-identical output, and what ProbeVideo reads back.
+// video::Mp4VideoWriter's own contract: settings checked up front, errors that name the file, the
+// partial-file protocol, byte-identical output, and what video::ProbeVideo reads back.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
@@ -13,7 +13,7 @@
 #include "batch/dataset/video/video_writer.h"
 #include "tests/batch/dataset/synthetic_frames.h"
 
-namespace tavis::dataset {
+namespace tavis::batch::dataset {
 namespace {
 
 using testing::ReadBytes;
@@ -23,11 +23,11 @@ using testing::WriteEpisodes;
 
 namespace fs = std::filesystem;
 
-VideoSettings Small(VideoCodec codec) {
-  VideoSettings settings;
+video::VideoSettings Small(video::VideoCodec codec) {
+  video::VideoSettings settings;
   settings.codec = codec;
   settings.width = 64;
-  settings.height = codec == VideoCodec::kAv1 ? 64 : 48;
+  settings.height = codec == video::VideoCodec::kAv1 ? 64 : 48;
   settings.fps = 30;
   return settings;
 }
@@ -43,11 +43,11 @@ std::string MessageOf(Action write) {
   return "";
 }
 
-class VideoWriterCodecTest : public ::testing::TestWithParam<VideoCodec> {};
+class VideoWriterCodecTest : public ::testing::TestWithParam<video::VideoCodec> {};
 
 TEST_P(VideoWriterCodecTest, SameFramesGiveByteIdenticalFiles) {
   const std::string dir = ScratchDir();
-  const VideoSettings settings = Small(GetParam());
+  const video::VideoSettings settings = Small(GetParam());
   WriteEpisodes(dir + "/first.mp4", settings, {7, 12, 5});
   // Two writers at once, as the dataset writer runs one per camera stream.
   std::thread parallel([&] { WriteEpisodes(dir + "/parallel.mp4", settings, {7, 12, 5}); });
@@ -61,11 +61,11 @@ TEST_P(VideoWriterCodecTest, SameFramesGiveByteIdenticalFiles) {
 
 TEST_P(VideoWriterCodecTest, ProbeReadsBackCodecSizeRateFramesAndDuration) {
   const std::string dir = ScratchDir();
-  VideoSettings settings = Small(GetParam());
+  video::VideoSettings settings = Small(GetParam());
   settings.fps = 60;
   WriteEpisodes(dir + "/video.mp4", settings, {7, 12, 5});
-  const VideoProbe probe = ProbeVideo(dir + "/video.mp4");
-  EXPECT_EQ(probe.codec, VideoCodecName(settings.codec));
+  const video::VideoProbe probe = video::ProbeVideo(dir + "/video.mp4");
+  EXPECT_EQ(probe.codec, video::VideoCodecName(settings.codec));
   EXPECT_EQ(probe.pix_fmt, "yuv420p");
   EXPECT_EQ(probe.width, settings.width);
   EXPECT_EQ(probe.height, settings.height);
@@ -77,8 +77,8 @@ TEST_P(VideoWriterCodecTest, ProbeReadsBackCodecSizeRateFramesAndDuration) {
 
 TEST_P(VideoWriterCodecTest, BytesWrittenGrowsAndIsTheFileSizeAfterClose) {
   const std::string dir = ScratchDir();
-  const VideoSettings settings = Small(GetParam());
-  Mp4VideoWriter writer(dir + "/video.mp4", settings);
+  const video::VideoSettings settings = Small(GetParam());
+  video::Mp4VideoWriter writer(dir + "/video.mp4", settings);
   const std::int64_t header = writer.bytes_written();
   // Encoders hold frames in their lookahead before the first packet (libsvtav1 keeps more on some
   // machines than on others): write until bytes appear, well before the end of a long episode.
@@ -94,14 +94,16 @@ TEST_P(VideoWriterCodecTest, BytesWrittenGrowsAndIsTheFileSizeAfterClose) {
   EXPECT_EQ(writer.bytes_written(), static_cast<std::int64_t>(fs::file_size(dir + "/video.mp4")));
 }
 
-std::string CodecName(const ::testing::TestParamInfo<VideoCodec>& test) { return VideoCodecName(test.param); }
+std::string CodecName(const ::testing::TestParamInfo<video::VideoCodec>& test) {
+  return video::VideoCodecName(test.param);
+}
 
-INSTANTIATE_TEST_SUITE_P(Codecs, VideoWriterCodecTest, ::testing::Values(VideoCodec::kH264, VideoCodec::kAv1),
-                         CodecName);
+INSTANTIATE_TEST_SUITE_P(Codecs, VideoWriterCodecTest,
+                         ::testing::Values(video::VideoCodec::kH264, video::VideoCodec::kAv1), CodecName);
 
 TEST(VideoWriter, CloseRenamesThePartialFile) {
   const std::string dir = ScratchDir();
-  Mp4VideoWriter writer(dir + "/video.mp4", Small(VideoCodec::kH264));
+  video::Mp4VideoWriter writer(dir + "/video.mp4", Small(video::VideoCodec::kH264));
   EXPECT_TRUE(fs::exists(dir + "/video.mp4.partial"));
   EXPECT_FALSE(fs::exists(dir + "/video.mp4"));
   const auto frame = SyntheticFrame(64, 48, 0, 0);
@@ -115,7 +117,7 @@ TEST(VideoWriter, CloseRenamesThePartialFile) {
 TEST(VideoWriter, WriterDestroyedWithoutCloseLeavesNoFile) {
   const std::string dir = ScratchDir();
   {
-    Mp4VideoWriter writer(dir + "/video.mp4", Small(VideoCodec::kH264));
+    video::Mp4VideoWriter writer(dir + "/video.mp4", Small(video::VideoCodec::kH264));
     for (int index = 0; index < 5; ++index) {
       const auto frame = SyntheticFrame(64, 48, 0, index);
       writer.WriteFrame(frame.data(), frame.size());
@@ -126,37 +128,39 @@ TEST(VideoWriter, WriterDestroyedWithoutCloseLeavesNoFile) {
 
 TEST(VideoWriter, OddDimensionsAreRejectedBeforeAnyFileIsCreated) {
   const std::string dir = ScratchDir();
-  VideoSettings settings = Small(VideoCodec::kH264);
+  video::VideoSettings settings = Small(video::VideoCodec::kH264);
   settings.width = 63;
-  const std::string message = MessageOf<std::invalid_argument>([&] { Mp4VideoWriter(dir + "/odd.mp4", settings); });
+  const std::string message =
+      MessageOf<std::invalid_argument>([&] { video::Mp4VideoWriter(dir + "/odd.mp4", settings); });
   EXPECT_NE(message.find(dir + "/odd.mp4"), std::string::npos) << message;
   EXPECT_NE(message.find("width 63 is odd"), std::string::npos) << message;
   EXPECT_TRUE(fs::is_empty(dir));
 }
 
 TEST(VideoWriter, Av1FramesBelowTheSvtMinimumAreRejected) {
-  VideoSettings settings = Small(VideoCodec::kAv1);
+  video::VideoSettings settings = Small(video::VideoCodec::kAv1);
   settings.height = 48;
   const std::string message =
-      MessageOf<std::invalid_argument>([&] { Mp4VideoWriter(ScratchDir() + "/a.mp4", settings); });
+      MessageOf<std::invalid_argument>([&] { video::Mp4VideoWriter(ScratchDir() + "/a.mp4", settings); });
   EXPECT_NE(message.find("64x48 are too small"), std::string::npos) << message;
 }
 
 TEST(VideoWriter, UnknownCodecNameIsNamed) {
-  const std::string message = MessageOf<std::invalid_argument>([] { ParseVideoCodec("hevc"); });
+  const std::string message = MessageOf<std::invalid_argument>([] { video::ParseVideoCodec("hevc"); });
   EXPECT_NE(message.find("\"hevc\""), std::string::npos) << message;
-  EXPECT_EQ(ParseVideoCodec("libsvtav1"), VideoCodec::kAv1);
+  EXPECT_EQ(video::ParseVideoCodec("libsvtav1"), video::VideoCodec::kAv1);
 }
 
 TEST(VideoWriter, UnwritablePathNamesTheFileAndTheReason) {
   const std::string path = ScratchDir() + "/missing_folder/video.mp4";
-  const std::string message = MessageOf<std::runtime_error>([&] { Mp4VideoWriter(path, Small(VideoCodec::kH264)); });
+  const std::string message =
+      MessageOf<std::runtime_error>([&] { video::Mp4VideoWriter(path, Small(video::VideoCodec::kH264)); });
   EXPECT_NE(message.find(path), std::string::npos) << message;
   EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
 }
 
 TEST(VideoWriter, WrongFrameSizeNamesBothSizes) {
-  Mp4VideoWriter writer(ScratchDir() + "/video.mp4", Small(VideoCodec::kH264));
+  video::Mp4VideoWriter writer(ScratchDir() + "/video.mp4", Small(video::VideoCodec::kH264));
   const auto frame = SyntheticFrame(64, 46, 0, 0);
   const std::string message = MessageOf<std::runtime_error>([&] { writer.WriteFrame(frame.data(), frame.size()); });
   EXPECT_NE(message.find("frame of 8832 bytes, expected 64x48x3 = 9216"), std::string::npos) << message;
@@ -173,7 +177,7 @@ TEST(VideoWriter, WriteFailureNamesTheFile) {
   limited.rlim_cur = 64 * 1024;
   ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
   const std::string message = MessageOf<std::runtime_error>([&] {
-    Mp4VideoWriter writer(path, Small(VideoCodec::kH264));
+    video::Mp4VideoWriter writer(path, Small(video::VideoCodec::kH264));
     for (int index = 0; index < 2000; ++index) {
       const auto frame = SyntheticFrame(64, 48, index, index);
       writer.WriteFrame(frame.data(), frame.size());
@@ -190,21 +194,21 @@ TEST(VideoWriter, WriteFailureNamesTheFile) {
 
 TEST(VideoWriter, AppendsEpisodesEncodedApartAndRefusesOneOfAnotherSize) {
   const std::string dir = testing::ScratchDir();
-  Mp4VideoWriter writer(dir + "/video.mp4", Small(VideoCodec::kH264));
+  video::Mp4VideoWriter writer(dir + "/video.mp4", Small(video::VideoCodec::kH264));
   for (int episode = 0; episode < 2; ++episode) {
-    EpisodeEncoder encoder(Small(VideoCodec::kH264), "camera");
+    video::EpisodeEncoder encoder(Small(video::VideoCodec::kH264), "camera");
     for (int index = 0; index < 5 + episode; ++index) {
       const auto frame = testing::SyntheticFrame(64, 48, episode, index);
       encoder.WriteFrame(frame.data(), frame.size());
     }
-    const EncodedEpisode encoded = encoder.Finish();
+    const video::EncodedEpisode encoded = encoder.Finish();
     EXPECT_EQ(encoded.frames, 5 + episode);
     EXPECT_TRUE(encoded.packets.front().key) << "each episode starts on a keyframe";
     writer.AppendEpisode(encoded);
   }
-  VideoSettings larger = Small(VideoCodec::kH264);
+  video::VideoSettings larger = Small(video::VideoCodec::kH264);
   larger.width = 96;
-  EpisodeEncoder other(larger, "camera");
+  video::EpisodeEncoder other(larger, "camera");
   const auto frame = testing::SyntheticFrame(96, 48, 0, 0);
   other.WriteFrame(frame.data(), frame.size());
   try {
@@ -214,10 +218,10 @@ TEST(VideoWriter, AppendsEpisodesEncodedApartAndRefusesOneOfAnotherSize) {
     EXPECT_NE(std::string(error.what()).find("96x48 frames in a 64x48 file"), std::string::npos) << error.what();
   }
   writer.Close();
-  const VideoProbe probe = ProbeVideo(dir + "/video.mp4");
+  const video::VideoProbe probe = video::ProbeVideo(dir + "/video.mp4");
   EXPECT_EQ(probe.frame_count, 11);
-  EXPECT_NEAR(probe.duration_s, 11.0 / Small(VideoCodec::kH264).fps, 1e-9);
+  EXPECT_NEAR(probe.duration_s, 11.0 / Small(video::VideoCodec::kH264).fps, 1e-9);
 }
 
 }  // namespace
-}  // namespace tavis::dataset
+}  // namespace tavis::batch::dataset

@@ -3,7 +3,7 @@
 #include <cstring>
 #include <limits>
 
-namespace tavis::remote::testing {
+namespace tavis::batch::remote::testing {
 namespace {
 
 Value Repeated(std::size_t count, const Value& item) { return Value::Array(count, item); }
@@ -118,4 +118,4 @@ std::vector<GoldenCase> GoldenCases() {
   };
 }
 
-}  // namespace tavis::remote::testing
+}  // namespace tavis::batch::remote::testing

@@ -9,7 +9,7 @@
 
 #include "batch/remote/msgpack_value.h"
 
-namespace tavis::remote::testing {
+namespace tavis::batch::remote::testing {
 
 struct GoldenCase {
   std::string name;
@@ -25,4 +25,4 @@ NdArray PatternImage(std::vector<std::int64_t> shape, int modulus = 251);
 // A map from str keys, in order.
 Value StrMap(std::vector<std::pair<std::string, Value>> entries);
 
-}  // namespace tavis::remote::testing
+}  // namespace tavis::batch::remote::testing

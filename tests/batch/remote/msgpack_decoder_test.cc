@@ -9,7 +9,7 @@
 #include "batch/remote/remote_error.h"
 #include "tests/batch/remote/golden_values.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 // The MsgpackError that decoding `bytes` throws, as "offset: message".
@@ -119,4 +119,4 @@ TEST(NdArray, ChecksSizesAndConvertsFloats) {
 }
 
 }  // namespace
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

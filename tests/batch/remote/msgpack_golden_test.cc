@@ -13,7 +13,7 @@
 #include "tests/batch/remote/golden_values.h"
 #include "tests/batch/remote/test_scripts.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 std::vector<std::uint8_t> FromHex(const std::string& hex) {
@@ -109,4 +109,4 @@ TEST(MsgpackGolden, PythonNanBytesDecodeToNan) {
 }
 
 }  // namespace
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

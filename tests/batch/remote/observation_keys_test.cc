@@ -22,7 +22,7 @@
 #include "tests/batch/remote/policy_server_process.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 ObservationKeys Preset(const std::string& name) { return LoadObservationKeys(name, TAVIS_CONFIG_DIR); }
@@ -314,4 +314,4 @@ TEST_F(RenderedObservation, PythonDecodesEachPresetsLayout) {
 }
 
 }  // namespace
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -23,7 +23,7 @@
 #include "tests/batch/remote/policy_server_process.h"
 #include "tests/batch/remote/test_scripts.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 using std::chrono::milliseconds;
@@ -356,4 +356,4 @@ TEST(OpenpiSession, SilentServerTimesOutDuringTheHandshake) {
 }
 
 }  // namespace
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

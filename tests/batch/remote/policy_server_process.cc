@@ -7,7 +7,7 @@
 #include "batch/remote/remote_error.h"
 #include "batch/remote/tcp_socket.h"
 
-namespace tavis::remote::testing {
+namespace tavis::batch::remote::testing {
 namespace {
 
 std::vector<std::string> WithPort(int port, std::vector<std::string> args) {
@@ -41,4 +41,4 @@ void PolicyServerProcess::WaitUntilReady() {
   }
 }
 
-}  // namespace tavis::remote::testing
+}  // namespace tavis::batch::remote::testing

@@ -8,7 +8,7 @@
 #include "batch/remote/websocket_url.h"
 #include "tests/batch/remote/test_scripts.h"
 
-namespace tavis::remote::testing {
+namespace tavis::batch::remote::testing {
 
 class PolicyServerProcess {
  public:
@@ -26,4 +26,4 @@ class PolicyServerProcess {
   tavis::testing::ChildProcess process_;
 };
 
-}  // namespace tavis::remote::testing
+}  // namespace tavis::batch::remote::testing

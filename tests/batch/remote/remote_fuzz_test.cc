@@ -17,7 +17,7 @@
 #include "batch/remote/websocket_reader.h"
 #include "tests/batch/remote/golden_values.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
@@ -152,4 +152,4 @@ TEST(RemoteFuzz, WebSocketReaderOnlyThrowsProtocolErrors) {
 }
 
 }  // namespace
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

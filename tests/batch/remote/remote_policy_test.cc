@@ -17,16 +17,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch/cell_report.h"
+#include "batch/cell/cell_report.h"
+#include "batch/cell/evaluation_cell.h"
 #include "batch/episode_driver.h"
-#include "batch/evaluation_cell.h"
 #include "batch/init_pose_warmup.h"
 #include "scenarios/registry.h"
 #include "tests/batch/remote/policy_server_process.h"
 #include "tests/batch/remote/test_scripts.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 constexpr double kActionScale = 1e-3;  // arm targets within reach, quaternions of any norm
@@ -106,15 +106,15 @@ TEST(RemotePolicy, StepsWithTheServersFunctionOfEachEnvsObservationReplanningEve
   const kinematics::RobotModel robot = tavis::testing::LoadRobot("gr1t2");
   engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
   model.physics.episode_length_s = 1.0;  // 20 policy steps
-  batch::VecEnv env(std::move(model), scenario, scenarios::Split::kId, 3, 5);
+  batch::VecEnv vec_env(std::move(model), scenario, scenarios::Split::kId, 3, 5);
   RemotePolicyOptions options;
   options.servers = {first.address(), second.address()};
   options.replan_steps = kReplan;
   options.keys = TavisKeys();
-  RemotePolicy served(options, env.num_envs());
+  RemotePolicy served(options, vec_env.num_envs());
   RecordingPolicy policy(served, options.keys);
-  env.EnableCameras({policy.cameras(), 32, 24, false, false});
-  batch::EpisodeDriver driver(env, policy, 4);
+  vec_env.EnableCameras({policy.cameras(), 32, 24, false, false});
+  batch::EpisodeDriver driver(vec_env, policy, 4);
   driver.Run();
 
   ASSERT_FALSE(policy.chosen.empty());
@@ -135,8 +135,8 @@ TEST(RemotePolicy, StepsWithTheServersFunctionOfEachEnvsObservationReplanningEve
   EXPECT_EQ(served.timings().server_infer_ms.size(), served.timings().round_trip_ms.size());
 }
 
-batch::EvaluationCellConfig ServedCell(const std::vector<std::string>& servers) {
-  batch::EvaluationCellConfig config;
+batch::cell::EvaluationCellConfig ServedCell(const std::vector<std::string>& servers) {
+  batch::cell::EvaluationCellConfig config;
   config.task = "clutter-pick-cube";
   config.policy = "openpi";
   config.servers = servers;
@@ -150,12 +150,13 @@ batch::EvaluationCellConfig ServedCell(const std::vector<std::string>& servers) 
   return config;
 }
 
-batch::CellResult RunWithThreads(const batch::EvaluationCellConfig& config, std::size_t threads) {
+batch::cell::CellResult RunWithThreads(const batch::cell::EvaluationCellConfig& config, std::size_t threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  return batch::RunEvaluationCell(config);
+  return batch::cell::RunEvaluationCell(config);
 }
 
-void ExpectSameEpisode(const batch::EpisodeRecord& a, const batch::EpisodeRecord& b, const std::string& what) {
+void ExpectSameEpisode(const batch::cell::EpisodeRecord& a, const batch::cell::EpisodeRecord& b,
+                       const std::string& what) {
   EXPECT_EQ(a.episode, b.episode) << what;
   EXPECT_EQ(a.success, b.success) << what;
   EXPECT_EQ(a.end, b.end) << what;
@@ -174,9 +175,9 @@ std::filesystem::path FreshDirectory(const std::string& name) {
 
 TEST(RemotePolicy, CellIsTheSameWithOneAndTwoThreadsAndItsSavedActionsReplayIt) {
   testing::PolicyServerProcess server = ServeActions(10);
-  const batch::EvaluationCellConfig config = ServedCell({server.address()});
-  const batch::CellResult one = RunWithThreads(config, 1);
-  const batch::CellResult two = RunWithThreads(config, 2);
+  const batch::cell::EvaluationCellConfig config = ServedCell({server.address()});
+  const batch::cell::CellResult one = RunWithThreads(config, 1);
+  const batch::cell::CellResult two = RunWithThreads(config, 2);
   ASSERT_EQ(one.episodes.size(), 2U);
   ASSERT_EQ(two.episodes.size(), 2U);
   for (std::size_t i = 0; i < one.episodes.size(); ++i) {
@@ -184,7 +185,7 @@ TEST(RemotePolicy, CellIsTheSameWithOneAndTwoThreadsAndItsSavedActionsReplayIt) 
   }
 
   const std::filesystem::path dir = FreshDirectory("replay");
-  batch::WriteCellReport(two, {2}, dir.string());
+  batch::cell::WriteCellReport(two, {2}, dir.string());
   nlohmann::json summary;
   std::ifstream(dir / "summary.json") >> summary;
   EXPECT_EQ(summary["policy"], "openpi");
@@ -192,12 +193,12 @@ TEST(RemotePolicy, CellIsTheSameWithOneAndTwoThreadsAndItsSavedActionsReplayIt) 
   EXPECT_EQ(summary["requests"]["round_trip"]["count"], summary["requests"]["count"]);
   EXPECT_TRUE(summary["requests"]["server_infer"].is_object());
 
-  batch::EvaluationCellConfig replay = config;
+  batch::cell::EvaluationCellConfig replay = config;
   replay.policy = "replay";
   replay.servers.clear();
   replay.episodes = 1;
   replay.actions_file = (dir / "actions" / "episode_0.csv").string();
-  const batch::CellResult replayed = RunWithThreads(replay, 2);
+  const batch::cell::CellResult replayed = RunWithThreads(replay, 2);
   ASSERT_EQ(replayed.episodes.size(), 1U);
   ExpectSameEpisode(replayed.episodes[0], two.episodes[0], "replay of episode 0's saved actions");
   EXPECT_TRUE(std::filesystem::exists(dir / "actions" / "episode_1.csv"));
@@ -218,19 +219,19 @@ std::string ReadFile(const std::filesystem::path& path) {
 // CSVs.
 TEST(RemotePolicy, RecordsAreByteIdenticalServedSeriallyPerEnvAndBatched) {
   testing::PolicyServerProcess server = ServeActions(4, {"--batched"});
-  batch::EvaluationCellConfig config = ServedCell({server.address(), server.address()});
+  batch::cell::EvaluationCellConfig config = ServedCell({server.address(), server.address()});
   config.episodes = 6;
   config.envs = 4;
   std::map<std::string, std::filesystem::path> written;
-  std::map<std::string, batch::CellResult> results;
+  std::map<std::string, batch::cell::CellResult> results;
   for (const ServingMode mode : {ServingMode::kSerial, ServingMode::kPerEnv, ServingMode::kBatched}) {
     config.serving = mode;
     results[ToString(mode)] = RunWithThreads(config, 2);
     const std::filesystem::path dir = FreshDirectory(std::string("mode_") + ToString(mode));
-    batch::WriteCellReport(results[ToString(mode)], {2}, dir.string());
+    batch::cell::WriteCellReport(results[ToString(mode)], {2}, dir.string());
     written[ToString(mode)] = dir;
   }
-  const batch::CellResult& serial = results["serial"];
+  const batch::cell::CellResult& serial = results["serial"];
   ASSERT_EQ(serial.episodes.size(), 6u);
   for (const char* mode : {"per-env", "batched"}) {
     for (std::size_t i = 0; i < serial.episodes.size(); ++i) {
@@ -261,13 +262,13 @@ TEST(RemotePolicy, RecordsAreByteIdenticalServedSeriallyPerEnvAndBatched) {
 // A stateful server must see every episode's policy steps in order, the first flagged, however
 // many envs run at once; the records do not depend on the env count.
 TEST(RemotePolicy, AStatefulServerSeesEachEpisodesStepsInOrderWithSixteenEnvsAsWithOne) {
-  std::map<int, batch::CellResult> results;
+  std::map<int, batch::cell::CellResult> results;
   for (const int envs : {16, 1}) {
     const std::filesystem::path steps = FreshDirectory("steps_" + std::to_string(envs) + ".json");
-    batch::CellResult result;
+    batch::cell::CellResult result;
     {
       testing::PolicyServerProcess server = ServeActions(1, {"--check-steps", "--steps-out", steps.string()});
-      batch::EvaluationCellConfig config = ServedCell({server.address()});
+      batch::cell::EvaluationCellConfig config = ServedCell({server.address()});
       config.episodes = 16;
       config.envs = envs;
       config.serving = envs > 1 ? ServingMode::kPerEnv : ServingMode::kSerial;
@@ -299,10 +300,10 @@ TEST(RemotePolicy, AStatefulServerSeesEachEpisodesStepsInOrderWithSixteenEnvsAsW
 // sees every episode start (the episode's length counts the warm-up).
 TEST(RemotePolicy, AStatefulServerSeesStepZeroFirstAfterTheInitPoseWarmUp) {
   const std::filesystem::path steps = FreshDirectory("steps_init_pose.json");
-  batch::CellResult result;
+  batch::cell::CellResult result;
   {
     testing::PolicyServerProcess server = ServeActions(1, {"--check-steps", "--steps-out", steps.string()});
-    batch::EvaluationCellConfig config = ServedCell({server.address()});
+    batch::cell::EvaluationCellConfig config = ServedCell({server.address()});
     config.split = scenarios::Split::kOodInitPose;
     config.episodes = 4;
     config.envs = 4;
@@ -325,20 +326,20 @@ TEST(RemotePolicy, AStatefulServerSeesStepZeroFirstAfterTheInitPoseWarmUp) {
 
 TEST(RemotePolicy, AServerWithoutHealthzIsConnectedToDirectly) {
   testing::PolicyServerProcess server = ServeActions(10, {"--no-healthz"}, /*wait_ready=*/false);
-  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  batch::cell::EvaluationCellConfig config = ServedCell({server.address()});
   config.episodes = 1;
   config.envs = 1;
-  const batch::CellResult result = RunWithThreads(config, 2);
+  const batch::cell::CellResult result = RunWithThreads(config, 2);
   ASSERT_EQ(result.episodes.size(), 1u);
   EXPECT_GT(result.requests->round_trip_ms.size(), 0u);
 }
 
 TEST(RemotePolicy, BatchedServingNeedsAServerThatDeclaresIt) {
   testing::PolicyServerProcess server = ServeActions(4);
-  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  batch::cell::EvaluationCellConfig config = ServedCell({server.address()});
   config.serving = ServingMode::kBatched;
   try {
-    batch::RunEvaluationCell(config);
+    batch::cell::RunEvaluationCell(config);
     ADD_FAILURE() << "batched requests sent to a server that does not declare them";
   } catch (const std::invalid_argument& error) {
     ExpectContains(error.what(), "does not declare \"batched_requests\": true");
@@ -346,9 +347,9 @@ TEST(RemotePolicy, BatchedServingNeedsAServerThatDeclaresIt) {
   }
 }
 
-std::string FailureOf(const batch::EvaluationCellConfig& config) {
+std::string FailureOf(const batch::cell::EvaluationCellConfig& config) {
   try {
-    batch::RunEvaluationCell(config);
+    batch::cell::RunEvaluationCell(config);
   } catch (const std::runtime_error& error) {
     return error.what();
   }
@@ -365,9 +366,9 @@ TEST(RemotePolicy, ServerErrorStopsTheCellWithTheTracebackNamingTheEnvAndEpisode
 }
 
 // Every episode of the cell ended invalid_action with a reason containing `reason` (and `entry`).
-void ExpectEveryEpisodeInvalid(const batch::CellResult& result, const std::string& reason, int entry) {
+void ExpectEveryEpisodeInvalid(const batch::cell::CellResult& result, const std::string& reason, int entry) {
   ASSERT_EQ(result.episodes.size(), 2U) << "the cell went on to its last episode";
-  for (const batch::EpisodeRecord& record : result.episodes) {
+  for (const batch::cell::EpisodeRecord& record : result.episodes) {
     EXPECT_EQ(record.end, engine::EpisodeEnd::kInvalidAction) << "episode " << record.episode;
     EXPECT_EQ(record.invalid_action.entry, entry) << "episode " << record.episode;
     ExpectContains(record.invalid_action.reason, reason);
@@ -376,23 +377,23 @@ void ExpectEveryEpisodeInvalid(const batch::CellResult& result, const std::strin
 
 TEST(RemotePolicy, ChunkOfTheWrongWidthEndsEachEpisodeInvalidNamingTheShape) {
   testing::PolicyServerProcess server({"--horizon", "10", "--action-dim", "7"});
-  const batch::CellResult result = batch::RunEvaluationCell(ServedCell({server.address()}));
+  const batch::cell::CellResult result = batch::cell::RunEvaluationCell(ServedCell({server.address()}));
   ExpectEveryEpisodeInvalid(result, "server " + server.address() + ": reply actions are 10 x 7, expected H x 19", -1);
-  ExpectContains(batch::CellSummaryLine(result), "2 ended invalid_action (first: episode 0: server");
+  ExpectContains(batch::cell::CellSummaryLine(result), "2 ended invalid_action (first: episode 0: server");
 }
 
 TEST(RemotePolicy, ChunkOfAnIntegerDtypeEndsEachEpisodeInvalidNamingTheDtype) {
   testing::PolicyServerProcess server = ServeActions(10, {"--actions-dtype", "<i8"});
-  const batch::CellResult result = batch::RunEvaluationCell(ServedCell({server.address()}));
+  const batch::cell::CellResult result = batch::cell::RunEvaluationCell(ServedCell({server.address()}));
   ExpectEveryEpisodeInvalid(result, "<i8", -1);
 }
 
 TEST(RemotePolicy, NonFiniteActionEndsItsEpisodeNamingTheEntryAndTheRecordSaysSo) {
   testing::PolicyServerProcess server = ServeActions(10, {"--nan-entry", "5"});
-  const batch::CellResult result = batch::RunEvaluationCell(ServedCell({server.address()}));
+  const batch::cell::CellResult result = batch::cell::RunEvaluationCell(ServedCell({server.address()}));
   ExpectEveryEpisodeInvalid(result, "not finite", 5);
   const std::filesystem::path dir = FreshDirectory("nan");
-  batch::WriteCellReport(result, {1}, dir.string());
+  batch::cell::WriteCellReport(result, {1}, dir.string());
   std::ifstream episodes(dir / "episodes.jsonl");
   std::string line;
   ASSERT_TRUE(std::getline(episodes, line));
@@ -407,15 +408,15 @@ TEST(RemotePolicy, NonFiniteActionEndsItsEpisodeNamingTheEntryAndTheRecordSaysSo
 
 TEST(RemotePolicy, LayoutsAndTheServersMetadataAreRecordedInTheSummary) {
   testing::PolicyServerProcess server = ServeActions(10);
-  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  batch::cell::EvaluationCellConfig config = ServedCell({server.address()});
   config.observation_keys = "aloha";
   config.image_width = 40;
   config.image_height = 40;
-  const batch::CellResult result = batch::RunEvaluationCell(config);
+  const batch::cell::CellResult result = batch::cell::RunEvaluationCell(config);
   EXPECT_EQ(result.render_width, 40);
   EXPECT_EQ(result.render_height, 30) << "letterboxed: the 4:3 cameras fitted into 40 x 40";
   const std::filesystem::path dir = FreshDirectory("layout");
-  batch::WriteCellReport(result, {1}, dir.string());
+  batch::cell::WriteCellReport(result, {1}, dir.string());
   nlohmann::json summary;
   std::ifstream(dir / "summary.json") >> summary;
   EXPECT_EQ(summary["observation_keys"], "aloha");
@@ -430,7 +431,7 @@ TEST(RemotePolicy, LayoutsAndTheServersMetadataAreRecordedInTheSummary) {
 TEST(RemotePolicy, ServerDyingMidCellStopsItNamingTheServer) {
   // The server exits half a second after it listens; four 20 s episodes take several seconds.
   testing::PolicyServerProcess server = ServeActions(10, {"--lifetime", "0.5"});
-  batch::EvaluationCellConfig config = ServedCell({server.address()});
+  batch::cell::EvaluationCellConfig config = ServedCell({server.address()});
   config.episodes = 4;
   config.server_ready_timeout_s = 1.0;
   const std::string message = FailureOf(config);
@@ -438,7 +439,8 @@ TEST(RemotePolicy, ServerDyingMidCellStopsItNamingTheServer) {
 }
 
 TEST(RemotePolicy, UnreachableServerFailsWithinTheReadyTimeoutNamingIt) {
-  batch::EvaluationCellConfig config = ServedCell({"ws://127.0.0.1:" + std::to_string(testing::FreeLoopbackPort())});
+  batch::cell::EvaluationCellConfig config =
+      ServedCell({"ws://127.0.0.1:" + std::to_string(testing::FreeLoopbackPort())});
   config.server_ready_timeout_s = 1.0;
   const auto start = std::chrono::steady_clock::now();
   const std::string message = FailureOf(config);
@@ -447,11 +449,11 @@ TEST(RemotePolicy, UnreachableServerFailsWithinTheReadyTimeoutNamingIt) {
 }
 
 TEST(RemotePolicy, ConfigurationMistakesAreNamed) {
-  batch::EvaluationCellConfig config = ServedCell({});
+  batch::cell::EvaluationCellConfig config = ServedCell({});
   EXPECT_THROW(
       {
         try {
-          batch::RunEvaluationCell(config);
+          batch::cell::RunEvaluationCell(config);
         } catch (const std::invalid_argument& error) {
           ExpectContains(error.what(), "needs a policy server");
           throw;
@@ -460,11 +462,11 @@ TEST(RemotePolicy, ConfigurationMistakesAreNamed) {
       std::invalid_argument);
   config.policy = "hold";
   config.servers = {"ws://127.0.0.1:1"};
-  EXPECT_THROW(batch::RunEvaluationCell(config), std::invalid_argument);
+  EXPECT_THROW(batch::cell::RunEvaluationCell(config), std::invalid_argument);
   config.policy = "pi0";
   config.servers.clear();
   try {
-    batch::RunEvaluationCell(config);
+    batch::cell::RunEvaluationCell(config);
     ADD_FAILURE() << "unknown policy accepted";
   } catch (const std::invalid_argument& error) {
     ExpectContains(error.what(), "unknown policy 'pi0' (known: expert, hold, replay, openpi)");
@@ -472,4 +474,4 @@ TEST(RemotePolicy, ConfigurationMistakesAreNamed) {
 }
 
 }  // namespace
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

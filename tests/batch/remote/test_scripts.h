@@ -6,7 +6,7 @@
 
 #include "tests/support/child_process.h"
 
-namespace tavis::remote::testing {
+namespace tavis::batch::remote::testing {
 
 inline constexpr const char* kPythonHint = "are python3-msgpack, python3-numpy and python3-websockets installed?";
 
@@ -15,4 +15,4 @@ std::string TestScript(const std::string& name);
 
 using tavis::testing::FreeLoopbackPort;
 
-}  // namespace tavis::remote::testing
+}  // namespace tavis::batch::remote::testing

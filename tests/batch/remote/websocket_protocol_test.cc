@@ -12,7 +12,7 @@
 #include "batch/remote/websocket_reader.h"
 #include "batch/remote/websocket_url.h"
 
-namespace tavis::remote {
+namespace tavis::batch::remote {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
@@ -195,4 +195,4 @@ TEST(WebSocketUrl, ParsesHostPortAndPath) {
 }
 
 }  // namespace
-}  // namespace tavis::remote
+}  // namespace tavis::batch::remote

@@ -36,7 +36,7 @@ CellEpisodes Cell(const std::string& label, const std::string& task, const std::
   cell.seed_group = seed_group;
   cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" + label + "_s0";
   for (int i = 0; i < episodes; ++i) {
-    EpisodeRecord record;
+    cell::EpisodeRecord record;
     record.episode = i;
     record.success = i < successes;
     record.length_steps = 60;

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "batch/statistics.h"
+#include "batch/cell/statistics.h"
 
 namespace tavis::batch::report {
 namespace {
@@ -33,10 +33,10 @@ TEST(McNemarExact, StaysFiniteForLargeCounts) {
 
 TEST(WilsonInterval, MatchesTheScoreIntervalComputedByHand) {
   // 7/10, z = 1.96: centre (0.7 + 0.19208) / 1.38416, half-width 1.96 / 1.38416 * sqrt(0.021 + 0.0009604).
-  const ProportionInterval interval = WilsonInterval(7, 10);
+  const cell::ProportionInterval interval = cell::WilsonInterval(7, 10);
   EXPECT_NEAR(interval.low, 0.396773, 1e-6);
   EXPECT_NEAR(interval.high, 0.892211, 1e-6);
-  const ProportionInterval none = WilsonInterval(0, 10);
+  const cell::ProportionInterval none = cell::WilsonInterval(0, 10);
   EXPECT_NEAR(none.low, 0.0, 1e-12);
   EXPECT_NEAR(none.high, 0.277540, 1e-6);
 }

@@ -23,7 +23,7 @@ CellEpisodes Cell(CameraProtocol camera, const std::vector<bool>& successes, con
   cell.config.camera = camera;
   const std::vector<std::string> stages = {"target_approached", "target_grasped", "target_lifted"};
   for (std::size_t i = 0; i < successes.size(); ++i) {
-    EpisodeRecord record;
+    cell::EpisodeRecord record;
     record.episode = static_cast<int64_t>(i);
     record.success = successes[i];
     record.end = successes[i] ? engine::EpisodeEnd::kSuccess : engine::EpisodeEnd::kTimeOut;

@@ -19,7 +19,7 @@ CellEpisodes Cell(const std::string& id, CameraProtocol camera, scenarios::Split
   cell.config.split = split;
   cell.config.camera = camera;
   for (std::size_t i = 0; i < successes.size(); ++i) {
-    EpisodeRecord record;
+    cell::EpisodeRecord record;
     record.episode = static_cast<int64_t>(i);
     record.success = successes[i];
     record.length_steps = 40 + 20 * static_cast<int>(i);  // 2 s, 3 s, ...

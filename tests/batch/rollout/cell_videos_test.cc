@@ -11,7 +11,7 @@
 #include "batch/rollout/video_frame.h"
 #include "render/image_io.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 namespace {
 
 namespace fs = std::filesystem;
@@ -25,8 +25,8 @@ class CellVideosTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  static EvaluationCellConfig Cell(const std::string& task, int episodes) {
-    EvaluationCellConfig config;
+  static cell::EvaluationCellConfig Cell(const std::string& task, int episodes) {
+    cell::EvaluationCellConfig config;
     config.task = task;
     config.episodes = episodes;
     config.envs = 2;
@@ -37,10 +37,10 @@ class CellVideosTest : public ::testing::Test {
   }
 
   // The cell's records, filming it with `videos` (none when videos.episodes is 0).
-  std::vector<EpisodeRecord> Run(const EvaluationCellConfig& config, const EpisodeVideoSettings& videos) {
+  std::vector<cell::EpisodeRecord> Run(const cell::EvaluationCellConfig& config, const EpisodeVideoSettings& videos) {
     CellVideos films(videos, config, [this] { return dir_ / "videos"; });
-    CellResult result = RunEvaluationCell(
-        config, nullptr, [&films](const EpisodeRecord& record) { films.RecordFinished(record); }, films.Sinks());
+    cell::CellResult result = cell::RunEvaluationCell(
+        config, nullptr, [&films](const cell::EpisodeRecord& record) { films.RecordFinished(record); }, films.Sinks());
     return result.episodes;
   }
 
@@ -54,14 +54,14 @@ class CellVideosTest : public ::testing::Test {
 };
 
 TEST_F(CellVideosTest, FilmingChangesNoRecordAndFilmsOnlyTheFirstEpisodes) {
-  const EvaluationCellConfig config = Cell("clutter-pick-cube", 3);
-  const std::vector<EpisodeRecord> plain = Run(config, {});
+  const cell::EvaluationCellConfig config = Cell("clutter-pick-cube", 3);
+  const std::vector<cell::EpisodeRecord> plain = Run(config, {});
   EXPECT_FALSE(fs::exists(dir_ / "videos"));
   EpisodeVideoSettings videos;
   videos.episodes = 2;
   videos.tile_width = 96;
   videos.tile_height = 72;
-  const std::vector<EpisodeRecord> filmed = Run(config, videos);
+  const std::vector<cell::EpisodeRecord> filmed = Run(config, videos);
   ASSERT_EQ(plain.size(), filmed.size());
   for (std::size_t i = 0; i < plain.size(); ++i) {
     EXPECT_EQ(plain[i].episode, filmed[i].episode);
@@ -75,7 +75,7 @@ TEST_F(CellVideosTest, FilmingChangesNoRecordAndFilmsOnlyTheFirstEpisodes) {
 
 TEST_F(CellVideosTest, PngFramesOnePerPolicyStepAndTheEndWithTheTasksBlackCameraBlack) {
   // blocked-clutter-pick-cube's head camera is black for the policy, so in the video too.
-  EvaluationCellConfig config = Cell("blocked-clutter-pick-cube", 1);
+  cell::EvaluationCellConfig config = Cell("blocked-clutter-pick-cube", 1);
   config.episode_start = 4;  // one chosen episode: its video is named by its index
   config.first_episode = 4;
   EpisodeVideoSettings videos;
@@ -84,7 +84,7 @@ TEST_F(CellVideosTest, PngFramesOnePerPolicyStepAndTheEndWithTheTasksBlackCamera
   videos.tile_width = 64;
   videos.tile_height = 48;
   videos.format = VideoFormat::kPng;
-  const std::vector<EpisodeRecord> records = Run(config, videos);
+  const std::vector<cell::EpisodeRecord> records = Run(config, videos);
   ASSERT_EQ(records.size(), 1u);
   const fs::path frames = dir_ / "videos" / "episode_4";
   const std::set<std::string> names = Entries(frames);
@@ -152,4 +152,4 @@ TEST(EpisodeVideoSettings, BadValuesAreNamed) {
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

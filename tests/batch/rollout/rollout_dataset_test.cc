@@ -12,20 +12,20 @@
 #include <vector>
 
 #include "batch/action_csv.h"
-#include "batch/cell_report.h"
+#include "batch/cell/cell_report.h"
 #include "batch/dataset/video/video_log.h"
 #include "batch/rollout/cell_recording.h"
 #include "tests/batch/dataset/lerobot_dataset_checks.h"
 #include "tests/batch/dataset/synthetic_frames.h"
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace dataset::testing;  // NOLINT: the dataset test support's helpers
 
-EvaluationCellConfig Cell(const std::string& policy, const std::string& actions) {
-  EvaluationCellConfig config;
+cell::EvaluationCellConfig Cell(const std::string& policy, const std::string& actions) {
+  cell::EvaluationCellConfig config;
   config.task = "clutter-pick-cube";
   config.episodes = 2;
   config.envs = 2;
@@ -37,16 +37,16 @@ EvaluationCellConfig Cell(const std::string& policy, const std::string& actions)
   return config;
 }
 
-std::vector<std::string> Lines(const std::vector<EpisodeRecord>& records, uint64_t seed) {
+std::vector<std::string> Lines(const std::vector<cell::EpisodeRecord>& records, uint64_t seed) {
   std::vector<std::string> lines;
-  for (const EpisodeRecord& record : records) lines.push_back(EpisodeJsonLine(record, seed));
+  for (const cell::EpisodeRecord& record : records) lines.push_back(cell::EpisodeJsonLine(record, seed));
   return lines;
 }
 
 class RolloutDataset : public ::testing::Test {
  protected:
   void SetUp() override {
-    dataset::ShowOnlyVideoErrors();
+    dataset::video::ShowOnlyVideoErrors();
     scratch_ = ScratchDir();
   }
   std::string scratch_;
@@ -55,26 +55,26 @@ class RolloutDataset : public ::testing::Test {
 TEST_F(RolloutDataset, LoadsAsLeRobotDatasetAndItsActionsReplayTheRecords) {
   // A policy whose actions are float32 values (the dataset's action dtype), so that the dataset
   // holds them exactly: the 20 Hz expert's actions rounded to float, replayed.
-  const CellResult expert = RunEvaluationCell(Cell("expert", ""));
+  const cell::CellResult expert = cell::RunEvaluationCell(Cell("expert", ""));
   const fs::path rounded = fs::path(scratch_) / "rounded";
   fs::create_directories(rounded);
-  for (const EpisodeRecord& record : expert.episodes) {
+  for (const cell::EpisodeRecord& record : expert.episodes) {
     std::vector<kinematics::Action> rows = record.replay_actions;
     for (kinematics::Action& row : rows) {
       for (double& value : row) value = static_cast<float>(value);
     }
     WriteActionCsv(rounded / ("episode_" + std::to_string(record.episode) + ".csv"), rows);
   }
-  const EvaluationCellConfig cell = Cell("replay", rounded.string());
-  const CellResult plain = RunEvaluationCell(cell);
+  const cell::EvaluationCellConfig cell = Cell("replay", rounded.string());
+  const cell::CellResult plain = cell::RunEvaluationCell(cell);
 
   RolloutDatasetSettings settings;
   settings.root = scratch_ + "/dataset";
   settings.width = 64;
   settings.height = 48;
   CellRecording recording(settings, cell);
-  const CellResult recorded = RunEvaluationCell(
-      cell, nullptr, [&recording](const EpisodeRecord& record) { recording.RecordFinished(record); },
+  const cell::CellResult recorded = cell::RunEvaluationCell(
+      cell, nullptr, [&recording](const cell::EpisodeRecord& record) { recording.RecordFinished(record); },
       recording.Sinks());
   recording.Finish();
   EXPECT_EQ(Lines(recorded.episodes, cell.seed), Lines(plain.episodes, cell.seed)) << "recording changed the records";
@@ -116,9 +116,9 @@ TEST_F(RolloutDataset, LoadsAsLeRobotDatasetAndItsActionsReplayTheRecords) {
   fs::create_directories(from_dataset);
   for (const auto& [episode, rows] : actions)
     WriteActionCsv(from_dataset / ("episode_" + std::to_string(episode) + ".csv"), rows);
-  const CellResult replayed = RunEvaluationCell(Cell("replay", from_dataset.string()));
+  const cell::CellResult replayed = cell::RunEvaluationCell(Cell("replay", from_dataset.string()));
   EXPECT_EQ(Lines(replayed.episodes, cell.seed), Lines(plain.episodes, cell.seed));
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-namespace tavis::batch {
+namespace tavis::batch::rollout {
 namespace {
 
 std::vector<uint8_t> Solid(int width, int height, uint8_t r, uint8_t g, uint8_t b) {
@@ -71,4 +71,4 @@ TEST(VideoFrame, EveryCaptionGivesTheSameSize) {
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::rollout

@@ -9,7 +9,7 @@
 #include "scenarios/registry.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 OrientedBox Box(const Vec3& centre, const Vec3& half_size, double yaw = 0.0) {
@@ -63,4 +63,4 @@ TEST(ArmObstacles, DefaultPoseIsClearAndAHandThroughTheScreenIsNot) {
 }
 
 }  // namespace
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

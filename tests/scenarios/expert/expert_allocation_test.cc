@@ -62,7 +62,7 @@ void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 using Phase = PickExpert::Phase;
@@ -87,27 +87,27 @@ enum class GripReading { kSimulated, kClosedOnNothing };
 ActAllocations RunEpisode(const std::string& task, const std::string& robot_name, int64_t episode, GripReading grip) {
   const ScenarioDef& scenario = FindScenario(task);
   const kinematics::RobotModel robot = tavis::testing::LoadRobot(robot_name);
-  batch::VecEnv env(batch::BuildWorldModel(robot, scenario), scenario, Split::kId, 1, 0);
-  const std::unique_ptr<Expert> made = scenario.make_expert(env.model(), 1, ExpertMode::kGazeFirst);
+  batch::VecEnv vec_env(batch::BuildWorldModel(robot, scenario), scenario, Split::kId, 1, 0);
+  const std::unique_ptr<Expert> made = scenario.make_expert(vec_env.model(), 1, ExpertMode::kGazeFirst);
   PickExpert& expert = dynamic_cast<PickExpert&>(*made);
-  env.ResetEnv(0, episode);
-  expert.Reset(env.model(), env.state(), 0);
+  vec_env.ResetEnv(0, episode);
+  expert.Reset(vec_env.model(), vec_env.state(), 0);
   std::vector<kinematics::Action> actions(1);
   engine::BatchState read;  // the state the expert reads, with kClosedOnNothing
   ActAllocations result;
-  while (env.state().end[0] == engine::EpisodeEnd::kRunning) {
+  while (vec_env.state().end[0] == engine::EpisodeEnd::kRunning) {
     if (grip == GripReading::kClosedOnNothing) {
-      read = env.state();
+      read = vec_env.state();
       for (const kinematics::Side side : kinematics::kSides) {
         const int i = kinematics::Index(side);
         if (actions[0][kinematics::action::kGripper[i]] > 0.0) read.gripper_gap_row(0)[i] = robot.gripper.closed_gap;
       }
     }
-    const engine::BatchState& state = grip == GripReading::kClosedOnNothing ? read : env.state();
+    const engine::BatchState& state = grip == GripReading::kClosedOnNothing ? read : vec_env.state();
     const Phase phase = expert.phase(0);
     const int attempts = expert.attempts(0);
     const long allocations_before = t_allocations;
-    expert.Act(env.model(), state, 0, actions[0]);
+    expert.Act(vec_env.model(), state, 0, actions[0]);
     const long allocations = t_allocations - allocations_before;
     const bool planned = expert.attempts(0) > attempts || (expert.phase(0) == Phase::kPeek && phase != Phase::kPeek);
     if (planned) {
@@ -116,7 +116,7 @@ ActAllocations RunEpisode(const std::string& task, const std::string& robot_name
       result.steady[static_cast<std::size_t>(phase)] += allocations;
       ++result.steady_ticks[static_cast<std::size_t>(phase)];
     }
-    env.Step(actions);
+    vec_env.Step(actions);
   }
   result.attempts = expert.attempts(0);
   return result;
@@ -166,4 +166,4 @@ TEST(PickExpertAllocation, RetreatsAllocateOnlyToPlanAgain) {
 }
 
 }  // namespace
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

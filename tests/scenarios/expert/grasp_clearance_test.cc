@@ -6,7 +6,7 @@
 
 #include "tests/support/robot_loading.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 constexpr double kMargin = 0.005;
@@ -83,4 +83,4 @@ TEST(GraspClearance, HalfExtentFollowsTheObjectsYaw) {
 }
 
 }  // namespace
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -17,7 +17,7 @@
 #include "scenarios/registry.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::scenarios {
+namespace tavis::scenarios::expert {
 namespace {
 
 class PickExpertTest : public ::testing::Test {
@@ -262,4 +262,4 @@ TEST_F(PickExpertTest, HeadStillWaitThenActWaitsForTheGreenLightThenActsAtOnce) 
 }
 
 }  // namespace
-}  // namespace tavis::scenarios
+}  // namespace tavis::scenarios::expert

@@ -20,7 +20,7 @@
 #include "tests/support/child_process.h"
 #include "tests/tools/tool_runner.h"
 
-namespace tavis::tools {
+namespace tavis::tools::sweep {
 namespace {
 
 class DatasetReference : public TavisCommandTest {};
@@ -152,4 +152,4 @@ TEST_F(DatasetReference, AMissingOrUnreadableDatasetStopsTheSweepBeforeItRuns) {
 }
 
 }  // namespace
-}  // namespace tavis::tools
+}  // namespace tavis::tools::sweep

@@ -16,7 +16,7 @@
 #include "tests/support/child_process.h"
 #include "tests/tools/tool_runner.h"
 
-namespace tavis::tools {
+namespace tavis::tools::sweep {
 namespace {
 
 const char* kLabelledSpec =
@@ -122,4 +122,4 @@ TEST_F(LabelledSweep, KeepsLabelsApartAndItsProductsEqualTheSummary) {
 }
 
 }  // namespace
-}  // namespace tavis::tools
+}  // namespace tavis::tools::sweep

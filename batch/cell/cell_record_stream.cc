@@ -1,0 +1,171 @@
+#include "batch/cell/cell_record_stream.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "batch/cell/cell_report.h"
+#include "batch/cell/stage_record.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/config_identity.h"
+#include "batch/output/json_error_text.h"
+#include "batch/output/output_folder.h"
+#include "batch/output/settings_difference.h"
+#include "batch/perturbation_catalog.h"
+#include "batch/policy_kinds.h"
+#include "scenarios/split.h"
+
+namespace tavis::batch::cell {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::optional<kinematics::GaltResult> ParseGalt(const nlohmann::json& line, const std::string& prefix) {
+  if (!line.contains(prefix + "_reason")) return std::nullopt;
+  kinematics::GaltResult galt;
+  if (!kinematics::ParseGaltReason(line.at(prefix + "_reason").get<std::string>(), &galt.reason)) {
+    throw std::invalid_argument(prefix + "_reason " + line.at(prefix + "_reason").dump() + " is not a GALT reason");
+  }
+  const nlohmann::json& seconds = line.at(prefix + "_s");
+  if (!seconds.is_null()) galt.galt_s = seconds.get<double>();
+  return galt;
+}
+
+double ParseActionValue(const nlohmann::json& value) {
+  if (value.is_number()) return value.get<double>();
+  const std::string text = value.is_string() ? value.get<std::string>() : "";
+  if (text == "nan") return std::numeric_limits<double>::quiet_NaN();
+  if (text == "inf") return std::numeric_limits<double>::infinity();
+  if (text == "-inf") return -std::numeric_limits<double>::infinity();
+  return 0.0;
+}
+
+}  // namespace
+
+nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
+  nlohmann::json settings = {
+      {"task", config.task},
+      {"robot", config.robot},
+      {"split", scenarios::ToString(config.split)},
+      {"camera", ToString(config.camera)},
+      {"policy", config.policy},
+      {"actions_file", config.actions_file},
+      {"expert_hz", config.expert_hz},
+      {"servers", config.servers},
+      {"replan_steps", config.replan_steps},
+      {"observation_keys", config.observation_keys},
+      {"observation_dataset", config.observation_dataset},
+      {"episodes", config.episodes},
+      {"seed", config.seed},
+      {"render_cameras", config.render_cameras},
+      {"image_width", config.image_width},
+      {"image_height", config.image_height},
+      {"identity",
+       output::ConfigIdentityJson(config.config_dir, config.robot,
+                                  IsPolicy(config.policy, PolicyKind::kOpenpi) ? config.observation_keys : "")}};
+  // Only a cell that does not start at episode 0 names its start, so cells written before it
+  // existed still resume.
+  if (config.episode_start != 0) settings["episode_start"] = config.episode_start;
+  // Only the expert has a mode; it decides the expert's records, so a resume must keep it.
+  if (IsPolicy(config.policy, PolicyKind::kExpert))
+    settings["expert_mode"] = scenarios::expert::ToString(config.expert_mode);
+  // Only a perturbed cell names its perturbations (with each level's settings, so an edited level
+  // file is a different setting): a base cell's cell.json is as it was.
+  if (!config.perturbations.empty()) {
+    settings["perturbations"] = PerturbationsJson(ResolvePerturbations(config.config_dir, config.perturbations));
+  }
+  return settings;
+}
+
+EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
+  const nlohmann::json line = nlohmann::json::parse(text);
+  EpisodeRecord record;
+  record.episode = line.at("episode").get<int64_t>();
+  record.success = line.at("success").get<bool>();
+  if (!engine::ParseEpisodeEnd(line.at("end").get<std::string>(), &record.end)) {
+    throw std::invalid_argument("end " + line.at("end").dump() + " is not an episode end");
+  }
+  record.length_steps = line.at("length_steps").get<int>();
+  record.length_control_ticks = line.at("length_control_ticks").get<int>();
+  record.solver_messages = line.at("solver_messages").get<int>();
+  if (line.contains("invalid_action")) {
+    const nlohmann::json& fault = line.at("invalid_action");
+    record.invalid_action.entry = fault.at("entry").is_null() ? -1 : fault.at("entry").get<int>();
+    record.invalid_action.value = ParseActionValue(fault.at("value"));
+    record.invalid_action.reason = fault.at("reason").get<std::string>();
+  }
+  record.galt = ParseGalt(line, "galt");
+  record.galt_policy_rate = ParseGalt(line, "galt_policy_rate");
+  ParseStagesJson(line, record);
+  return record;
+}
+
+CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume)
+    : dir_(std::move(dir)), seed_(config.seed), episode_start_(config.episode_start) {
+  const fs::path cell_json = fs::path(dir_) / "cell.json";
+  const nlohmann::json settings = CellSettingsJson(config);
+  const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
+  if (resume) {
+    if (!fs::exists(cell_json)) throw std::invalid_argument("--resume: " + dir_ + " holds no cell (no cell.json)");
+    if (fs::exists(fs::path(dir_) / "summary.json"))
+      throw std::invalid_argument("--resume: " + dir_ + " is complete (it has summary.json)");
+    nlohmann::json was;
+    try {
+      std::ifstream(cell_json) >> was;
+    } catch (const nlohmann::json::exception& error) {
+      throw std::invalid_argument(cell_json.string() +
+                                  ": damaged cell file, not valid JSON: " + output::JsonErrorText(error.what()));
+    }
+    const std::string differences = output::SettingsDifference(was, settings);
+    if (!differences.empty()) throw std::invalid_argument("--resume " + dir_ + " with other settings: " + differences);
+    // The complete lines, in order; what follows the last one (a line cut by the interruption) goes.
+    std::ifstream in(episodes_path, std::ios::binary);
+    std::string line;
+    std::uintmax_t kept_bytes = 0;
+    while (std::getline(in, line) && !in.eof()) {
+      EpisodeRecord record;
+      try {
+        record = ParseEpisodeJsonLine(line);
+      } catch (const std::exception&) {
+        break;
+      }
+      if (record.episode != next_episode()) break;
+      resumed_.push_back(std::move(record));
+      kept_bytes += line.size() + 1;
+    }
+    if (fs::exists(episodes_path)) fs::resize_file(episodes_path, kept_bytes);
+  } else {
+    if (!output::HoldsNoResults(dir_)) {
+      throw std::invalid_argument(dir_ +
+                                  " already holds results; give --overwrite to replace them or --resume to finish "
+                                  "an interrupted cell");
+    }
+    fs::create_directories(dir_);
+    output::WriteOutputMarker(dir_, output::OutputKind::kEvalCell);
+    output::WriteFileAtomically(cell_json, settings.dump(2) + "\n");
+  }
+  episodes_ = std::fopen(episodes_path.c_str(), resume ? "ab" : "wb");
+  if (episodes_ == nullptr)
+    throw std::runtime_error("cannot write " + episodes_path.string() + ": " + std::strerror(errno));
+}
+
+CellRecordStream::~CellRecordStream() {
+  if (episodes_ != nullptr) std::fclose(episodes_);
+}
+
+void CellRecordStream::MovedTo(std::string dir) { dir_ = std::move(dir); }
+
+void CellRecordStream::Write(const EpisodeRecord& record) {
+  if (!record.replay_actions.empty()) WriteReplayCsv(record, dir_);
+  const std::string line = EpisodeJsonLine(record, seed_) + "\n";
+  if (std::fwrite(line.data(), 1, line.size(), episodes_) != line.size() || std::fflush(episodes_) != 0) {
+    throw std::runtime_error("cannot write " + dir_ + "/episodes.jsonl: " + std::strerror(errno));
+  }
+  ++written_;
+}
+
+}  // namespace tavis::batch::cell

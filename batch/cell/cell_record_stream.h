@@ -1,0 +1,61 @@
+// An evaluation cell's records on disk while the cell runs (`tavis eval`): DIR/cell.json (the
+// settings) is written first, so an unwritable DIR fails before any work; each episode's line is
+// appended to DIR/episodes.jsonl and flushed as soon as it and every earlier episode have ended
+// (with the episode's DIR/actions/episode_<i>.csv when its actions are kept for replay), so an interrupted cell keeps
+// its complete episodes; summary.json comes last (WriteCellSummary) and marks the cell complete. A resumed cell keeps
+// the complete lines and continues after them.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/cell/episode_recorder.h"
+#include "batch/cell/evaluation_cell.h"
+
+namespace tavis::batch::cell {
+
+class CellRecordStream {
+ public:
+  // Fresh: DIR must be absent or hold no results (output::HoldsNoResults); it gets tavis's marker.
+  // Resumed: DIR must hold this cell's cell.json (the same
+  // settings) and no summary.json; its complete lines are read back and a torn last line is cut.
+  // Throws std::invalid_argument naming DIR and what is wrong, std::runtime_error when it cannot
+  // be written.
+  CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume);
+  ~CellRecordStream();
+  CellRecordStream(const CellRecordStream&) = delete;
+  CellRecordStream& operator=(const CellRecordStream&) = delete;
+
+  // The records read back when resuming, in episode order (without actions).
+  const std::vector<EpisodeRecord>& resumed() const { return resumed_; }
+  // The first episode still to run.
+  int64_t next_episode() const { return episode_start_ + static_cast<int64_t>(resumed_.size()); }
+
+  // Appends the record (the next episode) and flushes it.
+  void Write(const EpisodeRecord& record);
+  // The folder was renamed to DIR (an --overwrite swapping its new cell in); the open
+  // episodes.jsonl goes on, later files are written under DIR.
+  void MovedTo(std::string dir);
+  // Records written by this stream (not counting the resumed ones).
+  int64_t written() const { return written_; }
+
+ private:
+  std::string dir_;
+  uint64_t seed_;
+  int64_t episode_start_;
+  std::vector<EpisodeRecord> resumed_;
+  std::FILE* episodes_ = nullptr;
+  int64_t written_ = 0;
+};
+
+// The settings that decide a cell's records (cell.json), not how it ran (envs, threads).
+nlohmann::json CellSettingsJson(const EvaluationCellConfig& config);
+
+// An episodes.jsonl line read back; throws std::invalid_argument naming the bad field.
+EpisodeRecord ParseEpisodeJsonLine(const std::string& line);
+
+}  // namespace tavis::batch::cell

@@ -1,0 +1,85 @@
+#include "batch/cell/stage_record.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "scenarios/registry.h"
+
+namespace tavis::batch::cell {
+
+void AddStagesJson(const EpisodeRecord& record, nlohmann::json& line) {
+  line["prompt"] = record.prompt;
+  nlohmann::json target = {{"object", record.target_object}};
+  if (!record.target.side.empty()) target["side"] = record.target.side;
+  if (record.target.shelf >= 0) target["shelf"] = record.target.shelf;
+  if (!record.target.open_side.empty()) target["open_side"] = record.target.open_side;
+  line["target"] = target;
+  nlohmann::json reached = nlohmann::json::object();
+  nlohmann::json ticks = nlohmann::json::object();
+  for (const StageReached& stage : record.stages) {
+    reached[stage.name] = stage.reached();
+    ticks[stage.name] = stage.reached() ? nlohmann::json(stage.first_tick) : nlohmann::json();
+  }
+  line["stages"] = reached;
+  line["stage_ticks"] = ticks;
+}
+
+void ParseStagesJson(const nlohmann::json& line, EpisodeRecord& record) {
+  if (line.contains("prompt")) record.prompt = line.at("prompt").get<std::string>();
+  if (line.contains("target")) {
+    const nlohmann::json& target = line.at("target");
+    record.target_object = target.at("object").get<std::string>();
+    if (target.contains("side")) record.target.side = target.at("side").get<std::string>();
+    if (target.contains("shelf")) record.target.shelf = target.at("shelf").get<int>();
+    if (target.contains("open_side")) record.target.open_side = target.at("open_side").get<std::string>();
+  }
+  if (!line.contains("stage_ticks")) return;
+  // A JSON object does not keep the task's order of its stages (the keys come back sorted):
+  // StageFunnel looks stages up by name in the order it is given.
+  for (const auto& [name, tick] : line.at("stage_ticks").items()) {
+    if (!tick.is_null() && !tick.is_number_integer()) {
+      throw std::invalid_argument("stage_ticks." + name + " " + tick.dump() + " is not a control tick or null");
+    }
+    record.stages.push_back({name, tick.is_null() ? -1 : tick.get<int>()});
+  }
+}
+
+namespace {
+
+bool Reached(const EpisodeRecord& record, const std::string& stage) {
+  for (const StageReached& entry : record.stages) {
+    if (entry.name == stage) return entry.reached();
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<std::string> StageNames(const std::string& task) {
+  std::vector<std::string> names;
+  for (const scenarios::StageDef& stage : scenarios::FindScenario(task).stages) names.push_back(stage.name);
+  return names;
+}
+
+std::vector<FunnelStep> StageFunnel(const std::vector<std::string>& stages,
+                                    const std::vector<EpisodeRecord>& episodes) {
+  std::vector<FunnelStep> funnel;
+  for (const std::string& stage : stages) funnel.push_back({stage, 0});
+  for (const EpisodeRecord& record : episodes) {
+    for (FunnelStep& step : funnel) {
+      if (!Reached(record, step.stage)) break;
+      ++step.reached;
+    }
+  }
+  return funnel;
+}
+
+nlohmann::json StageFunnelJson(const std::vector<std::string>& stages, const std::vector<EpisodeRecord>& episodes) {
+  nlohmann::json funnel = nlohmann::json::array();
+  for (const FunnelStep& step : StageFunnel(stages, episodes)) {
+    funnel.push_back({{"stage", step.stage}, {"reached", step.reached}});
+  }
+  return funnel;
+}
+
+}  // namespace tavis::batch::cell

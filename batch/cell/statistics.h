@@ -1,0 +1,35 @@
+// The statistics the records and tables report: success-rate intervals, and the spread (mean,
+// median, standard deviation) of a list of values such as GALT seconds. Written once here.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace tavis::batch::cell {
+
+struct ProportionInterval {
+  double low = 0.0;   // fraction in [0, 1]
+  double high = 0.0;  // fraction in [0, 1]
+};
+
+// Wilson score interval for `successes` out of `trials` (z = 1.96 gives the 95% interval the
+// paper reports). trials == 0 yields [0, 1].
+ProportionInterval WilsonInterval(int64_t successes, int64_t trials, double z = 1.96);
+
+// Mean, median (the mean of the two middle values when n is even) and population standard
+// deviation (two passes, as numpy's std: the mean first, then the mean squared deviation).
+struct Spread {
+  std::size_t n = 0;
+  double mean = 0.0;
+  double median = 0.0;
+  double std = 0.0;
+};
+
+// The spread of `values`, which must not be empty (std::invalid_argument).
+Spread SpreadOf(std::vector<double> values);
+
+// The median of `values`, which must not be empty (std::invalid_argument).
+double Median(std::vector<double> values);
+
+}  // namespace tavis::batch::cell

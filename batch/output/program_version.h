@@ -1,0 +1,12 @@
+// The program's version, recorded in every result folder and compared by resumes and merges.
+#pragma once
+
+#include <string>
+
+namespace tavis::batch::output {
+
+// `git describe --always --tags --dirty` of the source tree the program was configured from
+// ("unknown" outside a git checkout).
+std::string ProgramVersion();
+
+}  // namespace tavis::batch::output

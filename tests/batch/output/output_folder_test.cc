@@ -1,0 +1,152 @@
+// Which folders tavis may replace or write into, the lock on them, and replacing one without
+// losing it: the rules `tavis eval`, `demos`, `sweep` and `sweep merge` share.
+#include "batch/output/output_folder.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+namespace tavis::batch::output {
+namespace {
+
+namespace fs = std::filesystem;
+
+class OutputFolder : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("tavis_output_folder_" + std::to_string(getpid()) + "_" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+  static void Touch(const fs::path& path, const std::string& text = "x") {
+    fs::create_directories(path.parent_path());
+    std::ofstream(path) << text;
+  }
+  static std::string Read(const fs::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  // The message of the std::invalid_argument `call` throws ("" when none).
+  template <typename Call>
+  static std::string Refusal(Call call) {
+    try {
+      call();
+    } catch (const std::invalid_argument& error) {
+      return error.what();
+    }
+    return "";
+  }
+  fs::path root_;
+};
+
+TEST_F(OutputFolder, CellWithOnlyItsOwnFilesIsOwnAndAUsersFileMakesItForeign) {
+  const fs::path cell = root_ / "cell";
+  for (const char* name :
+       {"cell.json", "episodes.jsonl", "summary.json", "actions/episode_0.csv", "summary.json.partial"})
+    Touch(cell / name);
+  EXPECT_TRUE(IsOwnOutput(cell, OutputKind::kEvalCell));
+  EXPECT_FALSE(IsOwnOutput(cell, OutputKind::kSweep)) << "an eval cell is no sweep";
+  EXPECT_FALSE(IsOwnOutput(cell, OutputKind::kDataset));
+  Touch(cell / "thesis.txt");
+  EXPECT_FALSE(IsOwnOutput(cell, OutputKind::kEvalCell));
+  EXPECT_EQ(ForeignEntries(cell, OutputKind::kEvalCell), std::vector<std::string>{"thesis.txt"});
+  const std::string refusal = Refusal([&] { RequireEmptyOrOwn(cell, OutputKind::kEvalCell, "move it"); });
+  EXPECT_NE(refusal.find("thesis.txt"), std::string::npos) << refusal;
+}
+
+TEST_F(OutputFolder, FolderWithoutMarkerOrSignatureIsNotOwnEvenIfItsNamesMatch) {
+  const fs::path dir = root_ / "look-alike";
+  Touch(dir / "summary.json");  // a name tavis writes, but no cell.json and no marker
+  EXPECT_FALSE(IsOwnOutput(dir, OutputKind::kEvalCell));
+  WriteOutputMarker(dir, OutputKind::kEvalCell);
+  EXPECT_TRUE(IsOwnOutput(dir, OutputKind::kEvalCell));
+  EXPECT_FALSE(IsOwnOutput(dir, OutputKind::kSweep)) << "the marker names its kind";
+}
+
+TEST_F(OutputFolder, OnlyMarkerAndLockCountAsHoldingNoResults) {
+  EXPECT_TRUE(HoldsNoResults(root_ / "absent"));
+  const fs::path dir = root_ / "dir";
+  fs::create_directories(dir);
+  Touch(dir / output::kOutputLockFile);
+  Touch(dir / output::kOutputMarkerFile);
+  EXPECT_TRUE(HoldsNoResults(dir));
+  Touch(dir / ".hidden");
+  EXPECT_FALSE(HoldsNoResults(dir));
+  Touch(root_ / "file");
+  EXPECT_FALSE(HoldsNoResults(root_ / "file"));
+}
+
+TEST_F(OutputFolder, UnusablePathsAreRefusedNamingWhy) {
+  const fs::path cwd = fs::current_path();
+  fs::create_directories(root_ / "work");
+  fs::current_path(root_ / "work");
+  EXPECT_NE(Refusal([] { RequireUsableOutputPath(""); }).find("empty string"), std::string::npos);
+  for (const char* path : {".", "..", "/", "./", "../work"}) {
+    EXPECT_NE(Refusal([&] { RequireUsableOutputPath(path); }).find("working directory"), std::string::npos) << path;
+  }
+  Touch(root_ / "work" / "plain");
+  EXPECT_NE(Refusal([] { RequireUsableOutputPath("plain"); }).find("is a file"), std::string::npos);
+  EXPECT_EQ(Refusal([] { RequireUsableOutputPath("results/cell"); }), "");
+  const char* home = std::getenv("HOME");
+  const std::string saved = home != nullptr ? home : "";
+  setenv("HOME", (root_ / "home").c_str(), 1);
+  EXPECT_NE(Refusal([&] { RequireUsableOutputPath(root_ / "home"); }).find("home folder"), std::string::npos);
+  EXPECT_NE(Refusal([&] { RequireUsableOutputPath(root_ / "home" / "."); }).find("home folder"), std::string::npos);
+  if (home != nullptr) setenv("HOME", saved.c_str(), 1);
+  fs::current_path(cwd);
+}
+
+TEST_F(OutputFolder, SecondLockIsRefusedNamingTheHolderUntilTheFirstIsReleased) {
+  const fs::path dir = root_ / "out";
+  OutputLock first = CreateAndLockOutput(dir, "eval");
+  EXPECT_NE(Read(dir / output::kOutputLockFile).find("tavis eval (pid " + std::to_string(getpid())), std::string::npos);
+  const std::string refusal = Refusal([&] { OutputLock second(dir, "sweep"); });
+  EXPECT_NE(refusal.find("is being written by tavis eval (pid " + std::to_string(getpid())), std::string::npos)
+      << refusal;
+  first.Release();
+  EXPECT_EQ(Read(dir / output::kOutputLockFile), "") << "a released lock names no holder";
+  OutputLock again(dir, "sweep");
+  EXPECT_TRUE(again.held());
+}
+
+TEST_F(OutputFolder, LockLeftByADeadProcessIsTakenOver) {
+  const fs::path dir = root_ / "out";
+  fs::create_directories(dir);
+  Touch(dir / output::kOutputLockFile, "tavis eval (pid 999999 on elsewhere, since 2020-01-01T00:00:00Z)\n");
+  OutputLock lock(dir, "demos");
+  EXPECT_NE(Read(dir / output::kOutputLockFile).find("tavis demos"), std::string::npos);
+}
+
+TEST_F(OutputFolder, ReplacementKeepsTheOldFolderUntilSwappedAndLeavesNothingWhenAbandoned) {
+  const fs::path dir = root_ / "cell";
+  Touch(dir / "cell.json", "old");
+  {
+    OutputReplacement abandoned(dir, "eval");
+    ASSERT_TRUE(fs::is_directory(abandoned.staging()));
+    EXPECT_EQ(abandoned.staging().parent_path(), dir.parent_path());
+    Touch(abandoned.staging() / "cell.json", "new");
+  }
+  EXPECT_EQ(Read(dir / "cell.json"), "old");
+  EXPECT_EQ(std::distance(fs::directory_iterator(root_), fs::directory_iterator()), 1) << "staging left behind";
+  {
+    OutputReplacement replacement(dir, "eval");
+    Touch(replacement.staging() / "cell.json", "new");
+    EXPECT_EQ(Read(dir / "cell.json"), "old");
+    replacement.SwapIn();
+    EXPECT_EQ(Read(dir / "cell.json"), "new");
+    // The new folder is locked from the swap on.
+    EXPECT_NE(Refusal([&] { OutputLock other(dir, "eval"); }).find("is being written"), std::string::npos);
+  }
+  EXPECT_EQ(Read(dir / "cell.json"), "new");
+  EXPECT_EQ(std::distance(fs::directory_iterator(root_), fs::directory_iterator()), 1) << "old folder left behind";
+}
+
+}  // namespace
+}  // namespace tavis::batch::output
