@@ -5,6 +5,7 @@
 
 #include "kinematics/robot_buffers.h"
 #include "scenarios/expert/arm_clearance.h"
+#include "scenarios/expert/arm_reach.h"
 #include "scenarios/expert/ik_iteration.h"
 
 namespace tavis::scenarios {
@@ -18,6 +19,9 @@ constexpr double kStillStep = 1e-9;  // rad: a step that moves no joint this muc
 // A seed has converged when its score (Converge: position error in units of kPositionTolerance
 // plus angle error in units of kAngleTolerance) is at most this.
 constexpr double kConverged = 2.0;
+// A converged seed's hand is within kConverged * kPositionTolerance of the target; a target this
+// much farther than the arm reaches is out of reach of every seed (and of rounding).
+constexpr double kReachRounding = 1e-6;  // m
 
 // Iterates the controller's IK step kinematically (joint limits respected); returns the error.
 // X_BL holds q's poses of the links the arm does not move; `arm_links` (LinksMovedByArm) are
@@ -54,6 +58,11 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
   // Seeds differ in the arm's joints only: the other links' poses are computed once.
   std::vector<RigidTransform> X_BL(robot.links.size());
   kinematics::ComputeLinkPoses(robot, q_start.data(), X_BL.data());
+  // No seed can converge on a target beyond the arm's reach: the answer is known without them.
+  const ArmReach reach = ArmReachOf(robot, side, X_BL.data());
+  if ((target.position - reach.centre).norm() > reach.radius + kConverged * kPositionTolerance + kReachRounding) {
+    return std::nullopt;
+  }
   const std::vector<int> arm_links = kinematics::LinksMovedByArm(robot, side);
   std::vector<double> best;
   double best_score = 1e300;
