@@ -93,6 +93,12 @@ inline bool InsideLabel(const SurfaceModel& surface, const Eigen::Vector3f& p, c
   }
 }
 
+// Whether Reflectance is `base_rgb` everywhere on the surface, so that a flat face has one colour
+// (FlatShades). A surface whose colour varies over it must answer false.
+inline bool HasConstantReflectance(const SurfaceModel& surface) {
+  return surface.appearance.label == LabelPattern::kNone;
+}
+
 // Diffuse reflectance at p: the label colour inside the label, else `base_rgb`.
 inline Eigen::Vector3f Reflectance(const SurfaceModel& surface, const Eigen::Vector3f& base_rgb,
                                    const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
