@@ -170,8 +170,9 @@ ShadowTest ShadowCasters::Test(int32_t caster, const Eigen::Vector3f& origin) co
                                                                             : ShadowTest::kUnknown;
   }
   const Eigen::Vector3f local(offset.dot(c.axes[0]), offset.dot(c.axes[1]), offset.dot(c.axes[2]));
+  // Every shape lies in its bounding box: most rays that reach this far miss that box.
+  if (!RayMeetsBox(local, c.inv_light_local, c.outer, false)) return ShadowTest::kMiss;
   if (c.kind == ShapeKind::kBox || c.kind == ShapeKind::kCylinder) {
-    if (!RayMeetsBox(local, c.inv_light_local, c.outer, false)) return ShadowTest::kMiss;
     const bool has_core = c.inner.minCoeff() > 0.0f;
     return has_core && RayMeetsBox(local, c.inv_light_local, c.inner, true) ? ShadowTest::kHit : ShadowTest::kUnknown;
   }

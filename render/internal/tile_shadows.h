@@ -69,7 +69,9 @@ class TileShadows {
     const int n_candidates = casters.Candidates(low_, high_, candidates, kMaxCandidates);
     int traced = 0;
     for (int i = 0; i < size_; ++i) {
-      const ShadowTest test = n_candidates == 0 ? ShadowTest::kMiss : ShadowTest::kUnknown;
+      const ShadowTest test = n_candidates < 0    ? ShadowTest::kUnknown
+                              : n_candidates == 0 ? ShadowTest::kMiss
+                                                  : Decide(casters, candidates, n_candidates, origins_[i]);
       if (test == ShadowTest::kUnknown) {
         Trace(i);
         if (n_traced_ == K) traced += Flush(scene, writer);
