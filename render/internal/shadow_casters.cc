@@ -26,19 +26,6 @@ float ProjectedRadius(const Eigen::Vector3f* axes, const Eigen::Vector3f& half, 
          std::fabs(axes[2].dot(axis)) * half.z();
 }
 
-// Whether the ray o + s d, s >= 0, meets the box |x_i| <= half_i (strictly inside when `strict`).
-bool RayMeetsBox(const Eigen::Vector3f& o, const Eigen::Vector3f& inv_d, const Eigen::Vector3f& half, bool strict) {
-  float t_min = 0.0f;
-  float t_max = std::numeric_limits<float>::max();
-  for (int i = 0; i < 3; ++i) {
-    const float t1 = (-half[i] - o[i]) * inv_d[i];
-    const float t2 = (half[i] - o[i]) * inv_d[i];
-    t_min = std::max(t_min, std::min(t1, t2));
-    t_max = std::min(t_max, std::max(t1, t2));
-  }
-  return strict ? t_min < t_max : t_min <= t_max;
-}
-
 float Squared(float x) { return x * x; }
 
 // Squared distance from the ray o + s d (s >= 0, |d| = 1) to the segment |z| <= a on the z axis:
@@ -161,17 +148,12 @@ int ShadowCasters::Candidates(const Eigen::Vector3f& low, const Eigen::Vector3f&
   return count;
 }
 
-ShadowTest ShadowCasters::Test(int32_t caster, const Eigen::Vector3f& origin) const {
-  const Caster& c = casters_[static_cast<std::size_t>(caster)];
-  const Eigen::Vector3f offset = origin - c.centre;
-  if (c.kind == ShapeKind::kPlane) {
-    const float side = offset.dot(c.axes[2]);
-    return side * c.normal_dot_light > kPad * std::fabs(c.normal_dot_light) ? ShadowTest::kMiss
-                                                                            : ShadowTest::kUnknown;
-  }
-  const Eigen::Vector3f local(offset.dot(c.axes[0]), offset.dot(c.axes[1]), offset.dot(c.axes[2]));
-  // Every shape lies in its bounding box: most rays that reach this far miss that box.
-  if (!RayMeetsBox(local, c.inv_light_local, c.outer, false)) return ShadowTest::kMiss;
+ShadowTest ShadowCasters::TestPlane(const Caster& c, const Eigen::Vector3f& origin) {
+  const float side = (origin - c.centre).dot(c.axes[2]);
+  return side * c.normal_dot_light > kPad * std::fabs(c.normal_dot_light) ? ShadowTest::kMiss : ShadowTest::kUnknown;
+}
+
+ShadowTest ShadowCasters::TestCore(const Caster& c, const Eigen::Vector3f& local) {
   if (c.kind == ShapeKind::kBox || c.kind == ShapeKind::kCylinder) {
     const bool has_core = c.inner.minCoeff() > 0.0f;
     return has_core && RayMeetsBox(local, c.inv_light_local, c.inner, true) ? ShadowTest::kHit : ShadowTest::kUnknown;

@@ -12,7 +12,9 @@
 // outwards needs no special case: it starts 1 mm off the face, outside the grown box.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,6 +37,21 @@ struct LightBounds {
   }
 };
 
+// Whether the ray o + s d, s >= 0, meets the box |x_i| <= half_i (strictly inside when `strict`);
+// inv_d holds the reciprocals of d's components.
+inline bool RayMeetsBox(const Eigen::Vector3f& o, const Eigen::Vector3f& inv_d, const Eigen::Vector3f& half,
+                        bool strict) {
+  float t_min = 0.0f;
+  float t_max = std::numeric_limits<float>::max();
+  for (int i = 0; i < 3; ++i) {
+    const float t1 = (-half[i] - o[i]) * inv_d[i];
+    const float t2 = (half[i] - o[i]) * inv_d[i];
+    t_min = std::max(t_min, std::min(t1, t2));
+    t_max = std::min(t_max, std::max(t1, t2));
+  }
+  return strict ? t_min < t_max : t_min <= t_max;
+}
+
 class ShadowCasters {
  public:
   ShadowCasters() = default;
@@ -51,8 +68,16 @@ class ShadowCasters {
   // World point -> (u, v, w) in the light frame.
   Eigen::Vector3f ToLight(const Eigen::Vector3f& p) const { return {p.dot(axis_u_), p.dot(axis_v_), p.dot(axis_w_)}; }
 
-  // The shadow ray from `origin` against caster `caster` (an index from Candidates).
-  ShadowTest Test(int32_t caster, const Eigen::Vector3f& origin) const;
+  // The shadow ray from `origin` against caster `caster` (an index from Candidates). Inline up to
+  // the bounding-box test, which most rays fail.
+  ShadowTest Test(int32_t caster, const Eigen::Vector3f& origin) const {
+    const Caster& c = casters_[static_cast<std::size_t>(caster)];
+    if (c.kind == ShapeKind::kPlane) return TestPlane(c, origin);
+    const Eigen::Vector3f offset = origin - c.centre;
+    const Eigen::Vector3f local(offset.dot(c.axes[0]), offset.dot(c.axes[1]), offset.dot(c.axes[2]));
+    if (!RayMeetsBox(local, c.inv_light_local, c.outer, false)) return ShadowTest::kMiss;
+    return TestCore(c, local);
+  }
 
  private:
   struct Caster {
@@ -72,6 +97,9 @@ class ShadowCasters {
     float normal_dot_light = 0.0f;
   };
 
+  static ShadowTest TestPlane(const Caster& c, const Eigen::Vector3f& origin);
+  // The tests after the bounding box: the box or cylinder core, the capsule or sphere radii.
+  static ShadowTest TestCore(const Caster& c, const Eigen::Vector3f& local);
   static bool OutsideFacingLight(const Caster& c, const Eigen::Vector3f& centre, const Eigen::Vector3f& half,
                                  const Eigen::Vector3f* world_axes);
 

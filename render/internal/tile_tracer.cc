@@ -90,7 +90,7 @@ void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shad
   const Eigen::Vector3f p = camera.origin + depth * direction;
   if (kind == FlatShades::Kind::kFlat) {
     // Plain boxes and planes (floor, table, most links): one colour per face, from its triangle.
-    const uint32_t face = surface.kind == ShapeKind::kPlane ? 0 : primary.hit.primID[k] / 2;
+    const uint32_t face = primary.hit.primID[k] / 2;  // a plane's two triangles are its face 0
     const FlatShades::Face* f = &env.flat->outside(instance, face);
     if (f->normal.dot(direction) > 0.0f) f = &env.flat->inside(instance, face);  // a plane from below, a camera inside
     Finish<K>(pixel, p, f->normal, f->cosine, f->colours, depth, surface.object_id, lighting.shadows(), writer,
@@ -129,16 +129,20 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   TileShadows<K> tile_shadows(shading.lighting->to_light());
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
+  const std::size_t width = static_cast<std::size_t>(image.width);
+  std::size_t lane_offset[K];  // pixel of lane k minus the block's top-left pixel
+  for (int k = 0; k < K; ++k) {
+    lane_offset[k] = static_cast<std::size_t>(kLanes.row_index[k]) * width + static_cast<std::size_t>(kLanes.column_index[k]);
+  }
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
       counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
+      const std::size_t block_pixel = static_cast<std::size_t>(block_y) * width + static_cast<std::size_t>(block_x);
       for (int k = 0; k < K; ++k) {
         if (valid[k] == 0) continue;
-        const std::size_t pixel =
-            static_cast<std::size_t>(block_y + kLanes.row_index[k]) * static_cast<std::size_t>(image.width) +
-            static_cast<std::size_t>(block_x + kLanes.column_index[k]);
+        const std::size_t pixel = block_pixel + lane_offset[k];
         if (primary.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
           writer.Write(pixel, background, 0.0f, kBackgroundObjectId);
           continue;
