@@ -30,29 +30,49 @@ struct LaneOffsets {
   }
 };
 
-// Directions of the primary rays of the block whose top-left pixel is (block_x, block_y), in
-// structure-of-arrays loops the compiler vectorises; lanes outside the tile are invalid. The
-// other ray fields come from SetTileConstants. Returns the number of valid lanes.
+// The camera-axis terms of one tile's primary-ray directions, per pixel column (a * left) and
+// row (b * up). A direction is forward + column term + row term, added in the same order as
+// forward + a * left + b * up, so the directions are the same floats as without the table.
+struct TileRayTerms {
+  float column[3][kTileSize];
+  float row[3][kTileSize];
+
+  TileRayTerms(const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect) {
+    for (int i = 0; i < kTileSize; ++i) {
+      const float a = (raster.cx - (static_cast<float>(rect.x0 + i) + 0.5f)) * raster.inv_fx;
+      const float b = (raster.cy - (static_cast<float>(rect.y0 + i) + 0.5f)) * raster.inv_fx;
+      for (int axis = 0; axis < 3; ++axis) {
+        column[axis][i] = a * camera.left[axis];
+        row[axis][i] = b * camera.up[axis];
+      }
+    }
+  }
+};
+
+// Directions of the primary rays of the block whose top-left pixel is (block_x, block_y); lanes
+// outside the tile are invalid. The other ray fields come from SetTileConstants. Returns the
+// number of valid lanes.
 template <int K>
-int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect, int block_x,
-                   int block_y, int* valid, typename Packet<K>::RayHit* packet) {
+int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const TileRayTerms& terms,
+                   const TileRect& rect, int block_x, int block_y, int* valid, typename Packet<K>::RayHit* packet) {
   static constexpr LaneOffsets<K> kLanes;
   const int columns_left = rect.x1 - block_x;
   const int rows_left = rect.y1 - block_y;
-  const float x0 = static_cast<float>(block_x);
-  const float y0 = static_cast<float>(block_y);
   int count = 0;
   for (int k = 0; k < K; ++k) {
     const bool inside = kLanes.column_index[k] < columns_left && kLanes.row_index[k] < rows_left;
     valid[k] = inside ? -1 : 0;
     count += inside ? 1 : 0;
   }
+  // Blocks start at multiples of the block size inside the tile, so these stay below kTileSize.
+  const int column0 = block_x - rect.x0;
+  const int row0 = block_y - rect.y0;
   for (int k = 0; k < K; ++k) {
-    const float a = (raster.cx - ((x0 + kLanes.column[k]) + 0.5f)) * raster.inv_fx;
-    const float b = (raster.cy - ((y0 + kLanes.row[k]) + 0.5f)) * raster.inv_fx;
-    packet->ray.dir_x[k] = camera.forward.x() + a * camera.left.x() + b * camera.up.x();
-    packet->ray.dir_y[k] = camera.forward.y() + a * camera.left.y() + b * camera.up.y();
-    packet->ray.dir_z[k] = camera.forward.z() + a * camera.left.z() + b * camera.up.z();
+    const int column = column0 + kLanes.column_index[k];
+    const int row = row0 + kLanes.row_index[k];
+    packet->ray.dir_x[k] = camera.forward.x() + terms.column[0][column] + terms.row[0][row];
+    packet->ray.dir_y[k] = camera.forward.y() + terms.column[1][column] + terms.row[1][row];
+    packet->ray.dir_z[k] = camera.forward.z() + terms.column[2][column] + terms.row[2][row];
     packet->ray.tfar[k] = raster.far_m;
     packet->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     packet->hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
@@ -129,6 +149,7 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   TileShadows<K> tile_shadows(shading.lighting->to_light());
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
+  const TileRayTerms terms(raster, camera, rect);
   const std::size_t width = static_cast<std::size_t>(image.width);
   std::size_t lane_offset[K];  // pixel of lane k minus the block's top-left pixel
   for (int k = 0; k < K; ++k) {
@@ -137,7 +158,7 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
-      counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
+      counts.primary_rays += SetPrimaryRays<K>(raster, camera, terms, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
       const std::size_t block_pixel = static_cast<std::size_t>(block_y) * width + static_cast<std::size_t>(block_x);
       for (int k = 0; k < K; ++k) {
@@ -166,9 +187,10 @@ TileCounts CastPrimaryTileK(const EnvView& env, const CameraRaster& raster, cons
   alignas(64) typename P::RayHit primary;
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
+  const TileRayTerms terms(raster, camera, rect);
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
-      counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
+      counts.primary_rays += SetPrimaryRays<K>(raster, camera, terms, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &context, &primary);
       for (int k = 0; k < K; ++k) {
         if (valid[k] != 0 && primary.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) ++counts.primary_hits;
