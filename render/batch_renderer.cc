@@ -113,7 +113,7 @@ struct BatchRenderer::Impl {
     rendered_cameras.assign(layout.cameras.size(), 0);
     rendered_tile_start.assign(layout.cameras.size() + 1, 0);
     flat_shades.assign(static_cast<std::size_t>(n_envs), internal::FlatShades(shapes.surfaces().data(), n_instances()));
-    if (lighting.shadows()) casters.assign(static_cast<std::size_t>(n_envs), {lighting.to_light(), n_instances()});
+    if (lighting.shadows() && !options.trace_every_shadow_ray) casters.assign(static_cast<std::size_t>(n_envs), {lighting.to_light(), n_instances()});
   }
 
   int n_instances() const { return static_cast<int>(layout.instances.size()); }

@@ -63,15 +63,16 @@ class TileShadows {
 
   // Shades every waiting pixel, lit or in shadow, and empties the list; returns the number of rays
   // traced with Embree.
-  int Resolve(RTCScene scene, const ShadowCasters& casters, const PixelWriter& writer) {
+  // Without casters (nullptr) every ray is traced.
+  int Resolve(RTCScene scene, const ShadowCasters* casters, const PixelWriter& writer) {
     if (size_ == 0) return 0;
     LightBounds candidates[kMaxCandidates];
-    const int n_candidates = casters.Candidates(low_, high_, candidates, kMaxCandidates);
+    const int n_candidates = casters == nullptr ? -1 : casters->Candidates(low_, high_, candidates, kMaxCandidates);
     int traced = 0;
     for (int i = 0; i < size_; ++i) {
       const ShadowTest test = n_candidates < 0    ? ShadowTest::kUnknown
                               : n_candidates == 0 ? ShadowTest::kMiss
-                                                  : Decide(casters, candidates, n_candidates, origins_[i]);
+                                                  : Decide(*casters, candidates, n_candidates, origins_[i]);
       if (test == ShadowTest::kUnknown) {
         Trace(i);
         if (n_traced_ == K) traced += Flush(scene, writer);

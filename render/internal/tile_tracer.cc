@@ -173,7 +173,7 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
       }
     }
   }
-  if (shading.lighting->shadows()) counts.shadow_rays += tile_shadows.Resolve(env.scene, *env.casters, writer);
+  if (shading.lighting->shadows()) counts.shadow_rays += tile_shadows.Resolve(env.scene, env.casters, writer);
   return counts;
 }
 

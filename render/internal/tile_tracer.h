@@ -52,7 +52,7 @@ struct EnvView {
   const SurfaceModel* surfaces = nullptr;         // per instance
   const Eigen::Vector3f* rgb_override = nullptr;  // per instance, or nullptr
   const FlatShades* flat = nullptr;               // for shading
-  const ShadowCasters* casters = nullptr;         // for shading with shadows
+  const ShadowCasters* casters = nullptr;         // shadows decided without rays where exact; nullptr: all traced
 };
 
 // One camera image of one env; depth and object_id may be nullptr.
