@@ -113,7 +113,8 @@ struct BatchRenderer::Impl {
     rendered_cameras.assign(layout.cameras.size(), 0);
     rendered_tile_start.assign(layout.cameras.size() + 1, 0);
     flat_shades.assign(static_cast<std::size_t>(n_envs), internal::FlatShades(shapes.surfaces().data(), n_instances()));
-    if (lighting.shadows() && !options.trace_every_shadow_ray) casters.assign(static_cast<std::size_t>(n_envs), {lighting.to_light(), n_instances()});
+    if (lighting.shadows() && !options.trace_every_shadow_ray)
+      casters.assign(static_cast<std::size_t>(n_envs), {lighting.to_light(), n_instances()});
   }
 
   int n_instances() const { return static_cast<int>(layout.instances.size()); }
@@ -154,9 +155,9 @@ struct BatchRenderer::Impl {
   internal::LightingModel lighting;
   internal::SrgbEncoder encoder;
   int packet_width;
-  std::vector<CameraRaster> rasters;      // [camera]
-  std::vector<int> tiles_x;               // [camera]
-  std::vector<int64_t> tiles_per_camera;  // [camera]
+  std::vector<CameraRaster> rasters;              // [camera]
+  std::vector<int> tiles_x;                       // [camera]
+  std::vector<int64_t> tiles_per_camera;          // [camera]
   std::vector<internal::FlatShades> flat_shades;  // [env]
   std::vector<internal::ShadowCasters> casters;   // [env], when the light casts shadows
 
@@ -203,12 +204,15 @@ void BatchRenderer::Impl::PrepareTick(const RenderInputs& inputs, bool shading) 
   }
   tbb::parallel_for(0, n_envs, [&](int env) {
     const internal::FlushDenormalsScope flush_denormals;
-    PrepareEnv(env, inputs, [&](int camera) {
-      for (int r = 0; r < n_rendered; ++r) {
-        if (rendered_cameras[static_cast<std::size_t>(r)] == camera) return true;
-      }
-      return false;
-    }, shading);
+    PrepareEnv(
+        env, inputs,
+        [&](int camera) {
+          for (int r = 0; r < n_rendered; ++r) {
+            if (rendered_cameras[static_cast<std::size_t>(r)] == camera) return true;
+          }
+          return false;
+        },
+        shading);
   });
 }
 
@@ -228,7 +232,8 @@ void BatchRenderer::Impl::PrepareEnv(int env, const RenderInputs& inputs, const 
   env_scenes.Update(env, inputs);
   if (!shading) return;
   const Eigen::Vector3f* rgb_override =
-      inputs.instance_rgb.empty() ? nullptr : inputs.instance_rgb.data + static_cast<std::size_t>(env) * layout.instances.size();
+      inputs.instance_rgb.empty() ? nullptr
+                                  : inputs.instance_rgb.data + static_cast<std::size_t>(env) * layout.instances.size();
   flat_shades[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), rgb_override, lighting, encoder);
   if (!casters.empty()) {
     casters[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), shapes.surfaces().data(),

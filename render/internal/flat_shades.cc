@@ -5,19 +5,21 @@
 namespace tavis::render::internal {
 
 FlatShades::FlatShades(const SurfaceModel* surfaces, int n_instances)
-    : surfaces_(surfaces), kinds_(static_cast<std::size_t>(n_instances)), faces_(12 * static_cast<std::size_t>(n_instances)) {
+    : surfaces_(surfaces),
+      kinds_(static_cast<std::size_t>(n_instances)),
+      faces_(12 * static_cast<std::size_t>(n_instances)) {
   for (int i = 0; i < n_instances; ++i) {
     const SurfaceModel& surface = surfaces[i];
-    const bool flat = (surface.kind == ShapeKind::kBox || surface.kind == ShapeKind::kPlane) &&
-                      HasConstantReflectance(surface);
+    const bool flat =
+        (surface.kind == ShapeKind::kBox || surface.kind == ShapeKind::kPlane) && HasConstantReflectance(surface);
     kinds_[static_cast<std::size_t>(i)] = surface.appearance.emissive ? Kind::kEmissive
                                           : flat                      ? Kind::kFlat
                                                                       : Kind::kShaded;
   }
 }
 
-void FlatShades::Build(const InstanceFrame* frames, const Eigen::Vector3f* rgb_override,
-                       const LightingModel& lighting, const SrgbEncoder& encoder) {
+void FlatShades::Build(const InstanceFrame* frames, const Eigen::Vector3f* rgb_override, const LightingModel& lighting,
+                       const SrgbEncoder& encoder) {
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
     if (kinds_[i] == Kind::kShaded) continue;
     const SurfaceModel& surface = surfaces_[i];

@@ -61,8 +61,8 @@ class FlatShades {
 
  private:
   const SurfaceModel* surfaces_ = nullptr;
-  std::vector<Kind> kinds_;   // [instance]
-  std::vector<Face> faces_;   // [instance][face 0..5][outside, inside]
+  std::vector<Kind> kinds_;  // [instance]
+  std::vector<Face> faces_;  // [instance][face 0..5][outside, inside]
 };
 
 }  // namespace tavis::render::internal

@@ -57,9 +57,9 @@ class SrgbEncoder {
   // and the clamp done on one SSE register (the same float operations, so the same bytes).
   void Encode(const Eigen::Vector3f& linear, uint8_t* rgb) const {
 #if defined(__SSE2__)
-    const __m128 scaled = _mm_add_ps(_mm_mul_ps(_mm_set_ps(0.0f, linear.z(), linear.y(), linear.x()),
-                                                _mm_set1_ps(static_cast<float>(kSteps - 1))),
-                                     _mm_set1_ps(0.5f));
+    const __m128 scaled = _mm_add_ps(
+        _mm_mul_ps(_mm_set_ps(0.0f, linear.z(), linear.y(), linear.x()), _mm_set1_ps(static_cast<float>(kSteps - 1))),
+        _mm_set1_ps(0.5f));
     const __m128 clamped =
         _mm_min_ps(_mm_max_ps(scaled, _mm_setzero_ps()), _mm_set1_ps(static_cast<float>(kSteps - 1)));
     alignas(16) int32_t index[4];

@@ -2,38 +2,34 @@
 // fields that stay the same for a whole tile.
 #pragma once
 
+#include <type_traits>
+
 #include <embree3/rtcore.h>
 #include <Eigen/Core>
 
 namespace tavis::render::internal {
 
-// Packet types and calls for each width; a packet covers a block of pixels so its rays are coherent.
+// Packet types and calls for each width (8 or 16); a packet covers a block of pixels 4 wide
+// (4 x 2 or 4 x 4) so its rays are coherent.
 template <int K>
-struct Packet;
-
-template <>
-struct Packet<8> {
-  using RayHit = RTCRayHit8;
-  using Ray = RTCRay8;
-  static constexpr int kBlockWidth = 4;  // 4 x 2 pixels
+struct Packet {
+  static_assert(K == 8 || K == 16, "Embree packets of 8 or 16 rays");
+  using RayHit = std::conditional_t<K == 8, RTCRayHit8, RTCRayHit16>;
+  using Ray = std::conditional_t<K == 8, RTCRay8, RTCRay16>;
+  static constexpr int kBlockWidth = 4;
   static void Intersect(const int* valid, RTCScene scene, RTCIntersectContext* context, RayHit* rays) {
-    rtcIntersect8(valid, scene, context, rays);
+    if constexpr (K == 8) {
+      rtcIntersect8(valid, scene, context, rays);
+    } else {
+      rtcIntersect16(valid, scene, context, rays);
+    }
   }
   static void Occluded(const int* valid, RTCScene scene, RTCIntersectContext* context, Ray* rays) {
-    rtcOccluded8(valid, scene, context, rays);
-  }
-};
-
-template <>
-struct Packet<16> {
-  using RayHit = RTCRayHit16;
-  using Ray = RTCRay16;
-  static constexpr int kBlockWidth = 4;  // 4 x 4 pixels
-  static void Intersect(const int* valid, RTCScene scene, RTCIntersectContext* context, RayHit* rays) {
-    rtcIntersect16(valid, scene, context, rays);
-  }
-  static void Occluded(const int* valid, RTCScene scene, RTCIntersectContext* context, Ray* rays) {
-    rtcOccluded16(valid, scene, context, rays);
+    if constexpr (K == 8) {
+      rtcOccluded8(valid, scene, context, rays);
+    } else {
+      rtcOccluded16(valid, scene, context, rays);
+    }
   }
 };
 

@@ -107,7 +107,7 @@ void ShadowCasters::Build(const InstanceFrame* frames, const SurfaceModel* surfa
     const Eigen::Vector3f& bound = c.outer;
     const Eigen::Vector3f centre = ToLight(c.centre);
     const Eigen::Vector3f reach(ProjectedRadius(c.axes, bound, axis_u_), ProjectedRadius(c.axes, bound, axis_v_),
-                                 ProjectedRadius(c.axes, bound, axis_w_));
+                                ProjectedRadius(c.axes, bound, axis_w_));
     c.bounds = {centre.x() - reach.x(), centre.x() + reach.x(), centre.y() - reach.y(),
                 centre.y() + reach.y(), centre.z() + reach.z(), static_cast<int32_t>(casters_.size())};
     casters_.push_back(c);
@@ -129,8 +129,8 @@ int ShadowCasters::Candidates(const Eigen::Vector3f& low, const Eigen::Vector3f&
       // Some point of the box lies on the plane's far side from the light, or near the plane:
       // the plane stands for a caster that every ray may reach.
       const float towards_light = c.normal_dot_light >= 0.0f ? 1.0f : -1.0f;
-      const float nearest = towards_light * (centre - c.centre).dot(c.axes[2]) -
-                            ProjectedRadius(world_axes, half, c.axes[2]);
+      const float nearest =
+          towards_light * (centre - c.centre).dot(c.axes[2]) - ProjectedRadius(world_axes, half, c.axes[2]);
       if (c.normal_dot_light != 0.0f && nearest > kPad) continue;
       if (count == capacity) return -1;
       const float inf = std::numeric_limits<float>::infinity();

@@ -85,9 +85,9 @@ class ShadowCasters {
     int32_t instance;
     Eigen::Vector3f axes[3];  // local axes in world coordinates
     Eigen::Vector3f centre;
-    Eigen::Vector3f outer;    // box, cylinder: half sizes grown by the margin
-    Eigen::Vector3f inner;    // box, cylinder: half sizes of the core every ray through which is blocked
-    float segment = 0.0f;     // capsule, sphere: half length of the axis segment (0 for a sphere)
+    Eigen::Vector3f outer;  // box, cylinder: half sizes grown by the margin
+    Eigen::Vector3f inner;  // box, cylinder: half sizes of the core every ray through which is blocked
+    float segment = 0.0f;   // capsule, sphere: half length of the axis segment (0 for a sphere)
     float outer_radius2 = 0.0f;
     float inner_radius2 = 0.0f;
     Eigen::Vector3f light_local;      // L in local coordinates

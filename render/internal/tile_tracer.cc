@@ -153,7 +153,8 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   const std::size_t width = static_cast<std::size_t>(image.width);
   std::size_t lane_offset[K];  // pixel of lane k minus the block's top-left pixel
   for (int k = 0; k < K; ++k) {
-    lane_offset[k] = static_cast<std::size_t>(kLanes.row_index[k]) * width + static_cast<std::size_t>(kLanes.column_index[k]);
+    lane_offset[k] =
+        static_cast<std::size_t>(kLanes.row_index[k]) * width + static_cast<std::size_t>(kLanes.column_index[k]);
   }
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {

@@ -49,8 +49,7 @@ testing::TestScene RandomCluster(unsigned seed, bool inside_room) {
   if (inside_room) {
     scene.Add(MakeBox(Vec3(3.0, 3.0, 3.0)), PaletteAppearance("wood"), kBackgroundObjectId,
               MakeTransform(Vec3(0.6, 0.0, 1.2), Mat3::Identity()));
-    scene.AddCamera(WristCameraSpec("inside", kWidth, kHeight),
-                    CameraLookAt(Vec3(0.3, 0.2, 1.3), Vec3(0.6, 0.0, 1.1)));
+    scene.AddCamera(WristCameraSpec("inside", kWidth, kHeight), CameraLookAt(Vec3(0.3, 0.2, 1.3), Vec3(0.6, 0.0, 1.1)));
   }
   return scene;
 }
