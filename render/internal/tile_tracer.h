@@ -8,7 +8,9 @@
 #include <Eigen/Core>
 
 #include "render/internal/env_scenes.h"
+#include "render/internal/flat_shades.h"
 #include "render/internal/lighting_model.h"
+#include "render/internal/shadow_casters.h"
 #include "render/internal/surface_shading.h"
 
 namespace tavis::render::internal {
@@ -49,6 +51,8 @@ struct EnvView {
   const InstanceFrame* frames = nullptr;          // per instance
   const SurfaceModel* surfaces = nullptr;         // per instance
   const Eigen::Vector3f* rgb_override = nullptr;  // per instance, or nullptr
+  const FlatShades* flat = nullptr;               // for shading
+  const ShadowCasters* casters = nullptr;         // shadows decided without rays where exact; nullptr: all traced
 };
 
 // One camera image of one env; depth and object_id may be nullptr.
