@@ -240,7 +240,8 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
         const Eigen::Vector3f n_local = LocalNormal(surface, p_local, primary.hit.primID[k]);
         Eigen::Vector3f n = frame.RotateToWorld(n_local);
         if (n.dot(direction) > 0.0f) n = -n;  // seen from behind (a plane from below, a camera inside)
-        const Eigen::Vector3f colour = Reflectance(surface, base, p_local, n_local);
+        const Eigen::Vector3f colour =
+            Reflectance(surface, TexturedBase(env.textures, instance, frame, p, n_local, base), p_local, n_local);
         const float cosine = std::max(0.0f, n.dot(to_light));
         if (cosine > 0.0f && shadows) {
           queue.Push(p + kShadowRayOffset * n, {pixel, colour, n, cosine, depth, surface.object_id});
