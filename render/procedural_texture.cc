@@ -1,7 +1,8 @@
 #include "render/procedural_texture.h"
 
+#include "render/internal/texture_evaluation.h"
+
 #include <cmath>
-#include <cstdint>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,10 +15,6 @@ constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 constexpr float kMinScaleM = 1e-3f;
 constexpr float kMaxScaleM = 100.0f;
 constexpr float kMaxTurbulence = 8.0f;
-// The wood's noise varies slowly along the grain and faster across it: the rings wander over a
-// few ring spacings across, and over several along the grain.
-constexpr float kGrainAlong = 0.15f;
-constexpr float kGrainAcross = 0.5f;
 
 bool IsUnitColour(const Eigen::Vector3f& rgb) {
   return rgb.allFinite() && (rgb.array() >= 0.0f).all() && (rgb.array() <= 1.0f).all();
@@ -28,18 +25,6 @@ std::string Describe(const Eigen::Vector3f& v) {
   text << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
   return text.str();
 }
-
-// A lattice corner's value in [0, 1): an integer hash of (i, j) (a fixed function, no seed).
-float LatticeValue(int32_t i, int32_t j) {
-  uint32_t h = static_cast<uint32_t>(i) * 0x8da6b343u ^ static_cast<uint32_t>(j) * 0xd8163841u;
-  h = (h ^ (h >> 16)) * 0x7feb352du;
-  h = (h ^ (h >> 15)) * 0x846ca68bu;
-  h ^= h >> 16;
-  return static_cast<float>(h >> 8) * 0x1.0p-24f;
-}
-
-// The parity of the cell holding x: 0 or 1 (negative cells too).
-int CellParity(float x) { return static_cast<int>(std::floor(x)) & 1; }
 
 }  // namespace
 
@@ -80,63 +65,17 @@ void ValidateProceduralTexture(const ProceduralTexture& texture, const std::stri
   }
 }
 
-Eigen::Vector2f FaceCoordinates(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
-  const Eigen::Vector3f m = n.cwiseAbs();
-  if (m.z() >= m.x() && m.z() >= m.y()) return {p.x(), p.y()};
-  if (m.x() >= m.y()) return {p.y(), p.z()};
-  return {p.x(), p.z()};
-}
+Eigen::Vector2f FaceCoordinates(const Eigen::Vector3f& p, const Eigen::Vector3f& n) { return internal::FaceUv(p, n); }
 
-float ValueNoise(float x, float y) {
-  const float fx = std::floor(x);
-  const float fy = std::floor(y);
-  const int32_t i = static_cast<int32_t>(fx);
-  const int32_t j = static_cast<int32_t>(fy);
-  const float tx = x - fx;
-  const float ty = y - fy;
-  // Smoothstep weights: the noise is continuous with a continuous slope across cell edges.
-  const float sx = tx * tx * (3.0f - 2.0f * tx);
-  const float sy = ty * ty * (3.0f - 2.0f * ty);
-  const float bottom = LatticeValue(i, j) + sx * (LatticeValue(i + 1, j) - LatticeValue(i, j));
-  const float top = LatticeValue(i, j + 1) + sx * (LatticeValue(i + 1, j + 1) - LatticeValue(i, j + 1));
-  return bottom + sy * (top - bottom);
-}
+float ValueNoise(float x, float y) { return internal::Noise(x, y); }
 
 float PatternValue(const ProceduralTexture& texture, const Eigen::Vector2f& uv) {
-  // Turned by the angle, in units of the feature size: u runs along the grain / across the stripes.
-  const float u = (texture.cos_angle * uv.x() + texture.sin_angle * uv.y()) * texture.inv_scale;
-  const float v = (-texture.sin_angle * uv.x() + texture.cos_angle * uv.y()) * texture.inv_scale;
-  switch (texture.pattern) {
-    case TexturePattern::kChecker: return static_cast<float>(CellParity(u) ^ CellParity(v));
-    case TexturePattern::kStripes: return static_cast<float>(CellParity(u));
-    case TexturePattern::kNoise: return ValueNoise(u, v);
-    case TexturePattern::kWood: {
-      // Rings one feature size apart across the grain (v), each darkening towards its edge (the
-      // late wood) and restarting light; value noise bends them.
-      const float ring = v + texture.turbulence * ValueNoise(kGrainAlong * u, kGrainAcross * v);
-      const float t = ring - std::floor(ring);
-      return t * t;
-    }
-    case TexturePattern::kNone:
-    case TexturePattern::kSolid: break;
-  }
-  return 0.0f;
+  return internal::Pattern(texture, uv);
 }
 
 Eigen::Vector3f TextureReflectance(const ProceduralTexture& texture, const Eigen::Vector3f& p,
                                    const Eigen::Vector3f& n) {
-  switch (texture.pattern) {
-    case TexturePattern::kNone:
-    case TexturePattern::kSolid: return texture.colour_a;
-    case TexturePattern::kChecker:
-    case TexturePattern::kStripes:
-      // Exactly one of the two colours, not a blend that rounds differently.
-      return PatternValue(texture, FaceCoordinates(p, n)) != 0.0f ? texture.colour_b : texture.colour_a;
-    case TexturePattern::kNoise:
-    case TexturePattern::kWood: break;
-  }
-  const float value = PatternValue(texture, FaceCoordinates(p, n));
-  return texture.colour_a + value * (texture.colour_b - texture.colour_a);
+  return internal::EvaluateTexture(texture, p, n);
 }
 
 }  // namespace tavis::render

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "render/internal/env_scenes.h"
+#include "render/internal/texture_evaluation.h"
 #include "render/procedural_texture.h"
 
 namespace tavis::render::internal {
@@ -18,7 +19,7 @@ inline Eigen::Vector3f TexturedBase(const ProceduralTexture* textures, unsigned 
                                     const Eigen::Vector3f& n_local, const Eigen::Vector3f& flat_rgb) {
   if (textures == nullptr || textures[instance].pattern == engine::TexturePattern::kNone) return flat_rgb;
   // In the instance's frame, so that the texture moves with the instance.
-  return TextureReflectance(textures[instance], frame.ToLocal(p_world), n_local);
+  return EvaluateTexture(textures[instance], frame.ToLocal(p_world), n_local);
 }
 
 }  // namespace tavis::render::internal

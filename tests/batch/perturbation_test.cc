@@ -125,7 +125,8 @@ TEST(PerturbationCatalog, EveryShippedAxisLoadsWithLevelsThatChangeSomething) {
       EXPECT_EQ(level.axis, axis);
       EXPECT_FALSE(level.description.empty()) << level.name;
       const engine::RenderPerturbation& e = level.effect;
-      EXPECT_TRUE(e.moves_cameras() || e.changes_lighting() || e.changes_images()) << level.name;
+      EXPECT_TRUE(e.moves_cameras() || e.changes_lighting() || e.changes_images() || e.changes_surfaces())
+          << level.name;
     }
   }
 }
@@ -205,7 +206,7 @@ TEST(PerturbationCatalog, CellFilesRecordTheLevelsAndTheBaseCellIsAsBefore) {
 
 TEST(PerturbedView, TheDefaultChangesNothing) {
   const engine::RenderPerturbation none;
-  EXPECT_FALSE(none.moves_cameras() || none.changes_lighting() || none.changes_images());
+  EXPECT_FALSE(none.moves_cameras() || none.changes_lighting() || none.changes_images() || none.changes_surfaces());
   const render::CameraSpec head = render::HeadCameraSpec();
   EXPECT_EQ(PerturbedCameraSpec(head, none).focal_length_mm, head.focal_length_mm);
   EXPECT_TRUE(CameraMountOffset("head", none).isApprox(RigidTransform::Identity(), 0.0));
