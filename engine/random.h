@@ -27,7 +27,7 @@ enum class RandomStreamId : uint64_t {
   kInitPose = 2,
   kSensorNoise = 3,
   kPerturbation = 4,
-  kAppearance = 5,  // the appearance axis's random texture colours
+  kAppearance = 8,  // the appearance axis's random texture colours (5 to 7: the scene axes')
 };
 
 class RandomStream {

@@ -1,10 +1,10 @@
 #include "render/procedural_texture.h"
 
-#include "render/internal/texture_evaluation.h"
-
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
+
+#include "render/internal/colour_check.h"
+#include "render/internal/texture_evaluation.h"
 
 namespace tavis::render {
 namespace {
@@ -16,15 +16,7 @@ constexpr float kMinScaleM = 1e-3f;
 constexpr float kMaxScaleM = 100.0f;
 constexpr float kMaxTurbulence = 8.0f;
 
-bool IsUnitColour(const Eigen::Vector3f& rgb) {
-  return rgb.allFinite() && (rgb.array() >= 0.0f).all() && (rgb.array() <= 1.0f).all();
-}
-
-std::string Describe(const Eigen::Vector3f& v) {
-  std::ostringstream text;
-  text << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
-  return text.str();
-}
+using internal::IsUnitColour;
 
 }  // namespace
 
@@ -52,9 +44,11 @@ void ValidateProceduralTexture(const ProceduralTexture& texture, const std::stri
     throw std::invalid_argument(what + ": scale " + std::to_string(scale) + " m must lie in [0.001, 100] m");
   }
   if (!IsUnitColour(texture.colour_a))
-    throw std::invalid_argument(what + ": colour_a " + Describe(texture.colour_a) + " must be in [0, 1]");
+    throw std::invalid_argument(what + ": colour_a " + internal::DescribeColour(texture.colour_a) +
+                                " must be in [0, 1]");
   if (!IsUnitColour(texture.colour_b))
-    throw std::invalid_argument(what + ": colour_b " + Describe(texture.colour_b) + " must be in [0, 1]");
+    throw std::invalid_argument(what + ": colour_b " + internal::DescribeColour(texture.colour_b) +
+                                " must be in [0, 1]");
   const float rotation_norm = texture.cos_angle * texture.cos_angle + texture.sin_angle * texture.sin_angle;
   if (!(std::fabs(rotation_norm - 1.0f) < 1e-4f)) {
     throw std::invalid_argument(what + ": (cos, sin) of the angle (" + std::to_string(texture.cos_angle) + ", " +

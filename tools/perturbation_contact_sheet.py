@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 
 CAMERAS = ["head", "fixed", "right_wrist"]
-LABEL_WIDTH = 190
+LABEL_WIDTH = 240
 MARGIN = 4
 
 

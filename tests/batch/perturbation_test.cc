@@ -24,6 +24,7 @@
 #include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
 #include "scenarios/registry.h"
+#include "tests/batch/rendered_expert_cell.h"
 
 namespace tavis::batch {
 namespace {
@@ -365,31 +366,13 @@ TEST(PerturbationAxes, SensorBlurSoftensEdgesAndBlockedCamerasStayBlack) {
 }
 
 TEST(PerturbationAxes, ViewAxesLeaveTheExpertsEpisodesExactlyAsInTheBaseCell) {
-  EvaluationCellConfig base;
-  base.task = "clutter-pick-cube";
-  base.robot = "reachy2";
-  base.policy = "expert";
-  base.episodes = 2;
-  base.envs = 2;
-  base.seed = 7;
-  base.keep_actions = true;
-  base.config_dir = TAVIS_CONFIG_DIR;
-  base.render_cameras = {"head", "fixed"};  // rendered under the perturbation every policy tick
-  base.image_width = 32;
-  base.image_height = 24;
+  const EvaluationCellConfig base = testing::RenderedExpertCell("reachy2", 2, 7);
   const CellResult reference = RunEvaluationCell(base);
   for (const char* choice : {"camera:head-mount-large", "lighting:low-side-sun", "sensor:noise-high"}) {
     SCOPED_TRACE(choice);
     EvaluationCellConfig perturbed = base;
     perturbed.perturbations = {choice};
-    const CellResult result = RunEvaluationCell(perturbed);
-    ASSERT_EQ(result.episodes.size(), reference.episodes.size());
-    for (std::size_t i = 0; i < result.episodes.size(); ++i) {
-      EXPECT_EQ(result.episodes[i].success, reference.episodes[i].success);
-      EXPECT_EQ(result.episodes[i].end, reference.episodes[i].end);
-      EXPECT_EQ(result.episodes[i].length_control_ticks, reference.episodes[i].length_control_ticks);
-      EXPECT_EQ(result.episodes[i].actions, reference.episodes[i].actions) << "episode " << i;
-    }
+    testing::ExpectSameEpisodes(RunEvaluationCell(perturbed), reference);
   }
 }
 
