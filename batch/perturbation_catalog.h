@@ -50,7 +50,7 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
 std::vector<PerturbationLevel> ResolvePerturbations(const std::string& config_dir,
                                                     const std::vector<std::string>& choices);
 
-// The chosen levels' effects combined, the sensor noise keyed by `seed`.
+// The chosen levels' effects combined, the sensor noise and random texture colours keyed by `seed`.
 engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed);
 
 // What a cell records (cell.json, summary.json) and a resume compares: per choice its axis,

@@ -22,7 +22,13 @@ constexpr uint64_t DeriveKey(uint64_t seed, uint64_t stream, uint64_t index) {
 }
 
 // Named streams so that adding draws to one purpose never shifts another's numbers.
-enum class RandomStreamId : uint64_t { kTask = 1, kInitPose = 2, kSensorNoise = 3, kPerturbation = 4 };
+enum class RandomStreamId : uint64_t {
+  kTask = 1,
+  kInitPose = 2,
+  kSensorNoise = 3,
+  kPerturbation = 4,
+  kAppearance = 8,  // the appearance axis's random texture colours (5 to 7: the scene axes')
+};
 
 class RandomStream {
  public:

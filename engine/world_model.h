@@ -34,6 +34,9 @@ struct ObjectSpec {
   std::string appearance;  // palette name used by the renderer
   ObjectMotion motion = ObjectMotion::kDynamic;
   bool collides = true;
+  // An extra object a perturbation put in the scene (not part of the task): the appearance axis's
+  // `distractors` texture applies to these.
+  bool distractor = false;
 };
 
 // A static part of the scene (table top, screen, shelf board): collides, never moves.

@@ -143,6 +143,9 @@ struct BatchRenderer::Impl {
     if (!inputs.instance_rgb.empty()) {
       view.rgb_override = inputs.instance_rgb.data + static_cast<std::size_t>(env) * layout.instances.size();
     }
+    if (!inputs.instance_texture.empty()) {
+      view.textures = inputs.instance_texture.data + static_cast<std::size_t>(env) * layout.instances.size();
+    }
     return view;
   }
 
@@ -176,6 +179,7 @@ void BatchRenderer::Impl::CheckShapes(const RenderInputs& inputs, const ImageBat
   RequireSize("X_WI", inputs.X_WI.size, instances, "n_envs x n_instances", false);
   RequireSize("instance_visible", inputs.instance_visible.size, instances, "n_envs x n_instances", true);
   RequireSize("instance_rgb", inputs.instance_rgb.size, instances, "n_envs x n_instances", true);
+  RequireSize("instance_texture", inputs.instance_texture.size, instances, "n_envs x n_instances", true);
   RequireSize("X_WC", inputs.X_WC.size, cameras, "n_envs x n_cameras", false);
   RequireSize("camera_enabled", inputs.camera_enabled.size, cameras, "n_envs x n_cameras", true);
   RequireSize("render_camera", inputs.render_camera.size, layout.cameras.size(), "n_cameras", true);
@@ -329,6 +333,9 @@ void BatchRenderer::Validate(const RenderInputs& inputs) const {
       throw std::invalid_argument(EnvItem("instance_rgb", i, n_instances, "instance") + " = " + value.str() +
                                   " must be in [0, 1]");
     }
+  }
+  for (std::size_t i = 0; i < inputs.instance_texture.size; ++i) {
+    ValidateProceduralTexture(inputs.instance_texture[i], EnvItem("instance_texture", i, n_instances, "instance"));
   }
 }
 

@@ -17,14 +17,14 @@ import cv2
 import numpy as np
 
 CAMERAS = ["head", "fixed", "right_wrist"]
-LABEL_WIDTH = 190
+LABEL_WIDTH = 240
 MARGIN = 4
 
 
 def levels(config_dir: pathlib.Path):
     """(axis, level) for every level of every axis file, in file order; the axes in the docs' order."""
     found = []
-    for axis in ["camera", "sensor", "lighting"]:
+    for axis in ["camera", "sensor", "lighting", "appearance"]:
         for line in (config_dir / "perturbations" / f"{axis}.yaml").read_text().splitlines():
             stripped = line.strip()
             if stripped.startswith("- name:"):

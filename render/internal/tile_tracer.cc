@@ -108,7 +108,9 @@ void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shad
   }
   const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
   const Eigen::Vector3f p = camera.origin + depth * direction;
-  if (kind == FlatShades::Kind::kFlat) {
+  // A textured instance (the appearance axis) is shaded per pixel, whatever its shape.
+  const bool textured = HasTexture(env.textures, instance);
+  if (kind == FlatShades::Kind::kFlat && !textured) {
     // Plain boxes and planes (floor, table, most links): one colour per face, from its triangle.
     const uint32_t face = primary.hit.primID[k] / 2;  // a plane's two triangles are its face 0
     const FlatShades::Face* f = &env.flat->outside(instance, face);
@@ -123,7 +125,8 @@ void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shad
   const Eigen::Vector3f n_local = LocalNormal(surface, p_local, primary.hit.primID[k]);
   Eigen::Vector3f n = frame.RotateToWorld(n_local);
   if (n.dot(direction) > 0.0f) n = -n;  // seen from behind (a camera inside)
-  const Eigen::Vector3f colour = Reflectance(surface, base, p_local, n_local);
+  const Eigen::Vector3f colour =
+      Reflectance(surface, textured ? TexturedBase(env.textures[instance], p_local, n_local) : base, p_local, n_local);
   const float cosine = std::max(0.0f, n.dot(lighting.to_light()));
   PixelColours colours;
   if (cosine > 0.0f && lighting.shadows()) {

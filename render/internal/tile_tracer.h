@@ -12,6 +12,7 @@
 #include "render/internal/lighting_model.h"
 #include "render/internal/shadow_casters.h"
 #include "render/internal/surface_shading.h"
+#include "render/internal/textured_base.h"
 
 namespace tavis::render::internal {
 
@@ -53,6 +54,7 @@ struct EnvView {
   const Eigen::Vector3f* rgb_override = nullptr;  // per instance, or nullptr
   const FlatShades* flat = nullptr;               // for shading
   const ShadowCasters* casters = nullptr;         // shadows decided without rays where exact; nullptr: all traced
+  const ProceduralTexture* textures = nullptr;    // per instance, or nullptr (no textures)
 };
 
 // One camera image of one env; depth and object_id may be nullptr.
