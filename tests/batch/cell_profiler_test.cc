@@ -7,6 +7,7 @@
 #include <tbb/global_control.h>
 
 #include <chrono>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -17,6 +18,7 @@
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
 #include "scenarios/registry.h"
+#include "tests/support/idle_policy.h"
 #include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
@@ -39,26 +41,14 @@ void NapAsPart(CellProfiler& profiler, LoopPart part, int slot) {
   profiler.PartEnded(part, slot);
 }
 
-double Stage(const CellProfile& profile, const std::string& name) {
-  for (const auto& [stage, seconds] : profile.stages) {
-    if (stage == name) return seconds;
-  }
-  ADD_FAILURE() << "no stage " << name;
-  return 0.0;
+// The profile's stages by name (at() throws for a stage it lacks).
+std::map<std::string, double> Stages(const CellProfile& profile) {
+  return std::map<std::string, double>(profile.stages.begin(), profile.stages.end());
 }
-
-// A policy answering the whole batch (not a PerEnvPolicy): its time is the parts' wall time.
-class BatchedPolicy : public Policy {
- public:
-  std::string name() const override { return "batched"; }
-  int control_ticks_per_action() const override { return 3; }
-  void Reset(const Observation&, const std::vector<uint8_t>&) override {}
-  void Act(const Observation&, const std::vector<uint8_t>&, ActionBatch&) override {}
-};
 
 TEST(CellProfiler, LockStepCountsSinksAndABatchedPolicyAndLeavesParallelWorkOutOfTheSerialTime) {
   VecEnv vec_env = ShortEpisodes(2);
-  BatchedPolicy policy;
+  testing::IdlePolicy policy;  // answers the whole batch: its time is its parts' wall time
   CellProfiler profiler;
   profiler.RunStarting(vec_env, policy, /*per_slot=*/false);
   NapAsPart(profiler, LoopPart::kSinks, kWholeBatch);
@@ -67,14 +57,15 @@ TEST(CellProfiler, LockStepCountsSinksAndABatchedPolicyAndLeavesParallelWorkOutO
   profiler.RunEnded();
   const CellProfile& profile = profiler.profile();
   EXPECT_FALSE(profile.per_slot);
-  EXPECT_GE(Stage(profile, "recording"), kNap);
-  EXPECT_GE(Stage(profile, "policy"), kNap);
-  EXPECT_LE(Stage(profile, "policy"), profile.wall_seconds - 2 * kNap) << "the sinks' and the parallel part are not";
+  EXPECT_GE(Stages(profile).at("recording"), kNap);
+  EXPECT_GE(Stages(profile).at("policy"), kNap);
+  EXPECT_LE(Stages(profile).at("policy"), profile.wall_seconds - 2 * kNap)
+      << "the sinks' and the parallel part are not";
   EXPECT_GE(profile.wall_seconds, 3 * kNap);
   // Serial: everything but the policy's and the parallel part, the sinks included.
   EXPECT_GE(profile.serial_seconds, kNap);
   EXPECT_LE(profile.serial_seconds, profile.wall_seconds - 2 * kNap);
-  EXPECT_NEAR(Stage(profile, "driver"), profile.serial_seconds - Stage(profile, "recording"), 1e-9);
+  EXPECT_NEAR(Stages(profile).at("driver"), profile.serial_seconds - Stages(profile).at("recording"), 1e-9);
 }
 
 TEST(CellProfiler, PerSlotASlotsSinksCountWhenItsEpisodeEndsAndTheEndIsSerial) {
@@ -97,8 +88,8 @@ TEST(CellProfiler, PerSlotASlotsSinksCountWhenItsEpisodeEndsAndTheEndIsSerial) {
   EXPECT_EQ(profile.episodes[0].episode, 4);
   EXPECT_EQ(profile.episodes[0].slot, 1);
   EXPECT_GT(profile.episodes[0].seconds, 0.0) << "the slot's reset is its episode's cost";
-  EXPECT_DOUBLE_EQ(Stage(profile, "reset"), profile.episodes[0].seconds);
-  EXPECT_GE(Stage(profile, "recording"), 2 * kNap) << "the slot's sinks and its end";
+  EXPECT_DOUBLE_EQ(Stages(profile).at("reset"), profile.episodes[0].seconds);
+  EXPECT_GE(Stages(profile).at("recording"), 2 * kNap) << "the slot's sinks and its end";
   EXPECT_GE(profile.serial_seconds, kNap) << "ends are told one at a time";
   EXPECT_LE(profile.serial_seconds, profile.wall_seconds - kNap) << "the slot's sinks ran in the parallel part";
   EXPECT_TRUE(profile.sections.empty());
@@ -131,8 +122,8 @@ TEST(CellProfiler, AProfiledRunHasEveryStageEpisodeAndSectionOnEitherSchedule) {
     if (!lock_step) expected.erase(expected.begin() + 7);  // per slot no thread idles in a batch render call
     EXPECT_EQ(names, expected) << label;
     EXPECT_EQ(profile.per_slot, !lock_step);
-    EXPECT_GT(Stage(profile, "step_physics"), 0.0) << label;
-    EXPECT_GT(Stage(profile, "reset"), 0.0) << label;
+    EXPECT_GT(Stages(profile).at("step_physics"), 0.0) << label;
+    EXPECT_GT(Stages(profile).at("reset"), 0.0) << label;
     std::set<int64_t> episodes;
     for (const EpisodeCost& cost : profile.episodes) {
       episodes.insert(cost.episode);

@@ -13,6 +13,7 @@
 #include "batch/builtin_policies.h"
 #include "batch/episode_slots.h"
 #include "scenarios/registry.h"
+#include "tests/support/idle_policy.h"
 #include "tests/support/robot_loading.h"
 
 namespace tavis::batch {
@@ -27,10 +28,11 @@ VecEnv ShortEpisodes(int slots) {
 }
 
 // What the sinks are told, in order: "S<slot>:<episode>" started, "E<slot>:<episode>" ended;
-// and how many actions and steps they saw, with the last action of each slot.
+// and how many actions and steps they saw, with the last action of each slot. Optionally done
+// with each episode after a number of ticks.
 class Log : public EpisodeSink {
  public:
-  explicit Log(int stop_after_ticks = -1) : stop_after_ticks_(stop_after_ticks) {}
+  explicit Log(int stop_after_ticks) : stop_after_ticks_(stop_after_ticks) {}
   void EpisodeStarted(const VecEnv& vec_env, int slot) override { Add("S", vec_env, slot); }
   void TickStarting(const VecEnv&) override { ++ticks_started; }
   void ActionChosen(const VecEnv&, int slot, const kinematics::Action& action) override {
@@ -56,143 +58,133 @@ class Log : public EpisodeSink {
   int stop_after_ticks_;
 };
 
-// The hold policy's actions for every running env.
-void HoldActions(const EpisodeSlots& slots, Policy& hold, ActionBatch& actions) {
-  const engine::BatchState& state = slots.vec_env().state();
-  std::vector<uint8_t> acting(static_cast<std::size_t>(state.num_envs), 0);
-  for (int slot = 0; slot < state.num_envs; ++slot) acting[slot] = state.running(slot) ? 1 : 0;
-  hold.Act(slots.observation(), acting, actions);
-}
+// A ticker on `slots` short-episode slots with a Log sink and the hold policy reset with its
+// starts, whose actions HoldActions fills for the running slots.
+struct Rig {
+  explicit Rig(int slots, CameraProtocol protocol = CameraProtocol::kHead, int stop_after_ticks = -1)
+      : vec_env(ShortEpisodes(slots)),
+        episode_slots(vec_env),
+        log(stop_after_ticks),
+        ticker(episode_slots),
+        hold(MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), slots)),
+        actions(static_cast<std::size_t>(slots), kinematics::Action{}) {
+    episode_slots.SetCameraProtocol(protocol);
+    episode_slots.AddSink(log);
+    ticker.AddPolicy(*hold);
+  }
+  void HoldActions() {
+    const engine::BatchState& state = vec_env.state();
+    std::vector<uint8_t> acting(static_cast<std::size_t>(state.num_envs), 0);
+    for (int slot = 0; slot < state.num_envs; ++slot) acting[slot] = state.running(slot) ? 1 : 0;
+    hold->Act(episode_slots.observation(), acting, actions);
+  }
+
+  VecEnv vec_env;
+  EpisodeSlots episode_slots;
+  Log log;
+  LockStepTicker ticker;
+  std::unique_ptr<Policy> hold;
+  ActionBatch actions;
+};
 
 TEST(LockStepTicker, TellsEachEndOnceAndAnEndedSlotStaysEndedUntilStartedAgain) {
-  VecEnv vec_env = ShortEpisodes(2);
-  EpisodeSlots slots(vec_env);
-  Log log;
-  slots.AddSink(log);
-  LockStepTicker ticker(slots);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
-  ticker.AddPolicy(*hold);
-  ActionBatch actions(2, kinematics::Action{});
-
+  Rig rig(2);
+  LockStepTicker& ticker = rig.ticker;
   ticker.StartEpisodes({{1, 7}, {0, 3}});
-  EXPECT_EQ(log.events, (std::vector<std::string>{"S1:7", "S0:3"})) << "in the order listed";
+  EXPECT_EQ(rig.log.events, (std::vector<std::string>{"S1:7", "S0:3"})) << "in the order listed";
   EXPECT_EQ(ticker.RunningEnvs(), 2);
-  EXPECT_STREQ(slots.prompt(0), vec_env.scenario().prompt(vec_env.state(), 0));
+  EXPECT_STREQ(rig.episode_slots.prompt(0), rig.vec_env.scenario().prompt(rig.vec_env.state(), 0));
   std::vector<int> told;
   const auto collect = [&] { ticker.CollectEnded([&](int slot) { told.push_back(slot); }); };
   for (int tick = 0; tick < 15; ++tick) {
     collect();
     EXPECT_TRUE(told.empty()) << "nothing has ended before the time-out, tick " << tick;
     ticker.TickStarting();
-    HoldActions(slots, *hold, actions);
-    ticker.Tick(actions, hold.get());
+    rig.HoldActions();
+    ticker.Tick(rig.actions, rig.hold.get());
   }
   EXPECT_EQ(ticker.RunningEnvs(), 0);
   EXPECT_EQ(ticker.control_ticks(), 2 * 15);
-  EXPECT_EQ(log.actions, 2 * 15);
-  EXPECT_EQ(log.ticks_started, 15);
-  EXPECT_EQ(log.stepped, 15);
+  EXPECT_EQ(rig.log.actions, 2 * 15);
+  EXPECT_EQ(rig.log.ticks_started, 15);
+  EXPECT_EQ(rig.log.stepped, 15);
 
   collect();
   EXPECT_EQ(told, (std::vector<int>{0, 1})) << "in slot order";
-  EXPECT_EQ(log.events, (std::vector<std::string>{"S1:7", "S0:3", "E0:3", "E1:7"}));
-  EXPECT_EQ(vec_env.state().end[0], engine::EpisodeEnd::kTimeOut);
+  EXPECT_EQ(rig.log.events, (std::vector<std::string>{"S1:7", "S0:3", "E0:3", "E1:7"}));
+  EXPECT_EQ(rig.vec_env.state().end[0], engine::EpisodeEnd::kTimeOut);
   collect();
   EXPECT_EQ(told.size(), 2u) << "an end is told once";
-  EXPECT_EQ(vec_env.state().episode[1], 7) << "the ended slot keeps its episode until started again";
-  EXPECT_TRUE(slots.told_ended(1));
+  EXPECT_EQ(rig.vec_env.state().episode[1], 7) << "the ended slot keeps its episode until started again";
+  EXPECT_TRUE(rig.episode_slots.told_ended(1));
 
-  ticker.Tick(actions, hold.get());
+  ticker.Tick(rig.actions, rig.hold.get());
   EXPECT_EQ(ticker.control_ticks(), 2 * 15) << "ended slots do not tick";
-  EXPECT_EQ(log.actions, 2 * 15);
+  EXPECT_EQ(rig.log.actions, 2 * 15);
 
   ticker.StartEpisodes({{1, 8}});
-  EXPECT_FALSE(slots.told_ended(1));
+  EXPECT_FALSE(rig.episode_slots.told_ended(1));
   EXPECT_EQ(ticker.RunningEnvs(), 1);
   while (ticker.RunningEnvs() > 0) {
-    HoldActions(slots, *hold, actions);
-    ticker.Tick(actions, hold.get());
+    rig.HoldActions();
+    ticker.Tick(rig.actions, rig.hold.get());
   }
   collect();
   EXPECT_EQ(told, (std::vector<int>{0, 1, 1}));
-  EXPECT_EQ(log.events.back(), "E1:8");
+  EXPECT_EQ(rig.log.events.back(), "E1:8");
   EXPECT_EQ(ticker.control_ticks(), 3 * 15);
 }
 
 TEST(LockStepTicker, AppliesTheCameraProtocolBeforeTheSinksSeeTheActionAndTheWorldStepsWithIt) {
-  VecEnv vec_env = ShortEpisodes(2);
-  EpisodeSlots slots(vec_env);
-  slots.SetCameraProtocol(CameraProtocol::kFixed);
-  Log log;
-  slots.AddSink(log);
-  LockStepTicker ticker(slots);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
-  ticker.AddPolicy(*hold);
-  ticker.StartEpisodes({{0, 0}, {1, 1}});
-  ActionBatch actions(2, kinematics::Action{});
-  HoldActions(slots, *hold, actions);
-  for (kinematics::Action& action : actions) action[kinematics::action::kNeckYaw] = 0.7;
-  ticker.Tick(actions, nullptr);
+  Rig rig(2, CameraProtocol::kFixed);
+  rig.ticker.StartEpisodes({{0, 0}, {1, 1}});
+  rig.HoldActions();
+  for (kinematics::Action& action : rig.actions) action[kinematics::action::kNeckYaw] = 0.7;
+  rig.ticker.Tick(rig.actions, nullptr);
   for (int slot = 0; slot < 2; ++slot) {
-    EXPECT_EQ(log.last_action[slot][kinematics::action::kNeckYaw], 0.0) << "slot " << slot;
-    EXPECT_EQ(actions[slot][kinematics::action::kNeckYaw], 0.0) << "the world stepped with the rule applied";
+    EXPECT_EQ(rig.log.last_action[slot][kinematics::action::kNeckYaw], 0.0) << "slot " << slot;
+    EXPECT_EQ(rig.actions[slot][kinematics::action::kNeckYaw], 0.0) << "the world stepped with the rule applied";
   }
 }
 
-// The hold policy, except that it could not act for slot 0 and has given up on slot 1.
-class FaultingPolicy : public Policy {
+// A policy that could not act for slot 0 and has given up on slot 1.
+class FaultingPolicy : public testing::IdlePolicy {
  public:
-  std::string name() const override { return "faulting"; }
-  int control_ticks_per_action() const override { return 1; }
-  void Reset(const Observation&, const std::vector<uint8_t>&) override {}
-  void Act(const Observation&, const std::vector<uint8_t>&, ActionBatch&) override {}
   void TakeFaults(std::vector<PolicyFault>& faults) override { faults.push_back({0, "reply had no actions"}); }
   bool GaveUp(int env) const override { return env == 1; }
 };
 
 TEST(LockStepTicker, EndsTheEpisodesThePolicyCouldNotActForOrGaveUpOnOnlyWhenGivenThePolicy) {
-  VecEnv vec_env = ShortEpisodes(2);
-  EpisodeSlots slots(vec_env);
-  LockStepTicker ticker(slots);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
-  ticker.AddPolicy(*hold);
-  ticker.StartEpisodes({{0, 0}, {1, 1}});
-  ActionBatch actions(2, kinematics::Action{});
-  HoldActions(slots, *hold, actions);
-  ticker.Tick(actions, nullptr);
-  EXPECT_EQ(ticker.RunningEnvs(), 2) << "actions from elsewhere: no policy faults or gives up";
+  Rig rig(2);
+  rig.ticker.StartEpisodes({{0, 0}, {1, 1}});
+  rig.HoldActions();
+  rig.ticker.Tick(rig.actions, nullptr);
+  EXPECT_EQ(rig.ticker.RunningEnvs(), 2) << "actions from elsewhere: no policy faults or gives up";
 
   FaultingPolicy faulting;
-  ticker.Tick(actions, &faulting);
-  const engine::BatchState& state = vec_env.state();
+  rig.ticker.Tick(rig.actions, &faulting);
+  const engine::BatchState& state = rig.vec_env.state();
   EXPECT_EQ(state.end[0], engine::EpisodeEnd::kInvalidAction);
   EXPECT_EQ(state.invalid_action[0].reason, "reply had no actions");
   EXPECT_EQ(state.control_step[0], 1) << "ended before this tick's step";
   EXPECT_EQ(state.end[1], engine::EpisodeEnd::kGaveUp);
   EXPECT_EQ(state.control_step[1], 2) << "ended after this tick's step";
-  EXPECT_EQ(ticker.control_ticks(), 4) << "counted as the ticks the policy was asked for";
+  EXPECT_EQ(rig.ticker.control_ticks(), 4) << "counted as the ticks the policy was asked for";
 }
 
 TEST(LockStepTicker, StopsTheEpisodesASinkIsDoneWithWhenCollecting) {
-  VecEnv vec_env = ShortEpisodes(1);
-  EpisodeSlots slots(vec_env);
-  Log log(/*stop_after_ticks=*/2);
-  slots.AddSink(log);
-  LockStepTicker ticker(slots);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 1);
-  ticker.AddPolicy(*hold);
-  ticker.StartEpisodes({{0, 5}});
-  ActionBatch actions(1, kinematics::Action{});
+  Rig rig(1, CameraProtocol::kHead, /*stop_after_ticks=*/2);
+  rig.ticker.StartEpisodes({{0, 5}});
   int told = 0;
   for (int tick = 0; tick < 4 && told == 0; ++tick) {
-    ticker.CollectEnded([&](int) { ++told; });
-    HoldActions(slots, *hold, actions);
-    ticker.Tick(actions, hold.get());
+    rig.ticker.CollectEnded([&](int) { ++told; });
+    rig.HoldActions();
+    rig.ticker.Tick(rig.actions, rig.hold.get());
   }
   EXPECT_EQ(told, 1);
-  EXPECT_EQ(vec_env.state().end[0], engine::EpisodeEnd::kStopped);
-  EXPECT_EQ(vec_env.state().control_step[0], 2);
-  EXPECT_EQ(log.events, (std::vector<std::string>{"S0:5", "E0:5"}));
+  EXPECT_EQ(rig.vec_env.state().end[0], engine::EpisodeEnd::kStopped);
+  EXPECT_EQ(rig.vec_env.state().control_step[0], 2);
+  EXPECT_EQ(rig.log.events, (std::vector<std::string>{"S0:5", "E0:5"}));
 }
 
 }  // namespace
