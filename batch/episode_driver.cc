@@ -179,7 +179,7 @@ void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episo
   kinematics::Action& action = actions_[slot];
   env_.ResetEnv(slot, episode);
   if (profiling_) costs.reset += env_.TakeEnvSeconds(slot);
-  prompts_[slot] = env_.scenario().prompt(state, slot);
+  prompts_[slot] = env_.prompt(slot);
   policy.ResetOne(observation, slot);
   costs.recording += WallSeconds([&] {
     for (EpisodeSink* sink : sinks_) sink->EpisodeStarted(env_, slot);
@@ -309,7 +309,7 @@ void EpisodeDriver::CollectAndRefill() {
   parallel_seconds_ += WallSeconds([&] { env_.Reset(starts_); });
   for (const EpisodeStart& start : starts_) {
     started_[start.env] = 1;
-    prompts_[start.env] = env_.scenario().prompt(state, start.env);
+    prompts_[start.env] = env_.prompt(start.env);
   }
   parallel_seconds_ += WallSeconds([&] { policy_.Reset(MakeObservation(), started_); });
   if (profiling_) reset_seconds_ += EndSection(started_);

@@ -6,6 +6,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "batch/distractor_placement.h"
+#include "batch/episode_perturbation_levels.h"
 #include "batch/perturbed_view.h"
 #include "configs/yaml_reader.h"
 #include "render/camera.h"
@@ -89,7 +91,7 @@ void CheckRenderable(const YamlValue& level, const engine::RenderPerturbation& e
 }  // namespace
 
 const std::vector<std::string>& PerturbationAxisNames() {
-  static const std::vector<std::string> names = {"camera", "sensor", "lighting"};
+  static const std::vector<std::string> names = {"camera", "sensor", "lighting", "distractors", "language", "runtime"};
   return names;
 }
 
@@ -120,7 +122,8 @@ std::string PerturbationLabelSuffix(const std::vector<std::string>& choices) {
 
 std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_dir, const std::string& axis) {
   const auto keys = AxisKeys().find(axis);
-  if (keys == AxisKeys().end()) {
+  const EpisodeLevelReader episode_reader = FindEpisodeLevelReader(axis);
+  if (keys == AxisKeys().end() && episode_reader == nullptr) {
     throw std::invalid_argument("unknown perturbation axis '" + axis + "' (axes: " + Join(PerturbationAxisNames()) +
                                 ")");
   }
@@ -150,6 +153,13 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
     }
     level.description = entry.String("description");
     level.settings["name"] = level.name;
+    if (episode_reader != nullptr) {
+      // Its keys are required where a level needs them, so it cannot be the base scene.
+      episode_reader(root, entry, &level.episode_effect, &level.settings);
+      entry.ExpectNoOtherKeys();
+      levels.push_back(std::move(level));
+      continue;
+    }
     for (const LevelKey& key : keys->second) {
       const auto value = entry.Optional(key.name);
       if (!value) continue;
@@ -227,6 +237,22 @@ engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLe
   return combined;
 }
 
+engine::EpisodePerturbation CombineEpisodePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed) {
+  engine::EpisodePerturbation combined;
+  for (const PerturbationLevel& level : levels) {
+    const engine::EpisodePerturbation& e = level.episode_effect;
+    if (level.axis == "distractors") {
+      combined.distractors = e.distractors;
+    } else if (level.axis == "language") {
+      combined.language = e.language;
+    } else if (level.axis == "runtime") {
+      combined.target_move = e.target_move;
+    }
+  }
+  combined.seed = seed;
+  return combined;
+}
+
 nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels) {
   nlohmann::json list = nlohmann::json::array();
   for (const PerturbationLevel& level : levels) {
@@ -239,7 +265,10 @@ nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels) {
 void ApplyPerturbations(const std::string& config_dir, const std::vector<std::string>& choices, uint64_t seed,
                         engine::WorldModel* model) {
   if (choices.empty()) return;
-  model->view_perturbation = CombinePerturbations(ResolvePerturbations(config_dir, choices), seed);
+  const std::vector<PerturbationLevel> levels = ResolvePerturbations(config_dir, choices);
+  model->view_perturbation = CombinePerturbations(levels, seed);
+  model->episode_perturbation = CombineEpisodePerturbations(levels, seed);
+  AddDistractorObjects(model);
 }
 
 }  // namespace tavis::batch

@@ -34,13 +34,23 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   const Range x = wide ? Range{0.36, 0.53} : Range{0.40, 0.50};
   const Range y = wide ? Range{-0.30, 0.30} : Range{-0.20, 0.20};
   // Draw order: target, x, y, yaw.
-  const int target = rng.UniformInt(model.num_objects());
+  const int target = rng.UniformInt(model.num_task_objects());
   const double px = rng.Uniform(x.low, x.high);
   const double py = rng.Uniform(y.low, y.high);
   const double yaw = rng.Uniform(-M_PI, M_PI);
-  for (int object = 0; object < model.num_objects(); ++object) state.object_enabled_at(env, object) = 0;
+  for (int object = 0; object < model.num_task_objects(); ++object) state.object_enabled_at(env, object) = 0;
   PlaceUpright(state, env, target, Vec3(px, py, kObjectDropZ), yaw);
   state.task[env].target = target;
+}
+
+// Distractors stand behind the target's area as the robot sees it, where no reach around the
+// screen passes; a moved target stays in the widest split's area behind the screen.
+std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.62, 0.85, -0.30, 0.30, engine::kTableHeight)};
+}
+
+std::vector<SupportZone> TargetZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.36, 0.53, -0.30, 0.30, engine::kTableHeight)};
 }
 
 const char* Prompt(const engine::BatchState&, int) {
@@ -75,6 +85,8 @@ ScenarioDef OccludedReach() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
+  def.distractor_zones = &DistractorZones;
+  def.target_zones = &TargetZones;
   return def;
 }
 

@@ -71,6 +71,18 @@ void Update(const engine::WorldModel& model, engine::BatchState& state, int env)
   }
 }
 
+// Distractors stand to either side of the light and behind it, out of the head's line of sight
+// to the light and beyond the object's reach; a moved target stays in the widest split's area.
+std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.50, 0.76, 0.22, 0.40, engine::kTableHeight),
+          AlignedZone(0.50, 0.76, -0.40, -0.22, engine::kTableHeight),
+          AlignedZone(0.82, 0.97, -0.30, 0.30, engine::kTableHeight)};
+}
+
+std::vector<SupportZone> TargetZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.30, 0.50, -0.20, 0.20, engine::kTableHeight)};
+}
+
 const char* Prompt(const engine::BatchState&, int) {
   return "Watch the red light. When it turns green, pick up the object.";
 }
@@ -102,6 +114,8 @@ ScenarioDef WaitThenAct() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success, kLightName);
+  def.distractor_zones = &DistractorZones;
+  def.target_zones = &TargetZones;
   return def;
 }
 

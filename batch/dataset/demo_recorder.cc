@@ -54,7 +54,7 @@ void DemoRecorder::EpisodeStarted(const batch::VecEnv& env, int slot) {
   recording.episode = RecordedEpisode();
   recording.episode.source_episode = env.state().episode[slot];
   recording.episode.task_index = recording_.task_index;
-  recording.episode.prompt = env.scenario().prompt(env.state(), slot);
+  recording.episode.prompt = env.prompt(slot);
   recording.episode.image_stats.assign(recording_.cameras.size(), ImageStats());
   recording.encoders.clear();
   for (const std::string& camera : recording_.cameras) recording.encoders.emplace_back(recording_.video, camera);

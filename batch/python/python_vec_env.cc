@@ -189,7 +189,7 @@ void PythonVecEnv::StartEpisodes() {
   for (const EpisodeStart& start : starts_) {
     started_[start.env] = 1;
     reported_episode_[start.env] = -1;
-    prompts_[start.env] = scenario_.prompt(env_.state(), start.env);
+    prompts_[start.env] = env_.prompt(start.env);
   }
   env_.RenderPolicyTick();
   UpdateObservation();

@@ -143,7 +143,7 @@ void EpisodeVideoRecorder::EpisodeStarted(const VecEnv& env, int slot) {
   if (!Filmed(episode)) return;
   film = std::make_unique<Film>();
   film->episode = episode;
-  film->prompt = env.scenario().prompt(env.state(), slot);
+  film->prompt = env.prompt(slot);
   film->stages.emplace(env.scenario(), env.model());
   film->stages->Start();
   for (const scenarios::StageDef& stage : env.scenario().stages) film->stage_names.push_back(stage.name);

@@ -57,7 +57,7 @@ void RolloutRecorder::EpisodeStarted(const VecEnv& env, int slot) {
   recording.recording = true;
   recording.episode = dataset::RecordedEpisode();
   recording.episode.source_episode = env.state().episode[slot];
-  recording.episode.prompt = env.scenario().prompt(env.state(), slot);
+  recording.episode.prompt = env.prompt(slot);
   recording.episode.image_stats.assign(cameras_.size(), dataset::ImageStats());
   recording.encoders.clear();
   for (const std::string& camera : cameras_) recording.encoders.emplace_back(video_, camera);

@@ -182,6 +182,20 @@ void PickExpert::StartRetreat(EnvMemory& m, int step) const {
   Enter(m, Phase::kRetreat, step);
 }
 
+void PickExpert::NoticeTargetMove(EnvMemory& m, int step) const {
+  switch (m.phase) {
+    case Phase::kApproach:  // on its way: the hand holds where it is
+    case Phase::kDescend:   // at or past the pre-grasp: back out the way it came
+    case Phase::kClose:
+      m.back_out = m.phase != Phase::kApproach;
+      ++m.replans;
+      Enter(m, Phase::kReplan, step);
+      break;
+    case Phase::kSettle: Enter(m, Phase::kLook, step); break;
+    default: break;  // no plan yet (it will be made where the target is now), or already holding it
+  }
+}
+
 bool PickExpert::ApproachLineIsTrackable(const engine::WorldModel& model, const engine::BatchState& state, int env,
                                          EnvMemory& m) const {
   const kinematics::RobotModel& robot = model.robot;
@@ -202,6 +216,10 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
   const int step = state.control_step[env];
   const double elapsed = (step - m.phase_start_step) / model.physics.control_hz;
   if (!head_still()) UpdateNeck(model, state, env, m);
+  if (state.task[env].target_move_tick >= 0 && !m.saw_target_move) {
+    m.saw_target_move = true;
+    NoticeTargetMove(m, step);
+  }
 
   switch (m.phase) {
     case Phase::kWatchCue: {
@@ -280,10 +298,21 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       // then backs out to the failed plan's pre-grasp, and a new plan starts from there.
       m.gripper_command[kinematics::Index(m.side)] = -1.0;
       if (elapsed < settings_.close_s || !m.hands.MoveToward(model, m.side, m.grasp.pre, settings_.hand_speed)) break;
-      if (m.attempts < settings_.max_attempts) {
+      if (m.attempts - m.replans < settings_.max_attempts) {
         StartReach(model, state, env, m, step);
       } else {
         Enter(m, Phase::kGiveUp, step);
+      }
+      break;
+    case Phase::kReplan:
+      // The hand opens and backs out while the head turns to the target's new place (UpdateNeck);
+      // then the look, the settling and a new plan, as before the first reach.
+      m.gripper_command[kinematics::Index(m.side)] = -1.0;
+      if (m.back_out && !m.hands.MoveToward(model, m.side, m.grasp.pre, settings_.hand_speed)) break;
+      if (head_still()) {
+        StartReach(model, state, env, m, step);
+      } else {
+        Enter(m, Phase::kLook, step);
       }
       break;
     case Phase::kGiveUp: break;
