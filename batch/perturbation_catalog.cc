@@ -240,14 +240,11 @@ engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLe
 engine::EpisodePerturbation CombineEpisodePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed) {
   engine::EpisodePerturbation combined;
   for (const PerturbationLevel& level : levels) {
+    // A level sets its own axis's part only (episode_perturbation_levels.h), and a view level none.
     const engine::EpisodePerturbation& e = level.episode_effect;
-    if (level.axis == "distractors") {
-      combined.distractors = e.distractors;
-    } else if (level.axis == "language") {
-      combined.language = e.language;
-    } else if (level.axis == "runtime") {
-      combined.target_move = e.target_move;
-    }
+    if (e.adds_distractors()) combined.distractors = e.distractors;
+    if (e.paraphrases_prompt()) combined.language = e.language;
+    if (e.moves_target()) combined.target_move = e.target_move;
   }
   combined.seed = seed;
   return combined;

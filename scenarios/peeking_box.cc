@@ -114,7 +114,7 @@ std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
 // cleared by the move's own clearance test), in front of the open side the hand reaches through.
 std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
   const Vec3 centre = 0.5 * (state.ObjectPosition(env, kWallBack) + state.ObjectPosition(env, kWallFront));
-  return {{Vec3(centre.x(), centre.y(), engine::kTableHeight), BoxYaw(state, env), 0.12, kHalfWidth}};
+  return {{Vec3(centre.x(), centre.y(), engine::kTableHeight), BoxYaw(state, env), 0.08, kHalfWidth}};
 }
 
 // Each wrist looks into its side of the box from 16 cm outside it, the hand a little above the

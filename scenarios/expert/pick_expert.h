@@ -11,9 +11,9 @@
 // another hand orientation.
 // A target moved under the approaching hand (the runtime perturbation axis, TaskVars::target_move_tick)
 // is noticed from the state: the plan made for where it was is dropped without counting as a
-// missed grasp, the hand backs out of its descent (or holds where it is on the way), and the head
-// re-fixates the target where it now is and settles before a new grasp is planned, as before any
-// reach.
+// missed grasp, the hand backs out of its descent and the arm returns to where its first reach
+// started (the way it came), and the head re-fixates the target where it now is and settles
+// before a new grasp is planned from there, as before the first reach.
 // In head-still mode (pick_expert_settings.h) the neck never moves and the hands start as soon as
 // the task allows: no cue look, fixation or settling.
 // This file is the phase machine and the gaze; grasp_planner.h plans the grasps, hand_motion.h
@@ -82,6 +82,8 @@ class PickExpert : public Expert {
     int attempts = 0;
     bool saw_target_move = false;  // the runtime axis's move has been noticed
     bool back_out = false;         // kReplan: the hand backs out to the dropped plan's pre-grasp
+    bool returning = false;        // kReplan: the arm is on its way back to reach_start
+    ArmJoints reach_start{};       // the reaching arm's joints where its first reach started
     int replans = 0;               // plans dropped because the target moved (not missed grasps)
   };
 
@@ -93,9 +95,14 @@ class PickExpert : public Expert {
   bool HandIsEmpty(const engine::WorldModel& model, const engine::BatchState& state, int env, const EnvMemory& m) const;
   // Gives up the current grasp: opens the hand and backs out to the pre-grasp (kRetreat).
   void StartRetreat(EnvMemory& m, int step) const;
-  // The target has just been moved: drops a plan made for where it was (kReplan), or looks again
-  // if the head had settled on its old place; nothing before a plan or once holding it.
-  void NoticeTargetMove(EnvMemory& m, int step) const;
+  // Once the target has been moved (TaskVars::target_move_tick): drops a plan made for where it
+  // was (kReplan), or looks again if the head had settled on its old place; nothing before a plan
+  // or once holding it.
+  void NoticeTargetMove(const engine::BatchState& state, int env, EnvMemory& m, int step) const;
+  // kReplan: backs the hand out to the dropped plan's pre-grasp if it had passed it and takes the
+  // arm back to where its first reach started, then looks again (head-still: plans at once).
+  void BackOutToReplan(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
+                       int step) const;
   // Plans both arms' joint-space paths to their peek poses (an arm that cannot reach its pose
   // keeps still); false if neither can peek.
   bool StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;

@@ -237,16 +237,23 @@ TEST(DistractorsAxis, TheFixedCameraSeesThemAndTheTaskObjectsAsBefore) {
   EXPECT_GT(task_pixels, 100) << "the task's objects are still seen where they were";
 }
 
-TEST(DistractorsAxis, TheExpertStillPicksWithFourObjectsBesideTheTask) {
+// Two episodes of the scripted expert on the task's id split, on two slots.
+EvaluationCellConfig ExpertCell(const std::string& task, const std::string& robot, uint64_t seed,
+                                std::vector<std::string> perturbations = {}) {
   EvaluationCellConfig config;
-  config.task = "clutter-pick-cube";
-  config.robot = "gr1t2";
+  config.task = task;
+  config.robot = robot;
   config.policy = "expert";
   config.episodes = 2;
   config.envs = 2;
-  config.seed = 3;
+  config.seed = seed;
   config.config_dir = TAVIS_CONFIG_DIR;
-  config.perturbations = {"distractors:four"};
+  config.perturbations = std::move(perturbations);
+  return config;
+}
+
+TEST(DistractorsAxis, TheExpertStillPicksWithFourObjectsBesideTheTask) {
+  const EvaluationCellConfig config = ExpertCell("clutter-pick-cube", "gr1t2", 3, {"distractors:four"});
   const CellResult result = RunEvaluationCell(config);
   EXPECT_EQ(result.successes, 2);
 }
@@ -288,15 +295,8 @@ TEST(LanguageAxis, EachEpisodeGetsAParaphraseFromItsTasksListAlwaysTheSame) {
 }
 
 TEST(LanguageAxis, OnlyThePromptDiffersFromTheBaseCell) {
-  EvaluationCellConfig base;
-  base.task = "clutter-pick-lift";
-  base.robot = "reachy2";
-  base.policy = "expert";
-  base.episodes = 2;
-  base.envs = 2;
-  base.seed = 4;
+  EvaluationCellConfig base = ExpertCell("clutter-pick-lift", "reachy2", 4);
   base.keep_actions = true;
-  base.config_dir = TAVIS_CONFIG_DIR;
   const CellResult reference = RunEvaluationCell(base);
   EvaluationCellConfig perturbed = base;
   perturbed.perturbations = {"language:paraphrase-synonyms"};
@@ -398,14 +398,7 @@ TEST(RuntimeAxis, TheTargetMovesOnceByTheStatedDistanceAtTheFirstTickAHandComesN
 }
 
 TEST(RuntimeAxis, ACellRecordsTheMoveAndTheBaseCellHasNone) {
-  EvaluationCellConfig base;
-  base.task = "clutter-pick-lift";
-  base.robot = "reachy2";
-  base.policy = "expert";
-  base.episodes = 2;
-  base.envs = 2;
-  base.seed = 2;
-  base.config_dir = TAVIS_CONFIG_DIR;
+  const EvaluationCellConfig base = ExpertCell("clutter-pick-lift", "reachy2", 2);
   for (const EpisodeRecord& record : RunEvaluationCell(base).episodes) EXPECT_FALSE(record.target_move_tick);
   EvaluationCellConfig perturbed = base;
   perturbed.perturbations = {"runtime:move", "distractors:one", "language:paraphrase", "camera:fov-wide"};
