@@ -110,8 +110,9 @@ std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
   return {AlignedZone(0.74, 0.95, -0.30, 0.30, engine::kTableHeight)};
 }
 
-// A moved target stays inside the box, within 12 cm of its middle along it (the walls are
-// cleared by the move's own clearance test), in front of the open side the hand reaches through.
+// A moved target stays inside the box, within 8 cm of its middle along it (the widest split
+// places it within 4 cm; the walls are cleared by the move's own clearance test), in front of
+// the open side the hand reaches through.
 std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
   const Vec3 centre = 0.5 * (state.ObjectPosition(env, kWallBack) + state.ObjectPosition(env, kWallFront));
   return {{Vec3(centre.x(), centre.y(), engine::kTableHeight), BoxYaw(state, env), 0.08, kHalfWidth}};

@@ -82,7 +82,7 @@ def main():
     parser.add_argument("--robot", default="gr1t2")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--steps", type=int, default=90)
-    parser.add_argument("--runtime-steps", type=int, default=240,
+    parser.add_argument("--runtime-steps", type=int, default=175,
                         help="control ticks before a runtime level's views (and the base beside them)")
     parser.add_argument("--width", type=int, default=160)
     parser.add_argument("--height", type=int, default=120)
@@ -106,10 +106,14 @@ def main():
         for row, (label, choice, steps) in enumerate(rows):
             top = header + row * row_height
             views, notes = render(args.tavis, args, choice, steps, pathlib.Path(work_dir))
-            cv2.putText(sheet, label, (4, top + 16), font, 0.42, (230, 230, 230), 1, cv2.LINE_AA)
-            # What the views cannot show: a paraphrased prompt, where a move happened.
-            shown = [note for note in notes if choice.startswith(("language:", "runtime:"))]
-            lines = [part for note in shown for part in wrapped(note, 34)]
+            scale = 0.42  # smaller for a label too long for its column
+            while cv2.getTextSize(label, font, scale, 1)[0][0] > LABEL_WIDTH - 8:
+                scale -= 0.02
+            cv2.putText(sheet, label, (4, top + 16), font, scale, (230, 230, 230), 1, cv2.LINE_AA)
+            # What the views cannot show: a language level's prompt, when a runtime level moved the target.
+            shown = [note for note in notes if (choice.startswith("language:") and note.startswith("prompt:")) or
+                     (choice.startswith("runtime:") and note.startswith("target "))]
+            lines = [part for note in shown for part in wrapped(note, 30)]
             for number, line in enumerate(lines[:7]):
                 cv2.putText(sheet, line, (4, top + 34 + 13 * number), font, 0.32, (200, 200, 200), 1, cv2.LINE_AA)
             for column, view in enumerate(views):
