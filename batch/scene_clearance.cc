@@ -52,10 +52,12 @@ bool FootprintInZone(const scenarios::OrientedBox& box, const scenarios::Support
 }
 
 bool ClearOfObjects(const engine::WorldModel& model, const engine::BatchState& state, int env,
-                    const scenarios::OrientedBox& box, int skip, double margin) {
+                    const scenarios::OrientedBox& box, int skip, double margin, double fixed_margin) {
   for (int object = 0; object < model.num_objects(); ++object) {
     if (object == skip || !state.object_enabled_at(env, object)) continue;
-    if (scenarios::BoxesOverlap(box, scenarios::ObjectBox(model, state, env, object), margin)) return false;
+    const bool fixed = model.objects[static_cast<std::size_t>(object)].motion == engine::ObjectMotion::kKinematic;
+    if (scenarios::BoxesOverlap(box, scenarios::ObjectBox(model, state, env, object), fixed ? fixed_margin : margin))
+      return false;
   }
   return true;
 }

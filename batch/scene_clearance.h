@@ -19,9 +19,10 @@ bool FootprintInZone(const scenarios::OrientedBox& box, const scenarios::Support
 // True if the point's horizontal position lies in the zone.
 bool PointInZone(const Vec3& point, const scenarios::SupportZone& zone);
 
-// True if `box` stays `margin` outside every enabled object of `env` but `skip` (-1: none).
+// True if `box` stays `margin` outside every enabled dynamic object of `env` but `skip` (-1:
+// none), and `fixed_margin` outside every enabled kinematic one (a box's walls, a cue).
 bool ClearOfObjects(const engine::WorldModel& model, const engine::BatchState& state, int env,
-                    const scenarios::OrientedBox& box, int skip, double margin);
+                    const scenarios::OrientedBox& box, int skip, double margin, double fixed_margin);
 // The same for a box standing on the surface at height surface_z right after a reset, whose
 // objects are still to fall onto their supports: it is compared, seen from above, with every
 // object that stands on that surface or will land on it (one above it with no static part, such

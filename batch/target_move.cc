@@ -47,8 +47,8 @@ std::optional<Vec3> MovedCentre(const engine::WorldModel& model, const scenarios
     bool in_zone = false;
     for (const scenarios::SupportZone& zone : zones) in_zone = in_zone || PointInZone(moved, zone);
     if (in_zone && NearestHand(hands, moved) >= move.trigger_m && ClearOfStaticParts(model, box) &&
-        ClearOfObjects(model, state, env, box, target, kTargetMoveClearance) &&
-        ClearOfRobot(model, state, env, box, kTargetMoveClearance)) {
+        ClearOfObjects(model, state, env, box, target, kTargetMoveClearance, kTargetMoveFixedClearance) &&
+        ClearOfRobot(model, state, env, box, kTargetMoveFixedClearance)) {
       return moved;
     }
   }

@@ -8,8 +8,11 @@
 
 namespace tavis::batch {
 
-// m: the least gap between the moved target and any other object.
-inline constexpr double kTargetMoveClearance = 0.01;
+// m: the least gap between the moved target and any other movable object (the tasks' own
+// placements keep their objects apart by more), and between it and a fixed object (a box's walls,
+// a cue) or the robot.
+inline constexpr double kTargetMoveClearance = 0.03;
+inline constexpr double kTargetMoveFixedClearance = 0.01;
 
 // Once per episode, at the first control tick a hand's tool centre point comes within trigger_m
 // of the target's centre, moves the target distance_m horizontally, keeping its orientation and
@@ -17,7 +20,8 @@ inline constexpr double kTargetMoveClearance = 0.01;
 // (TaskVars::target_move_tick). The direction is a heading drawn from the episode's own stream
 // (seed, RandomStreamId::kTargetMove, episode), or the first of the eleven after it, 30 degrees
 // apart, for which the moved centre stays in one of the task's target zones, the target clear of
-// the static parts and kTargetMoveClearance from every other object and from the robot, and both
+// the static parts, kTargetMoveClearance from every other movable object and
+// kTargetMoveFixedClearance from every fixed one and from the robot, and both
 // tool centre points at least trigger_m from it (it is never moved into or toward a hand). With no such direction it
 // stays. Nothing without a runtime level, or once the hand has come near (TaskVars::target_move_tried).
 void MoveTargetNearHand(const engine::WorldModel& model, const scenarios::ScenarioDef& scenario,

@@ -28,11 +28,16 @@ void Layout(engine::WorldModel& model) {
   model.static_parts.push_back(ScreenPart("screen_panel", {0.015, 0.16, 0.40}, {0.27, 0.0, 1.32}, "screen_panel"));
 }
 
+// Where the target stands behind the screen: x and y ranges of the split.
+PlacementRanges TargetRanges(Split split) {
+  return split == Split::kOodSpatial ? XyRanges({0.36, 0.53}, {-0.30, 0.30}) : XyRanges({0.40, 0.50}, {-0.20, 0.20});
+}
+
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
-  const bool wide = split == Split::kOodSpatial;
-  const Range x = wide ? Range{0.36, 0.53} : Range{0.40, 0.50};
-  const Range y = wide ? Range{-0.30, 0.30} : Range{-0.20, 0.20};
+  const PlacementRanges ranges = TargetRanges(split);
+  const Range x = ranges.x;
+  const Range y = ranges.y;
   // Draw order: target, x, y, yaw.
   const int target = rng.UniformInt(model.num_task_objects());
   const double px = rng.Uniform(x.low, x.high);
@@ -50,7 +55,8 @@ std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
 }
 
 std::vector<SupportZone> TargetZones(const engine::BatchState&, int) {
-  return {AlignedZone(0.36, 0.53, -0.30, 0.30, engine::kTableHeight)};
+  const PlacementRanges wide = TargetRanges(Split::kOodSpatial);
+  return {AlignedZone(wide.x.low, wide.x.high, wide.y.low, wide.y.high, engine::kTableHeight)};
 }
 
 const char* Prompt(const engine::BatchState&, int) {

@@ -110,12 +110,12 @@ std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
   return {AlignedZone(0.74, 0.95, -0.30, 0.30, engine::kTableHeight)};
 }
 
-// A moved target stays inside the box, within 8 cm of its middle along it (the widest split
-// places it within 4 cm; the walls are cleared by the move's own clearance test), in front of
-// the open side the hand reaches through.
+// A moved target stays inside the box, its centre within 8 cm of the box's middle along it and
+// 3 cm across it (the widest split places it within 4 cm either way; a target moved further
+// across, away from the open side the hand reaches through, is beyond the expert's reach).
 std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
   const Vec3 centre = 0.5 * (state.ObjectPosition(env, kWallBack) + state.ObjectPosition(env, kWallFront));
-  return {{Vec3(centre.x(), centre.y(), engine::kTableHeight), BoxYaw(state, env), 0.08, kHalfWidth}};
+  return {{Vec3(centre.x(), centre.y(), engine::kTableHeight), BoxYaw(state, env), 0.08, 0.03}};
 }
 
 // Each wrist looks into its side of the box from 16 cm outside it, the hand a little above the

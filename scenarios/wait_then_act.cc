@@ -32,11 +32,17 @@ void Layout(engine::WorldModel& model) {
   model.static_parts.push_back(engine::MakeTable());
 }
 
+// Where the object stands: x and y ranges of the split.
+PlacementRanges ObjectRanges(Split split) {
+  return split == Split::kOodSpatial ? XyRanges({0.30, 0.50}, {-0.20, 0.20}) : XyRanges({0.35, 0.45}, {-0.12, 0.12});
+}
+
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
   const bool wide = split == Split::kOodSpatial;
-  const Range object_x = wide ? Range{0.30, 0.50} : Range{0.35, 0.45};
-  const Range object_y = wide ? Range{-0.20, 0.20} : Range{-0.12, 0.12};
+  const PlacementRanges object_ranges = ObjectRanges(split);
+  const Range object_x = object_ranges.x;
+  const Range object_y = object_ranges.y;
   const Range light_x = wide ? Range{0.55, 0.75} : Range{0.60, 0.70};
   const Range light_y = wide ? Range{-0.15, 0.15} : Range{-0.10, 0.10};
   const Range delay_s = wide ? Range{2.0, 8.0} : Range{2.0, 5.0};
@@ -80,7 +86,8 @@ std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
 }
 
 std::vector<SupportZone> TargetZones(const engine::BatchState&, int) {
-  return {AlignedZone(0.30, 0.50, -0.20, 0.20, engine::kTableHeight)};
+  const PlacementRanges wide = ObjectRanges(Split::kOodSpatial);
+  return {AlignedZone(wide.x.low, wide.x.high, wide.y.low, wide.y.high, engine::kTableHeight)};
 }
 
 const char* Prompt(const engine::BatchState&, int) {
