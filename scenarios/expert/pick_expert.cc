@@ -187,8 +187,8 @@ void PickExpert::NoticeTargetMove(const engine::BatchState& state, int env, EnvM
   if (state.task[env].target_move_tick < 0 || m.saw_target_move) return;
   m.saw_target_move = true;
   switch (m.phase) {
-    case Phase::kApproach:  // on its way: the hand holds where it is
-    case Phase::kDescend:   // at or past the pre-grasp: back out the way it came
+    case Phase::kApproach:  // on its way: it turns back from where it is
+    case Phase::kDescend:   // at or past the pre-grasp: back out the way it came first
     case Phase::kClose:
       m.back_out = m.phase != Phase::kApproach;
       ++m.replans;
@@ -212,6 +212,7 @@ void PickExpert::BackOutToReplan(const engine::WorldModel& model, const engine::
                          settings_.joint_speed, settings_.hand_speed);
   }
   if (!m.hands.FollowSegment(model.robot, m.side)) return;
+  m.returning = false;
   if (head_still()) {
     StartReach(model, state, env, m, step);
   } else {
