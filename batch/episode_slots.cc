@@ -18,7 +18,7 @@ Observation EpisodeSlots::observation() const {
 }
 
 void EpisodeSlots::EpisodeReset(int slot) {
-  prompts_[static_cast<std::size_t>(slot)] = vec_env_.scenario().prompt(vec_env_.state(), slot);
+  prompts_[static_cast<std::size_t>(slot)] = vec_env_.prompt(slot);
   told_ended_[static_cast<std::size_t>(slot)] = 0;
 }
 

@@ -6,6 +6,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "batch/distractor_placement.h"
+#include "batch/episode_perturbation_levels.h"
 #include "batch/perturbed_view.h"
 #include "batch/surface_texture_yaml.h"
 #include "configs/yaml_reader.h"
@@ -103,7 +105,8 @@ void CheckRenderable(const YamlValue& level, const engine::RenderPerturbation& e
 }  // namespace
 
 const std::vector<std::string>& PerturbationAxisNames() {
-  static const std::vector<std::string> names = {"camera", "sensor", "lighting", "appearance"};
+  static const std::vector<std::string> names = {"camera",      "sensor",   "lighting", "appearance",
+                                                 "distractors", "language", "runtime"};
   return names;
 }
 
@@ -134,7 +137,8 @@ std::string PerturbationLabelSuffix(const std::vector<std::string>& choices) {
 
 std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_dir, const std::string& axis) {
   const auto keys = AxisKeys().find(axis);
-  if (keys == AxisKeys().end()) {
+  const EpisodeLevelReader episode_reader = FindEpisodeLevelReader(axis);
+  if (keys == AxisKeys().end() && episode_reader == nullptr) {
     throw std::invalid_argument("unknown perturbation axis '" + axis + "' (axes: " + Join(PerturbationAxisNames()) +
                                 ")");
   }
@@ -164,6 +168,13 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
     }
     level.description = entry.String("description");
     level.settings["name"] = level.name;
+    if (episode_reader != nullptr) {
+      // Its keys are required where a level needs them, so it cannot be the base scene.
+      episode_reader(root, entry, &level.episode_effect, &level.settings);
+      entry.ExpectNoOtherKeys();
+      levels.push_back(std::move(level));
+      continue;
+    }
     for (const LevelKey& key : keys->second) {
       const auto value = entry.Optional(key.name);
       if (!value) continue;
@@ -243,6 +254,19 @@ engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLe
   return combined;
 }
 
+engine::EpisodePerturbation CombineEpisodePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed) {
+  engine::EpisodePerturbation combined;
+  for (const PerturbationLevel& level : levels) {
+    // A level sets its own axis's part only (episode_perturbation_levels.h), and a view level none.
+    const engine::EpisodePerturbation& e = level.episode_effect;
+    if (e.adds_distractors()) combined.distractors = e.distractors;
+    if (e.paraphrases_prompt()) combined.language = e.language;
+    if (e.moves_target()) combined.target_move = e.target_move;
+  }
+  combined.seed = seed;
+  return combined;
+}
+
 nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels) {
   nlohmann::json list = nlohmann::json::array();
   for (const PerturbationLevel& level : levels) {
@@ -255,7 +279,10 @@ nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels) {
 void ApplyPerturbations(const std::string& config_dir, const std::vector<std::string>& choices, uint64_t seed,
                         engine::WorldModel* model) {
   if (choices.empty()) return;
-  model->view_perturbation = CombinePerturbations(ResolvePerturbations(config_dir, choices), seed);
+  const std::vector<PerturbationLevel> levels = ResolvePerturbations(config_dir, choices);
+  model->view_perturbation = CombinePerturbations(levels, seed);
+  model->episode_perturbation = CombineEpisodePerturbations(levels, seed);
+  AddDistractorObjects(model);
 }
 
 }  // namespace tavis::batch

@@ -307,9 +307,10 @@ void RegisterEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_option("--perturb", options->cell.perturbations,
                    "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
-                   "sensor, lighting, appearance; docs/perturbations.md); repeat it for several axes, one level each.\n"
-                   "Episode i keeps its base scene, so the cell pairs with its unperturbed one; the levels are\n"
-                   "recorded in cell.json and summary.json, and the default folder is named ..._p-AXIS-LEVEL");
+                   "sensor, lighting, appearance, distractors, language, runtime; docs/perturbations.md); repeat\n"
+                   "it for several axes, one level each. Episode i keeps its base scene, so the cell pairs with its unperturbed one;\n"
+                   "the levels are recorded in cell.json and summary.json, and the default folder is named\n"
+                   "..._p-AXIS-LEVEL");
   eval->add_option("--server", options->cell.servers,
                    "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
                    "several servers (slot i asks server i mod K). Each episode's actions are saved in\n"

@@ -126,7 +126,9 @@ TEST(PerturbationCatalog, EveryShippedAxisLoadsWithLevelsThatChangeSomething) {
       EXPECT_EQ(level.axis, axis);
       EXPECT_FALSE(level.description.empty()) << level.name;
       const engine::RenderPerturbation& e = level.effect;
-      EXPECT_TRUE(e.moves_cameras() || e.changes_lighting() || e.changes_images() || e.changes_surfaces())
+      const engine::EpisodePerturbation& episodes = level.episode_effect;
+      EXPECT_TRUE(e.moves_cameras() || e.changes_lighting() || e.changes_images() || e.changes_surfaces() ||
+                  episodes.adds_distractors() || episodes.paraphrases_prompt() || episodes.moves_target())
           << level.name;
     }
   }
