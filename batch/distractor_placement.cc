@@ -30,7 +30,7 @@ bool PlaceOne(const engine::WorldModel& model, const std::vector<scenarios::Supp
     const double s = std::sin(zone.yaw);
     const double x = zone.centre.x() + c * local_x - s * local_y;
     const double y = zone.centre.y() + s * local_x + c * local_y;
-    const scenarios::OrientedBox box = UprightBox(shape, x, y, zone.centre.z(), yaw);
+    const scenarios::expert::OrientedBox box = UprightBox(shape, x, y, zone.centre.z(), yaw);
     if (!FootprintInZone(box, zone) || !ClearOfStaticParts(model, box) ||
         !ClearOfObjectsLandingOn(model, state, env, box, zone.centre.z(), object, kDistractorClearance)) {
       continue;

@@ -38,7 +38,7 @@ std::optional<Vec3> MovedCentre(const engine::WorldModel& model, const scenarios
   engine::RandomStream rng(model.episode_perturbation.seed, engine::RandomStreamId::kTargetMove,
                            static_cast<uint64_t>(state.episode[static_cast<std::size_t>(env)]));
   const double first_heading = rng.Uniform(-M_PI, M_PI);
-  scenarios::OrientedBox box = scenarios::ObjectBox(model, state, env, target);
+  scenarios::expert::OrientedBox box = scenarios::expert::ObjectBox(model, state, env, target);
   const Vec3 centre = box.X.translation();
   for (int k = 0; k < kHeadings; ++k) {
     const double heading = first_heading + 2.0 * M_PI * k / kHeadings;

@@ -143,10 +143,10 @@ void RunRender(const RenderCommandOptions& options) {
     std::cout << " (episode ended: " << engine::ToString(views.end()) << ")";
   }
   if (!has_expert) std::cout << " (no scripted expert for this task: the robot held its reset pose)";
-  std::cout << "\n  prompt: " << env.prompt(0) << "\n";
+  std::cout << "\n  prompt: " << vec_env.prompt(0) << "\n";
   // A runtime level's move (docs/perturbations.md), which the views may come before or after.
-  if (env.model().episode_perturbation.moves_target()) {
-    const int moved = env.state().task[0].target_move_tick;
+  if (vec_env.model().episode_perturbation.moves_target()) {
+    const int moved = vec_env.state().task[0].target_move_tick;
     std::cout << "  target " << (moved >= 0 ? "moved at tick " + std::to_string(moved) : "not moved") << "\n";
   }
   for (const std::string& path : views.written()) std::cout << "  " << path << "\n";

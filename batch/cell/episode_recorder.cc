@@ -59,7 +59,7 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& vec_env, int slot) {
   record.prompt = prompts_[slot];
   record.target_object = target_objects_[slot];
   record.target = targets_[slot];
-  if (env.model().episode_perturbation.moves_target()) record.target_move_tick = state.task[slot].target_move_tick;
+  if (vec_env.model().episode_perturbation.moves_target()) record.target_move_tick = state.task[slot].target_move_tick;
   scenarios::StageProgress& progress = *stage_progress_[slot];
   progress.Observe(state, slot);
   const std::vector<scenarios::StageDef>& stages = vec_env.scenario().stages;

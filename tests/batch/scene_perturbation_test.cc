@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "batch/cell_record_stream.h"
-#include "batch/evaluation_cell.h"
+#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/evaluation_cell.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
@@ -30,6 +30,11 @@
 
 namespace tavis::batch {
 namespace {
+
+using cell::CellResult;
+using cell::EpisodeRecord;
+using cell::EvaluationCellConfig;
+using cell::RunEvaluationCell;
 
 constexpr uint64_t kSeed = 11;
 
@@ -331,7 +336,7 @@ MoveTrace FollowMove(const std::string& task, const std::string& level, int64_t 
   const std::unique_ptr<VecEnv> env = MakeEnv(task, {"runtime:" + level}, 1, robot);
   const engine::WorldModel& model = env->model();
   const double trigger = model.episode_perturbation.target_move.trigger_m;
-  std::unique_ptr<scenarios::Expert> expert = env->scenario().make_expert(model, 1, scenarios::ExpertMode::kGazeFirst);
+  std::unique_ptr<scenarios::Expert> expert = env->scenario().make_expert(model, 1, scenarios::expert::ExpertMode::kGazeFirst);
   env->ResetEnv(0, episode);
   expert->Reset(model, env->state(), 0);
   MoveTrace trace;
@@ -371,7 +376,7 @@ MoveTrace FollowMove(const std::string& task, const std::string& level, int64_t 
     }
     last = now;
   }
-  trace.replans = dynamic_cast<const scenarios::PickExpert&>(*expert).replans(0);
+  trace.replans = dynamic_cast<const scenarios::expert::PickExpert&>(*expert).replans(0);
   trace.success = env->state().end[0] == engine::EpisodeEnd::kSuccess;
   return trace;
 }
@@ -408,7 +413,7 @@ TEST(RuntimeAxis, ATargetWithNoFreePlaceStaysWhereItIs) {
   engine::WorldModel model = BuildWorldModel(tavis::testing::LoadRobot("gr1t2"), nowhere);
   ApplyPerturbations(TAVIS_CONFIG_DIR, {"runtime:move"}, kSeed, &model);
   VecEnv env(std::move(model), nowhere, scenarios::Split::kId, 1, kSeed);
-  std::unique_ptr<scenarios::Expert> expert = nowhere.make_expert(env.model(), 1, scenarios::ExpertMode::kGazeFirst);
+  std::unique_ptr<scenarios::Expert> expert = nowhere.make_expert(env.model(), 1, scenarios::expert::ExpertMode::kGazeFirst);
   env.ResetEnv(0, 0);
   expert->Reset(env.model(), env.state(), 0);
   std::vector<kinematics::Action> actions(1);
@@ -418,7 +423,7 @@ TEST(RuntimeAxis, ATargetWithNoFreePlaceStaysWhereItIs) {
   }
   EXPECT_TRUE(env.state().task[0].target_move_tried) << "a hand came near";
   EXPECT_EQ(env.state().task[0].target_move_tick, -1);
-  EXPECT_EQ(dynamic_cast<const scenarios::PickExpert&>(*expert).replans(0), 0);
+  EXPECT_EQ(dynamic_cast<const scenarios::expert::PickExpert&>(*expert).replans(0), 0);
   EXPECT_EQ(env.state().end[0], engine::EpisodeEnd::kSuccess);
 }
 
