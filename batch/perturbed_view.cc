@@ -203,7 +203,7 @@ void ApplySensorPerturbation(const engine::RenderPerturbation& perturbation, con
                              const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
                              render::ImageBatch* images) {
   if (!perturbation.changes_images()) return;
-  tbb::parallel_for(0, images->n_envs(), [&](int env) {
+  tbb::parallel_for(0, images->num_envs(), [&](int env) {
     ApplySensorPerturbationToEnv(perturbation, state, camera_names, enabled, env, images);
   });
 }

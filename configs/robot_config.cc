@@ -321,6 +321,56 @@ void CheckIkLink(const RobotModel& robot, const kinematics::ArmSpec& arm, const 
   }
 }
 
+// The arms' joints, IK links and rest poses (`arms:` and `rest_pose:`), each joint claimed once.
+void ReadArms(const YamlValue& root, const std::map<std::string, int>& link_index, JointOwners& owners,
+              RobotModel& robot) {
+  const YamlValue arms = root.Required("arms");
+  const YamlValue rest = root.Required("rest_pose");
+  for (kinematics::Side side : kinematics::kSides) {
+    const YamlValue arm_entry = arms.Required(kinematics::Name(side));
+    kinematics::ArmSpec& arm = robot.arms[kinematics::Index(side)];
+    const YamlValue joints = arm_entry.Required("joints");
+    const std::vector<int> arm_joints = owners.Claim(joints, kinematics::kArmDof, "an arm needs exactly 7 joints");
+    std::copy(arm_joints.begin(), arm_joints.end(), arm.joints.begin());
+    const YamlValue ik_link = arm_entry.Required("ik_link");
+    arm.ik_link = LookUp(link_index, ik_link.AsString(), ik_link, "link");
+    CheckIkLink(robot, arm, ik_link);
+    arm_entry.ExpectNoOtherKeys();
+
+    const YamlValue rest_entry = rest.Required(kinematics::Name(side));
+    arm.rest_pose_canonical = MakeTransform(rest_entry.Vector3("position", kPosition),
+                                            ReadQuatWxyz(rest_entry.Required("quat_wxyz")).toRotationMatrix());
+    rest_entry.ExpectNoOtherKeys();
+  }
+  arms.ExpectNoOtherKeys();
+  rest.ExpectNoOtherKeys();
+}
+
+// The camera mounts (`cameras:`), each name once, each on a known link.
+std::vector<kinematics::CameraMount> ReadCameras(const YamlValue& root, const std::map<std::string, int>& link_index) {
+  std::vector<kinematics::CameraMount> cameras;
+  std::set<std::string> camera_names;
+  for (const YamlValue& entry : root.Required("cameras").Elements()) {
+    kinematics::CameraMount camera;
+    camera.name = entry.String("name");
+    if (!camera_names.insert(camera.name).second) {
+      entry.Required("name").Fail("camera '" + camera.name + "' is defined twice");
+    }
+    camera.link = LookUp(link_index, entry.String("parent"), entry, "link");
+    camera.X_LC =
+        MakeTransform(entry.Vector3("xyz", kPosition), ReadQuatWxyz(entry.Required("quat_wxyz")).toRotationMatrix());
+    camera.focal_length_mm = entry.Double("focal_length_mm", kFocalLength);
+    camera.near_m = entry.Double("near", kClipDistance);
+    camera.far_m = entry.Double("far", kClipDistance);
+    if (!(camera.far_m > camera.near_m)) {
+      entry.Required("far").Fail("far " + Number(camera.far_m) + " is not beyond near " + Number(camera.near_m));
+    }
+    entry.ExpectNoOtherKeys();
+    cameras.push_back(camera);
+  }
+  return cameras;
+}
+
 }  // namespace
 
 RobotModel LoadRobotModel(const std::string& path) {
@@ -348,26 +398,7 @@ RobotModel LoadRobotModel(const std::string& path) {
   actuators.ExpectNoOtherKeys();
 
   JointOwners owners(joint_index);
-  const YamlValue arms = root.Required("arms");
-  const YamlValue rest = root.Required("rest_pose");
-  for (kinematics::Side side : kinematics::kSides) {
-    const YamlValue arm_entry = arms.Required(kinematics::Name(side));
-    kinematics::ArmSpec& arm = robot.arms[kinematics::Index(side)];
-    const YamlValue joints = arm_entry.Required("joints");
-    const std::vector<int> arm_joints = owners.Claim(joints, kinematics::kArmDof, "an arm needs exactly 7 joints");
-    std::copy(arm_joints.begin(), arm_joints.end(), arm.joints.begin());
-    const YamlValue ik_link = arm_entry.Required("ik_link");
-    arm.ik_link = LookUp(link_index, ik_link.AsString(), ik_link, "link");
-    CheckIkLink(robot, arm, ik_link);
-    arm_entry.ExpectNoOtherKeys();
-
-    const YamlValue rest_entry = rest.Required(kinematics::Name(side));
-    arm.rest_pose_canonical = MakeTransform(rest_entry.Vector3("position", kPosition),
-                                            ReadQuatWxyz(rest_entry.Required("quat_wxyz")).toRotationMatrix());
-    rest_entry.ExpectNoOtherKeys();
-  }
-  arms.ExpectNoOtherKeys();
-  rest.ExpectNoOtherKeys();
+  ReadArms(root, link_index, owners, robot);
 
   const YamlValue neck = root.Required("neck");
   const std::vector<int> neck_joints =
@@ -384,25 +415,7 @@ RobotModel LoadRobotModel(const std::string& path) {
   robot.gripper = ReadGripper(root.Required("gripper"));
   robot.observation_state = ReadObservationState(root.Required("observation_state"), joint_index);
 
-  std::set<std::string> camera_names;
-  for (const YamlValue& entry : root.Required("cameras").Elements()) {
-    kinematics::CameraMount camera;
-    camera.name = entry.String("name");
-    if (!camera_names.insert(camera.name).second) {
-      entry.Required("name").Fail("camera '" + camera.name + "' is defined twice");
-    }
-    camera.link = LookUp(link_index, entry.String("parent"), entry, "link");
-    camera.X_LC =
-        MakeTransform(entry.Vector3("xyz", kPosition), ReadQuatWxyz(entry.Required("quat_wxyz")).toRotationMatrix());
-    camera.focal_length_mm = entry.Double("focal_length_mm", kFocalLength);
-    camera.near_m = entry.Double("near", kClipDistance);
-    camera.far_m = entry.Double("far", kClipDistance);
-    if (!(camera.far_m > camera.near_m)) {
-      entry.Required("far").Fail("far " + Number(camera.far_m) + " is not beyond near " + Number(camera.near_m));
-    }
-    entry.ExpectNoOtherKeys();
-    robot.cameras.push_back(camera);
-  }
+  robot.cameras = ReadCameras(root, link_index);
   for (const YamlValue& entry : root.Required("shapes").Elements())
     robot.shapes.push_back(ReadShape(entry, link_index));
   root.ExpectNoOtherKeys();

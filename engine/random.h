@@ -32,7 +32,7 @@ enum class RandomStreamId : uint64_t {
   kDistractors = 5,  // which distractors an episode gets, where they stand
   kParaphrase = 6,   // which paraphrase of its prompt an episode gets
   kTargetMove = 7,   // which way the runtime axis moves an episode's target
-  kAppearance = 8,  // the appearance axis's random texture colours
+  kAppearance = 8,   // the appearance axis's random texture colours
 };
 
 class RandomStream {

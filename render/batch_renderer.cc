@@ -93,13 +93,13 @@ void RequireRigid(const char* array, const ArrayRef<RigidTransform>& poses, std:
 }  // namespace
 
 struct BatchRenderer::Impl {
-  Impl(const SceneLayout& layout_in, int n_envs_in, const RenderOptions& options_in)
+  Impl(const SceneLayout& layout_in, int num_envs_in, const RenderOptions& options_in)
       : layout(layout_in),
-        n_envs(n_envs_in),
+        num_envs(num_envs_in),
         options(options_in),
         device(internal::SharedEmbreeDevice()),
         shapes(device, layout.instances),
-        env_scenes(device, shapes, n_envs, n_instances()),
+        env_scenes(device, shapes, num_envs, n_instances()),
         lighting(layout.lighting),
         packet_width(internal::PreferredPacketWidth(device)) {
     for (const CameraSpec& camera : layout.cameras) {
@@ -107,14 +107,15 @@ struct BatchRenderer::Impl {
       tiles_x.push_back(TilesAcross(camera.width));
       tiles_per_camera.push_back(static_cast<int64_t>(TilesAcross(camera.width)) * TilesAcross(camera.height));
     }
-    const std::size_t env_cameras = static_cast<std::size_t>(n_envs) * layout.cameras.size();
+    const std::size_t env_cameras = static_cast<std::size_t>(num_envs) * layout.cameras.size();
     camera_frames.resize(env_cameras);
     camera_active.assign(env_cameras, 0);
     rendered_cameras.assign(layout.cameras.size(), 0);
     rendered_tile_start.assign(layout.cameras.size() + 1, 0);
-    flat_shades.assign(static_cast<std::size_t>(n_envs), internal::FlatShades(shapes.surfaces().data(), n_instances()));
+    flat_shades.assign(static_cast<std::size_t>(num_envs),
+                       internal::FlatShades(shapes.surfaces().data(), n_instances()));
     if (lighting.shadows() && !options.trace_every_shadow_ray)
-      casters.assign(static_cast<std::size_t>(n_envs), {lighting.to_light(), n_instances()});
+      casters.assign(static_cast<std::size_t>(num_envs), {lighting.to_light(), n_instances()});
   }
 
   int n_instances() const { return static_cast<int>(layout.instances.size()); }
@@ -150,7 +151,7 @@ struct BatchRenderer::Impl {
   }
 
   SceneLayout layout;
-  int n_envs;
+  int num_envs;
   RenderOptions options;
   RTCDevice device;
   internal::ShapeLibrary shapes;
@@ -173,18 +174,18 @@ struct BatchRenderer::Impl {
 };
 
 void BatchRenderer::Impl::CheckShapes(const RenderInputs& inputs, const ImageBatch* images) const {
-  const std::size_t envs = static_cast<std::size_t>(n_envs);
+  const std::size_t envs = static_cast<std::size_t>(num_envs);
   const std::size_t instances = envs * layout.instances.size();
   const std::size_t cameras = envs * layout.cameras.size();
-  RequireSize("X_WI", inputs.X_WI.size, instances, "n_envs x n_instances", false);
-  RequireSize("instance_visible", inputs.instance_visible.size, instances, "n_envs x n_instances", true);
-  RequireSize("instance_rgb", inputs.instance_rgb.size, instances, "n_envs x n_instances", true);
-  RequireSize("instance_texture", inputs.instance_texture.size, instances, "n_envs x n_instances", true);
-  RequireSize("X_WC", inputs.X_WC.size, cameras, "n_envs x n_cameras", false);
-  RequireSize("camera_enabled", inputs.camera_enabled.size, cameras, "n_envs x n_cameras", true);
+  RequireSize("X_WI", inputs.X_WI.size, instances, "num_envs x n_instances", false);
+  RequireSize("instance_visible", inputs.instance_visible.size, instances, "num_envs x n_instances", true);
+  RequireSize("instance_rgb", inputs.instance_rgb.size, instances, "num_envs x n_instances", true);
+  RequireSize("instance_texture", inputs.instance_texture.size, instances, "num_envs x n_instances", true);
+  RequireSize("X_WC", inputs.X_WC.size, cameras, "num_envs x n_cameras", false);
+  RequireSize("camera_enabled", inputs.camera_enabled.size, cameras, "num_envs x n_cameras", true);
   RequireSize("render_camera", inputs.render_camera.size, layout.cameras.size(), "n_cameras", true);
   if (images == nullptr) return;
-  bool matches = images->n_envs() == n_envs && images->n_cameras() == n_cameras() &&
+  bool matches = images->num_envs() == num_envs && images->n_cameras() == n_cameras() &&
                  images->has_depth() == options.with_depth && images->has_object_id() == options.with_object_id;
   for (int c = 0; matches && c < n_cameras(); ++c) {
     const CameraSpec& camera = layout.cameras[static_cast<std::size_t>(c)];
@@ -206,7 +207,7 @@ void BatchRenderer::Impl::PrepareTick(const RenderInputs& inputs, bool shading) 
     rendered_cameras[static_cast<std::size_t>(n_rendered)] = c;
     ++n_rendered;
   }
-  tbb::parallel_for(0, n_envs, [&](int env) {
+  tbb::parallel_for(0, num_envs, [&](int env) {
     const internal::FlushDenormalsScope flush_denormals;
     PrepareEnv(
         env, inputs,
@@ -267,7 +268,7 @@ RenderStats BatchRenderer::Impl::ForEachTile(const TileFunction& trace_tile) con
   std::atomic<int64_t> primary_rays{0};
   std::atomic<int64_t> shadow_rays{0};
   std::atomic<int64_t> primary_hits{0};
-  tbb::parallel_for(tbb::blocked_range<int64_t>(0, tiles_per_env * n_envs),
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, tiles_per_env * num_envs),
                     [&](const tbb::blocked_range<int64_t>& items) {
                       const internal::FlushDenormalsScope flush_denormals;
                       TileCounts sum;
@@ -297,23 +298,23 @@ RenderStats BatchRenderer::Impl::ForEachTile(const TileFunction& trace_tile) con
   return RenderStats{primary_rays.load(), shadow_rays.load(), primary_hits.load()};
 }
 
-BatchRenderer::BatchRenderer(const SceneLayout& layout, int n_envs, const RenderOptions& options) {
-  if (n_envs <= 0)
-    throw std::invalid_argument("BatchRenderer: n_envs = " + std::to_string(n_envs) + " must be positive");
+BatchRenderer::BatchRenderer(const SceneLayout& layout, int num_envs, const RenderOptions& options) {
+  if (num_envs <= 0)
+    throw std::invalid_argument("BatchRenderer: num_envs = " + std::to_string(num_envs) + " must be positive");
   ValidateSceneLayout(layout);
-  impl_ = std::make_unique<Impl>(layout, n_envs, options);
+  impl_ = std::make_unique<Impl>(layout, num_envs, options);
 }
 
 BatchRenderer::~BatchRenderer() = default;
 
 const SceneLayout& BatchRenderer::layout() const { return impl_->layout; }
-int BatchRenderer::n_envs() const { return impl_->n_envs; }
+int BatchRenderer::num_envs() const { return impl_->num_envs; }
 int BatchRenderer::n_instances() const { return impl_->n_instances(); }
 int BatchRenderer::n_cameras() const { return impl_->n_cameras(); }
 int BatchRenderer::n_unique_shapes() const { return impl_->shapes.n_shapes(); }
 
 ImageBatch BatchRenderer::MakeImageBatch() const {
-  return ImageBatch(impl_->layout.cameras, impl_->n_envs, impl_->options);
+  return ImageBatch(impl_->layout.cameras, impl_->num_envs, impl_->options);
 }
 
 void BatchRenderer::Validate(const RenderInputs& inputs) const {
@@ -351,9 +352,9 @@ RenderStats BatchRenderer::Render(const RenderInputs& inputs, ImageBatch* images
 
 RenderStats BatchRenderer::RenderEnv(int env, const RenderInputs& inputs, ImageBatch* images) {
   Impl& impl = *impl_;
-  if (env < 0 || env >= impl.n_envs) {
+  if (env < 0 || env >= impl.num_envs) {
     throw std::invalid_argument("BatchRenderer::RenderEnv: env " + std::to_string(env) + " out of range (" +
-                                std::to_string(impl.n_envs) + " envs)");
+                                std::to_string(impl.num_envs) + " envs)");
   }
   impl.CheckShapes(inputs, images);
   const internal::FlushDenormalsScope flush_denormals;

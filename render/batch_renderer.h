@@ -26,13 +26,13 @@ class BatchRenderer {
  public:
   // Validates the layout (std::invalid_argument on bad input) and builds one acceleration
   // structure per distinct shape and one instance scene per env.
-  BatchRenderer(const SceneLayout& layout, int n_envs, const RenderOptions& options = {});
+  BatchRenderer(const SceneLayout& layout, int num_envs, const RenderOptions& options = {});
   ~BatchRenderer();
   BatchRenderer(const BatchRenderer&) = delete;
   BatchRenderer& operator=(const BatchRenderer&) = delete;
 
   const SceneLayout& layout() const;
-  int n_envs() const;
+  int num_envs() const;
   int n_instances() const;
   int n_cameras() const;
   // Distinct shapes among the instances, i.e. the number of shape BVHs built.

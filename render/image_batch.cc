@@ -5,9 +5,10 @@
 
 namespace tavis::render {
 
-ImageBatch::ImageBatch(const std::vector<CameraSpec>& cameras, int n_envs, const RenderOptions& options)
-    : n_envs_(n_envs) {
-  if (n_envs <= 0) throw std::invalid_argument("ImageBatch: n_envs = " + std::to_string(n_envs) + " must be positive");
+ImageBatch::ImageBatch(const std::vector<CameraSpec>& cameras, int num_envs, const RenderOptions& options)
+    : num_envs_(num_envs) {
+  if (num_envs <= 0)
+    throw std::invalid_argument("ImageBatch: num_envs = " + std::to_string(num_envs) + " must be positive");
   for (const CameraSpec& camera : cameras) {
     ValidateCamera(camera);
     widths_.push_back(camera.width);
@@ -15,7 +16,7 @@ ImageBatch::ImageBatch(const std::vector<CameraSpec>& cameras, int n_envs, const
     camera_pixel_offset_.push_back(pixels_per_env_);
     pixels_per_env_ += static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
   }
-  const std::size_t pixels = pixels_per_env_ * static_cast<std::size_t>(n_envs);
+  const std::size_t pixels = pixels_per_env_ * static_cast<std::size_t>(num_envs);
   rgb_.assign(3 * pixels, 0);
   if (options.with_depth) depth_.assign(pixels, 0.0f);
   if (options.with_object_id) object_id_.assign(pixels, -1);

@@ -24,9 +24,9 @@ struct RenderOptions {
 // visible surface, -1 for background (floor, table, robot, nothing hit).
 class ImageBatch {
  public:
-  ImageBatch(const std::vector<CameraSpec>& cameras, int n_envs, const RenderOptions& options);
+  ImageBatch(const std::vector<CameraSpec>& cameras, int num_envs, const RenderOptions& options);
 
-  int n_envs() const { return n_envs_; }
+  int num_envs() const { return num_envs_; }
   int n_cameras() const { return static_cast<int>(widths_.size()); }
   int width(int camera) const { return widths_[static_cast<std::size_t>(camera)]; }
   int height(int camera) const { return heights_[static_cast<std::size_t>(camera)]; }
@@ -52,7 +52,7 @@ class ImageBatch {
     return static_cast<std::size_t>(env) * pixels_per_env_ + camera_pixel_offset_[static_cast<std::size_t>(camera)];
   }
 
-  int n_envs_ = 0;
+  int num_envs_ = 0;
   std::vector<int> widths_;
   std::vector<int> heights_;
   std::vector<std::size_t> camera_pixel_offset_;

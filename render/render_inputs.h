@@ -30,23 +30,23 @@ struct ArrayRef {
 
 // Index order everywhere: [env][instance] or [env][camera], env-major.
 struct RenderInputs {
-  // World pose of every instance (n_envs x n_instances). A non-finite pose hides that instance
+  // World pose of every instance (num_envs x n_instances). A non-finite pose hides that instance
   // for this tick (Validate reports it).
   ArrayRef<RigidTransform> X_WI;
-  // 1 = drawn, 0 = hidden (n_envs x n_instances). Empty: everything visible.
+  // 1 = drawn, 0 = hidden (num_envs x n_instances). Empty: everything visible.
   ArrayRef<uint8_t> instance_visible;
   // Per-env colour replacing Appearance::rgb, e.g. a card or light whose colour is a task
-  // variable (n_envs x n_instances, linear [0, 1]). Empty: the layout's colours.
+  // variable (num_envs x n_instances, linear [0, 1]). Empty: the layout's colours.
   ArrayRef<Eigen::Vector3f> instance_rgb;
   // Per-env procedural texture replacing the colour (Appearance::rgb or instance_rgb) of a lit
-  // instance's surface, evaluated per hit in the instance's frame (n_envs x n_instances;
+  // instance's surface, evaluated per hit in the instance's frame (num_envs x n_instances;
   // TexturePattern::kNone keeps the colour; labels are drawn over it; emissive surfaces ignore
   // it). Empty: no textures, and the shading takes exactly its untextured path.
   ArrayRef<ProceduralTexture> instance_texture;
-  // World pose of every camera (n_envs x n_cameras). A non-finite pose gives an all-zero image.
+  // World pose of every camera (num_envs x n_cameras). A non-finite pose gives an all-zero image.
   ArrayRef<RigidTransform> X_WC;
   // 0 = this env's camera is blocked: its image is all zero and no ray is traced
-  // (n_envs x n_cameras). Empty: all enabled.
+  // (num_envs x n_cameras). Empty: all enabled.
   ArrayRef<uint8_t> camera_enabled;
   // 1 = render this camera this tick (n_cameras). Images of cameras not rendered keep their
   // previous contents. Empty: render all cameras.

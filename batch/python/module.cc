@@ -47,9 +47,9 @@ py::dict Pixels(const py::object& self, const render::ImageBatch* images) {
     const py::ssize_t height = images->height(camera);
     const py::ssize_t width = images->width(camera);
     const py::ssize_t env_stride =
-        images->n_envs() > 1 ? images->rgb(1, camera) - images->rgb(0, camera) : height * width * 3;
+        images->num_envs() > 1 ? images->rgb(1, camera) - images->rgb(0, camera) : height * width * 3;
     pixels[py::str(env.camera_names()[static_cast<std::size_t>(camera)])] =
-        View(u8, {images->n_envs(), height, width, 3}, {env_stride, width * 3, 3, 1}, images->rgb(0, camera), self);
+        View(u8, {images->num_envs(), height, width, 3}, {env_stride, width * 3, 3, 1}, images->rgb(0, camera), self);
   }
   return pixels;
 }
@@ -103,14 +103,8 @@ gym::GymVecEnv* MakeEnv(gym::GymVecEnvConfig config) {
   return new gym::GymVecEnv(config);
 }
 
-}  // namespace
-}  // namespace tavis::batch::python
-
-PYBIND11_MODULE(_tavis, m) {
-  using namespace tavis;                 // NOLINT: the module's one scope
-  using namespace tavis::batch;          // NOLINT
-  using namespace tavis::batch::python;  // NOLINT: the helpers above
-  m.doc() = "TAVIS-C++ batched env (the pybind11 core of the tavis package; see docs/python.md)";
+// Python exceptions for the library's: a bad name is a KeyError, a bad config a ValueError.
+void RegisterExceptionTranslator() {
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
       if (thrown) std::rethrow_exception(thrown);
@@ -124,37 +118,29 @@ PYBIND11_MODULE(_tavis, m) {
       PyErr_SetString(PyExc_RuntimeError, error.what());
     }
   });
+}
 
+// The module's constants and free functions.
+void BindModuleFunctions(py::module_& m) {
   m.attr("ACTION_SIZE") = kActionSize;
   m.attr("MAX_ENVS") = gym::kMaxGymEnvs;
   m.attr("DEFAULT_CONFIG_DIR") = TAVIS_DEFAULT_CONFIG_DIR;
   m.def("camera_names", &SceneCameraNames, "The cameras: head, fixed, left_wrist, right_wrist");
   m.def("known_tasks", &scenarios::KnownTasks, "The tasks, comma-separated");
   m.def("builtin_policy_names", &BuiltinPolicyNames);
+}
 
+// The built-in policy objects VecEnvCore.make_policy hands out.
+void BindBuiltinPolicy(py::module_& m) {
   py::class_<Policy, std::shared_ptr<Policy>>(m, "BuiltinPolicy",
                                               "A built-in policy bound to one env (VecEnvCore.make_policy)")
       .def_property_readonly("name", &Policy::name)
       .def_property_readonly("control_ticks_per_action", &Policy::control_ticks_per_action);
+}
 
-  py::class_<gym::GymVecEnv>(m, "VecEnvCore")
-      .def(py::init([](const std::string& task, const std::string& robot, const std::string& split, int num_envs,
-                       uint64_t seed, const std::string& camera, const std::vector<std::string>& cameras,
-                       std::pair<int, int> image_size, int threads, int control_ticks_per_step, bool autoreset,
-                       const std::string& config_dir) {
-             return MakeEnv({task, robot, split, num_envs, seed, camera, cameras, image_size.second, image_size.first,
-                             threads, control_ticks_per_step, autoreset, config_dir});
-           }),
-           py::arg("task"), py::arg("robot"), py::arg("split"), py::arg("num_envs"), py::arg("seed"), py::arg("camera"),
-           py::arg("cameras"), py::arg("image_size"), py::arg("threads"), py::arg("control_ticks_per_step"),
-           py::arg("autoreset"), py::arg("config_dir"))
-      .def_property_readonly("num_envs", &gym::GymVecEnv::num_envs)
-      .def_property_readonly("state_size", &gym::GymVecEnv::state_size)
-      .def_property_readonly("control_ticks_per_step", &gym::GymVecEnv::control_ticks_per_step)
-      .def_property_readonly("max_episode_steps", &gym::GymVecEnv::max_episode_steps)
-      .def_property_readonly("camera_names", &gym::GymVecEnv::camera_names)
-      .def_property_readonly("busy", &gym::GymVecEnv::busy, "Whether a call holds the env now (another thread's)")
-      .def(
+// VecEnvCore's reset and step.
+void BindStepping(py::class_<gym::GymVecEnv>& core) {
+  core.def(
           "reset",
           [](gym::GymVecEnv& env, const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes) {
             const Exclusive use(env, "reset");
@@ -170,8 +156,12 @@ PYBIND11_MODULE(_tavis, m) {
             py::gil_scoped_release release;
             env.Step(values.data());
           },
-          py::arg("actions"))
-      .def(
+          py::arg("actions"));
+}
+
+// VecEnvCore's observation: images, observation.state, prompts, episode indices.
+void BindObservation(py::class_<gym::GymVecEnv>& core) {
+  core.def(
           "pixels",
           [](const py::object& self) {
             const gym::GymVecEnv& env = self.cast<const gym::GymVecEnv&>();
@@ -202,14 +192,17 @@ PYBIND11_MODULE(_tavis, m) {
              for (int i = 0; i < env.num_envs(); ++i) prompts.emplace_back(env.prompt(i));
              return prompts;
            })
-      .def("episodes",
-           [](const gym::GymVecEnv& env) {
-             const Exclusive use(env, "episodes");
-             std::vector<int64_t> episodes;
-             for (int i = 0; i < env.num_envs(); ++i) episodes.push_back(env.episode(i));
-             return Copy(episodes);
-           })
-      .def("rewards",
+      .def("episodes", [](const gym::GymVecEnv& env) {
+        const Exclusive use(env, "episodes");
+        std::vector<int64_t> episodes;
+        for (int i = 0; i < env.num_envs(); ++i) episodes.push_back(env.episode(i));
+        return Copy(episodes);
+      });
+}
+
+// VecEnvCore's per-step outcome: rewards, terminations, and the ended episodes' final state.
+void BindEpisodeEnds(py::class_<gym::GymVecEnv>& core) {
+  core.def("rewards",
            [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "rewards");
              return Copy(env.rewards());
@@ -241,14 +234,17 @@ PYBIND11_MODULE(_tavis, m) {
              for (engine::EpisodeEnd end : env.ended_how()) ends.emplace_back(engine::ToString(end));
              return ends;
            })
-      .def("final_agent_pos",
-           [](const gym::GymVecEnv& env) {
-             const Exclusive use(env, "final_agent_pos");
-             py::array_t<float> rows({env.num_envs(), env.state_size()});
-             std::copy(env.final_state().begin(), env.final_state().end(), rows.mutable_data());
-             return rows;
-           })
-      .def(
+      .def("final_agent_pos", [](const gym::GymVecEnv& env) {
+        const Exclusive use(env, "final_agent_pos");
+        py::array_t<float> rows({env.num_envs(), env.state_size()});
+        std::copy(env.final_state().begin(), env.final_state().end(), rows.mutable_data());
+        return rows;
+      });
+}
+
+// VecEnvCore's built-in policies, run in C++ for the whole batch.
+void BindPolicies(py::class_<gym::GymVecEnv>& core) {
+  core.def(
           "make_policy",
           [](gym::GymVecEnv& env, const std::string& name, const std::string& actions_file) {
             const Exclusive use(env, "make_policy");
@@ -282,8 +278,12 @@ PYBIND11_MODULE(_tavis, m) {
             return actions;
           },
           "The hold policy's actions for every env, (N, 19) float64: arms at their reset pose, head "
-          "still, grippers open")
-      .def("episode_json_lines",
+          "still, grippers open");
+}
+
+// VecEnvCore's records, as tavis eval writes them.
+void BindResults(py::class_<gym::GymVecEnv>& core) {
+  core.def("episode_json_lines",
            [](const gym::GymVecEnv& env) {
              const Exclusive use(env, "episode_json_lines");
              std::vector<std::string> lines;
@@ -300,4 +300,39 @@ PYBIND11_MODULE(_tavis, m) {
             env.WriteResults(out_dir, policy, first, count);
           },
           py::arg("out_dir"), py::arg("policy"), py::arg("first"), py::arg("count"));
+}
+
+}  // namespace
+}  // namespace tavis::batch::python
+
+PYBIND11_MODULE(_tavis, m) {
+  using namespace tavis;                 // NOLINT: the module's one scope
+  using namespace tavis::batch;          // NOLINT
+  using namespace tavis::batch::python;  // NOLINT: the helpers above
+  m.doc() = "TAVIS-C++ batched env (the pybind11 core of the tavis package; see docs/python.md)";
+  RegisterExceptionTranslator();
+  BindModuleFunctions(m);
+  BindBuiltinPolicy(m);
+  py::class_<gym::GymVecEnv> core(m, "VecEnvCore");
+  core.def(py::init([](const std::string& task, const std::string& robot, const std::string& split, int num_envs,
+                       uint64_t seed, const std::string& camera, const std::vector<std::string>& cameras,
+                       std::pair<int, int> image_size, int threads, int control_ticks_per_step, bool autoreset,
+                       const std::string& config_dir) {
+             return MakeEnv({task, robot, split, num_envs, seed, camera, cameras, image_size.second, image_size.first,
+                             threads, control_ticks_per_step, autoreset, config_dir});
+           }),
+           py::arg("task"), py::arg("robot"), py::arg("split"), py::arg("num_envs"), py::arg("seed"), py::arg("camera"),
+           py::arg("cameras"), py::arg("image_size"), py::arg("threads"), py::arg("control_ticks_per_step"),
+           py::arg("autoreset"), py::arg("config_dir"))
+      .def_property_readonly("num_envs", &gym::GymVecEnv::num_envs)
+      .def_property_readonly("state_size", &gym::GymVecEnv::state_size)
+      .def_property_readonly("control_ticks_per_step", &gym::GymVecEnv::control_ticks_per_step)
+      .def_property_readonly("max_episode_steps", &gym::GymVecEnv::max_episode_steps)
+      .def_property_readonly("camera_names", &gym::GymVecEnv::camera_names)
+      .def_property_readonly("busy", &gym::GymVecEnv::busy, "Whether a call holds the env now (another thread's)");
+  BindStepping(core);
+  BindObservation(core);
+  BindEpisodeEnds(core);
+  BindPolicies(core);
+  BindResults(core);
 }

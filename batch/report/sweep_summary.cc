@@ -163,15 +163,22 @@ Json SuccessJson(const std::string& suite, const std::vector<CellEpisodes>& cell
           {"id_minus_ood", differences}};
 }
 
-// The sections of one label's cells: success, successful_length, id_minus_ood, paired, galt, stages,
-// paired_camera_sets.
-Json LabelSections(const std::vector<CellEpisodes>& cells) {
-  Json summary = Json::object();
+// One label's cells grouped by (task, robot, split, camera), in the order they first appear, and
+// their matched episodes for the head vs fixed pairing.
+struct LabelGroups {
   std::vector<GroupKey> order;
   std::map<GroupKey, Group> groups;
-  // Matched episodes: (task, robot, split, seed) -> episode -> success under head / fixed.
+  // (task, robot, split, seed) -> camera -> each episode's success.
   std::map<std::tuple<std::string, std::string, std::string, uint64_t>, std::map<std::string, std::vector<bool>>> pairs;
   std::vector<std::string> suites;
+};
+
+LabelGroups GroupCells(const std::vector<CellEpisodes>& cells) {
+  LabelGroups grouped;
+  std::vector<GroupKey>& order = grouped.order;
+  std::map<GroupKey, Group>& groups = grouped.groups;
+  auto& pairs = grouped.pairs;
+  std::vector<std::string>& suites = grouped.suites;
   for (const CellEpisodes& cell : cells) {
     const GroupKey key = KeyOf(cell);
     if (!groups.count(key)) order.push_back(key);
@@ -189,30 +196,40 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
     const std::string suite = SuiteOf(cell.config.task);
     if (std::find(suites.begin(), suites.end(), suite) == suites.end()) suites.push_back(suite);
   }
+  return grouped;
+}
+
+Json SuccessSection(const std::vector<CellEpisodes>& cells, const std::vector<std::string>& suites) {
   Json success = Json::array();
   for (const scenarios::Suite suite : scenarios::kAllSuites) {
     if (std::find(suites.begin(), suites.end(), scenarios::ToString(suite)) != suites.end()) {
       success.push_back(SuccessJson(scenarios::ToString(suite), cells));
     }
   }
-  summary["success"] = success;
+  return success;
+}
 
+Json SuccessfulLengthSection(const LabelGroups& grouped) {
   Json lengths = Json::array();
-  for (const GroupKey& key : order) {
+  for (const GroupKey& key : grouped.order) {
     const auto& [task, robot, split, camera] = key;
     lengths.push_back({{"task", task},
                        {"robot", robot},
                        {"split", split},
                        {"camera", camera},
-                       {"successful_length_s", SpreadJson(groups[key].success_lengths_s)}});
+                       {"successful_length_s", SpreadJson(grouped.groups.at(key).success_lengths_s)}});
   }
-  summary["successful_length"] = lengths;
+  return lengths;
+}
 
+Json IdMinusOodSection(const LabelGroups& grouped) {
+  const std::vector<GroupKey>& order = grouped.order;
+  const std::map<GroupKey, Group>& groups = grouped.groups;
   Json id_minus_ood = Json::array();
   for (const GroupKey& key : order) {
     const auto& [task, robot, split, camera] = key;
     if (split != "id") continue;
-    const Group& id = groups[key];
+    const Group& id = groups.at(key);
     for (const scenarios::Split ood : {scenarios::Split::kOodSpatial, scenarios::Split::kOodInitPose}) {
       const auto other = groups.find({task, robot, scenarios::ToString(ood), camera});
       if (other == groups.end() || id.episodes == 0 || other->second.episodes == 0) continue;
@@ -228,8 +245,12 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
                               {"difference", id_rate - ood_rate}});
     }
   }
-  summary["id_minus_ood"] = id_minus_ood;
+  return id_minus_ood;
+}
 
+Json PairedSection(const LabelGroups& grouped) {
+  const std::vector<GroupKey>& order = grouped.order;
+  const auto& pairs = grouped.pairs;
   // Head vs fixed over the pairs of every seed; a pair needs both cells with the same episodes.
   std::map<std::tuple<std::string, std::string, std::string>, PairedCounts> paired_counts;
   std::vector<std::tuple<std::string, std::string, std::string>> paired_order;
@@ -269,13 +290,15 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
                       {"difference", head_rate - fixed_rate},
                       {"mcnemar_p", McNemarExactP(counts.first_only, counts.second_only)}});
   }
-  summary["paired"] = paired;
+  return paired;
+}
 
+Json GaltSection(const LabelGroups& grouped) {
   Json galt = Json::array();
-  for (const GroupKey& key : order) {
+  for (const GroupKey& key : grouped.order) {
     const auto& [task, robot, split, camera] = key;
     if (camera != "head") continue;
-    const cell::GaltSummary galt_summary = cell::SummarizeGalt(groups[key].galt);
+    const cell::GaltSummary galt_summary = cell::SummarizeGalt(grouped.groups.at(key).galt);
     Json row = {
         {"robot", robot},
         {"task", task},
@@ -286,7 +309,19 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
     galt.push_back(row);
   }
   std::stable_sort(galt.begin(), galt.end(), [](const Json& a, const Json& b) { return a["robot"] < b["robot"]; });
-  summary["galt"] = galt;
+  return galt;
+}
+
+// The sections of one label's cells: success, successful_length, id_minus_ood, paired, galt, stages,
+// paired_camera_sets.
+Json LabelSections(const std::vector<CellEpisodes>& cells) {
+  const LabelGroups grouped = GroupCells(cells);
+  Json summary = Json::object();
+  summary["success"] = SuccessSection(cells, grouped.suites);
+  summary["successful_length"] = SuccessfulLengthSection(grouped);
+  summary["id_minus_ood"] = IdMinusOodSection(grouped);
+  summary["paired"] = PairedSection(grouped);
+  summary["galt"] = GaltSection(grouped);
   summary["stages"] = StageFunnelRows(cells);
   summary["paired_camera_sets"] = CameraSetPairRows(cells);
   return summary;

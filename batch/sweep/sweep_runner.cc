@@ -45,64 +45,36 @@ int DefaultConcurrentCells(bool all_per_slot, int threads) {
   return all_per_slot ? std::max(1, threads / kThreadsPerPerSlotCell) : std::max(1, threads);
 }
 
-void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
-  const fs::path out = options.out_dir;
-  const std::vector<SweepCell> all = ExpandCells(spec, options.config_dir);
-  std::vector<SweepCell> mine;
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    if (InShard(i, options.shard)) mine.push_back(all[i]);
-  }
-  std::vector<std::string> ids;
-  for (const SweepCell& cell : mine) ids.push_back(cell.id);
-  for (const SweepCell& cell : mine) cell::CheckEvaluationCell(cell.config);  // bad settings fail before any work
-  DatasetGaltReference(spec.figures);  // an unreadable reference dataset fails before any work, not after it
-
-  SweepManifest manifest(spec, options.spec_yaml, options.shard, ids);
-  // A sweep writes only into a new folder or its own: never beside a user's files or into an
-  // eval cell, and never while another process writes the same sweep.
-  output::RequireUsableOutputPath(out);
-  output::RequireEmptyOrOwn(out, output::OutputKind::kSweep,
-                            "give a new --out for the sweep, or this sweep's own folder to finish it");
-  const output::OutputLock lock = output::CreateAndLockOutput(out, "sweep");
-  if (fs::exists(out / "manifest.json")) manifest.RequireSameSweep(SweepManifest::Read(out), out);
-  output::WriteOutputMarker(out, output::OutputKind::kSweep);
-  fs::create_directories(out / "cells");
-
+// The cells of `mine` still to run (all but the complete ones in `out`), marking the interrupted
+// ones in the manifest; `episodes_done` counts the episodes already recorded.
+std::vector<const SweepCell*> CellsToRun(const std::vector<SweepCell>& mine, const fs::path& out,
+                                         SweepManifest& manifest, int64_t* episodes_done) {
   std::vector<const SweepCell*> to_run;
-  int64_t episodes_done = 0;
   for (const SweepCell& cell : mine) {
     const fs::path dir = out / "cells" / cell.id;
     if (ReadCompleteCell(dir, cell.config)) {
       manifest.SetState(cell.id, "complete");
-      episodes_done += cell.config.episodes;
+      *episodes_done += cell.config.episodes;
     } else {
       if (fs::exists(dir / "cell.json")) {
         manifest.SetState(cell.id, "interrupted");
-        episodes_done += std::min<int64_t>(RecordedEpisodes(dir), cell.config.episodes);
+        *episodes_done += std::min<int64_t>(RecordedEpisodes(dir), cell.config.episodes);
       }
       to_run.push_back(&cell);
     }
   }
-  manifest.Write(out);
+  return to_run;
+}
 
-  const bool all_per_slot =
-      std::all_of(to_run.begin(), to_run.end(), [](const SweepCell* cell) { return cell::RunsPerSlot(cell->config); });
-  const int default_jobs = DefaultConcurrentCells(all_per_slot, options.threads);
-  const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : default_jobs,
-                                             static_cast<int>(to_run.size())));
-  // Each running cell's own thread works too: TBB gets the cores the cell threads leave.
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                            static_cast<std::size_t>(std::max(1, options.threads - jobs + 1)));
-  SweepProgress progress(static_cast<int>(mine.size()), static_cast<int>(mine.size() - to_run.size()),
-                         static_cast<int64_t>(mine.size()) * spec.episodes, episodes_done, options.quiet);
-  const auto start = std::chrono::steady_clock::now();
+// Runs `to_run` into out/cells, `jobs` cells at a time, keeping the manifest's states current.
+// Returns the first error of a cell, if any (the other running cells finish first).
+std::exception_ptr RunCells(const std::vector<const SweepCell*>& to_run, int jobs, const fs::path& out,
+                            const SweepRunOptions& options, const rollout::EpisodeVideoSettings& videos,
+                            SweepManifest& manifest, SweepProgress& progress) {
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
   std::exception_ptr first_error;
   std::mutex error_mutex;
-  rollout::EpisodeVideoSettings videos;
-  videos.episodes = options.videos.value_or(spec.videos);
-  if (videos.episodes > 0) dataset::video::ShowOnlyVideoErrors();
   const auto worker = [&] {
     for (std::size_t i = next++; i < to_run.size() && !failed; i = next++) {
       const SweepCell& cell = *to_run[i];
@@ -132,6 +104,51 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
   worker();
   for (std::thread& thread : threads) thread.join();
+  return first_error;
+}
+
+void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
+  const fs::path out = options.out_dir;
+  const std::vector<SweepCell> all = ExpandCells(spec, options.config_dir);
+  std::vector<SweepCell> mine;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (InShard(i, options.shard)) mine.push_back(all[i]);
+  }
+  std::vector<std::string> ids;
+  for (const SweepCell& cell : mine) ids.push_back(cell.id);
+  for (const SweepCell& cell : mine) cell::CheckEvaluationCell(cell.config);  // bad settings fail before any work
+  DatasetGaltReference(spec.figures);  // an unreadable reference dataset fails before any work, not after it
+
+  SweepManifest manifest(spec, options.spec_yaml, options.shard, ids);
+  // A sweep writes only into a new folder or its own: never beside a user's files or into an
+  // eval cell, and never while another process writes the same sweep.
+  output::RequireUsableOutputPath(out);
+  output::RequireEmptyOrOwn(out, output::OutputKind::kSweep,
+                            "give a new --out for the sweep, or this sweep's own folder to finish it");
+  const output::OutputLock lock = output::CreateAndLockOutput(out, "sweep");
+  if (fs::exists(out / "manifest.json")) manifest.RequireSameSweep(SweepManifest::Read(out), out);
+  output::WriteOutputMarker(out, output::OutputKind::kSweep);
+  fs::create_directories(out / "cells");
+
+  int64_t episodes_done = 0;
+  const std::vector<const SweepCell*> to_run = CellsToRun(mine, out, manifest, &episodes_done);
+  manifest.Write(out);
+
+  const bool all_per_slot =
+      std::all_of(to_run.begin(), to_run.end(), [](const SweepCell* cell) { return cell::RunsPerSlot(cell->config); });
+  const int default_jobs = DefaultConcurrentCells(all_per_slot, options.threads);
+  const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : default_jobs,
+                                             static_cast<int>(to_run.size())));
+  // Each running cell's own thread works too: TBB gets the cores the cell threads leave.
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                            static_cast<std::size_t>(std::max(1, options.threads - jobs + 1)));
+  SweepProgress progress(static_cast<int>(mine.size()), static_cast<int>(mine.size() - to_run.size()),
+                         static_cast<int64_t>(mine.size()) * spec.episodes, episodes_done, options.quiet);
+  rollout::EpisodeVideoSettings videos;
+  videos.episodes = options.videos.value_or(spec.videos);
+  if (videos.episodes > 0) dataset::video::ShowOnlyVideoErrors();
+  const auto start = std::chrono::steady_clock::now();
+  const std::exception_ptr first_error = RunCells(to_run, jobs, out, options, videos, manifest, progress);
   manifest.SetTiming(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), options.threads,
                      jobs);
   manifest.Write(out);

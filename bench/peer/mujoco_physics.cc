@@ -128,6 +128,8 @@ std::string MaterialFriction(const engine::WorldModel& model, engine::Material m
 
 }  // namespace
 
+// long: one MJCF document, written top to bottom in the order of its XML; split into parts, each
+// would take the same robot layout and stream and only hide where in the document it writes.
 std::string PhysicsMjcf(const engine::WorldModel& model, bool sparse_jacobian) {
   const kinematics::RobotModel& robot = model.robot;
   const kinematics::GripperGeometry gripper(robot.gripper);

@@ -13,12 +13,12 @@ void FillFrame(const RigidTransform& X, InstanceFrame* frame) {
 
 }  // namespace
 
-EnvScenes::EnvScenes(RTCDevice device, const ShapeLibrary& shapes, int n_envs, int n_instances)
+EnvScenes::EnvScenes(RTCDevice device, const ShapeLibrary& shapes, int num_envs, int n_instances)
     : n_instances_(n_instances) {
-  const std::size_t count = static_cast<std::size_t>(n_envs) * static_cast<std::size_t>(n_instances);
+  const std::size_t count = static_cast<std::size_t>(num_envs) * static_cast<std::size_t>(n_instances);
   frames_.resize(count);
   enabled_.assign(count, 1);
-  for (int env = 0; env < n_envs; ++env) {
+  for (int env = 0; env < num_envs; ++env) {
     ScenePtr scene(rtcNewScene(device));
     // Rebuilt every rendered tick from a few dozen instances: favour build speed.
     rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_DYNAMIC);

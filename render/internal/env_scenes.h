@@ -30,7 +30,7 @@ struct InstanceFrame {
 
 class EnvScenes {
  public:
-  EnvScenes(RTCDevice device, const ShapeLibrary& shapes, int n_envs, int n_instances);
+  EnvScenes(RTCDevice device, const ShapeLibrary& shapes, int num_envs, int n_instances);
 
   // Sets env `env`'s instance poses and visibility from the inputs and commits its scene.
   // Hidden instances and instances with a non-finite pose are left out of the scene.

@@ -234,6 +234,8 @@ bool PickExpert::ApproachLineIsTrackable(const engine::WorldModel& model, const 
                               ticks, m.grasp.arm_clear ? &obstacles : nullptr);
 }
 
+// long: the phase machine is one switch, so that each phase's exit reads beside its entry and the
+// order of the phases is the order of the cases; each case is short, the hard parts are functions.
 void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& state, int env,
                      kinematics::Action& action) {
   EnvMemory& m = memory_[env];

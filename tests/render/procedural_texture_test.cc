@@ -184,7 +184,7 @@ struct Rendered {
 Rendered RenderScene(const testing::TestScene& scene, const std::vector<ProceduralTexture>& textures) {
   RenderOptions options;
   options.with_object_id = true;
-  BatchRenderer renderer(scene.layout, scene.n_envs, options);
+  BatchRenderer renderer(scene.layout, scene.num_envs, options);
   ImageBatch images = renderer.MakeImageBatch();
   RenderInputs inputs = scene.Inputs();
   inputs.instance_texture = textures;

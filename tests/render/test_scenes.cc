@@ -37,7 +37,7 @@ void TestScene::Replicate(int n) {
   repeat(&X_WC);
   repeat(&instance_visible);
   repeat(&camera_enabled);
-  n_envs = n;
+  num_envs = n;
 }
 
 RenderInputs TestScene::Inputs() const {

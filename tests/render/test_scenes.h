@@ -12,7 +12,7 @@ namespace tavis::render::testing {
 // A layout with the poses of one or more envs, owning the buffers RenderInputs points into.
 struct TestScene {
   SceneLayout layout;
-  int n_envs = 1;
+  int num_envs = 1;
   std::vector<RigidTransform> X_WI;  // [env][instance]
   std::vector<RigidTransform> X_WC;  // [env][camera]
   std::vector<uint8_t> instance_visible;

@@ -43,7 +43,7 @@ TEST(ValidationTest, LayoutErrorsNameTheCameraOrInstance) {
   duplicate.cameras[3].name = "head";
   ExpectInvalid([&] { BatchRenderer(duplicate, 1); }, "camera name 'head' is used twice");
 
-  ExpectInvalid([&] { BatchRenderer(scene.layout, 0); }, "n_envs = 0");
+  ExpectInvalid([&] { BatchRenderer(scene.layout, 0); }, "num_envs = 0");
   ExpectInvalid([] { PaletteAppearance("banana"); }, "unknown palette appearance 'banana'");
 }
 
@@ -71,7 +71,7 @@ TEST(ValidationTest, InputErrorsNameTheArrayAndIndex) {
   testing::TestScene short_poses = scene;
   short_poses.X_WI.pop_back();
   ExpectInvalid([&] { renderer.Render(short_poses.Inputs(), &images); },
-                "X_WI has 17 elements, expected 18 (n_envs x n_instances)");
+                "X_WI has 17 elements, expected 18 (num_envs x n_instances)");
 
   BatchRenderer one_env(scene.layout, 1);
   ImageBatch wrong_batch = one_env.MakeImageBatch();
