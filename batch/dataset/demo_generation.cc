@@ -15,6 +15,7 @@
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/episode_driver.h"
 #include "batch/output/config_identity.h"
+#include "batch/output/setting_error.h"
 #include "batch/output/settings_difference.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/scene_render.h"
@@ -26,6 +27,9 @@ namespace tavis::batch::dataset {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The counts' upper bound (a count beyond it is a mistake, not a dataset).
+constexpr double kMaxCount = 1e9;
 
 // Where kept episodes wait, durable, until the dataset is finished (episode_spool.h).
 constexpr const char* kSpoolFolder = ".tavis_spool";
@@ -117,20 +121,17 @@ void ValidateDemoConfig(const DemoConfig& config) {
       throw std::invalid_argument("task '" + task + "' has no scripted expert to record");
     }
   }
-  if (config.episodes < 1)
-    throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
-  if (config.max_attempts < 0)
-    throw std::invalid_argument("--max-attempts must be >= 0, got " + std::to_string(config.max_attempts));
+  // Each setting named by its key in the spool's settings (Fingerprint); `tavis demos` names the
+  // flag that gave it.
+  output::CheckSettingRange("episodes", config.episodes, {1, kMaxCount});
+  output::CheckSettingRange("max_attempts", config.max_attempts, {0, kMaxCount});
   if (config.max_attempts > 0 && config.max_attempts < config.episodes) {
-    throw std::invalid_argument("--max-attempts " + std::to_string(config.max_attempts) + " is below --episodes " +
-                                std::to_string(config.episodes));
+    throw output::SettingError("max_attempts", std::to_string(config.max_attempts) + " is below episodes " +
+                                                   std::to_string(config.episodes) + " (0: 2 x episodes + 20)");
   }
-  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
-  if (config.fps != 60 && config.fps != 20)
-    throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
-  if (config.expert_hz != 60 && config.expert_hz != 20) {
-    throw std::invalid_argument("--expert-hz must be 60 or 20, got " + std::to_string(config.expert_hz));
-  }
+  output::CheckSettingRange("envs", config.envs, {1, kMaxCount});
+  output::CheckSettingRange("fps", config.fps, {0, 0, "", {60, 20}});
+  output::CheckSettingRange("expert_hz", config.expert_hz, {0, 0, "", {60, 20}});
   batch::CameraSettings cameras;
   cameras.cameras = config.cameras;
   cameras.width = config.video.width;
@@ -140,7 +141,7 @@ void ValidateDemoConfig(const DemoConfig& config) {
   for (const std::string& choice : config.perturbations) batch::ParsePerturbationChoice(choice);
   video::VideoSettings video = config.video;
   video.fps = config.fps;
-  video::ValidateVideoSettings(video, "--image-size/--codec/--crf");
+  video::ValidateVideoSettings(video, "video");
 }
 
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {

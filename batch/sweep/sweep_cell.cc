@@ -61,14 +61,14 @@ cell::CellResult RunCellInto(const cell::EvaluationCellConfig& config, const fs:
   if (!resume) fs::remove_all(dir);
   // The sweep's lock keeps other sweeps out; this one keeps out an `eval --resume` of the cell.
   const output::OutputLock lock = output::CreateAndLockOutput(dir, "sweep");
-  cell::CellRecordStream stream(dir.string(), config, resume);
+  cell::CellPlan plan = cell::PlanCell(config);
+  cell::CellRecordStream stream(dir.string(), plan, resume);
   output::WriteFileAtomically(dir / "policy.json",
                               nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
-  cell::EvaluationCellConfig remaining = config;
-  remaining.first_episode = stream.next_episode();
-  rollout::CellVideos films(videos, remaining, [&dir] { return dir / "videos"; });
+  plan.ContinueFrom(stream.next_episode());
+  rollout::CellVideos films(videos, plan.config, [&dir] { return dir / "videos"; });
   cell::CellResult result = cell::RunEvaluationCell(
-      remaining, progress,
+      plan, progress,
       [&stream, &films](const cell::EpisodeRecord& record) {
         stream.Write(record);
         films.RecordFinished(record);
