@@ -1,8 +1,8 @@
 // Where a cell's time goes: the summed time of each stage (actions/IK, physics, neck, task,
 // end checks, reset, render, policy, recording, the driver's own serial work), every episode's
 // measured cost, and from those costs the cell's critical path: the time it would take with
-// unlimited threads. EpisodeDriver::EnableProfile collects it; `tavis eval --profile` prints it
-// and writes DIR/profile.json.
+// unlimited threads. CellProfiler collects it (EpisodeDriver::EnableProfile); `tavis eval
+// --profile` prints it and writes DIR/profile.json.
 #pragma once
 
 #include <cstdint>

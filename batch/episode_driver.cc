@@ -1,7 +1,6 @@
 #include "batch/episode_driver.h"
 
 #include <algorithm>
-#include <chrono>
 #include <stdexcept>
 #include <string>
 
@@ -14,60 +13,27 @@ namespace tavis::batch {
 EpisodeDriver::EpisodeDriver(VecEnv& vec_env, Policy& policy, int64_t episodes, int64_t first_episode)
     : vec_env_(vec_env),
       policy_(policy),
+      slots_(vec_env),
+      ticker_(slots_),
       total_(episodes),
       end_episode_(first_episode + episodes),
-      next_episode_(first_episode),
-      proprioception_(vec_env.model().robot, vec_env.num_envs()) {
+      next_episode_(first_episode) {
   if (episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(episodes));
   if (first_episode < 0)
     throw std::invalid_argument("the first episode index must be >= 0, got " + std::to_string(first_episode));
   const std::size_t slots = static_cast<std::size_t>(vec_env.num_envs());
-  prompts_.assign(slots, nullptr);
   acting_.assign(slots, 0);
   observed_.assign(slots, 0);
-  started_.assign(slots, 0);
   starts_.reserve(slots);
   actions_.assign(slots, kinematics::Action{});
-}
-
-template <typename Body>
-double EpisodeDriver::WallSeconds(Body&& body) {
-  if (!profiling_) {
-    body();
-    return 0.0;
-  }
-  const auto start = std::chrono::steady_clock::now();
-  body();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-double EpisodeDriver::EndSection(const std::vector<uint8_t>& slots) {
-  double slowest = 0.0, work = 0.0, env_work = 0.0;
-  for (int slot = 0; slot < vec_env_.num_envs(); ++slot) {
-    if (!slots[slot]) continue;
-    const double policy = timed_policy_ != nullptr ? timed_policy_->TakeEnvSeconds(slot) : 0.0;
-    const double env_cost = vec_env_.TakeEnvSeconds(slot);
-    const double cost = env_cost + policy;
-    env_work += env_cost;
-    policy_seconds_ += policy;
-    episode_seconds_[slot] += cost;
-    slowest = std::max(slowest, cost);
-    work += cost;
-  }
-  profile_.slowest_env_seconds += slowest;
-  profile_.sections.emplace_back(slowest, work);
-  return env_work;
-}
-
-Observation EpisodeDriver::MakeObservation() const {
-  return Observation{vec_env_.model(), vec_env_.state(), vec_env_.images(), prompts_, &proprioception_};
+  ticker_.AddPolicy(policy);
 }
 
 EpisodeDriver::Schedule EpisodeDriver::schedule() const {
   if (lock_step_required_ || dynamic_cast<PerEnvPolicy*>(&policy_) == nullptr) {
     return Schedule::kLockStep;
   }
-  for (const EpisodeSink* sink : sinks_) {
+  for (const EpisodeSink* sink : slots_.sinks()) {
     if (!sink->works_per_slot()) return Schedule::kLockStep;
   }
   return Schedule::kPerSlot;
@@ -82,73 +48,68 @@ void EpisodeDriver::Run() {
                                 " control ticks; it must act on policy ticks (a multiple of " +
                                 std::to_string(ticks_per_policy_step) + "), where its images are rendered");
   }
-  const int slots = vec_env_.num_envs();
-  const auto run_start = std::chrono::steady_clock::now();
   const Schedule chosen = schedule();
-  if (profiling_) {
-    vec_env_.EnableStageTiming(true);
-    timed_policy_ = dynamic_cast<PerEnvPolicy*>(&policy_);
-    if (timed_policy_ != nullptr) timed_policy_->EnableEnvTiming(true, slots);
-    episode_seconds_.assign(slots, 0.0);
-    all_slots_.assign(slots, 1);
-    profile_.per_slot = chosen == Schedule::kPerSlot;
-  }
+  LoopObserver* observer = slots_.observer();
+  if (observer != nullptr) observer->RunStarting(vec_env_, policy_, chosen == Schedule::kPerSlot);
   if (chosen == Schedule::kPerSlot) {
     RunPerSlot(*dynamic_cast<PerEnvPolicy*>(&policy_));
   } else {
     RunLockStep();
   }
-  if (profiling_) FinishProfile(std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count());
+  if (observer != nullptr) observer->RunEnded();
+}
+
+void EpisodeDriver::Finished() {
+  ++finished_;
+  if (progress_) progress_(finished_, total_);
 }
 
 void EpisodeDriver::RunLockStep() {
+  for (int64_t tick = 0;; ++tick) {
+    CollectAndRefill(tick);
+    if (finished_ >= total_) break;
+    ticker_.TickStarting();
+    ticker_.RenderPolicyTick();
+    Act();
+    ticker_.Tick(actions_, &policy_);
+  }
+}
+
+void EpisodeDriver::Act() {
   const int hold_ticks = policy_.control_ticks_per_action();
   const int ticks_per_policy_step = vec_env_.model().physics.controls_per_policy();
   const engine::BatchState& state = vec_env_.state();
-  const int slots = vec_env_.num_envs();
-  for (lock_step_ticks_ = 0;; ++lock_step_ticks_) {
-    CollectAndRefill();
-    if (finished_ >= total_) break;
-    recording_seconds_ += WallSeconds([&] {
-      for (EpisodeSink* sink : sinks_) sink->TickStarting(vec_env_);
-    });
-    parallel_seconds_ += WallSeconds([&] { vec_env_.RenderPolicyTick(); });
-    int running = 0;
-    for (int slot = 0; slot < slots; ++slot) {
-      acting_[slot] = state.running(slot) && state.control_step[slot] % hold_ticks == 0;
-      observed_[slot] = acting_[slot] && state.control_step[slot] % ticks_per_policy_step == 0;
-      running += state.running(slot) ? 1 : 0;
-    }
-    proprioception_.Update(state, observed_);
-    const double act_seconds = WallSeconds([&] { policy_.Act(MakeObservation(), acting_, actions_); });
-    parallel_seconds_ += act_seconds;
-    if (profiling_ && timed_policy_ == nullptr) policy_seconds_ += act_seconds;
-    faults_.clear();
-    policy_.TakeFaults(faults_);
-    for (PolicyFault& fault : faults_) vec_env_.EndInvalid(fault.env, {-1, 0.0, std::move(fault.reason)});
-    for (ActionBatch::value_type& action : actions_) ApplyToAction(protocol_, action);
-    recording_seconds_ += WallSeconds([&] {
-      for (int slot = 0; slot < slots; ++slot) {
-        if (!state.running(slot)) continue;
-        for (EpisodeSink* sink : sinks_) sink->ActionChosen(vec_env_, slot, actions_[slot]);
-      }
-    });
-    parallel_seconds_ += WallSeconds([&] { vec_env_.Step(actions_); });
-    for (int slot = 0; slot < slots; ++slot) {
-      if (state.running(slot) && policy_.GaveUp(slot)) vec_env_.EndEarly(slot, engine::EpisodeEnd::kGaveUp);
-    }
-    control_ticks_ += running;
-    if (profiling_) EndSection(all_slots_);
-    recording_seconds_ += WallSeconds([&] {
-      for (EpisodeSink* sink : sinks_) sink->Stepped(vec_env_);
-    });
+  for (int slot = 0; slot < vec_env_.num_envs(); ++slot) {
+    acting_[slot] = state.running(slot) && state.control_step[slot] % hold_ticks == 0;
+    observed_[slot] = acting_[slot] && state.control_step[slot] % ticks_per_policy_step == 0;
   }
+  slots_.proprioception().Update(state, observed_);
+  Observe(slots_.observer(), LoopPart::kPolicyActs, kWholeBatch,
+          [&] { policy_.Act(slots_.observation(), acting_, actions_); });
+}
+
+void EpisodeDriver::CollectAndRefill(int64_t tick) {
+  ticker_.CollectEnded([&](int) { Finished(); });
+  const engine::BatchState& state = vec_env_.state();
+  // With cameras, episodes start only on ticks where the running ones are at a policy tick, so
+  // that every render call draws all of them (rather than a third of them on every tick).
+  const bool deal_now = vec_env_.renderer() == nullptr || tick % vec_env_.model().physics.controls_per_policy() == 0;
+  starts_.clear();
+  for (int slot = 0; slot < vec_env_.num_envs(); ++slot) {
+    if (state.running(slot)) continue;
+    if (deal_now && next_episode_ < end_episode_) {
+      starts_.push_back({slot, next_episode_++});
+    } else if (state.episode[slot] >= 0) {
+      slots_.Release(slot);  // ended, and nothing to deal now: idle until a deal
+    }
+  }
+  ticker_.StartEpisodes(starts_);
 }
 
 void EpisodeDriver::RunPerSlot(PerEnvPolicy& policy) {
   // One worker per thread, each on its own slot: the slots beyond the threads stay idle.
   const int workers = std::min(vec_env_.num_envs(), tbb::this_task_arena::max_concurrency());
-  parallel_seconds_ += WallSeconds([&] {
+  Observe(slots_.observer(), LoopPart::kParallel, kWholeBatch, [&] {
     tbb::parallel_for(
         0, workers, 1, [&](int slot) { RunSlot(policy, slot); }, tbb::simple_partitioner());
   });
@@ -160,10 +121,9 @@ int64_t EpisodeDriver::DealNext() {
 }
 
 void EpisodeDriver::RunSlot(PerEnvPolicy& policy, int slot) {
-  SlotCosts costs;
   try {
-    for (int64_t episode = DealNext(); episode >= 0; episode = DealNext()) RunSlotEpisode(policy, slot, episode, costs);
-    vec_env_.Release(slot);
+    for (int64_t episode = DealNext(); episode >= 0; episode = DealNext()) RunSlotEpisode(policy, slot, episode);
+    slots_.Release(slot);
   } catch (...) {
     // The other workers stop at their next deal rather than run the cell to its end.
     stopping_ = true;
@@ -171,153 +131,40 @@ void EpisodeDriver::RunSlot(PerEnvPolicy& policy, int slot) {
   }
 }
 
-void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episode, SlotCosts& costs) {
+void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episode) {
   const int hold_ticks = policy.control_ticks_per_action();
   const int ticks_per_policy_step = vec_env_.model().physics.controls_per_policy();
   const engine::BatchState& state = vec_env_.state();
-  const Observation observation = MakeObservation();
+  const Observation observation = slots_.observation();
   kinematics::Action& action = actions_[slot];
   vec_env_.ResetEnv(slot, episode);
-  if (profiling_) costs.reset += vec_env_.TakeEnvSeconds(slot);
-  prompts_[slot] = vec_env_.scenario().prompt(state, slot);
+  if (slots_.observer() != nullptr) slots_.observer()->EnvReset(slot);
+  slots_.EpisodeReset(slot);
   policy.ResetOne(observation, slot);
-  costs.recording += WallSeconds([&] {
-    for (EpisodeSink* sink : sinks_) sink->EpisodeStarted(vec_env_, slot);
-  });
-  while (state.running(slot)) {
-    bool complete = false;
-    for (const EpisodeSink* sink : sinks_) complete = complete || sink->EpisodeComplete(vec_env_, slot);
-    if (complete) {
-      vec_env_.EndEarly(slot, engine::EpisodeEnd::kStopped);
-      break;
-    }
-    costs.recording += WallSeconds([&] {
-      for (EpisodeSink* sink : sinks_) sink->SlotTickStarting(vec_env_, slot);
-    });
+  slots_.TellSinks(slot, [&](EpisodeSink& sink) { sink.EpisodeStarted(vec_env_, slot); });
+  int64_t ticks = 0;
+  while (state.running(slot) && !slots_.StopIfSinksAreDone(slot)) {
+    slots_.TellSinks(slot, [&](EpisodeSink& sink) { sink.SlotTickStarting(vec_env_, slot); });
     // The slot's cameras at its own policy ticks, as RenderPolicyTick draws them for the batch.
     vec_env_.RenderEnvPolicyTick(slot);
     if (state.control_step[slot] % hold_ticks == 0) {
-      if (state.control_step[slot] % ticks_per_policy_step == 0) proprioception_.UpdateEnv(state, slot);
+      if (state.control_step[slot] % ticks_per_policy_step == 0) slots_.proprioception().UpdateEnv(state, slot);
       policy.ActOne(observation, slot, action);
-      ApplyToAction(protocol_, action);
     }
-    costs.recording += WallSeconds([&] {
-      for (EpisodeSink* sink : sinks_) sink->ActionChosen(vec_env_, slot, action);
-    });
+    slots_.ActionChosen(slot, action);
     vec_env_.StepEnv(slot, actions_);
-    if (state.running(slot) && policy.GaveUp(slot)) vec_env_.EndEarly(slot, engine::EpisodeEnd::kGaveUp);
-    costs.recording += WallSeconds([&] {
-      for (EpisodeSink* sink : sinks_) sink->SlotStepped(vec_env_, slot);
-    });
-    ++costs.control_ticks;
+    slots_.EndIfGaveUp(policy, slot);
+    slots_.TellSinks(slot, [&](EpisodeSink& sink) { sink.SlotStepped(vec_env_, slot); });
+    ++ticks;
   }
-  FinishSlotEpisode(slot, costs);
+  FinishSlotEpisode(slot, ticks);
 }
 
-void EpisodeDriver::FinishSlotEpisode(int slot, SlotCosts& costs) {
-  const engine::BatchState& state = vec_env_.state();
+void EpisodeDriver::FinishSlotEpisode(int slot, int64_t ticks) {
   std::lock_guard<std::mutex> lock(finish_mutex_);
-  if (profiling_) {
-    const double policy = timed_policy_->TakeEnvSeconds(slot);
-    const double cost = vec_env_.TakeEnvSeconds(slot) + costs.reset + policy;
-    profile_.episodes.push_back({state.episode[slot], slot, state.control_step[slot], cost});
-    reset_seconds_ += costs.reset;
-    policy_seconds_ += policy;
-  }
-  const double ended_seconds = WallSeconds([&] {
-    for (EpisodeSink* sink : sinks_) sink->EpisodeEnded(vec_env_, slot);
-  });
-  // The ends are serialised: on unlimited threads they would still run one at a time.
-  profile_.serial_seconds += ended_seconds;
-  recording_seconds_ += costs.recording + ended_seconds;
-  control_ticks_ += costs.control_ticks;
-  costs = SlotCosts();
-  prompts_[slot] = nullptr;
-  ++finished_;
-  if (progress_) progress_(finished_, total_);
-}
-
-void EpisodeDriver::FinishProfile(double wall_seconds) {
-  const int threads = tbb::this_task_arena::max_concurrency();
-  const std::array<double, kNumStages> stage = vec_env_.stage_seconds();
-  profile_.threads = threads;
-  profile_.wall_seconds = wall_seconds;
-  const double outside_parallel = std::max(0.0, wall_seconds - parallel_seconds_);
-  profile_.serial_seconds += outside_parallel;
-  const VecEnv::RenderTimes render = vec_env_.render_times();
-  profile_.render_wall_seconds = stage[static_cast<int>(Stage::kRender)];
-  profile_.render_cpu_seconds = render.cpu;
-  profile_.render_idle_seconds = std::max(0.0, render.held - render.cpu);
-  // Lock-step render calls hold every thread; per slot they are part of their episodes' costs.
-  profile_.render_seconds = profile_.per_slot ? 0.0 : render.held;
-  profile_.stages.clear();
-  for (Stage name :
-       {Stage::kApplyActions, Stage::kStepPhysics, Stage::kServoNeck, Stage::kUpdateTask, Stage::kEndEpisodes}) {
-    profile_.stages.emplace_back(ToString(name), stage[static_cast<int>(name)]);
-  }
-  profile_.stages.emplace_back(ToString(Stage::kReset), reset_seconds_);
-  profile_.stages.emplace_back(ToString(Stage::kRender), profile_.render_cpu_seconds);
-  // Lock-step render calls hold every thread: their idle time is the cell's. Per slot the other
-  // threads go on working; a call's wall time beyond its CPU time is the machine preempting it,
-  // reported apart (render_idle_seconds) but no work.
-  if (!profile_.per_slot) profile_.stages.emplace_back("render_idle", profile_.render_idle_seconds);
-  profile_.stages.emplace_back("policy", policy_seconds_);
-  profile_.stages.emplace_back("recording", recording_seconds_);
-  // Lock-step sinks run outside the parallel sections, per-slot ones inside them.
-  profile_.stages.emplace_back(
-      "driver", profile_.per_slot ? outside_parallel : std::max(0.0, outside_parallel - recording_seconds_));
-}
-
-void EpisodeDriver::CollectAndRefill() {
-  const engine::BatchState& state = vec_env_.state();
-  const int slots = vec_env_.num_envs();
-  starts_.clear();
-  // With cameras, episodes start only on ticks where the running ones are at a policy tick, so
-  // that every render call draws all of them (rather than a third of them on every tick).
-  const bool deal_now =
-      vec_env_.renderer() == nullptr || lock_step_ticks_ % vec_env_.model().physics.controls_per_policy() == 0;
-  for (int slot = 0; slot < slots; ++slot) {
-    started_[slot] = 0;
-    if (state.episode[slot] < 0) {
-      // Idle: not dealt yet, or waiting for a policy tick to start on.
-      if (deal_now && next_episode_ < end_episode_) starts_.push_back({slot, next_episode_++});
-      continue;
-    }
-    if (state.running(slot)) {
-      bool complete = false;
-      for (const EpisodeSink* sink : sinks_) complete = complete || sink->EpisodeComplete(vec_env_, slot);
-      if (!complete) continue;
-      vec_env_.EndEarly(slot, engine::EpisodeEnd::kStopped);
-    }
-    if (profiling_) {
-      profile_.episodes.push_back({state.episode[slot], slot, state.control_step[slot], episode_seconds_[slot]});
-      episode_seconds_[slot] = 0.0;
-    }
-    recording_seconds_ += WallSeconds([&] {
-      for (EpisodeSink* sink : sinks_) sink->EpisodeEnded(vec_env_, slot);
-    });
-    ++finished_;
-    if (progress_) progress_(finished_, total_);
-    prompts_[slot] = nullptr;
-    if (deal_now && next_episode_ < end_episode_) {
-      starts_.push_back({slot, next_episode_++});
-    } else {
-      vec_env_.Release(slot);
-    }
-  }
-  if (starts_.empty()) return;
-  parallel_seconds_ += WallSeconds([&] { vec_env_.Reset(starts_); });
-  for (const EpisodeStart& start : starts_) {
-    started_[start.env] = 1;
-    prompts_[start.env] = vec_env_.scenario().prompt(state, start.env);
-  }
-  parallel_seconds_ += WallSeconds([&] { policy_.Reset(MakeObservation(), started_); });
-  if (profiling_) reset_seconds_ += EndSection(started_);
-  recording_seconds_ += WallSeconds([&] {
-    for (const EpisodeStart& start : starts_) {
-      for (EpisodeSink* sink : sinks_) sink->EpisodeStarted(vec_env_, start.env);
-    }
-  });
+  slots_.TellEnded(slot);
+  per_slot_ticks_ += ticks;
+  Finished();
 }
 
 }  // namespace tavis::batch

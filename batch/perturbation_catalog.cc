@@ -6,7 +6,10 @@
 #include <map>
 #include <stdexcept>
 
+#include "batch/distractor_placement.h"
+#include "batch/episode_perturbation_levels.h"
 #include "batch/perturbed_view.h"
+#include "batch/surface_texture_yaml.h"
 #include "configs/yaml_reader.h"
 #include "render/camera.h"
 #include "render/scene_layout.h"
@@ -17,21 +20,31 @@ namespace {
 using configs::Range;
 using configs::YamlValue;
 
-// One key a level of an axis may set: how it is read into the effect.
+// One key a level of an axis may set: how it is read into the effect; returns the value as the
+// level's settings record it.
 struct LevelKey {
   const char* name;
-  std::function<void(const YamlValue& value, engine::RenderPerturbation* effect)> read;
+  std::function<nlohmann::ordered_json(const YamlValue& value, engine::RenderPerturbation* effect)> read;
 };
 
-// Readers for scalar and 3-vector keys.
+// Readers for scalar, 3-vector and textured-surface keys.
 LevelKey Scalar(const char* name, Range range, double engine::RenderPerturbation::*field) {
   return {name, [range, field](const YamlValue& value, engine::RenderPerturbation* effect) {
             effect->*field = value.AsDouble(range);
+            return nlohmann::ordered_json(effect->*field);
           }};
 }
 LevelKey Vector(const char* name, Range range, Vec3 engine::RenderPerturbation::*field) {
   return {name, [range, field](const YamlValue& value, engine::RenderPerturbation* effect) {
             effect->*field = value.AsVec3(range);
+            return nlohmann::ordered_json(value.AsDoubles());
+          }};
+}
+LevelKey Texture(const char* name, engine::SurfaceTexture engine::RenderPerturbation::*field) {
+  return {name, [field](const YamlValue& value, engine::RenderPerturbation* effect) {
+            SurfaceTextureEntry entry = ReadSurfaceTexture(value);
+            effect->*field = entry.texture;
+            return std::move(entry.settings);
           }};
 }
 
@@ -53,6 +66,9 @@ const std::map<std::string, std::vector<LevelKey>>& AxisKeys() {
       {"sensor",
        {Scalar("blur_sigma_px", {0.0, 20.0, false, "pixels"}, &P::blur_sigma_px),
         Scalar("noise_stddev", {0.0, 128.0, false, "8-bit levels"}, &P::noise_stddev)}},
+      {"appearance",
+       {Texture("table", &P::table_texture), Texture("floor", &P::floor_texture),
+        Texture("distractors", &P::distractor_texture)}},
   };
   return keys;
 }
@@ -89,7 +105,8 @@ void CheckRenderable(const YamlValue& level, const engine::RenderPerturbation& e
 }  // namespace
 
 const std::vector<std::string>& PerturbationAxisNames() {
-  static const std::vector<std::string> names = {"camera", "sensor", "lighting"};
+  static const std::vector<std::string> names = {"camera",      "sensor",   "lighting", "appearance",
+                                                 "distractors", "language", "runtime"};
   return names;
 }
 
@@ -120,7 +137,8 @@ std::string PerturbationLabelSuffix(const std::vector<std::string>& choices) {
 
 std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_dir, const std::string& axis) {
   const auto keys = AxisKeys().find(axis);
-  if (keys == AxisKeys().end()) {
+  const EpisodeLevelReader episode_reader = FindEpisodeLevelReader(axis);
+  if (keys == AxisKeys().end() && episode_reader == nullptr) {
     throw std::invalid_argument("unknown perturbation axis '" + axis + "' (axes: " + Join(PerturbationAxisNames()) +
                                 ")");
   }
@@ -150,12 +168,17 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
     }
     level.description = entry.String("description");
     level.settings["name"] = level.name;
+    if (episode_reader != nullptr) {
+      // Its keys are required where a level needs them, so it cannot be the base scene.
+      episode_reader(root, entry, &level.episode_effect, &level.settings);
+      entry.ExpectNoOtherKeys();
+      levels.push_back(std::move(level));
+      continue;
+    }
     for (const LevelKey& key : keys->second) {
       const auto value = entry.Optional(key.name);
       if (!value) continue;
-      key.read(*value, &level.effect);
-      level.settings[key.name] =
-          value->IsSequence() ? nlohmann::ordered_json(value->AsDoubles()) : nlohmann::ordered_json(value->AsDouble());
+      level.settings[key.name] = key.read(*value, &level.effect);
     }
     entry.ExpectNoOtherKeys();
     if (level.settings.size() == 1) {
@@ -221,9 +244,26 @@ engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLe
     } else if (level.axis == "sensor") {
       combined.blur_sigma_px = e.blur_sigma_px;
       combined.noise_stddev = e.noise_stddev;
+    } else if (level.axis == "appearance") {
+      combined.table_texture = e.table_texture;
+      combined.floor_texture = e.floor_texture;
+      combined.distractor_texture = e.distractor_texture;
     }
   }
   combined.noise_seed = seed;
+  return combined;
+}
+
+engine::EpisodePerturbation CombineEpisodePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed) {
+  engine::EpisodePerturbation combined;
+  for (const PerturbationLevel& level : levels) {
+    // A level sets its own axis's part only (episode_perturbation_levels.h), and a view level none.
+    const engine::EpisodePerturbation& e = level.episode_effect;
+    if (e.adds_distractors()) combined.distractors = e.distractors;
+    if (e.paraphrases_prompt()) combined.language = e.language;
+    if (e.moves_target()) combined.target_move = e.target_move;
+  }
+  combined.seed = seed;
   return combined;
 }
 
@@ -239,7 +279,10 @@ nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels) {
 void ApplyPerturbations(const std::string& config_dir, const std::vector<std::string>& choices, uint64_t seed,
                         engine::WorldModel* model) {
   if (choices.empty()) return;
-  model->view_perturbation = CombinePerturbations(ResolvePerturbations(config_dir, choices), seed);
+  const std::vector<PerturbationLevel> levels = ResolvePerturbations(config_dir, choices);
+  model->view_perturbation = CombinePerturbations(levels, seed);
+  model->episode_perturbation = CombineEpisodePerturbations(levels, seed);
+  AddDistractorObjects(model);
 }
 
 }  // namespace tavis::batch

@@ -1,7 +1,9 @@
 // The perturbation axes (docs/perturbations.md): each axis is a YAML file of its own,
 // <config_dir>/perturbations/<axis>.yaml, declaring named severity levels. A cell chooses at most
 // one level per axis ("camera:head-shift", `tavis eval --perturb`); its chosen levels are applied
-// to the world model's RenderPerturbation before any env is built. Read strictly: an unknown key,
+// to the world model before any env is built: the view axes (camera, sensor, lighting) to its
+// RenderPerturbation, the episode axes (distractors, language, runtime) to its
+// EpisodePerturbation (episode_perturbation_levels.h). Read strictly: an unknown key,
 // a level that changes nothing, a value out of range or a file whose axis: is not its name is a
 // configs::ConfigError naming the file, the key and the value.
 #pragma once
@@ -12,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/episode_perturbation.h"
 #include "engine/render_perturbation.h"
 #include "engine/world_model.h"
 
@@ -38,8 +41,9 @@ struct PerturbationLevel {
   std::string axis;
   std::string name;
   std::string description;
-  engine::RenderPerturbation effect;  // only this axis's fields differ from the defaults
-  nlohmann::ordered_json settings;    // the level's keys and values as the file gives them
+  engine::RenderPerturbation effect;           // only this axis's fields differ from the defaults
+  engine::EpisodePerturbation episode_effect;  // the same for the episode axes
+  nlohmann::ordered_json settings;             // the level's keys and values as the file gives them
 };
 
 // Every level of one axis, in file order. Throws configs::ConfigError (file, key, value).
@@ -50,14 +54,18 @@ std::vector<PerturbationLevel> LoadPerturbationAxis(const std::string& config_di
 std::vector<PerturbationLevel> ResolvePerturbations(const std::string& config_dir,
                                                     const std::vector<std::string>& choices);
 
-// The chosen levels' effects combined, the sensor noise keyed by `seed`.
+// The chosen levels' effects combined, the sensor noise and random texture colours keyed by `seed`.
 engine::RenderPerturbation CombinePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed);
+// The same for the episode axes, their streams keyed by `seed`.
+engine::EpisodePerturbation CombineEpisodePerturbations(const std::vector<PerturbationLevel>& levels, uint64_t seed);
 
 // What a cell records (cell.json, summary.json) and a resume compares: per choice its axis,
 // level and the level's settings as read, so an edited level file is a different setting.
 nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels);
 
-// Applies `choices` to `model` (ResolvePerturbations, CombinePerturbations); none: unchanged.
+// Applies `choices` to `model` (ResolvePerturbations, CombinePerturbations,
+// CombineEpisodePerturbations) and adds the distractor objects a distractors level needs after the
+// task's own (distractor_placement.h); none: unchanged.
 void ApplyPerturbations(const std::string& config_dir, const std::vector<std::string>& choices, uint64_t seed,
                         engine::WorldModel* model);
 

@@ -96,13 +96,15 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
   };
 
   // The ground plane z = 0 (reference 2.1).
-  add(render::MakePlane(), "floor", render::kBackgroundObjectId, {});
+  add(render::MakePlane(), "floor", render::kBackgroundObjectId,
+      {Source::kStatic, -1, 0.0, RigidTransform::Identity(), TexturedSurface::kFloor});
   for (const engine::StaticPart& part : model.static_parts) {
-    add(part.shape, part.appearance, render::kBackgroundObjectId, {Source::kStatic, -1, 0.0, part.X_WS});
+    add(part.shape, part.appearance, render::kBackgroundObjectId,
+        {Source::kStatic, -1, 0.0, part.X_WS, SurfaceOfStaticPart(part)});
   }
   for (int object = 0; object < model.num_objects(); ++object) {
     const engine::ObjectSpec& spec = model.objects[static_cast<std::size_t>(object)];
-    add(spec.shape, spec.appearance, object, {Source::kObject, object, 0.0, {}});
+    add(spec.shape, spec.appearance, object, {Source::kObject, object, 0.0, {}, SurfaceOfObject(spec)});
   }
   // Every link shape is drawn, the neck's too (physics leaves the kinematic head out).
   for (const kinematics::LinkShape& shape : robot.shapes) {
@@ -170,6 +172,9 @@ SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const Ca
   enabled_.assign(envs * settings_.cameras.size(), 1);
   tick_enabled_.assign(envs * settings_.cameras.size(), 0);
   for (const std::string& name : settings_.cameras) camera_offset_.push_back(CameraMountOffset(name, perturbation_));
+  std::vector<TexturedSurface> surfaces;
+  for (const InstanceSource& source : sources_) surfaces.push_back(source.surface);
+  appearance_ = AppearanceTextures(perturbation_, std::move(surfaces), num_envs_);
   // Static parts and the fixed camera never move: their poses are written once.
   for (std::size_t env = 0; env < envs; ++env) {
     for (std::size_t i = 0; i < instances; ++i) {
@@ -243,6 +248,7 @@ void SceneRender::FillEnv(const engine::BatchState& state, int env) {
       }
     }
   }
+  if (appearance_.active()) appearance_.ShowEpisode(env, state.episode[static_cast<std::size_t>(env)]);
   for (int c = 0; c < num_cameras(); ++c) {
     const int mount = camera_mount_[static_cast<std::size_t>(c)];
     if (mount >= 0) X_WC_[Index(env, c)] = X_WB * kinematics::CameraPose(robot_, mount, X_BL);
@@ -273,6 +279,7 @@ render::RenderInputs SceneRender::Inputs() const {
   inputs.X_WI = X_WI_;
   inputs.instance_visible = visible_;
   inputs.instance_rgb = rgb_;
+  inputs.instance_texture = appearance_.textures();  // empty without an appearance level
   inputs.X_WC = X_WC_;
   inputs.camera_enabled = tick_enabled_;
   return inputs;

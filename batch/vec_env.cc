@@ -11,7 +11,10 @@
 #include <tbb/task_arena.h>
 
 #include "batch/cell_profile.h"
+#include "batch/distractor_placement.h"
 #include "batch/init_pose_warmup.h"
+#include "batch/prompt_paraphrase.h"
+#include "batch/target_move.h"
 #include "kinematics/action_check.h"
 #include "kinematics/inverse_kinematics.h"
 #include "kinematics/robot_buffers.h"
@@ -23,6 +26,22 @@ using kinematics::Side;
 
 constexpr int kNeckActionEntries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
                                                           kinematics::action::kNeckYaw};
+
+// A scene perturbation level needs the task to say where its objects may go (scenario.h).
+void CheckTaskTakesEpisodePerturbation(const engine::EpisodePerturbation& perturbation,
+                                       const scenarios::ScenarioDef& scenario) {
+  if (perturbation.adds_distractors() && scenario.distractor_zones == nullptr) {
+    throw std::invalid_argument("task '" + scenario.name +
+                                "' declares no distractor zones: it cannot take a distractors level");
+  }
+  if (perturbation.moves_target() && scenario.target_zones == nullptr) {
+    throw std::invalid_argument("task '" + scenario.name +
+                                "' declares no target zones: it cannot take a runtime level");
+  }
+  if (perturbation.paraphrases_prompt() && perturbation.language.paraphrases.count(scenario.name) == 0) {
+    throw std::invalid_argument("the language level has no paraphrases for task '" + scenario.name + "'");
+  }
+}
 
 }  // namespace
 
@@ -57,12 +76,14 @@ VecEnv::VecEnv(engine::WorldModel model, const scenarios::ScenarioDef& scenario,
   }
   if (num_envs < 1)
     throw std::invalid_argument("the number of envs must be at least 1, got " + std::to_string(num_envs));
+  CheckTaskTakesEpisodePerturbation(model_.episode_perturbation, scenario_);
   state_.Allocate(num_envs, model_.robot.num_joints(), model_.num_objects());
   worlds_.resize(num_envs);
   tbb::parallel_for(0, num_envs, [&](int env) { worlds_[env] = std::make_unique<engine::PhysicsWorld>(model_); });
   physics_sane_.assign(num_envs, 1);
   render_env_.assign(num_envs, 0);
   warmup_actions_.assign(num_envs, kinematics::Action{});
+  prompts_.assign(num_envs, std::string());
 }
 
 VecEnv::~VecEnv() {
@@ -170,6 +191,8 @@ void VecEnv::ResetOne(const EpisodeStart& start) {
   state_.task[env] = engine::TaskVars();
   std::fill_n(state_.object_rgb_row(env, 0), 3 * model_.num_objects(), -1.0f);
   scenario_.reset(model_, split_, state_, env);
+  PlaceDistractors(model_, scenario_, state_, env);
+  prompts_[env] = EpisodePrompt(model_, scenario_, state_, env);
 
   engine::PhysicsWorld& world = *worlds_[env];
   world.ResetRobot(state_.q_row(env));
@@ -306,6 +329,7 @@ void VecEnv::UpdateTask(EnvRange envs) {
     if (!state_.running(env)) continue;
     state_.control_step[env] += 1;
     if (scenario_.update != nullptr) scenario_.update(model_, state_, env);
+    MoveTargetNearHand(model_, scenario_, state_, env, *worlds_[env]);
     state_.images_current[env] = 0;
   }
 }

@@ -55,11 +55,14 @@ class VecEnv {
   const engine::BatchState& state() const { return state_; }
   const scenarios::ScenarioDef& scenario() const { return scenario_; }
   scenarios::Split split() const { return split_; }
+  // The instruction of the episode in slot `env`, fixed at its reset: the task's prompt, or under a
+  // language perturbation level its paraphrase (prompt_paraphrase.h). Valid until the slot's next reset.
+  const char* prompt(int env) const { return prompts_[static_cast<std::size_t>(env)].c_str(); }
 
   // Starts each listed episode in its slot, in parallel: default robot pose, the task's random
-  // layout, and under ood-init-pose the warm-up (its ticks count toward the episode, as in the
-  // reference's InitPoseWrapper; the policy first sees its end). An episode can end in its
-  // warm-up.
+  // layout (and a distractors level's objects, distractor_placement.h), and under ood-init-pose the warm-up (its ticks
+  // count toward the episode, as in the reference's InitPoseWrapper; the policy first sees its end). An episode can end
+  // in its warm-up.
   void Reset(const std::vector<EpisodeStart>& starts);
   // The same for one slot on the calling thread. Like StepEnv, safe to call concurrently for
   // distinct envs.
@@ -146,7 +149,7 @@ class VecEnv {
   void ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& actions);  // validate, IK, targets
   void StepPhysics(EnvRange envs);  // ODE substeps toward the targets; reads the state back
   void ServoNeck(EnvRange envs);    // the neck follows its target kinematically
-  void UpdateTask(EnvRange envs);   // the episode's clock and the task's own update
+  void UpdateTask(EnvRange envs);   // the episode's clock, the task's own update, a runtime level's move
   void EndEpisodes(EnvRange envs);  // blow-up, success, time-out
   void ResetOne(const EpisodeStart& start);
   // ResetOne and ControlTick of one env, its CPU time added to the env's cost with stage timing.
@@ -171,6 +174,7 @@ class VecEnv {
   std::vector<uint8_t> physics_sane_;               // (num_envs) this tick's physics stayed finite
   std::vector<uint8_t> render_env_;                 // (num_envs) this tick's render flags
   std::vector<kinematics::Action> warmup_actions_;  // (num_envs) ood-init-pose warm-up actions
+  std::vector<std::string> prompts_;                // (num_envs) the running episode's instruction
   std::atomic<int64_t> rendered_images_{0};
   bool stage_timing_ = false;
   std::array<std::atomic<int64_t>, kNumStages> stage_nanoseconds_{};

@@ -9,8 +9,13 @@
 // scenes (no shading, no shadows, no image writes):
 //   primary_only_env_steps_per_s, primary_only_rays_per_s, shading_ratio (full / primary-only time).
 //
+// The *Textured variants draw the same scenes with the appearance axis's procedural textures
+// (render/procedural_texture.h) on the floor (value noise), the table and its legs (wood) and the
+// six objects (checker), to measure what textures cost against the untextured benchmark.
+//
 // Run: tavis_render_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-// Set TAVIS_RENDER_BENCH_CONTACT_SHEET=/path/sheet.png to also write env 0's four 640x480 views.
+// Set TAVIS_RENDER_BENCH_CONTACT_SHEET=/path/sheet.png to also write env 0's four 640x480 views
+// (TAVIS_RENDER_BENCH_TEXTURED_CONTACT_SHEET: the same views textured).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -38,6 +43,7 @@ struct BenchScene {
   SceneLayout layout;
   std::vector<RigidTransform> X_WI;  // one env's nominal poses
   std::vector<int> jitter_scale;     // per instance: 0 static, 1 robot link, 2 object
+  std::vector<std::string> looks;    // per instance: its palette name
   RigidTransform X_W_left_hand;
   RigidTransform X_W_right_hand;
 
@@ -46,6 +52,7 @@ struct BenchScene {
     layout.instances.push_back({shape, PaletteAppearance(look), object_id});
     X_WI.push_back(X);
     jitter_scale.push_back(jitter);
+    looks.push_back(look);
   }
   // A capsule link between two points.
   void AddLink(const Vec3& a, const Vec3& b, double radius, const std::string& look = "robot_link") {
@@ -155,16 +162,53 @@ class BenchInputs {
     inputs_.render_camera = render_camera_;
   }
 
+  // Textures on the floor, the table and the objects of every env (the Textured variants).
+  void TextureFloorTableAndObjects() {
+    textures_.clear();
+    for (int env = 0; env < kEnvs; ++env) {
+      for (std::size_t i = 0; i < scene_.looks.size(); ++i) textures_.push_back(BenchTexture(scene_, i));
+    }
+    inputs_.instance_texture = textures_;
+  }
+
  private:
+  static ProceduralTexture BenchTexture(const BenchScene& scene, std::size_t instance) {
+    engine::SurfaceTexture texture;
+    const std::string& look = scene.looks[instance];
+    if (look == "floor") {
+      texture.pattern = engine::TexturePattern::kNoise;
+      texture.scale_m = 0.25;
+      texture.colour_a = Eigen::Vector3f(0.10f, 0.12f, 0.10f);
+      texture.colour_b = Eigen::Vector3f(0.35f, 0.30f, 0.22f);
+    } else if (look == "table") {
+      texture.pattern = engine::TexturePattern::kWood;
+      texture.scale_m = 0.012;
+      texture.turbulence = 1.2;
+      texture.colour_a = Eigen::Vector3f(0.55f, 0.34f, 0.16f);
+      texture.colour_b = Eigen::Vector3f(0.30f, 0.16f, 0.06f);
+    } else if (scene.layout.instances[instance].object_id >= 0) {
+      texture.pattern = engine::TexturePattern::kChecker;
+      texture.scale_m = 0.01;
+      texture.angle_deg = 30.0;
+      texture.colour_a = Eigen::Vector3f(0.85f, 0.85f, 0.85f);
+      texture.colour_b = Eigen::Vector3f(0.10f, 0.30f, 0.60f);
+    }
+    return MakeProceduralTexture(texture);
+  }
+
   const BenchScene& scene_;
   std::vector<RigidTransform> X_WI_;
   std::vector<RigidTransform> X_WC_;
   std::vector<uint8_t> render_camera_;
+  std::vector<ProceduralTexture> textures_;  // [env][instance], empty when untextured
   RenderInputs inputs_;
 };
 
-void WriteContactSheetIfRequested(const BenchScene& scene, BatchRenderer* renderer, BenchInputs* inputs) {
-  const char* path = std::getenv("TAVIS_RENDER_BENCH_CONTACT_SHEET");
+// TAVIS_RENDER_BENCH_CONTACT_SHEET (untextured) or TAVIS_RENDER_BENCH_TEXTURED_CONTACT_SHEET.
+void WriteContactSheetIfRequested(const BenchScene& scene, BatchRenderer* renderer, BenchInputs* inputs,
+                                  bool textured) {
+  const char* path =
+      std::getenv(textured ? "TAVIS_RENDER_BENCH_TEXTURED_CONTACT_SHEET" : "TAVIS_RENDER_BENCH_CONTACT_SHEET");
   if (path == nullptr) return;
   ImageBatch images = renderer->MakeImageBatch();
   renderer->Render(inputs->Update(0), &images);
@@ -177,13 +221,14 @@ void WriteContactSheetIfRequested(const BenchScene& scene, BatchRenderer* render
 }
 
 void RunRenderBenchmark(benchmark::State& state, int resolution_width, int resolution_height,
-                        const std::vector<uint8_t>& cameras) {
+                        const std::vector<uint8_t>& cameras, bool textured = false) {
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, kThreads);
   const BenchScene scene = MakeBenchScene(resolution_width, resolution_height);
   BatchRenderer renderer(scene.layout, kEnvs);
   ImageBatch images = renderer.MakeImageBatch();
   BenchInputs inputs(scene);
-  if (resolution_width == 640 && cameras.size() == 4) WriteContactSheetIfRequested(scene, &renderer, &inputs);
+  if (textured) inputs.TextureFloorTableAndObjects();
+  if (resolution_width == 640 && cameras.size() == 4) WriteContactSheetIfRequested(scene, &renderer, &inputs, textured);
   inputs.RenderOnly(cameras);
 
   int64_t tick = 0;
@@ -221,8 +266,16 @@ void BM_FourCameras640x480(benchmark::State& state) { RunRenderBenchmark(state, 
 // (b) head and both wrists at 224x224 (the policy's cameras in head mode).
 void BM_HeadAndWrists224x224(benchmark::State& state) { RunRenderBenchmark(state, 224, 224, {1, 0, 1, 1}); }
 
+// (c), (d) the same with textures on the floor, the table and the objects.
+void BM_FourCameras640x480Textured(benchmark::State& state) { RunRenderBenchmark(state, 640, 480, {1, 1, 1, 1}, true); }
+void BM_HeadAndWrists224x224Textured(benchmark::State& state) {
+  RunRenderBenchmark(state, 224, 224, {1, 0, 1, 1}, true);
+}
+
 BENCHMARK(BM_FourCameras640x480)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_HeadAndWrists224x224)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_FourCameras640x480Textured)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_HeadAndWrists224x224Textured)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 }  // namespace
 }  // namespace tavis::render

@@ -36,6 +36,11 @@ struct TaskVars {
   bool go = false;           // wait-then-act: the light has turned green
   int go_policy_step = 0;    // wait-then-act: policy step (20 Hz) at which the light turns green
   int open_side = 0;         // peeking-box: +1 the robot's left (+y) wall is missing, -1 the right
+  // The runtime perturbation axis (docs/perturbations.md): the control tick at which the target
+  // was moved under the approaching hand, -1 while it has not been; and whether a hand has come
+  // near it (moved or, with no free place, not: the axis is done with the episode either way).
+  int target_move_tick = -1;
+  bool target_move_tried = false;
 };
 
 // Why an episode ended invalid_action: the policy's action, or the reply it came in, was unusable.

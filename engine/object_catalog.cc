@@ -30,6 +30,15 @@ const std::vector<std::string>& TavisHeadObjectNames() {
   return names;
 }
 
+const std::vector<std::string>& CatalogObjectNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all = TavisHeadObjectNames();
+    all.push_back("red_cube");
+    return all;
+  }();
+  return names;
+}
+
 // Sizes: reference 2.3 nominal YCB dimensions (the boxes stand on their largest-footprint
 // upright face: x, y horizontal, z up). Masses: published YCB object masses.
 ObjectSpec MakeCatalogObject(const std::string& name) {

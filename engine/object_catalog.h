@@ -16,6 +16,9 @@ constexpr double kTableHeight = 1.0;  // world z of the table top
 // Sampling order matters: TAVIS_HEAD_OBJECT_NAMES.
 const std::vector<std::string>& TavisHeadObjectNames();
 
+// Every catalog object, the ones a task can make its target: TavisHeadObjectNames() and red_cube.
+const std::vector<std::string>& CatalogObjectNames();
+
 // Throws std::out_of_range for an unknown name.
 ObjectSpec MakeCatalogObject(const std::string& name);
 

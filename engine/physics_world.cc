@@ -53,8 +53,8 @@ PhysicsWorld::PhysicsWorld(const WorldModel& model) : impl_(std::make_unique<Imp
   s.BuildRobot();
   s.BuildObjects();
   s.BuildStaticScene();
-  s.aabbs.resize(6 * s.all_geoms.size());
   s.CollectArmParts();
+  s.BuildBroadPhase();
 }
 
 PhysicsWorld::~PhysicsWorld() {

@@ -21,8 +21,19 @@ constexpr uint64_t DeriveKey(uint64_t seed, uint64_t stream, uint64_t index) {
   return MixBits(MixBits(MixBits(seed) ^ stream) ^ index);
 }
 
-// Named streams so that adding draws to one purpose never shifts another's numbers.
-enum class RandomStreamId : uint64_t { kTask = 1, kInitPose = 2, kSensorNoise = 3, kPerturbation = 4 };
+// Named streams so that adding draws to one purpose never shifts another's numbers. The scene
+// perturbation axes (docs/perturbations.md) draw from streams of their own, so that the task's
+// draws, and with them the base scene, stay the same under them.
+enum class RandomStreamId : uint64_t {
+  kTask = 1,
+  kInitPose = 2,
+  kSensorNoise = 3,
+  kPerturbation = 4,
+  kDistractors = 5,  // which distractors an episode gets, where they stand
+  kParaphrase = 6,   // which paraphrase of its prompt an episode gets
+  kTargetMove = 7,   // which way the runtime axis moves an episode's target
+  kAppearance = 8,  // the appearance axis's random texture colours
+};
 
 class RandomStream {
  public:

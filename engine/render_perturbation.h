@@ -8,6 +8,7 @@
 
 #include <cstdint>
 
+#include "engine/surface_texture.h"
 #include "kinematics/pose.h"
 
 namespace tavis::engine {
@@ -40,7 +41,14 @@ struct RenderPerturbation {
   // (seed, episode, control tick, camera, pixel) from its own stream.
   double blur_sigma_px = 0.0;
   double noise_stddev = 0.0;
-  uint64_t noise_seed = 0;  // the cell's seed
+  uint64_t noise_seed = 0;  // the cell's seed (also keys the appearance axis's random colours)
+
+  // appearance axis: procedural textures replacing the palette colour of the table (the static
+  // part named "table"), the floor (the ground plane: all that surrounds the scene) and every
+  // object flagged ObjectSpec::distractor. kNone leaves a surface as it is.
+  SurfaceTexture table_texture;
+  SurfaceTexture floor_texture;
+  SurfaceTexture distractor_texture;
 
   bool moves_cameras() const {
     return !head_offset_m.isZero(0) || !head_rotation_deg.isZero(0) || !fixed_offset_m.isZero(0) ||
@@ -51,6 +59,9 @@ struct RenderPerturbation {
            colour_temperature_k != 0.0;
   }
   bool changes_images() const { return blur_sigma_px > 0.0 || noise_stddev > 0.0; }
+  bool changes_surfaces() const {
+    return table_texture.textured() || floor_texture.textured() || distractor_texture.textured();
+  }
 };
 
 }  // namespace tavis::engine

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/episode_perturbation.h"
 #include "engine/render_perturbation.h"
 #include "kinematics/robot_model.h"
 #include "kinematics/shape.h"
@@ -34,6 +35,9 @@ struct ObjectSpec {
   std::string appearance;  // palette name used by the renderer
   ObjectMotion motion = ObjectMotion::kDynamic;
   bool collides = true;
+  // An extra object a perturbation put in the scene (not part of the task): the appearance axis's
+  // `distractors` texture applies to these.
+  bool distractor = false;
 };
 
 // A static part of the scene (table top, screen, shelf board): collides, never moves.
@@ -80,8 +84,13 @@ struct WorldModel {
   PhysicsSettings physics;
   // What the cell's perturbations change in the views (identity: none); read by renderers only.
   RenderPerturbation view_perturbation;
+  // What the cell's distractors, language and runtime levels change in its episodes (none: nothing).
+  EpisodePerturbation episode_perturbation;
 
   int num_objects() const { return static_cast<int>(objects.size()); }
+  // The task's own objects come first (its layout); the distractors axis appends its objects after
+  // them. A task's reset draws for its own objects only, so its draws do not depend on them.
+  int num_task_objects() const { return num_objects() - episode_perturbation.num_distractor_objects(); }
   int ObjectIndex(const std::string& name) const;  // throws std::out_of_range naming it
 };
 

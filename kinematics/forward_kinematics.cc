@@ -33,6 +33,12 @@ void ComputeLinkPoseChain(const RobotModel& robot, const double* q, int link, Ri
   ComputeLinkPose(robot, q, link, X_BL);
 }
 
+Vec3 ToolCentrePointWorld(const RobotModel& robot, const double* q, Side side, RigidTransform* X_BL) {
+  const int link = robot.arm(side).ik_link;
+  ComputeLinkPoseChain(robot, q, link, X_BL);
+  return robot.root_world + X_BL[link] * robot.gripper.tcp;
+}
+
 std::vector<int> LinksMovedByArm(const RobotModel& robot, Side side) {
   const ArmSpec& arm = robot.arm(side);
   std::vector<uint8_t> moved(static_cast<std::size_t>(robot.num_links()), 0);

@@ -24,6 +24,10 @@ void ComputeLinkPoseChain(const RobotModel& robot, const double* q, int link, Ri
 // after only that arm's joints changed.
 std::vector<int> LinksMovedByArm(const RobotModel& robot, Side side);
 
+// World position of `side`'s tool centre point (GripperSpec::tcp, between the pads) at joint
+// positions q; X_BL is scratch for the arm's chain of link poses (num_links entries).
+Vec3 ToolCentrePointWorld(const RobotModel& robot, const double* q, Side side, RigidTransform* X_BL);
+
 // Geometric Jacobian of the arm's IK link origin in the base frame, from link poses already
 // computed by ComputeLinkPoses for the same q.
 ArmJacobian ComputeArmJacobian(const RobotModel& robot, Side side, const RigidTransform* X_BL);

@@ -14,6 +14,7 @@
 #include "render/internal/env_scenes.h"
 #include "render/internal/flush_denormals.h"
 #include "render/internal/lighting_model.h"
+#include "render/internal/shadow_casters.h"
 #include "render/internal/shape_library.h"
 #include "render/internal/tile_tracer.h"
 
@@ -111,17 +112,21 @@ struct BatchRenderer::Impl {
     camera_active.assign(env_cameras, 0);
     rendered_cameras.assign(layout.cameras.size(), 0);
     rendered_tile_start.assign(layout.cameras.size() + 1, 0);
+    flat_shades.assign(static_cast<std::size_t>(n_envs), internal::FlatShades(shapes.surfaces().data(), n_instances()));
+    if (lighting.shadows() && !options.trace_every_shadow_ray)
+      casters.assign(static_cast<std::size_t>(n_envs), {lighting.to_light(), n_instances()});
   }
 
   int n_instances() const { return static_cast<int>(layout.instances.size()); }
   int n_cameras() const { return static_cast<int>(layout.cameras.size()); }
 
   void CheckShapes(const RenderInputs& inputs, const ImageBatch* images) const;
-  void PrepareTick(const RenderInputs& inputs);
+  // `shading`: the tick is shaded (not the primary-only baseline), so the shadow casters are binned.
+  void PrepareTick(const RenderInputs& inputs, bool shading);
   // Marks env `env`'s rendered cameras active (enabled, finite pose) and commits its scene if
   // any is; touches only the env's rows. `rendered(c)` says whether camera c is drawn this call.
   template <typename Rendered>
-  void PrepareEnv(int env, const RenderInputs& inputs, const Rendered& rendered);
+  void PrepareEnv(int env, const RenderInputs& inputs, const Rendered& rendered, bool shading);
   // One tile of one env's camera: shaded, or cleared where the camera is not active.
   TileCounts ShadeOrClear(int env, int camera, const TileRect& rect, const RenderInputs& inputs,
                           const internal::Shading& shading, ImageBatch* images) const;
@@ -133,8 +138,13 @@ struct BatchRenderer::Impl {
     view.scene = env_scenes.scene(env);
     view.frames = env_scenes.frames(env);
     view.surfaces = shapes.surfaces().data();
+    view.flat = &flat_shades[static_cast<std::size_t>(env)];
+    if (!casters.empty()) view.casters = &casters[static_cast<std::size_t>(env)];
     if (!inputs.instance_rgb.empty()) {
       view.rgb_override = inputs.instance_rgb.data + static_cast<std::size_t>(env) * layout.instances.size();
+    }
+    if (!inputs.instance_texture.empty()) {
+      view.textures = inputs.instance_texture.data + static_cast<std::size_t>(env) * layout.instances.size();
     }
     return view;
   }
@@ -148,9 +158,11 @@ struct BatchRenderer::Impl {
   internal::LightingModel lighting;
   internal::SrgbEncoder encoder;
   int packet_width;
-  std::vector<CameraRaster> rasters;      // [camera]
-  std::vector<int> tiles_x;               // [camera]
-  std::vector<int64_t> tiles_per_camera;  // [camera]
+  std::vector<CameraRaster> rasters;              // [camera]
+  std::vector<int> tiles_x;                       // [camera]
+  std::vector<int64_t> tiles_per_camera;          // [camera]
+  std::vector<internal::FlatShades> flat_shades;  // [env]
+  std::vector<internal::ShadowCasters> casters;   // [env], when the light casts shadows
 
   // Per-tick state, sized once here so that Render does not allocate.
   std::vector<CameraFrame> camera_frames;    // [env][camera]
@@ -167,6 +179,7 @@ void BatchRenderer::Impl::CheckShapes(const RenderInputs& inputs, const ImageBat
   RequireSize("X_WI", inputs.X_WI.size, instances, "n_envs x n_instances", false);
   RequireSize("instance_visible", inputs.instance_visible.size, instances, "n_envs x n_instances", true);
   RequireSize("instance_rgb", inputs.instance_rgb.size, instances, "n_envs x n_instances", true);
+  RequireSize("instance_texture", inputs.instance_texture.size, instances, "n_envs x n_instances", true);
   RequireSize("X_WC", inputs.X_WC.size, cameras, "n_envs x n_cameras", false);
   RequireSize("camera_enabled", inputs.camera_enabled.size, cameras, "n_envs x n_cameras", true);
   RequireSize("render_camera", inputs.render_camera.size, layout.cameras.size(), "n_cameras", true);
@@ -184,7 +197,7 @@ void BatchRenderer::Impl::CheckShapes(const RenderInputs& inputs, const ImageBat
   }
 }
 
-void BatchRenderer::Impl::PrepareTick(const RenderInputs& inputs) {
+void BatchRenderer::Impl::PrepareTick(const RenderInputs& inputs, bool shading) {
   n_rendered = 0;
   for (int c = 0; c < n_cameras(); ++c) {
     if (!inputs.render_camera.empty() && inputs.render_camera[static_cast<std::size_t>(c)] == 0) continue;
@@ -195,17 +208,20 @@ void BatchRenderer::Impl::PrepareTick(const RenderInputs& inputs) {
   }
   tbb::parallel_for(0, n_envs, [&](int env) {
     const internal::FlushDenormalsScope flush_denormals;
-    PrepareEnv(env, inputs, [&](int camera) {
-      for (int r = 0; r < n_rendered; ++r) {
-        if (rendered_cameras[static_cast<std::size_t>(r)] == camera) return true;
-      }
-      return false;
-    });
+    PrepareEnv(
+        env, inputs,
+        [&](int camera) {
+          for (int r = 0; r < n_rendered; ++r) {
+            if (rendered_cameras[static_cast<std::size_t>(r)] == camera) return true;
+          }
+          return false;
+        },
+        shading);
   });
 }
 
 template <typename Rendered>
-void BatchRenderer::Impl::PrepareEnv(int env, const RenderInputs& inputs, const Rendered& rendered) {
+void BatchRenderer::Impl::PrepareEnv(int env, const RenderInputs& inputs, const Rendered& rendered, bool shading) {
   bool any_active = false;
   for (int camera = 0; camera < n_cameras(); ++camera) {
     if (!rendered(camera)) continue;
@@ -216,7 +232,17 @@ void BatchRenderer::Impl::PrepareEnv(int env, const RenderInputs& inputs, const 
     if (active) camera_frames[index] = FrameOf(inputs.X_WC[index]);
     any_active = any_active || active;
   }
-  if (any_active) env_scenes.Update(env, inputs);
+  if (!any_active) return;
+  env_scenes.Update(env, inputs);
+  if (!shading) return;
+  const Eigen::Vector3f* rgb_override =
+      inputs.instance_rgb.empty() ? nullptr
+                                  : inputs.instance_rgb.data + static_cast<std::size_t>(env) * layout.instances.size();
+  flat_shades[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), rgb_override, lighting, encoder);
+  if (!casters.empty()) {
+    casters[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), shapes.surfaces().data(),
+                                                 env_scenes.enabled(env));
+  }
 }
 
 TileCounts BatchRenderer::Impl::ShadeOrClear(int env, int camera, const TileRect& rect, const RenderInputs& inputs,
@@ -308,12 +334,15 @@ void BatchRenderer::Validate(const RenderInputs& inputs) const {
                                   " must be in [0, 1]");
     }
   }
+  for (std::size_t i = 0; i < inputs.instance_texture.size; ++i) {
+    ValidateProceduralTexture(inputs.instance_texture[i], EnvItem("instance_texture", i, n_instances, "instance"));
+  }
 }
 
 RenderStats BatchRenderer::Render(const RenderInputs& inputs, ImageBatch* images) {
   Impl& impl = *impl_;
   impl.CheckShapes(inputs, images);
-  impl.PrepareTick(inputs);
+  impl.PrepareTick(inputs, true);
   const internal::Shading shading{&impl.lighting, &impl.encoder};
   return impl.ForEachTile([&](int env, int camera, const TileRect& rect) {
     return impl.ShadeOrClear(env, camera, rect, inputs, shading, images);
@@ -331,7 +360,7 @@ RenderStats BatchRenderer::RenderEnv(int env, const RenderInputs& inputs, ImageB
   const auto rendered = [&](int camera) {
     return inputs.render_camera.empty() || inputs.render_camera[static_cast<std::size_t>(camera)] != 0;
   };
-  impl.PrepareEnv(env, inputs, rendered);
+  impl.PrepareEnv(env, inputs, rendered, true);
   const internal::Shading shading{&impl.lighting, &impl.encoder};
   // The same tiles as Render's, one after the other: the caller's other envs keep the other threads busy.
   TileCounts sum;
@@ -354,7 +383,7 @@ RenderStats BatchRenderer::RenderEnv(int env, const RenderInputs& inputs, ImageB
 RenderStats BatchRenderer::CastPrimaryRaysOnly(const RenderInputs& inputs) {
   Impl& impl = *impl_;
   impl.CheckShapes(inputs, nullptr);
-  impl.PrepareTick(inputs);
+  impl.PrepareTick(inputs, false);
   return impl.ForEachTile([&](int env, int camera, const TileRect& rect) {
     const std::size_t index =
         static_cast<std::size_t>(env) * impl.layout.cameras.size() + static_cast<std::size_t>(camera);

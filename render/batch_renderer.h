@@ -41,7 +41,7 @@ class BatchRenderer {
   // Output buffers of the right shapes for this renderer; allocate once, reuse every tick.
   ImageBatch MakeImageBatch() const;
 
-  // Full check of the inputs: array sizes, finite poses, 0/1 flags, colours in [0, 1].
+  // Full check of the inputs: array sizes, finite poses, 0/1 flags, colours in [0, 1], textures.
   // Throws std::invalid_argument naming the array, index and value. Call it when binding buffers
   // or whenever the data comes from an untrusted source; Render does only the size checks.
   void Validate(const RenderInputs& inputs) const;

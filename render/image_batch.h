@@ -13,6 +13,9 @@ namespace tavis::render {
 struct RenderOptions {
   bool with_depth = false;
   bool with_object_id = false;
+  // Trace every shadow ray with Embree instead of deciding most of them with exact tests
+  // (render/internal/shadow_casters.h): slower, the same images; the reference for tests.
+  bool trace_every_shadow_ray = false;
 };
 
 // Layout: env-major, then camera, then row-major pixels. RGB is height x width x 3 uint8 (sRGB).

@@ -30,8 +30,8 @@ Appearance Emissive(float r, float g, float b) {
   return a;
 }
 
-const std::array<NamedAppearance, 15>& Palette() {
-  static const std::array<NamedAppearance, 15> palette = {{
+const std::array<NamedAppearance, 16>& Palette() {
+  static const std::array<NamedAppearance, 16> palette = {{
       {"floor", Plain(0.12f, 0.12f, 0.13f)},
       // Brushed-metal grey, brighter than the floor so the table edge reads clearly.
       {"table", Plain(0.38f, 0.38f, 0.40f)},
@@ -54,6 +54,9 @@ const std::array<NamedAppearance, 15>& Palette() {
       {"wood", Plain(0.55f, 0.35f, 0.20f)},
       {"screen_frame", Plain(0.18f, 0.18f, 0.18f)},
       {"screen_panel", Plain(0.05f, 0.05f, 0.05f)},
+      // The distractors perturbation axis's objects: each is given its own colour per episode
+      // (BatchState::object_rgb, from configs/perturbations/distractors.yaml); this grey is never seen.
+      {"distractor", Plain(0.5f, 0.5f, 0.5f)},
   }};
   return palette;
 }

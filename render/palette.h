@@ -11,7 +11,8 @@
 namespace tavis::render {
 
 // Names: floor, table, robot_link, gripper, soup_can, meat_can, tuna_fish_can, gelatin_box,
-// pudding_box, red_cube, cue_card, signal_light. Throws std::invalid_argument for any other name.
+// pudding_box, red_cube, cue_card, signal_light, wood, screen_frame, screen_panel, distractor.
+// Throws std::invalid_argument for any other name.
 const Appearance& PaletteAppearance(const std::string& name);
 
 std::vector<std::string> PaletteNames();

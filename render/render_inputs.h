@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "kinematics/pose.h"
+#include "render/procedural_texture.h"
 
 namespace tavis::render {
 
@@ -37,6 +38,11 @@ struct RenderInputs {
   // Per-env colour replacing Appearance::rgb, e.g. a card or light whose colour is a task
   // variable (n_envs x n_instances, linear [0, 1]). Empty: the layout's colours.
   ArrayRef<Eigen::Vector3f> instance_rgb;
+  // Per-env procedural texture replacing the colour (Appearance::rgb or instance_rgb) of a lit
+  // instance's surface, evaluated per hit in the instance's frame (n_envs x n_instances;
+  // TexturePattern::kNone keeps the colour; labels are drawn over it; emissive surfaces ignore
+  // it). Empty: no textures, and the shading takes exactly its untextured path.
+  ArrayRef<ProceduralTexture> instance_texture;
   // World pose of every camera (n_envs x n_cameras). A non-finite pose gives an all-zero image.
   ArrayRef<RigidTransform> X_WC;
   // 0 = this env's camera is blocked: its image is all zero and no ray is traced

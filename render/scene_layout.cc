@@ -1,22 +1,15 @@
 #include "render/scene_layout.h"
 
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include "render/internal/colour_check.h"
 
 namespace tavis::render {
 namespace {
 
-bool IsUnitColour(const Eigen::Vector3f& rgb) {
-  return rgb.allFinite() && (rgb.array() >= 0.0f).all() && (rgb.array() <= 1.0f).all();
-}
-
-std::string Describe(const Eigen::Vector3f& v) {
-  std::ostringstream text;
-  text << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
-  return text.str();
-}
+using internal::IsUnitColour;
 
 void ValidateLighting(const LightingSpec& lighting) {
   auto fail = [](const std::string& message) { throw std::invalid_argument("lighting: " + message); };
@@ -24,10 +17,12 @@ void ValidateLighting(const LightingSpec& lighting) {
     fail("dome_intensity = " + std::to_string(lighting.dome_intensity) + " must be finite and >= 0");
   if (!std::isfinite(lighting.distant_intensity) || lighting.distant_intensity < 0.0f)
     fail("distant_intensity = " + std::to_string(lighting.distant_intensity) + " must be finite and >= 0");
-  if (!IsUnitColour(lighting.dome_rgb)) fail("dome_rgb " + Describe(lighting.dome_rgb) + " must be in [0, 1]");
-  if (!IsUnitColour(lighting.distant_rgb)) fail("distant_rgb " + Describe(lighting.distant_rgb) + " must be in [0, 1]");
+  if (!IsUnitColour(lighting.dome_rgb))
+    fail("dome_rgb " + internal::DescribeColour(lighting.dome_rgb) + " must be in [0, 1]");
+  if (!IsUnitColour(lighting.distant_rgb))
+    fail("distant_rgb " + internal::DescribeColour(lighting.distant_rgb) + " must be in [0, 1]");
   if (!lighting.distant_direction.allFinite() || lighting.distant_direction.norm() < 1e-6f)
-    fail("distant_direction " + Describe(lighting.distant_direction) + " must be finite and non-zero");
+    fail("distant_direction " + internal::DescribeColour(lighting.distant_direction) + " must be finite and non-zero");
   if (!std::isfinite(lighting.ground_bounce) || lighting.ground_bounce < 0.0f || lighting.ground_bounce > 1.0f)
     fail("ground_bounce = " + std::to_string(lighting.ground_bounce) + " must be in [0, 1]");
   if (!std::isfinite(lighting.exposure) || lighting.exposure <= 0.0f)
@@ -50,9 +45,10 @@ void ValidateSceneLayout(const SceneLayout& layout) {
     const std::string what = "instance " + std::to_string(i);
     ValidateShape(instance.geometry, what);
     if (!IsUnitColour(instance.appearance.rgb))
-      throw std::invalid_argument(what + ": rgb " + Describe(instance.appearance.rgb) + " must be in [0, 1]");
+      throw std::invalid_argument(what + ": rgb " + internal::DescribeColour(instance.appearance.rgb) +
+                                  " must be in [0, 1]");
     if (!IsUnitColour(instance.appearance.label_rgb))
-      throw std::invalid_argument(what + ": label_rgb " + Describe(instance.appearance.label_rgb) +
+      throw std::invalid_argument(what + ": label_rgb " + internal::DescribeColour(instance.appearance.label_rgb) +
                                   " must be in [0, 1]");
     if (instance.object_id < kBackgroundObjectId)
       throw std::invalid_argument(what + ": object_id = " + std::to_string(instance.object_id) + " must be >= -1");

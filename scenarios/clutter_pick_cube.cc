@@ -37,16 +37,25 @@ PlacementRanges ClutterPlacementRanges(Split split) {
   return ranges;
 }
 
+std::vector<SupportZone> ClutterDistractorZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.56, 0.78, -0.30, 0.30, engine::kTableHeight)};
+}
+
+std::vector<SupportZone> ClutterTargetZones(const engine::BatchState&, int) {
+  const PlacementRanges wide = ClutterPlacementRanges(Split::kOodSpatial);
+  return {AlignedZone(wide.x.low, wide.x.high, wide.y.low, wide.y.high, engine::kTableHeight)};
+}
+
 namespace {
 
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
   const std::vector<Placement> placements =
-      SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_objects(), rng);
+      SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_task_objects(), rng);
   // sample_trial: random.sample(TAVIS_HEAD_OBJECT_NAMES, 4); the one left out is hidden. The
   // hidden object's sampled pose still constrained the others, as in the reference.
   const int hidden = rng.Sample(static_cast<int>(engine::TavisHeadObjectNames().size()), 4)[4];
-  for (int object = 0; object < model.num_objects(); ++object) {
+  for (int object = 0; object < model.num_task_objects(); ++object) {
     PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
     state.object_enabled_at(env, object) = object != hidden;
   }
@@ -118,6 +127,8 @@ ScenarioDef ClutterPickCube() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
+  def.distractor_zones = &ClutterDistractorZones;
+  def.target_zones = &ClutterTargetZones;
   return def;
 }
 

@@ -34,11 +34,11 @@ void Layout(engine::WorldModel& model) {
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
   // sample_target draws before the placements: the target, then its phrasing.
-  const int target = rng.UniformInt(model.num_objects());
+  const int target = rng.UniformInt(model.num_task_objects());
   const int prompt = rng.UniformInt(static_cast<int>(kPrompts[0].size()));
   const std::vector<Placement> placements =
-      SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_objects(), rng);
-  for (int object = 0; object < model.num_objects(); ++object) {
+      SampleSeparatedPlacements(ClutterPlacementRanges(split), model.num_task_objects(), rng);
+  for (int object = 0; object < model.num_task_objects(); ++object) {
     PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
   }
   state.task[env].target = target;
@@ -70,6 +70,8 @@ ScenarioDef ClutterPickLift() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
+  def.distractor_zones = &ClutterDistractorZones;
+  def.target_zones = &ClutterTargetZones;
   return def;
 }
 

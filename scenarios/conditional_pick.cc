@@ -75,6 +75,21 @@ TargetFacts Facts(const engine::BatchState& state, int env) {
   return facts;
 }
 
+// Distractors stand behind the objects and the card as the robot sees them: no reach passes
+// there and the head's line of sight to the card stays clear. A moved target stays on its own
+// side, in the widest split's zone for it, so the card's rule still names it.
+std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.56, 0.78, -0.30, 0.30, engine::kTableHeight)};
+}
+
+std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
+  const Zones wide = ZonesFor(Split::kOodSpatial);
+  const bool left = state.task[env].card_is_red;
+  const Range& x = left ? wide.left_x : wide.right_x;
+  const Range& y = left ? wide.left_y : wide.right_y;
+  return {AlignedZone(x.low, x.high, y.low, y.high, engine::kTableHeight)};
+}
+
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
   expert::PickExpertSettings settings;
   settings.mode = mode;
@@ -100,6 +115,8 @@ ScenarioDef ConditionalPick() {
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success, kCardName);
   def.target_facts = &Facts;
+  def.distractor_zones = &DistractorZones;
+  def.target_zones = &TargetZones;
   return def;
 }
 

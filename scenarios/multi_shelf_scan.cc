@@ -75,10 +75,10 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   const double jitter_y = split == Split::kOodSpatial ? 0.10 : 0.03;
   constexpr int kSlots = static_cast<int>(kShelfZ.size() * kSlotY.size());
   // Reference draw order: the five slots, the target, its phrasing, then each object's pose.
-  const std::vector<int> slots = rng.Sample(kSlots, model.num_objects());
-  const int target = rng.UniformInt(model.num_objects());
+  const std::vector<int> slots = rng.Sample(kSlots, model.num_task_objects());
+  const int target = rng.UniformInt(model.num_task_objects());
   const int prompt = rng.UniformInt(static_cast<int>(kPrompts[0].size()));
-  for (int object = 0; object < model.num_objects(); ++object) {
+  for (int object = 0; object < model.num_task_objects(); ++object) {
     const int slot = slots[static_cast<std::size_t>(object)];
     const double shelf_z = kShelfZ[static_cast<std::size_t>(slot) / kSlotY.size()];
     const double slot_y = kSlotY[static_cast<std::size_t>(slot) % kSlotY.size()];
@@ -99,14 +99,55 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 
 const char* Prompt(const engine::BatchState& state, int env) { return TargetPrompt(kPrompts, state, env); }
 
-// The shelf the target stands on: the highest board below it.
+// The shelf an object at height z stands on: the highest board below it, -1 below them all.
+int ShelfUnder(double z) {
+  int under = -1;
+  for (std::size_t shelf = 0; shelf < kShelfZ.size(); ++shelf) {
+    if (kShelfZ[shelf] < z) under = static_cast<int>(shelf);
+  }
+  return under;
+}
+
+// The height of a shelf board's top face (the lowest board's for -1).
+double ShelfSurfaceZ(int shelf) { return kShelfZ[static_cast<std::size_t>(std::max(shelf, 0))] + 0.5 * kBoard; }
+
+// The shelf the target stands on.
 TargetFacts Facts(const engine::BatchState& state, int env) {
   TargetFacts facts;
-  const double z = state.ObjectPosition(env, state.target(env)).z();
-  for (std::size_t shelf = 0; shelf < kShelfZ.size(); ++shelf) {
-    if (kShelfZ[shelf] < z) facts.shelf = static_cast<int>(shelf);
-  }
+  facts.shelf = ShelfUnder(state.ObjectPosition(env, state.target(env)).z());
   return facts;
+}
+
+// A shelf board's area between the side panels, inset by `inset` from every edge.
+SupportZone BoardZone(double surface_z, double y_low, double y_high, double inset) {
+  return AlignedZone(kCentreX - 0.5 * kDepth + inset, kCentreX + 0.5 * kDepth - inset, y_low, y_high, surface_z);
+}
+
+// Distractors stand in the slot no object was given (five objects, six slots), clear of the
+// other slot's reach on that shelf, and on top of the cabinet: no reach into a slot passes there.
+std::vector<SupportZone> DistractorZones(const engine::BatchState& state, int env) {
+  std::array<bool, kShelfZ.size() * kSlotY.size()> taken{};
+  for (int object = 0; object < state.num_objects; ++object) {
+    if (!state.object_enabled_at(env, object) || object >= static_cast<int>(engine::TavisHeadObjectNames().size()))
+      continue;
+    const Vec3 p = state.ObjectPosition(env, object);
+    // Slots alternate sides, +y first (kSlotY); an object's jitter never crosses the middle.
+    taken[static_cast<std::size_t>(std::max(ShelfUnder(p.z()), 0)) * kSlotY.size() + (p.y() >= 0.0 ? 0 : 1)] = true;
+  }
+  std::vector<SupportZone> zones;
+  for (std::size_t slot = 0; slot < taken.size(); ++slot) {
+    if (taken[slot]) continue;
+    const double y = kSlotY[slot % kSlotY.size()];
+    zones.push_back(BoardZone(ShelfSurfaceZ(static_cast<int>(slot / kSlotY.size())), y - 0.10, y + 0.10, 0.005));
+  }
+  zones.push_back(BoardZone(kTopZ + 0.5 * kBoard, -0.30, 0.30, 0.005));
+  return zones;
+}
+
+// A moved target stays on its shelf board, its centre clear of the board's front and back edges
+// and of the side panels, where the straight reach into the cabinet still comes.
+std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
+  return {BoardZone(ShelfSurfaceZ(ShelfUnder(state.ObjectPosition(env, state.target(env)).z())), -0.28, 0.28, 0.02)};
 }
 
 // Scans the three rows bottom to top, then reaches level into the target's slot from the front
@@ -141,6 +182,8 @@ ScenarioDef MultiShelfScan() {
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
   def.target_facts = &Facts;
+  def.distractor_zones = &DistractorZones;
+  def.target_zones = &TargetZones;
   return def;
 }
 

@@ -20,6 +20,14 @@ struct PlacementRanges {
   double min_separation = 0.0;
 };
 
+// Ranges of x and y only (the others zero), for tasks that place by x and y.
+inline PlacementRanges XyRanges(Range x, Range y) {
+  PlacementRanges ranges;
+  ranges.x = x;
+  ranges.y = y;
+  return ranges;
+}
+
 struct Placement {
   Vec3 position = Vec3::Zero();
   double yaw = 0.0;  // roll and pitch are drawn (to keep the draw order) but our primitives are z-up

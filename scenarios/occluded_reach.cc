@@ -28,19 +28,35 @@ void Layout(engine::WorldModel& model) {
   model.static_parts.push_back(ScreenPart("screen_panel", {0.015, 0.16, 0.40}, {0.27, 0.0, 1.32}, "screen_panel"));
 }
 
+// Where the target stands behind the screen: x and y ranges of the split.
+PlacementRanges TargetRanges(Split split) {
+  return split == Split::kOodSpatial ? XyRanges({0.36, 0.53}, {-0.30, 0.30}) : XyRanges({0.40, 0.50}, {-0.20, 0.20});
+}
+
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
-  const bool wide = split == Split::kOodSpatial;
-  const Range x = wide ? Range{0.36, 0.53} : Range{0.40, 0.50};
-  const Range y = wide ? Range{-0.30, 0.30} : Range{-0.20, 0.20};
+  const PlacementRanges ranges = TargetRanges(split);
+  const Range x = ranges.x;
+  const Range y = ranges.y;
   // Draw order: target, x, y, yaw.
-  const int target = rng.UniformInt(model.num_objects());
+  const int target = rng.UniformInt(model.num_task_objects());
   const double px = rng.Uniform(x.low, x.high);
   const double py = rng.Uniform(y.low, y.high);
   const double yaw = rng.Uniform(-M_PI, M_PI);
-  for (int object = 0; object < model.num_objects(); ++object) state.object_enabled_at(env, object) = 0;
+  for (int object = 0; object < model.num_task_objects(); ++object) state.object_enabled_at(env, object) = 0;
   PlaceUpright(state, env, target, Vec3(px, py, kObjectDropZ), yaw);
   state.task[env].target = target;
+}
+
+// Distractors stand behind the target's area as the robot sees it, where no reach around the
+// screen passes; a moved target stays in the widest split's area behind the screen.
+std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.62, 0.85, -0.30, 0.30, engine::kTableHeight)};
+}
+
+std::vector<SupportZone> TargetZones(const engine::BatchState&, int) {
+  const PlacementRanges wide = TargetRanges(Split::kOodSpatial);
+  return {AlignedZone(wide.x.low, wide.x.high, wide.y.low, wide.y.high, engine::kTableHeight)};
 }
 
 const char* Prompt(const engine::BatchState&, int) {
@@ -75,6 +91,8 @@ ScenarioDef OccludedReach() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
+  def.distractor_zones = &DistractorZones;
+  def.target_zones = &TargetZones;
   return def;
 }
 

@@ -104,6 +104,20 @@ double IntoBoxHeading(const engine::BatchState& state, int env, double side) {
   return BoxYaw(state, env) - side * (M_PI / 2 - kForwardTurn);
 }
 
+// Distractors stand on the table behind the box as the robot sees it: the wrists peek and the
+// hand reaches in from the sides, so nothing the task needs passes there.
+std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.74, 0.95, -0.30, 0.30, engine::kTableHeight)};
+}
+
+// A moved target stays inside the box, its centre within 8 cm of the box's middle along it and
+// 3 cm across it (the widest split places it within 4 cm either way; a target moved further
+// across, away from the open side the hand reaches through, is beyond the expert's reach).
+std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
+  const Vec3 centre = 0.5 * (state.ObjectPosition(env, kWallBack) + state.ObjectPosition(env, kWallFront));
+  return {{Vec3(centre.x(), centre.y(), engine::kTableHeight), BoxYaw(state, env), 0.08, 0.03}};
+}
+
 // Each wrist looks into its side of the box from 16 cm outside it, the hand a little above the
 // object and pointing across the box, so the wrist camera sees the wall or the object.
 std::array<RigidTransform, 2> PeekPoses(const engine::WorldModel& model, const engine::BatchState& state, int env) {
@@ -162,6 +176,8 @@ ScenarioDef PeekingBox() {
       /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
   def.target_facts = &Facts;
+  def.distractor_zones = &DistractorZones;
+  def.target_zones = &TargetZones;
   return def;
 }
 

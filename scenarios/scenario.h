@@ -16,6 +16,7 @@
 #include "scenarios/split.h"
 #include "scenarios/stage.h"
 #include "scenarios/suite.h"
+#include "scenarios/support_zone.h"
 
 namespace tavis::scenarios {
 
@@ -95,6 +96,13 @@ struct ScenarioDef {
   std::vector<StageDef> stages;
   // Optional: the task's facts of the env's episode (fixed at reset) besides its target.
   TargetFacts (*target_facts)(const engine::BatchState& state, int env) = nullptr;
+  // The scene perturbation axes (docs/perturbations.md), of the env's episode right after its
+  // reset. distractor_zones: where extra objects may stand without blocking the task: areas of
+  // its supports that no hand, held object or line of sight to a cue the task needs passes through.
+  // target_zones: where the runtime axis may move the target: the area of its support the
+  // scripted expert reaches (the widest split's placement area). Null: the task refuses the axis.
+  std::vector<SupportZone> (*distractor_zones)(const engine::BatchState& state, int env) = nullptr;
+  std::vector<SupportZone> (*target_zones)(const engine::BatchState& state, int env) = nullptr;
 
   // True on a control tick the success rule holds for the env's episode.
   bool Succeeded(const engine::BatchState& state, int env) const;

@@ -74,9 +74,7 @@ std::array<double, 2> StageProgress::HandDistances(const engine::BatchState& sta
   std::array<double, 2> distances{};
   LinkPoses X_BL;
   for (const kinematics::Side side : {kinematics::Side::kLeft, kinematics::Side::kRight}) {
-    const int link = robot.arm(side).ik_link;
-    kinematics::ComputeLinkPoseChain(robot, state.q_row(env), link, X_BL.data());
-    const Vec3 tcp_world = robot.root_world + X_BL[static_cast<std::size_t>(link)] * robot.gripper.tcp;
+    const Vec3 tcp_world = kinematics::ToolCentrePointWorld(robot, state.q_row(env), side, X_BL.data());
     const Vec3 local = orientation.conjugate() * (tcp_world - centre);
     distances[kinematics::Index(side)] = (local.cwiseAbs() - half).cwiseMax(0.0).norm();
   }

@@ -32,11 +32,17 @@ void Layout(engine::WorldModel& model) {
   model.static_parts.push_back(engine::MakeTable());
 }
 
+// Where the object stands: x and y ranges of the split.
+PlacementRanges ObjectRanges(Split split) {
+  return split == Split::kOodSpatial ? XyRanges({0.30, 0.50}, {-0.20, 0.20}) : XyRanges({0.35, 0.45}, {-0.12, 0.12});
+}
+
 void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
   const bool wide = split == Split::kOodSpatial;
-  const Range object_x = wide ? Range{0.30, 0.50} : Range{0.35, 0.45};
-  const Range object_y = wide ? Range{-0.20, 0.20} : Range{-0.12, 0.12};
+  const PlacementRanges object_ranges = ObjectRanges(split);
+  const Range object_x = object_ranges.x;
+  const Range object_y = object_ranges.y;
   const Range light_x = wide ? Range{0.55, 0.75} : Range{0.60, 0.70};
   const Range light_y = wide ? Range{-0.15, 0.15} : Range{-0.10, 0.10};
   const Range delay_s = wide ? Range{2.0, 8.0} : Range{2.0, 5.0};
@@ -71,6 +77,19 @@ void Update(const engine::WorldModel& model, engine::BatchState& state, int env)
   }
 }
 
+// Distractors stand to either side of the light and behind it, out of the head's line of sight
+// to the light and beyond the object's reach; a moved target stays in the widest split's area.
+std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
+  return {AlignedZone(0.50, 0.76, 0.22, 0.40, engine::kTableHeight),
+          AlignedZone(0.50, 0.76, -0.40, -0.22, engine::kTableHeight),
+          AlignedZone(0.82, 0.97, -0.30, 0.30, engine::kTableHeight)};
+}
+
+std::vector<SupportZone> TargetZones(const engine::BatchState&, int) {
+  const PlacementRanges wide = ObjectRanges(Split::kOodSpatial);
+  return {AlignedZone(wide.x.low, wide.x.high, wide.y.low, wide.y.high, engine::kTableHeight)};
+}
+
 const char* Prompt(const engine::BatchState&, int) {
   return "Watch the red light. When it turns green, pick up the object.";
 }
@@ -102,6 +121,8 @@ ScenarioDef WaitThenAct() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success, kLightName);
+  def.distractor_zones = &DistractorZones;
+  def.target_zones = &TargetZones;
   return def;
 }
 

@@ -143,7 +143,12 @@ void RunRender(const RenderCommandOptions& options) {
     std::cout << " (episode ended: " << engine::ToString(views.end()) << ")";
   }
   if (!has_expert) std::cout << " (no scripted expert for this task: the robot held its reset pose)";
-  std::cout << "\n";
+  std::cout << "\n  prompt: " << vec_env.prompt(0) << "\n";
+  // A runtime level's move (docs/perturbations.md), which the views may come before or after.
+  if (vec_env.model().episode_perturbation.moves_target()) {
+    const int moved = vec_env.state().task[0].target_move_tick;
+    std::cout << "  target " << (moved >= 0 ? "moved at tick " + std::to_string(moved) : "not moved") << "\n";
+  }
   for (const std::string& path : views.written()) std::cout << "  " << path << "\n";
 }
 
@@ -177,9 +182,11 @@ void RegisterRenderCommand(CLI::App& app) {
   render->add_option("--steps", options->steps, "Control ticks (60 Hz) of the expert before the second render")
       ->check(IntegerIn(0, 1000000))
       ->capture_default_str();
-  render->add_option("--perturb", options->perturbations,
-                     "AXIS:LEVEL: render under a perturbation level (configs/perturbations/AXIS.yaml,\n"
-                     "docs/perturbations.md); repeat it for several axes. The episode keeps its scene");
+  render->add_option(
+      "--perturb", options->perturbations,
+      "AXIS:LEVEL: render under a perturbation level (configs/perturbations/AXIS.yaml,\n"
+      "docs/perturbations.md); repeat it for several axes. The episode keeps its base scene (a distractors\n"
+      "level adds its objects, a runtime level moves the target under the hand)");
   AddConfigDirOption(*render, options->config_dir);
   render->callback([options] { RunRender(*options); });
 }

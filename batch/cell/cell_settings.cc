@@ -180,9 +180,10 @@ std::vector<CellSetting> TheEpisodes() {
           .InSummary(Recorded::kUnlessDefault)
           .Flag("--perturb", EvalOption::kHidingDefault,
                 "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
-                "sensor, lighting; docs/perturbations.md); repeat it for several axes, one level each. Episode i\n"
-                "keeps its base scene, so the cell pairs with its unperturbed one; the levels are recorded in\n"
-                "cell.json and summary.json, and the default folder is named ..._p-AXIS-LEVEL"),
+                "sensor, lighting, appearance, distractors, language, runtime; docs/perturbations.md); repeat\n"
+                "it for several axes, one level each. Episode i keeps its base scene, so the cell pairs with its unperturbed one;\n"
+                "the levels are recorded in cell.json and summary.json, and the default folder is named\n"
+                "..._p-AXIS-LEVEL"),
   };
 }
 

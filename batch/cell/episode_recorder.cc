@@ -24,7 +24,7 @@ void EpisodeRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   std::optional<scenarios::StageProgress>& progress = stage_progress_[slot];
   if (!progress) progress.emplace(scenario, vec_env.model());
   progress->Start();
-  prompts_[slot] = scenario.prompt != nullptr ? scenario.prompt(state, slot) : "";
+  prompts_[slot] = vec_env.prompt(slot);
   target_objects_[slot] = vec_env.model().objects[static_cast<std::size_t>(state.target(slot))].name;
   targets_[slot] = scenario.target_facts != nullptr ? scenario.target_facts(state, slot) : scenarios::TargetFacts{};
 }
@@ -59,6 +59,7 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& vec_env, int slot) {
   record.prompt = prompts_[slot];
   record.target_object = target_objects_[slot];
   record.target = targets_[slot];
+  if (vec_env.model().episode_perturbation.moves_target()) record.target_move_tick = state.task[slot].target_move_tick;
   scenarios::StageProgress& progress = *stage_progress_[slot];
   progress.Observe(state, slot);
   const std::vector<scenarios::StageDef>& stages = vec_env.scenario().stages;

@@ -48,6 +48,9 @@ struct EpisodeRecord {
   std::string prompt;
   std::string target_object;
   scenarios::TargetFacts target;
+  // Under a runtime perturbation level only: the control tick the target was moved, -1 if it was
+  // not (no hand came near it, or no free place was found); unset in every other cell.
+  std::optional<int> target_move_tick;
   std::vector<StageReached> stages;                // the task's stages, in declared order
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
   std::vector<kinematics::Action> actions;         // every control tick's, with RecordSettings::keep_actions

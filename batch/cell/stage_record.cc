@@ -13,6 +13,9 @@ void AddStagesJson(const EpisodeRecord& record, nlohmann::json& line) {
   if (!record.target.side.empty()) target["side"] = record.target.side;
   if (record.target.shelf >= 0) target["shelf"] = record.target.shelf;
   if (!record.target.open_side.empty()) target["open_side"] = record.target.open_side;
+  if (record.target_move_tick) {
+    target["moved_tick"] = *record.target_move_tick >= 0 ? nlohmann::json(*record.target_move_tick) : nlohmann::json();
+  }
   line["target"] = target;
   nlohmann::json reached = nlohmann::json::object();
   nlohmann::json ticks = nlohmann::json::object();
@@ -32,6 +35,10 @@ void ParseStagesJson(const nlohmann::json& line, EpisodeRecord& record) {
     if (target.contains("side")) record.target.side = target.at("side").get<std::string>();
     if (target.contains("shelf")) record.target.shelf = target.at("shelf").get<int>();
     if (target.contains("open_side")) record.target.open_side = target.at("open_side").get<std::string>();
+    if (target.contains("moved_tick")) {
+      const nlohmann::json& tick = target.at("moved_tick");
+      record.target_move_tick = tick.is_null() ? -1 : tick.get<int>();
+    }
   }
   if (!line.contains("stage_ticks")) return;
   // A JSON object does not keep the task's order of its stages (the keys come back sorted):

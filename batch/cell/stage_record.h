@@ -1,8 +1,9 @@
 // The JSON of an episode's stages and targets (episodes.jsonl) and of a cell's stage funnel
 // (summary.json), and reading them back. Line keys (docs: README, "Episode records"):
 //   "prompt": the instruction;  "target": {"object": model name, "side" / "shelf" / "open_side"
-//   where the task has them};  "stages": {stage: reached?};  "stage_ticks": {stage: first control
-//   tick, null if never}.
+//   where the task has them, and under a runtime perturbation level "moved_tick": the control tick
+//   it was moved, null if never};  "stages": {stage: reached?};  "stage_ticks": {stage: first
+//   control tick, null if never}.
 // Summary key "stages": [{"stage": name, "reached": episodes that reached it and every stage
 // before it}, ...] in the task's order: the funnel.
 #pragma once

@@ -54,7 +54,7 @@ void DemoRecorder::EpisodeStarted(const batch::VecEnv& vec_env, int slot) {
   recording.episode = RecordedEpisode();
   recording.episode.source_episode = vec_env.state().episode[slot];
   recording.episode.task_index = recording_.task_index;
-  recording.episode.prompt = vec_env.scenario().prompt(vec_env.state(), slot);
+  recording.episode.prompt = vec_env.prompt(slot);
   recording.episode.image_stats.assign(recording_.cameras.size(), ImageStats());
   recording.encoders.clear();
   for (const std::string& camera : recording_.cameras) recording.encoders.emplace_back(recording_.video, camera);

@@ -104,7 +104,8 @@ GymVecEnv::GymVecEnv(const GymVecEnvConfig& config)
       ticks_per_step_(config.control_ticks_per_step > 0 ? config.control_ticks_per_step
                                                         : vec_env_.model().physics.controls_per_policy()),
       cameras_(ProtocolCameras(config.cameras, protocol_)),
-      proprioception_(vec_env_.model().robot, config.num_envs) {
+      slots_(vec_env_),
+      ticker_(slots_) {
   const std::size_t n = static_cast<std::size_t>(num_envs());
   if (!cameras_.empty() && ticks_per_step_ % vec_env_.model().physics.controls_per_policy() != 0) {
     throw std::invalid_argument("control_ticks_per_step " + std::to_string(ticks_per_step_) +
@@ -112,7 +113,7 @@ GymVecEnv::GymVecEnv(const GymVecEnvConfig& config)
                                 std::to_string(vec_env_.model().physics.controls_per_policy()) +
                                 " (or give cameras=[])");
   }
-  proprioception_.SetCameraProtocol(protocol_);
+  slots_.SetCameraProtocol(protocol_);
   if (!cameras_.empty()) {
     vec_env_.EnableCameras({cameras_, config.image_width, config.image_height, false, false});
     vec_env_.BlockCameras(ProtocolBlackCameras(protocol_));
@@ -126,9 +127,8 @@ GymVecEnv::GymVecEnv(const GymVecEnvConfig& config)
                                                         const int64_t episode = record.episode;
                                                         records_[episode] = std::move(record);
                                                       });
-  prompts_.assign(n, nullptr);
+  slots_.AddSink(*recorder_);
   starts_.reserve(n);
-  started_.assign(n, 0);
   all_envs_.assign(n, 1);
   actions_.assign(n, kinematics::Action{});
   rewards_.assign(n, 0.0F);
@@ -137,10 +137,10 @@ GymVecEnv::GymVecEnv(const GymVecEnvConfig& config)
   ended_.assign(n, 0);
   ended_how_.assign(n, engine::EpisodeEnd::kRunning);
   ended_episode_.assign(n, -1);
-  reported_episode_.assign(n, -1);
   final_state_.assign(n * static_cast<std::size_t>(state_size()), 0.0F);
   hold_ = MakeBuiltinPolicy(PolicyName(PolicyKind::kHold), scenario_, vec_env_.model(), num_envs(), "");
   policies_.push_back(hold_);
+  ticker_.AddPolicy(*hold_);
 }
 
 GymVecEnv::Exclusive::Exclusive(const GymVecEnv& env, const char* what) : busy_(env.busy_) {
@@ -151,10 +151,6 @@ GymVecEnv::Exclusive::Exclusive(const GymVecEnv& env, const char* what) : busy_(
 
 int GymVecEnv::max_episode_steps() const {
   return (vec_env_.model().physics.max_control_steps() + ticks_per_step_ - 1) / ticks_per_step_;
-}
-
-Observation GymVecEnv::MakeObservation() const {
-  return Observation{vec_env_.model(), vec_env_.state(), vec_env_.images(), prompts_, &proprioception_};
 }
 
 void GymVecEnv::Reset(const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes) {
@@ -185,22 +181,16 @@ void GymVecEnv::Reset(const std::vector<uint8_t>& mask, const std::vector<int64_
 
 void GymVecEnv::StartEpisodes() {
   if (starts_.empty()) return;
-  vec_env_.Reset(starts_);
-  std::fill(started_.begin(), started_.end(), 0);
-  for (const EpisodeStart& start : starts_) {
-    started_[start.env] = 1;
-    reported_episode_[start.env] = -1;
-    prompts_[start.env] = scenario_.prompt(vec_env_.state(), start.env);
-  }
-  vec_env_.RenderPolicyTick();
+  // The built-in policies' reset looks at the state only, so the images and observation.state
+  // can come after it.
+  ticker_.StartEpisodes(starts_);
+  ticker_.RenderPolicyTick();
   UpdateObservation();
-  for (const std::shared_ptr<Policy>& policy : policies_) policy->Reset(MakeObservation(), started_);
-  for (const EpisodeStart& start : starts_) recorder_->EpisodeStarted(vec_env_, start.env);
   // An ood-init-pose warm-up can end its episode.
   CollectEnded();
 }
 
-void GymVecEnv::UpdateObservation() { proprioception_.Update(vec_env_.state(), all_envs_); }
+void GymVecEnv::UpdateObservation() { slots_.proprioception().Update(vec_env_.state(), all_envs_); }
 
 void GymVecEnv::Step(const double* actions) {
   if (!was_reset_) throw std::invalid_argument("step before reset: call reset() first");
@@ -219,25 +209,16 @@ void GymVecEnv::Step(const double* actions) {
   for (int env = 0; env < num_envs(); ++env) {
     std::copy_n(actions + static_cast<std::size_t>(env) * kinematics::action::kSize, kinematics::action::kSize,
                 actions_[env].begin());
-    ApplyToAction(protocol_, actions_[env]);
   }
   std::fill(rewards_.begin(), rewards_.end(), 0.0F);
   std::fill(terminated_.begin(), terminated_.end(), 0);
   std::fill(truncated_.begin(), truncated_.end(), 0);
   std::fill(ended_.begin(), ended_.end(), 0);
   arena_.execute([&] {
-    for (int tick = 0; tick < ticks_per_step_; ++tick) {
-      int running = 0;
-      for (int env = 0; env < num_envs(); ++env) running += state.running(env) ? 1 : 0;
-      if (running == 0) break;
-      for (int env = 0; env < num_envs(); ++env) {
-        if (state.running(env)) recorder_->ActionChosen(vec_env_, env, actions_[env]);
-      }
-      vec_env_.Step(actions_);
-      control_ticks_ += running;
-      for (int env = 0; env < num_envs() && acted_ != nullptr; ++env) {
-        if (state.running(env) && acted_->GaveUp(env)) vec_env_.EndEarly(env, engine::EpisodeEnd::kGaveUp);
-      }
+    // An env whose episode ends within the step stays ended for the step's other ticks.
+    for (int tick = 0; tick < ticks_per_step_ && ticker_.RunningEnvs() > 0; ++tick) {
+      ticker_.TickStarting();
+      ticker_.Tick(actions_, acted_);
     }
     acted_ = nullptr;
     CollectEnded();
@@ -251,7 +232,7 @@ void GymVecEnv::Step(const double* actions) {
       }
       StartEpisodes();
     }
-    vec_env_.RenderPolicyTick();
+    ticker_.RenderPolicyTick();
     UpdateObservation();
   });
   busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -261,20 +242,17 @@ void GymVecEnv::CollectEnded() {
   const engine::BatchState& state = vec_env_.state();
   const std::size_t row = static_cast<std::size_t>(state_size());
   UpdateObservation();
-  for (int env = 0; env < num_envs(); ++env) {
-    // An env already reported keeps its end until reset; report each end once.
-    if (state.episode[env] < 0 || state.running(env) || reported_episode_[env] == state.episode[env]) continue;
+  // An env already reported keeps its end until reset: the ticker tells of each end once.
+  ticker_.CollectEnded([&](int env) {
     const engine::EpisodeEnd end = state.end[env];
     ended_[env] = 1;
     ended_how_[env] = end;
     ended_episode_[env] = state.episode[env];
-    reported_episode_[env] = state.episode[env];
     rewards_[env] = end == engine::EpisodeEnd::kSuccess ? 1.0F : 0.0F;
     truncated_[env] = end == engine::EpisodeEnd::kTimeOut ? 1 : 0;
     terminated_[env] = truncated_[env] == 0 ? 1 : 0;
-    std::copy_n(proprioception_.state(env), row, final_state_.begin() + static_cast<std::ptrdiff_t>(env * row));
-    recorder_->EpisodeEnded(vec_env_, env);
-  }
+    std::copy_n(slots_.proprioception().state(env), row, final_state_.begin() + static_cast<std::ptrdiff_t>(env * row));
+  });
 }
 
 void GymVecEnv::KeepFinalImages() {
@@ -306,9 +284,10 @@ std::shared_ptr<Policy> GymVecEnv::MakePolicy(const std::string& name, const std
   arena_.execute([&] {
     std::vector<uint8_t> running(static_cast<std::size_t>(num_envs()), 0);
     for (int env = 0; env < num_envs(); ++env) running[env] = vec_env_.state().running(env) ? 1 : 0;
-    policy->Reset(MakeObservation(), running);
+    policy->Reset(slots_.observation(), running);
   });
   policies_.push_back(policy);
+  ticker_.AddPolicy(*policy);
   return policy;
 }
 
@@ -331,7 +310,7 @@ void GymVecEnv::ActInto(Policy& policy, double* actions) {
   std::vector<uint8_t> acting(static_cast<std::size_t>(num_envs()), 0);
   ActionBatch chosen(static_cast<std::size_t>(num_envs()), kinematics::Action{});
   for (int env = 0; env < num_envs(); ++env) acting[env] = vec_env_.state().running(env) ? 1 : 0;
-  arena_.execute([&] { policy.Act(MakeObservation(), acting, chosen); });
+  arena_.execute([&] { policy.Act(slots_.observation(), acting, chosen); });
   for (int env = 0; env < num_envs(); ++env) {
     std::copy(chosen[env].begin(), chosen[env].end(),
               actions + static_cast<std::size_t>(env) * kinematics::action::kSize);
@@ -371,7 +350,7 @@ void GymVecEnv::WriteResults(const std::string& out_dir, const std::string& poli
   result.galt_policy_rate_fps = settings.policy_rate_fps;
   result.envs = num_envs();
   result.wall_s = busy_s_;
-  result.control_ticks = control_ticks_;
+  result.control_ticks = ticker_.control_ticks();
   result.rendered_cameras = cameras_;
   result.render_width = config_.image_width;
   result.render_height = config_.image_height;

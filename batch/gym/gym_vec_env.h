@@ -1,8 +1,9 @@
 // The batched env as the Python module steps it (docs/python.md): Gymnasium's VectorEnv
-// semantics on top of VecEnv. One step holds the caller's actions for a fixed number of control
-// ticks; episodes that end are recorded (cell::EpisodeRecorder, as `tavis eval` records them) and, with
-// autoreset, their slots start the next episode at once (Gymnasium's SAME_STEP); without it they
-// stay ended until reset. Episode i has the randomness of (seed, i) whichever slot runs it, so a
+// semantics on the lock-step episode loop (LockStepTicker, the episode driver's). One step holds
+// the caller's actions for a fixed number of control ticks; episodes that end are recorded
+// (cell::EpisodeRecorder, the loop's sink, as `tavis eval` records them) and, with autoreset,
+// their slots start the next episode at once (Gymnasium's SAME_STEP); without it they stay ended
+// until reset. Episode i has the randomness of (seed, i) whichever slot runs it, so a
 // rollout's records equal those of the evaluation cell with the same seed. Nothing here knows
 // Python: module.cc wraps the buffers as numpy views.
 #pragma once
@@ -20,8 +21,9 @@
 #include "batch/camera_protocol.h"
 #include "batch/cell/episode_recorder.h"
 #include "batch/cell/evaluation_cell.h"
+#include "batch/episode_slots.h"
+#include "batch/lock_step_ticker.h"
 #include "batch/policy.h"
-#include "batch/proprioception.h"
 #include "batch/vec_env.h"
 
 namespace tavis::batch::gym {
@@ -85,7 +87,7 @@ class GymVecEnv {
   bool busy() const { return busy_.load(); }
 
   int num_envs() const { return vec_env_.num_envs(); }
-  int state_size() const { return proprioception_.state_size(); }
+  int state_size() const { return slots_.proprioception().state_size(); }
   int control_ticks_per_step() const { return ticks_per_step_; }
   // Steps before an episode times out.
   int max_episode_steps() const;
@@ -111,10 +113,10 @@ class GymVecEnv {
   const std::vector<float>& final_state() const { return final_state_; }  // (num_envs x state_size)
   bool running(int env) const { return vec_env_.state().running(env); }
   int64_t episode(int env) const { return vec_env_.state().episode[env]; }
-  const char* prompt(int env) const { return prompts_[env] != nullptr ? prompts_[env] : ""; }
+  const char* prompt(int env) const { return slots_.prompt(env) != nullptr ? slots_.prompt(env) : ""; }
 
   // Buffers the numpy views show; allocated once, overwritten by every step and reset.
-  const float* agent_pos() const { return proprioception_.state(0); }
+  const float* agent_pos() const { return slots_.proprioception().state(0); }
   const render::ImageBatch* images() const { return vec_env_.images(); }
   // With cameras and autoreset: the images of each env whose episode ended in this step, drawn at
   // its final state before the slot restarted (other envs' entries are stale); null until an
@@ -141,9 +143,10 @@ class GymVecEnv {
   void WriteResults(const std::string& out_dir, const std::string& policy, int64_t first, int64_t count) const;
 
  private:
-  Observation MakeObservation() const;
-  // Resets `starts_`, then tells the policies and the recorder, and updates the observation.
+  // Starts `starts_` (the loop resets the policies and tells the recorder), then renders and
+  // updates the observation, and reports an episode that ended in its warm-up.
   void StartEpisodes();
+  // Reports the episodes that have ended since last told: rewards, ends, final observation.state.
   void CollectEnded();
   void UpdateObservation();
   // Renders the envs whose episode ended in this step into final_images_.
@@ -157,31 +160,28 @@ class GymVecEnv {
   VecEnv vec_env_;
   int ticks_per_step_ = 0;
   std::vector<std::string> cameras_;
-  ProprioceptionBatch proprioception_;
+  EpisodeSlots slots_;  // the prompts and the observation, the protocol, the recorder as the sink
+  LockStepTicker ticker_;
   std::unique_ptr<cell::EpisodeRecorder> recorder_;
   std::map<int64_t, cell::EpisodeRecord> records_;
-  std::vector<std::shared_ptr<Policy>> policies_;
-  std::shared_ptr<Policy> hold_;  // NeutralActions' policy, reset with the episodes
+  std::vector<std::shared_ptr<Policy>> policies_;  // reset with the episodes (the ticker's)
+  std::shared_ptr<Policy> hold_;                   // NeutralActions' policy
   mutable std::atomic<bool> busy_{false};
   std::unique_ptr<render::ImageBatch> final_images_;
   int64_t next_episode_ = 0;
   bool was_reset_ = false;
-  double busy_s_ = 0.0;        // time spent resetting and stepping, for the summary's wall_s
-  int64_t control_ticks_ = 0;  // env control ticks simulated
+  double busy_s_ = 0.0;  // time spent resetting and stepping, for the summary's wall_s
   // Per-env buffers, sized once.
-  std::vector<const char*> prompts_;
   std::vector<EpisodeStart> starts_;
-  std::vector<uint8_t> started_;
   std::vector<uint8_t> all_envs_;
   ActionBatch actions_;
-  const Policy* acted_ = nullptr;  // the policy whose actions were asked for since the last step
+  Policy* acted_ = nullptr;  // the policy whose actions were asked for since the last step
   std::vector<float> rewards_;
   std::vector<uint8_t> terminated_;
   std::vector<uint8_t> truncated_;
   std::vector<uint8_t> ended_;
   std::vector<engine::EpisodeEnd> ended_how_;
   std::vector<int64_t> ended_episode_;
-  std::vector<int64_t> reported_episode_;  // the episode whose end was reported, -1 once it restarts
   std::vector<float> final_state_;
 };
 

@@ -20,6 +20,7 @@
 
 #include "batch/output/atomic_file.h"
 #include "batch/output/program_version.h"
+#include "batch/output/utc_time.h"
 
 namespace tavis::batch::output {
 namespace {
@@ -66,15 +67,6 @@ std::string MarkerKind(const fs::path& dir) {
   } catch (const nlohmann::json::exception&) {
     return "";
   }
-}
-
-std::string UtcNow() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
 }
 
 std::string HolderText(const std::string& command) {

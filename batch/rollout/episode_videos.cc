@@ -143,7 +143,7 @@ void EpisodeVideoRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   if (!Filmed(episode)) return;
   film = std::make_unique<Film>();
   film->episode = episode;
-  film->prompt = vec_env.scenario().prompt(vec_env.state(), slot);
+  film->prompt = vec_env.prompt(slot);
   film->stages.emplace(vec_env.scenario(), vec_env.model());
   film->stages->Start();
   for (const scenarios::StageDef& stage : vec_env.scenario().stages) film->stage_names.push_back(stage.name);

@@ -57,7 +57,7 @@ void RolloutRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   recording.recording = true;
   recording.episode = dataset::RecordedEpisode();
   recording.episode.source_episode = vec_env.state().episode[slot];
-  recording.episode.prompt = vec_env.scenario().prompt(vec_env.state(), slot);
+  recording.episode.prompt = vec_env.prompt(slot);
   recording.episode.image_stats.assign(cameras_.size(), dataset::ImageStats());
   recording.encoders.clear();
   for (const std::string& camera : cameras_) recording.encoders.emplace_back(video_, camera);

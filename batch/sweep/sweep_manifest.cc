@@ -10,25 +10,13 @@
 #include <stdexcept>
 #include <thread>
 
+#include "batch/output/utc_time.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/json_error_text.h"
 #include "batch/output/program_version.h"
 #include "batch/output/settings_difference.h"
 
 namespace tavis::batch::sweep {
-namespace {
-
-std::string UtcNow() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
-
-}  // namespace
-
 nlohmann::ordered_json MachineJson() {
   char host[256] = {};
   gethostname(host, sizeof(host) - 1);
@@ -51,7 +39,7 @@ SweepManifest::SweepManifest(const SweepSpec& spec, const std::string& spec_yaml
            {"machine", MachineJson()},
            {"shard", {{"index", shard.index}, {"count", shard.count}}},
            {"cells", cells},
-           {"timing", {{"started", UtcNow()}, {"updated", UtcNow()}}}};
+           {"timing", {{"started", output::UtcNow()}, {"updated", output::UtcNow()}}}};
 }
 
 nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
@@ -108,7 +96,7 @@ void SweepManifest::RequireSameSweep(const nlohmann::ordered_json& existing, con
 void SweepManifest::SetState(const std::string& cell_id, const std::string& state) {
   std::lock_guard<std::mutex> lock(mutex_);
   json_["cells"][cell_id] = state;
-  json_["timing"]["updated"] = UtcNow();
+  json_["timing"]["updated"] = output::UtcNow();
 }
 
 void SweepManifest::SetTiming(double wall_s, int threads, int jobs) {
@@ -116,7 +104,7 @@ void SweepManifest::SetTiming(double wall_s, int threads, int jobs) {
   json_["timing"]["wall_s"] = wall_s;
   json_["timing"]["threads"] = threads;
   json_["timing"]["concurrent_cells"] = jobs;
-  json_["timing"]["updated"] = UtcNow();
+  json_["timing"]["updated"] = output::UtcNow();
 }
 
 nlohmann::ordered_json SweepManifest::Json() const {

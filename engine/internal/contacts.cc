@@ -18,28 +18,15 @@ constexpr double kPadContactRadius = 0.01;  // m, effective radius of a finger p
 }  // namespace
 
 void PhysicsWorld::Impl::ComputeAabbs() {
-  for (size_t i = 0; i < all_geoms.size(); ++i) dGeomGetAABB(all_geoms[i], &aabbs[6 * i]);
+  for (size_t i = 0; i < all_geoms.size(); ++i) {
+    dGeomGetAABB(all_geoms[i], &aabbs[6 * i]);
+    geom_enabled[i] = dGeomIsEnabled(all_geoms[i]) ? 1 : 0;
+  }
 }
 
 void PhysicsWorld::Impl::CollideAllPairs() {
-  const size_t n = all_geoms.size();
-  for (size_t i = 0; i < n; ++i) {
-    dGeomID a = all_geoms[i];
-    if (!dGeomIsEnabled(a)) continue;
-    const double* box_a = &aabbs[6 * i];
-    for (size_t j = i + 1; j < n; ++j) {
-      dGeomID b = all_geoms[j];
-      if (!dGeomIsEnabled(b)) continue;
-      if (!(dGeomGetCategoryBits(a) & dGeomGetCollideBits(b)) && !(dGeomGetCategoryBits(b) & dGeomGetCollideBits(a)))
-        continue;
-      const double* box_b = &aabbs[6 * j];
-      if (box_a[0] > box_b[1] || box_b[0] > box_a[1] || box_a[2] > box_b[3] || box_b[2] > box_a[3] ||
-          box_a[4] > box_b[5] || box_b[4] > box_a[5]) {
-        continue;
-      }
-      Collide(a, b);
-    }
-  }
+  candidate_pairs->ForEachOverlap(aabbs.data(), geom_enabled.data(),
+                                  [this](int i, int j) { Collide(all_geoms[i], all_geoms[j]); });
 }
 
 void PhysicsWorld::Impl::Collide(dGeomID a, dGeomID b) {

@@ -15,17 +15,9 @@ using internal::ArmJointMotor;
 using internal::ArmParts;
 using internal::BodyPose;
 using internal::Finger;
-using internal::kObjectBit;
-using internal::kStaticBit;
 using kinematics::RobotModel;
 
 namespace {
-
-// An arm none of whose geoms comes within this distance of an object or the static scene
-// follows its servo kinematically: its bodies leave the LCP (docs/fidelity.md). The margin
-// exceeds a substep's motion of any arm point (5 rad/s joints, under 1 m of arm: 2 cm at
-// 240 Hz), so every contact begins with the arm already simulated.
-constexpr double kKinematicArmMargin = 0.03;  // m
 
 // Velocity that carries a body from `from` to `to` in dt, for a kinematic body's contacts and
 // for the moment it is simulated again.
@@ -39,39 +31,8 @@ void SetBodyMotion(dBodyID body, const RigidTransform& from, const RigidTransfor
 
 }  // namespace
 
-bool PhysicsWorld::Impl::Near(size_t i, size_t j) const {
-  const double* box_a = &aabbs[6 * i];
-  const double* box_b = &aabbs[6 * j];
-  constexpr double m = kKinematicArmMargin;
-  if (dGeomGetClass(all_geoms[j]) == dPlaneClass) return box_a[4] < m;
-  if (dGeomGetClass(all_geoms[i]) == dPlaneClass) return box_b[4] < m;
-  return !(box_a[0] > box_b[1] + m || box_b[0] > box_a[1] + m || box_a[2] > box_b[3] + m || box_b[2] > box_a[3] + m ||
-           box_a[4] > box_b[5] + m || box_b[4] > box_a[5] + m);
-}
-
 std::array<internal::ArmMode, 2> PhysicsWorld::Impl::ArmModes() {
-  const size_t n = all_geoms.size();
-  object_supported.assign(n, 0);
-  for (size_t i = 0; i < n; ++i) {
-    if (dGeomGetCategoryBits(all_geoms[i]) != kObjectBit || !dGeomIsEnabled(all_geoms[i])) continue;
-    for (size_t j = 0; j < n && !object_supported[i]; ++j) {
-      if (j == i || (dGeomGetCategoryBits(all_geoms[j]) & (kObjectBit | kStaticBit)) == 0) continue;
-      if (dGeomIsEnabled(all_geoms[j]) && Near(i, j)) object_supported[i] = 1;
-    }
-  }
-  std::array<ArmMode, 2> modes{};
-  for (int side = 0; side < 2; ++side) {
-    ArmMode mode = ArmMode::kKinematic;
-    for (int a : arms[side].geoms) {
-      for (size_t j = 0; j < n && mode != ArmMode::kSimulated; ++j) {
-        const unsigned long category = dGeomGetCategoryBits(all_geoms[j]);
-        if ((category & (kObjectBit | kStaticBit)) == 0 || !dGeomIsEnabled(all_geoms[j]) || !Near(a, j)) continue;
-        mode = (category == kObjectBit && !object_supported[j]) ? ArmMode::kGrip : ArmMode::kSimulated;
-      }
-    }
-    modes[side] = mode;
-  }
-  return modes;
+  return arm_proximity->Modes(aabbs.data(), geom_enabled.data());
 }
 
 void PhysicsWorld::Impl::SetArmMode(int side, ArmMode mode) {

@@ -4,24 +4,26 @@
 //   engine/internal/world_building.cc  bodies, joints and geoms built once from the WorldModel
 //   engine/internal/contacts.cc        broad phase in a fixed order, contact joints, blow-up check
 //   engine/internal/kinematic_arms.cc  which arm follows its servo outside the solver, and how
+// and the ODE-free parts they use: engine/internal/broad_phase.h (the pairs that may touch) and
+// engine/internal/arm_proximity.h (which arm is near what).
 // Only these files include it: ODE types stay out of the engine's public headers.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <ode/ode.h>
 
+#include "engine/internal/arm_proximity.h"
+#include "engine/internal/broad_phase.h"
 #include "engine/physics_world.h"
 #include "engine/world_model.h"
 #include "kinematics/gripper_geometry.h"
 
 namespace tavis::engine {
 namespace internal {
-
-// Collision categories: the robot does not collide with itself (reference: self-collisions off).
-enum CategoryBits : unsigned long { kRobotBit = 1, kObjectBit = 2, kStaticBit = 4 };
 
 struct GeomInfo {
   Material material = Material::kDefault;
@@ -72,12 +74,6 @@ struct Finger {
   Vec3 inward_P = Vec3::Zero();  // the slider's closing direction in the palm body frame
 };
 
-// How an arm moves in a substep (docs/fidelity.md, "kinematic arms"). kSimulated: links and
-// fingers are bodies in the solver. kGrip: the links follow their servo kinematically, the
-// fingers are simulated against the moving palm (a held object away from everything else).
-// kKinematic: links and fingers follow their servos (nothing near the arm).
-enum class ArmMode { kSimulated, kGrip, kKinematic };
-
 // One arm's bodies and joints, for switching it between modes.
 struct ArmParts {
   std::vector<int> motors;      // indices into Impl::motors
@@ -115,14 +111,16 @@ struct PhysicsWorld::Impl {
   std::vector<dBodyID> object_body;
   std::vector<dGeomID> object_geom;
   std::vector<dBodyID> all_bodies;
-  std::vector<dGeomID> all_geoms;              // creation order
-  std::vector<double> aabbs;                   // (geoms x 6) broad-phase scratch
-  std::vector<internal::GeomInfo> geom_infos;  // stable storage: reserved up front, never reallocated
-  std::vector<RigidTransform> X_BL;            // FK scratch
+  std::vector<dGeomID> all_geoms;                           // creation order
+  std::vector<double> aabbs;                                // (geoms x 6) this substep's boxes
+  std::vector<uint8_t> geom_enabled;                        // (geoms) this substep's enabled flags
+  std::optional<internal::CandidatePairs> candidate_pairs;  // built once the world is
+  std::optional<internal::ArmProximity> arm_proximity;      // built once the world is
+  std::vector<internal::GeomInfo> geom_infos;               // stable storage: reserved up front, never reallocated
+  std::vector<RigidTransform> X_BL;                         // FK scratch
   std::array<internal::ArmParts, 2> arms;
   std::vector<double> q_kinematic;                           // (num_joints) joint positions of kinematic arms
   std::array<std::vector<RigidTransform>, 2> X_WBody_after;  // scratch: kinematic arms' next poses
-  std::vector<uint8_t> object_supported;                     // (geoms) scratch for ArmModes
 
   explicit Impl(const WorldModel& m) : model(m), gripper(m.robot.gripper), materials(m.materials) {}
 
@@ -136,6 +134,8 @@ struct PhysicsWorld::Impl {
   void BuildStaticScene();
   // Which bodies, joints and geoms make up each arm; called once everything is built.
   void CollectArmParts();
+  // The broad phase's fixed data (candidate pairs, arm proximity); called after CollectArmParts.
+  void BuildBroadPhase();
   dBodyID NewBody();
   // ODE capsules take (radius, length) along their local z axis, as Shape does. Cylinders
   // collide as boxes: Debian's ODE has no libccd, its cylinder-box test asserts on parallel
@@ -146,24 +146,18 @@ struct PhysicsWorld::Impl {
   void Tag(dGeomID geom, Material material, unsigned long category, unsigned long collides_with);
 
   // Contacts and broad phase (engine/internal/contacts.cc).
+  // Each geom's box and enabled flag for this substep, read from ODE once.
   void ComputeAabbs();
-  // Broad phase over all geom pairs in creation order. ODE's spaces move each geom that moved
-  // to the front of their lists, so the order of contact pairs (and, through floating-point
-  // summation order, the solution) would depend on the world's past episodes; a fixed order
-  // makes an episode depend on its own inputs only. A few dozen geoms make this cheap.
-  // Needs ComputeAabbs.
+  // Broad phase over the candidate geom pairs in creation order. ODE's spaces move each geom
+  // that moved to the front of their lists, so the order of contact pairs (and, through
+  // floating-point summation order, the solution) would depend on the world's past episodes; a
+  // fixed order makes an episode depend on its own inputs only. Needs ComputeAabbs.
   void CollideAllPairs();
   void Collide(dGeomID a, dGeomID b);
   bool BodiesAreSane() const;
 
   // Kinematic arm modes (engine/internal/kinematic_arms.cc).
-  // Whether the boxes of geoms i and j come within kKinematicArmMargin of each other; the
-  // ground plane, whose box is unbounded, by the height of the other box.
-  bool Near(size_t i, size_t j) const;
-  // The mode of each arm this substep (needs ComputeAabbs). An object near the static scene or
-  // another object is supported: an arm near it, or near the static scene, is simulated, so
-  // that what it presses on pushes back through its effort-limited motors. An arm near only
-  // unsupported objects (what it holds in the air) grips them with simulated fingers.
+  // The mode of each arm this substep (needs ComputeAabbs; internal::ArmProximity says how).
   std::array<ArmMode, 2> ArmModes();
   // Kinematic bodies leave the solver: infinite mass, their joints off. Joint positions and
   // finger slides are taken from the simulation when they become kinematic; bodies simulated

@@ -241,6 +241,18 @@ void PhysicsWorld::Impl::CollectArmParts() {
   q_kinematic.assign(robot.num_joints(), 0.0);
 }
 
+void PhysicsWorld::Impl::BuildBroadPhase() {
+  std::vector<internal::BroadPhaseGeom> geoms;
+  for (dGeomID geom : all_geoms) {
+    geoms.push_back({dGeomGetCategoryBits(geom), dGeomGetCollideBits(geom), dGeomGetBody(geom) != nullptr,
+                     dGeomGetClass(geom) == dPlaneClass});
+  }
+  candidate_pairs.emplace(geoms);
+  arm_proximity.emplace(geoms, std::array<std::vector<int>, 2>{arms[0].geoms, arms[1].geoms});
+  aabbs.resize(6 * all_geoms.size());
+  geom_enabled.resize(all_geoms.size());
+}
+
 dBodyID PhysicsWorld::Impl::NewBody() {
   all_bodies.push_back(dBodyCreate(world));
   return all_bodies.back();

@@ -40,6 +40,10 @@ class EnvScenes {
   const InstanceFrame* frames(int env) const {
     return frames_.data() + static_cast<std::size_t>(env) * static_cast<std::size_t>(n_instances_);
   }
+  // 1 where the instance is in env `env`'s scene at its last Update (visible, finite pose).
+  const uint8_t* enabled(int env) const {
+    return enabled_.data() + static_cast<std::size_t>(env) * static_cast<std::size_t>(n_instances_);
+  }
 
  private:
   int n_instances_;

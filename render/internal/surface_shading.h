@@ -55,12 +55,6 @@ inline Eigen::Vector3f LocalNormal(const SurfaceModel& surface, const Eigen::Vec
   return Eigen::Vector3f::UnitZ();
 }
 
-// Whether LocalNormal and Reflectance read the local point: round shapes and labelled surfaces.
-inline bool NeedsLocalPoint(const SurfaceModel& surface) {
-  return (surface.kind != ShapeKind::kBox && surface.kind != ShapeKind::kPlane) ||
-         surface.appearance.label != LabelPattern::kNone;
-}
-
 // Position across a side face in [-1, 1]: the angle about z (over pi) on round shapes, the
 // horizontal face coordinate on boxes.
 inline float AcrossSide(const SurfaceModel& surface, const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
@@ -91,6 +85,12 @@ inline bool InsideLabel(const SurfaceModel& surface, const Eigen::Vector3f& p, c
     }
     default: return false;
   }
+}
+
+// Whether Reflectance is `base_rgb` everywhere on the surface, so that a flat face has one colour
+// (FlatShades). A surface whose colour varies over it must answer false.
+inline bool HasConstantReflectance(const SurfaceModel& surface) {
+  return surface.appearance.label == LabelPattern::kNone;
 }
 
 // Diffuse reflectance at p: the label colour inside the label, else `base_rgb`.

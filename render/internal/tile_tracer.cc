@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cstring>
-#include <limits>
+
+#include "render/internal/ray_packet.h"
+#include "render/internal/tile_shadows.h"
 
 namespace tavis::render::internal {
 namespace {
@@ -10,59 +12,6 @@ namespace {
 // Shadow rays start this far off the surface so they do not hit the facet they leave from
 // (the smooth normal and the tessellated facet differ slightly on round shapes).
 constexpr float kShadowRayOffset = 1e-3f;
-
-// Packet types and calls for each width; a packet covers a block of pixels so its rays are coherent.
-template <int K>
-struct Packet;
-
-template <>
-struct Packet<8> {
-  using RayHit = RTCRayHit8;
-  using Ray = RTCRay8;
-  static constexpr int kBlockWidth = 4;  // 4 x 2 pixels
-  static void Intersect(const int* valid, RTCScene scene, RTCIntersectContext* context, RayHit* rays) {
-    rtcIntersect8(valid, scene, context, rays);
-  }
-  static void Occluded(const int* valid, RTCScene scene, RTCIntersectContext* context, Ray* rays) {
-    rtcOccluded8(valid, scene, context, rays);
-  }
-};
-
-template <>
-struct Packet<16> {
-  using RayHit = RTCRayHit16;
-  using Ray = RTCRay16;
-  static constexpr int kBlockWidth = 4;  // 4 x 4 pixels
-  static void Intersect(const int* valid, RTCScene scene, RTCIntersectContext* context, RayHit* rays) {
-    rtcIntersect16(valid, scene, context, rays);
-  }
-  static void Occluded(const int* valid, RTCScene scene, RTCIntersectContext* context, Ray* rays) {
-    rtcOccluded16(valid, scene, context, rays);
-  }
-};
-
-RTCIntersectContext MakeContext(RTCIntersectContextFlags flags) {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = flags;
-  return context;
-}
-
-// Fields that stay the same for every ray of a packet during one tile (Embree writes only tfar and
-// the hit): set once per tile instead of once per block.
-template <int K, typename Ray>
-void SetTileConstants(Ray* rays, const Eigen::Vector3f& origin, float t_near) {
-  for (int k = 0; k < K; ++k) {
-    rays->org_x[k] = origin.x();
-    rays->org_y[k] = origin.y();
-    rays->org_z[k] = origin.z();
-    rays->tnear[k] = t_near;
-    rays->time[k] = 0.0f;
-    rays->mask[k] = ~0u;
-    rays->id[k] = static_cast<unsigned int>(k);
-    rays->flags[k] = 0;
-  }
-}
 
 // Lane k of a packet covers pixel (block_x + kLaneColumn[k], block_y + kLaneRow[k]).
 template <int K>
@@ -81,29 +30,49 @@ struct LaneOffsets {
   }
 };
 
-// Directions of the primary rays of the block whose top-left pixel is (block_x, block_y), in
-// structure-of-arrays loops the compiler vectorises; lanes outside the tile are invalid. The
-// other ray fields come from SetTileConstants. Returns the number of valid lanes.
+// The camera-axis terms of one tile's primary-ray directions, per pixel column (a * left) and
+// row (b * up). A direction is forward + column term + row term, added in the same order as
+// forward + a * left + b * up, so the directions are the same floats as without the table.
+struct TileRayTerms {
+  float column[3][kTileSize];
+  float row[3][kTileSize];
+
+  TileRayTerms(const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect) {
+    for (int i = 0; i < kTileSize; ++i) {
+      const float a = (raster.cx - (static_cast<float>(rect.x0 + i) + 0.5f)) * raster.inv_fx;
+      const float b = (raster.cy - (static_cast<float>(rect.y0 + i) + 0.5f)) * raster.inv_fx;
+      for (int axis = 0; axis < 3; ++axis) {
+        column[axis][i] = a * camera.left[axis];
+        row[axis][i] = b * camera.up[axis];
+      }
+    }
+  }
+};
+
+// Directions of the primary rays of the block whose top-left pixel is (block_x, block_y); lanes
+// outside the tile are invalid. The other ray fields come from SetTileConstants. Returns the
+// number of valid lanes.
 template <int K>
-int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect, int block_x,
-                   int block_y, int* valid, typename Packet<K>::RayHit* packet) {
+int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const TileRayTerms& terms,
+                   const TileRect& rect, int block_x, int block_y, int* valid, typename Packet<K>::RayHit* packet) {
   static constexpr LaneOffsets<K> kLanes;
   const int columns_left = rect.x1 - block_x;
   const int rows_left = rect.y1 - block_y;
-  const float x0 = static_cast<float>(block_x);
-  const float y0 = static_cast<float>(block_y);
   int count = 0;
   for (int k = 0; k < K; ++k) {
     const bool inside = kLanes.column_index[k] < columns_left && kLanes.row_index[k] < rows_left;
     valid[k] = inside ? -1 : 0;
     count += inside ? 1 : 0;
   }
+  // Blocks start at multiples of the block size inside the tile, so these stay below kTileSize.
+  const int column0 = block_x - rect.x0;
+  const int row0 = block_y - rect.y0;
   for (int k = 0; k < K; ++k) {
-    const float a = (raster.cx - ((x0 + kLanes.column[k]) + 0.5f)) * raster.inv_fx;
-    const float b = (raster.cy - ((y0 + kLanes.row[k]) + 0.5f)) * raster.inv_fx;
-    packet->ray.dir_x[k] = camera.forward.x() + a * camera.left.x() + b * camera.up.x();
-    packet->ray.dir_y[k] = camera.forward.y() + a * camera.left.y() + b * camera.up.y();
-    packet->ray.dir_z[k] = camera.forward.z() + a * camera.left.z() + b * camera.up.z();
+    const int column = column0 + kLanes.column_index[k];
+    const int row = row0 + kLanes.row_index[k];
+    packet->ray.dir_x[k] = camera.forward.x() + terms.column[0][column] + terms.row[0][row];
+    packet->ray.dir_y[k] = camera.forward.y() + terms.column[1][column] + terms.row[1][row];
+    packet->ray.dir_z[k] = camera.forward.z() + terms.column[2][column] + terms.row[2][row];
     packet->ray.tfar[k] = raster.far_m;
     packet->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     packet->hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
@@ -111,85 +80,62 @@ int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const 
   return count;
 }
 
-// Writes one shaded pixel: sRGB colour, and depth and object id where the image has them.
-struct PixelWriter {
-  const ImageView& image;
-  const SrgbEncoder& encoder;
-
-  void Write(std::size_t pixel, const Eigen::Vector3f& linear, float depth, int32_t object_id) const {
-    uint8_t* rgb = image.rgb + 3 * pixel;
-    rgb[0] = encoder.Encode(linear.x());
-    rgb[1] = encoder.Encode(linear.y());
-    rgb[2] = encoder.Encode(linear.z());
-    if (image.depth != nullptr) image.depth[pixel] = depth;
-    if (image.object_id != nullptr) image.object_id[pixel] = object_id;
-  }
-};
-
-// Lit diffuse pixels waiting for their shadow ray, packed into full packets across the blocks of
-// a tile: one rtcOccluded call per K waiting pixels rather than one per block.
+// Writes a shaded pixel, or queues it for its shadow ray when the light can reach its surface.
 template <int K>
-class ShadowQueue {
- public:
-  // What a waiting pixel needs once its shadow ray is known.
-  struct Waiting {
-    std::size_t pixel;
-    Eigen::Vector3f colour;
-    Eigen::Vector3f normal;
-    float cosine;
-    float depth;
-    int32_t object_id;
-  };
-
-  explicit ShadowQueue(const Eigen::Vector3f& to_light) : context_(MakeContext(RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT)) {
-    // Shadow rays all go towards the distant light; only their origins change.
-    SetTileConstants<K>(&rays_, Eigen::Vector3f::Zero(), 0.0f);
-    for (int k = 0; k < K; ++k) {
-      rays_.dir_x[k] = to_light.x();
-      rays_.dir_y[k] = to_light.y();
-      rays_.dir_z[k] = to_light.z();
-    }
+void Finish(std::size_t pixel, const Eigen::Vector3f& p, const Eigen::Vector3f& n, float cosine,
+            const PixelColours& colours, float depth, int32_t object_id, bool shadows, const PixelWriter& writer,
+            TileShadows<K>* tile_shadows) {
+  if (cosine > 0.0f && shadows) {
+    tile_shadows->Add(p + kShadowRayOffset * n, {pixel, colours, depth, object_id});
+    return;
   }
+  writer.Write(pixel, colours.lit, depth, object_id);
+}
 
-  bool full() const { return size_ == K; }
-
-  void Push(const Eigen::Vector3f& origin, const Waiting& waiting) {
-    rays_.org_x[size_] = origin.x();
-    rays_.org_y[size_] = origin.y();
-    rays_.org_z[size_] = origin.z();
-    waiting_[size_] = waiting;
-    ++size_;
+// Shades the primary hit of lane k into `pixel` (or queues it for its shadow ray).
+template <int K>
+void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shading,
+              const typename Packet<K>::RayHit& primary, int k, std::size_t pixel, const PixelWriter& writer,
+              TileShadows<K>* tile_shadows) {
+  const LightingModel& lighting = *shading.lighting;
+  const unsigned int instance = primary.hit.instID[0][k];
+  const SurfaceModel& surface = env.surfaces[instance];
+  const float depth = primary.ray.tfar[k];
+  const FlatShades::Kind kind = env.flat->kind(instance);
+  if (kind == FlatShades::Kind::kEmissive) {
+    writer.Write(pixel, env.flat->emissive(instance), depth, surface.object_id);
+    return;
   }
-
-  // Traces the waiting shadow rays, writes their pixels and empties the queue; returns the number
-  // of rays traced.
-  int Flush(RTCScene scene, const LightingModel& lighting, const PixelWriter& writer) {
-    if (size_ == 0) return 0;
-    alignas(64) int valid[K];
-    for (int k = 0; k < K; ++k) {
-      valid[k] = k < size_ ? -1 : 0;
-      rays_.tfar[k] = k < size_ ? std::numeric_limits<float>::infinity() : 0.0f;  // inactive lanes stay finite
-    }
-    Packet<K>::Occluded(valid, scene, &context_, &rays_);
-    for (int k = 0; k < size_; ++k) {
-      const Waiting& w = waiting_[k];
-      // rtcOccluded sets tfar to -inf for blocked rays.
-      const bool blocked = rays_.tfar[k] < 0.0f;
-      writer.Write(w.pixel, lighting.Shade(w.colour, w.normal, blocked ? 0.0f : w.cosine), w.depth, w.object_id);
-    }
-    const int traced = size_;
-    size_ = 0;
-    return traced;
+  const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
+  const Eigen::Vector3f p = camera.origin + depth * direction;
+  // A textured instance (the appearance axis) is shaded per pixel, whatever its shape.
+  const bool textured = HasTexture(env.textures, instance);
+  if (kind == FlatShades::Kind::kFlat && !textured) {
+    // Plain boxes and planes (floor, table, most links): one colour per face, from its triangle.
+    const uint32_t face = primary.hit.primID[k] / 2;  // a plane's two triangles are its face 0
+    const FlatShades::Face* f = &env.flat->outside(instance, face);
+    if (f->normal.dot(direction) > 0.0f) f = &env.flat->inside(instance, face);  // a plane from below, a camera inside
+    Finish<K>(pixel, p, f->normal, f->cosine, f->colours, depth, surface.object_id, lighting.shadows(), writer,
+              tile_shadows);
+    return;
   }
-
- private:
-  // Shadow packets are traced without the coherent hint: with it, rtcOccluded16 of Embree 3.13.5
-  // never returned on an AVX-512 AMD CPU (observed on the development machine).
-  RTCIntersectContext context_;
-  alignas(64) typename Packet<K>::Ray rays_;
-  Waiting waiting_[K];
-  int size_ = 0;
-};
+  const Eigen::Vector3f base = env.rgb_override != nullptr ? env.rgb_override[instance] : surface.appearance.rgb;
+  const InstanceFrame& frame = env.frames[instance];
+  const Eigen::Vector3f p_local = frame.ToLocal(p);
+  const Eigen::Vector3f n_local = LocalNormal(surface, p_local, primary.hit.primID[k]);
+  Eigen::Vector3f n = frame.RotateToWorld(n_local);
+  if (n.dot(direction) > 0.0f) n = -n;  // seen from behind (a camera inside)
+  const Eigen::Vector3f colour =
+      Reflectance(surface, textured ? TexturedBase(env.textures[instance], p_local, n_local) : base, p_local, n_local);
+  const float cosine = std::max(0.0f, n.dot(lighting.to_light()));
+  PixelColours colours;
+  if (cosine > 0.0f && lighting.shadows()) {
+    colours = ShadeBoth(lighting, *shading.encoder, colour, n, cosine);
+  } else {
+    shading.encoder->Encode(lighting.Shade(colour, n, cosine), colours.lit);
+  }
+  Finish<K>(pixel, p, n, cosine, colours, depth, surface.object_id, lighting.shadows(), writer, tile_shadows);
+}
 
 template <int K>
 TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect,
@@ -197,61 +143,41 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   using P = Packet<K>;
   static constexpr LaneOffsets<K> kLanes;
   constexpr int kBlockHeight = K / P::kBlockWidth;
-  const LightingModel& lighting = *shading.lighting;
-  const PixelWriter writer{image, *shading.encoder};
-  const Eigen::Vector3f to_light = lighting.to_light();
-  const bool shadows = lighting.shadows();
+  const PixelWriter writer{image};
+  uint8_t background[3];
+  shading.encoder->Encode(shading.lighting->background(), background);
   RTCIntersectContext primary_context = MakeContext(RTC_INTERSECT_CONTEXT_FLAG_COHERENT);
   alignas(64) int valid[K];
   alignas(64) typename P::RayHit primary;
-  ShadowQueue<K> queue(to_light);
+  TileShadows<K> tile_shadows(shading.lighting->to_light());
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
+  const TileRayTerms terms(raster, camera, rect);
+  const std::size_t width = static_cast<std::size_t>(image.width);
+  std::size_t lane_offset[K];  // pixel of lane k minus the block's top-left pixel
+  for (int k = 0; k < K; ++k) {
+    lane_offset[k] =
+        static_cast<std::size_t>(kLanes.row_index[k]) * width + static_cast<std::size_t>(kLanes.column_index[k]);
+  }
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
-      counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
+      counts.primary_rays += SetPrimaryRays<K>(raster, camera, terms, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
-
+      const std::size_t block_pixel = static_cast<std::size_t>(block_y) * width + static_cast<std::size_t>(block_x);
       for (int k = 0; k < K; ++k) {
         if (valid[k] == 0) continue;
-        const std::size_t pixel =
-            static_cast<std::size_t>(block_y + kLanes.row_index[k]) * static_cast<std::size_t>(image.width) +
-            static_cast<std::size_t>(block_x + kLanes.column_index[k]);
+        const std::size_t pixel = block_pixel + lane_offset[k];
         if (primary.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-          writer.Write(pixel, lighting.background(), 0.0f, kBackgroundObjectId);
+          writer.Write(pixel, background, 0.0f, kBackgroundObjectId);
           continue;
         }
         ++counts.primary_hits;
-        const unsigned int instance = primary.hit.instID[0][k];
-        const SurfaceModel& surface = env.surfaces[instance];
-        const float depth = primary.ray.tfar[k];
-        const Eigen::Vector3f base = env.rgb_override != nullptr ? env.rgb_override[instance] : surface.appearance.rgb;
-        if (surface.appearance.emissive) {
-          writer.Write(pixel, base, depth, surface.object_id);
-          continue;
-        }
-        const InstanceFrame& frame = env.frames[instance];
-        const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
-        const Eigen::Vector3f p = camera.origin + depth * direction;
-        // Plain boxes and planes (floor, table, most links) need no local point: their normal
-        // follows from the triangle and they have no label.
-        const Eigen::Vector3f p_local = NeedsLocalPoint(surface) ? frame.ToLocal(p) : Eigen::Vector3f::Zero();
-        const Eigen::Vector3f n_local = LocalNormal(surface, p_local, primary.hit.primID[k]);
-        Eigen::Vector3f n = frame.RotateToWorld(n_local);
-        if (n.dot(direction) > 0.0f) n = -n;  // seen from behind (a plane from below, a camera inside)
-        const Eigen::Vector3f colour = Reflectance(surface, base, p_local, n_local);
-        const float cosine = std::max(0.0f, n.dot(to_light));
-        if (cosine > 0.0f && shadows) {
-          queue.Push(p + kShadowRayOffset * n, {pixel, colour, n, cosine, depth, surface.object_id});
-          if (queue.full()) counts.shadow_rays += queue.Flush(env.scene, lighting, writer);
-          continue;
-        }
-        writer.Write(pixel, lighting.Shade(colour, n, cosine), depth, surface.object_id);
+        ShadeHit<K>(env, camera, shading, primary, k, pixel, writer, &tile_shadows);
       }
     }
   }
-  counts.shadow_rays += queue.Flush(env.scene, lighting, writer);
+  if (shading.lighting->shadows()) counts.shadow_rays += tile_shadows.Resolve(env.scene, env.casters, writer);
   return counts;
 }
 
@@ -265,9 +191,10 @@ TileCounts CastPrimaryTileK(const EnvView& env, const CameraRaster& raster, cons
   alignas(64) typename P::RayHit primary;
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
+  const TileRayTerms terms(raster, camera, rect);
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
-      counts.primary_rays += SetPrimaryRays<K>(raster, camera, rect, block_x, block_y, valid, &primary);
+      counts.primary_rays += SetPrimaryRays<K>(raster, camera, terms, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &context, &primary);
       for (int k = 0; k < K; ++k) {
         if (valid[k] != 0 && primary.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) ++counts.primary_hits;

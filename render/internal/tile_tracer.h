@@ -8,8 +8,11 @@
 #include <Eigen/Core>
 
 #include "render/internal/env_scenes.h"
+#include "render/internal/flat_shades.h"
 #include "render/internal/lighting_model.h"
+#include "render/internal/shadow_casters.h"
 #include "render/internal/surface_shading.h"
+#include "render/internal/textured_base.h"
 
 namespace tavis::render::internal {
 
@@ -49,6 +52,9 @@ struct EnvView {
   const InstanceFrame* frames = nullptr;          // per instance
   const SurfaceModel* surfaces = nullptr;         // per instance
   const Eigen::Vector3f* rgb_override = nullptr;  // per instance, or nullptr
+  const FlatShades* flat = nullptr;               // for shading
+  const ShadowCasters* casters = nullptr;         // shadows decided without rays where exact; nullptr: all traced
+  const ProceduralTexture* textures = nullptr;    // per instance, or nullptr (no textures)
 };
 
 // One camera image of one env; depth and object_id may be nullptr.

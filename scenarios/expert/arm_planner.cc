@@ -5,6 +5,8 @@
 
 #include "kinematics/robot_buffers.h"
 #include "scenarios/expert/arm_clearance.h"
+#include "scenarios/expert/arm_reach.h"
+#include "scenarios/expert/ik_iteration.h"
 
 namespace tavis::scenarios::expert {
 namespace {
@@ -13,10 +15,13 @@ constexpr double kPositionTolerance = 0.002;
 constexpr double kAngleTolerance = 0.03;
 constexpr int kIterationsPerSeed = 150;
 constexpr int kSeeds = 24;
-constexpr double kStillStep = 1e-9;  // rad
+constexpr double kStillStep = 1e-9;  // rad: a step that moves no joint this much reached a fixed point
 // A seed has converged when its score (Converge: position error in units of kPositionTolerance
 // plus angle error in units of kAngleTolerance) is at most this.
 constexpr double kConverged = 2.0;
+// A converged seed's hand is within kConverged * kPositionTolerance of the target; a target this
+// much farther than the arm reaches is out of reach of every seed (and of rounding).
+constexpr double kReachRounding = 1e-6;  // m
 
 // Iterates the controller's IK step kinematically (joint limits respected); returns the error.
 // X_BL holds q's poses of the links the arm does not move; `arm_links` (LinksMovedByArm) are
@@ -24,18 +29,7 @@ constexpr double kConverged = 2.0;
 double Converge(const kinematics::RobotModel& robot, kinematics::Side side, std::vector<double>& q,
                 const kinematics::PoseTarget& target, const std::vector<int>& arm_links,
                 std::vector<RigidTransform>& X_BL) {
-  for (int i = 0; i < kIterationsPerSeed; ++i) {
-    kinematics::ComputeLinkPosesOf(robot, q.data(), arm_links, X_BL.data());
-    const auto next = kinematics::IkStep(robot, side, q.data(), X_BL.data(), target);
-    double change = 0.0;
-    for (int k = 0; k < kinematics::kArmDof; ++k) {
-      double& q_k = q[robot.arm(side).joints[k]];
-      change = std::max(change, std::abs(next[k] - q_k));
-      q_k = next[k];
-    }
-    if (change < kStillStep) break;  // a fixed point: further steps would not move the arm
-  }
-  kinematics::ComputeLinkPosesOf(robot, q.data(), arm_links, X_BL.data());
+  IterateIk(robot, side, q, target, arm_links, X_BL, kIterationsPerSeed, kStillStep);
   const Vec6 error = kinematics::IkPoseError(robot, side, X_BL.data(), target);
   return error.head<3>().norm() / kPositionTolerance + error.tail<3>().norm() / kAngleTolerance;
 }
@@ -64,6 +58,11 @@ std::optional<std::vector<double>> SolveArmConfiguration(const kinematics::Robot
   // Seeds differ in the arm's joints only: the other links' poses are computed once.
   std::vector<RigidTransform> X_BL(robot.links.size());
   kinematics::ComputeLinkPoses(robot, q_start.data(), X_BL.data());
+  // No seed can converge on a target beyond the arm's reach: the answer is known without them.
+  const ArmReach reach = ArmReachOf(robot, side, X_BL.data());
+  if ((target.position - reach.centre).norm() > reach.radius + kConverged * kPositionTolerance + kReachRounding) {
+    return std::nullopt;
+  }
   const std::vector<int> arm_links = kinematics::LinksMovedByArm(robot, side);
   std::vector<double> best;
   double best_score = 1e300;

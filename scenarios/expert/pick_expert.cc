@@ -159,6 +159,7 @@ void PickExpert::StartReach(const engine::WorldModel& model, const engine::Batch
                             int step) const {
   ++m.attempts;
   m.side = ReachSide(settings_, state, env);
+  if (m.attempts == 1) m.reach_start = ArmOf(model.robot, m.side, state.q_row(env));
   const std::optional<GraspPlan> plan = PlanGrasp(model, state, env, settings_, m.side, m.failed_candidates);
   if (!plan) {
     Enter(m, Phase::kGiveUp, step);
@@ -182,6 +183,43 @@ void PickExpert::StartRetreat(EnvMemory& m, int step) const {
   Enter(m, Phase::kRetreat, step);
 }
 
+void PickExpert::NoticeTargetMove(const engine::BatchState& state, int env, EnvMemory& m, int step) const {
+  if (state.task[env].target_move_tick < 0 || m.saw_target_move) return;
+  m.saw_target_move = true;
+  switch (m.phase) {
+    case Phase::kApproach:  // on its way: it turns back from where it is
+    case Phase::kDescend:   // at or past the pre-grasp: back out the way it came first
+    case Phase::kClose:
+      m.back_out = m.phase != Phase::kApproach;
+      ++m.replans;
+      Enter(m, Phase::kReplan, step);
+      break;
+    case Phase::kSettle: Enter(m, Phase::kLook, step); break;
+    default: break;  // no plan yet (it will be made where the target is now), or already holding it
+  }
+}
+
+void PickExpert::BackOutToReplan(const engine::WorldModel& model, const engine::BatchState& state, int env,
+                                 EnvMemory& m, int step) const {
+  // The hand opens and backs out, and the arm goes back the way it came to where the first reach
+  // started, while the head turns to the target's new place (UpdateNeck); then the look, the
+  // settling and a new plan from there, as before the first reach.
+  m.gripper_command[kinematics::Index(m.side)] = -1.0;
+  if (m.back_out && !m.returning && !m.hands.MoveToward(model, m.side, m.grasp.pre, settings_.hand_speed)) return;
+  if (!m.returning) {
+    m.returning = true;
+    m.hands.StartSegment(model, m.side, ArmOf(model.robot, m.side, state.q_row(env)), m.reach_start,
+                         settings_.joint_speed, settings_.hand_speed);
+  }
+  if (!m.hands.FollowSegment(model.robot, m.side)) return;
+  m.returning = false;
+  if (head_still()) {
+    StartReach(model, state, env, m, step);
+  } else {
+    Enter(m, Phase::kLook, step);
+  }
+}
+
 bool PickExpert::ApproachLineIsTrackable(const engine::WorldModel& model, const engine::BatchState& state, int env,
                                          EnvMemory& m) const {
   const kinematics::RobotModel& robot = model.robot;
@@ -202,6 +240,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
   const int step = state.control_step[env];
   const double elapsed = (step - m.phase_start_step) / model.physics.control_hz;
   if (!head_still()) UpdateNeck(model, state, env, m);
+  NoticeTargetMove(state, env, m, step);
 
   switch (m.phase) {
     case Phase::kWatchCue: {
@@ -280,12 +319,13 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       // then backs out to the failed plan's pre-grasp, and a new plan starts from there.
       m.gripper_command[kinematics::Index(m.side)] = -1.0;
       if (elapsed < settings_.close_s || !m.hands.MoveToward(model, m.side, m.grasp.pre, settings_.hand_speed)) break;
-      if (m.attempts < settings_.max_attempts) {
+      if (m.attempts - m.replans < settings_.max_attempts) {
         StartReach(model, state, env, m, step);
       } else {
         Enter(m, Phase::kGiveUp, step);
       }
       break;
+    case Phase::kReplan: BackOutToReplan(model, state, env, m, step); break;
     case Phase::kGiveUp: break;
   }
 

@@ -9,6 +9,11 @@
 // A grasp that closes on nothing, or loses the object on the way out, is retried as a
 // teleoperator would: open, back out to the pre-grasp, plan again from what is there now with
 // another hand orientation.
+// A target moved under the approaching hand (the runtime perturbation axis, TaskVars::target_move_tick)
+// is noticed from the state: the plan made for where it was is dropped without counting as a
+// missed grasp, the hand backs out of its descent and the arm returns to where its first reach
+// started (the way it came), and the head re-fixates the target where it now is and settles
+// before a new grasp is planned from there, as before the first reach.
 // In head-still mode (pick_expert_settings.h) the neck never moves and the hands start as soon as
 // the task allows: no cue look, fixation or settling.
 // This file is the phase machine and the gaze; grasp_planner.h plans the grasps, hand_motion.h
@@ -35,6 +40,7 @@ class PickExpert : public Expert {
   bool gave_up(int env) const override { return memory_[env].phase == Phase::kGiveUp; }
 
   // kWaitToAct: head-still only, the hands wait for the scene to rest and for the go signal.
+  // kReplan: the target was moved; the hand backs out before the look and the new plan.
   enum class Phase {
     kWatchCue,
     kLook,
@@ -47,11 +53,15 @@ class PickExpert : public Expert {
     kLift,
     kRetreat,
     kGiveUp,
-    kWaitToAct
+    kWaitToAct,
+    kReplan
   };
   Phase phase(int env) const { return memory_[env].phase; }
-  // Grasps started in the env's episode so far (retries after a miss count).
+  // Grasps started in the env's episode so far (retries after a miss count, and so do plans
+  // dropped because the target was moved).
   int attempts(int env) const { return memory_[env].attempts; }
+  // Plans dropped in the env's episode because the target was moved.
+  int replans(int env) const { return memory_[env].replans; }
 
  private:
   struct EnvMemory {
@@ -70,6 +80,11 @@ class PickExpert : public Expert {
     bool cartesian_approach = false;
     std::vector<bool> failed_candidates;  // per grasp candidate: its grasp missed or dropped the object
     int attempts = 0;
+    bool saw_target_move = false;  // the runtime axis's move has been noticed
+    bool back_out = false;         // kReplan: the hand backs out to the dropped plan's pre-grasp
+    bool returning = false;        // kReplan: the arm is on its way back to reach_start
+    ArmJoints reach_start{};       // the reaching arm's joints where its first reach started
+    int replans = 0;               // plans dropped because the target moved (not missed grasps)
   };
 
   void Enter(EnvMemory& m, Phase phase, int step) const;
@@ -80,6 +95,14 @@ class PickExpert : public Expert {
   bool HandIsEmpty(const engine::WorldModel& model, const engine::BatchState& state, int env, const EnvMemory& m) const;
   // Gives up the current grasp: opens the hand and backs out to the pre-grasp (kRetreat).
   void StartRetreat(EnvMemory& m, int step) const;
+  // Once the target has been moved (TaskVars::target_move_tick): drops a plan made for where it
+  // was (kReplan), or looks again if the head had settled on its old place; nothing before a plan
+  // or once holding it.
+  void NoticeTargetMove(const engine::BatchState& state, int env, EnvMemory& m, int step) const;
+  // kReplan: backs the hand out to the dropped plan's pre-grasp if it had passed it and takes the
+  // arm back to where its first reach started, then looks again (head-still: plans at once).
+  void BackOutToReplan(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m,
+                       int step) const;
   // Plans both arms' joint-space paths to their peek poses (an arm that cannot reach its pose
   // keeps still); false if neither can peek.
   bool StartPeek(const engine::WorldModel& model, const engine::BatchState& state, int env, EnvMemory& m) const;

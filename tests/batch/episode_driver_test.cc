@@ -10,8 +10,10 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "batch/builtin_policies.h"
@@ -648,6 +650,102 @@ TEST(EpisodeDriver, WithCamerasEpisodesStartOnTheBatchsPolicyTicks) {
   EXPECT_EQ(log.ended, 8);
   EXPECT_EQ(log.out_of_phase_ticks, 0);
   EXPECT_EQ(driver.control_ticks(), 3 * 4 + 3 * 5 + 2 * 6);
+}
+
+// Every hook the loop gives its observer, checked as it comes: a part opens and closes before
+// the next of its slot opens, an episode's end is told between EpisodeEnding and EpisodeEnded, one
+// end at a time.
+class HookLog : public LoopObserver {
+ public:
+  void RunStarting(VecEnv& vec_env, Policy&, bool per_slot) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++runs;
+    run_per_slot = per_slot;
+    open_.assign(static_cast<std::size_t>(vec_env.num_envs()) + 1, -1);
+  }
+  void RunEnded() override { ++runs_ended; }
+  void PartStarting(LoopPart part, int slot) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    EXPECT_EQ(open_[static_cast<std::size_t>(slot + 1)], -1) << "a part of slot " << slot << " still open";
+    open_[static_cast<std::size_t>(slot + 1)] = static_cast<int>(part);
+    ++parts[{part, slot >= 0}];
+  }
+  void PartEnded(LoopPart part, int slot) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    EXPECT_EQ(open_[static_cast<std::size_t>(slot + 1)], static_cast<int>(part));
+    open_[static_cast<std::size_t>(slot + 1)] = -1;
+  }
+  void EpisodesStarted(const std::vector<uint8_t>& started) override {
+    for (uint8_t flag : started) batch_starts += flag;
+  }
+  void TickEnded() override { ++ticks; }
+  void EnvReset(int) override { ++env_resets; }
+  void EpisodeEnding(int slot) override {
+    EXPECT_EQ(ending_, -1) << "one end at a time";
+    ending_ = slot;
+  }
+  void EpisodeEnded(int slot) override {
+    EXPECT_EQ(ending_, slot);
+    ending_ = -1;
+    ++ends;
+  }
+  int Parts(LoopPart part, bool of_a_slot) const {
+    const auto found = parts.find({part, of_a_slot});
+    return found == parts.end() ? 0 : found->second;
+  }
+
+  int runs = 0, runs_ended = 0, ticks = 0, batch_starts = 0, ends = 0;
+  bool run_per_slot = false;
+  std::atomic<int> env_resets{0};
+  std::map<std::pair<LoopPart, bool>, int> parts;  // (part, of a slot rather than the batch)
+
+ private:
+  std::mutex mutex_;
+  std::vector<int> open_;  // [slot + 1] the open part, -1 if none
+  int ending_ = -1;
+};
+
+TEST(EpisodeDriver, TellsItsObserverOfEveryPartAndEpisodeOnEitherSchedule) {
+  for (const bool lock_step : {true, false}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    VecEnv vec_env(Model("clutter-pick-cube", 0.25), scenarios::FindScenario("clutter-pick-cube"),
+                   scenarios::Split::kId, 2, 1);
+    std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
+    RecordCollector collected(vec_env);
+    HookLog hooks;
+    EpisodeDriver driver(vec_env, *hold, 5);
+    driver.AddSink(collected.recorder);
+    driver.SetObserver(hooks);
+    if (lock_step) driver.RequireLockStep();
+    driver.Run();
+    const std::string label = lock_step ? "lock-step" : "per slot";
+    EXPECT_EQ(collected.records.size(), 5u) << label;
+    EXPECT_EQ(hooks.runs, 1) << label;
+    EXPECT_EQ(hooks.runs_ended, 1) << label;
+    EXPECT_EQ(hooks.run_per_slot, !lock_step) << label;
+    EXPECT_EQ(hooks.ends, 5) << label;
+    if (lock_step) {
+      // Three rounds of 15 ticks (episodes 0-1, 2-3, 4), each tick one policy part.
+      EXPECT_EQ(hooks.ticks, 45);
+      EXPECT_EQ(hooks.Parts(LoopPart::kPolicyActs, false), 45);
+      EXPECT_EQ(hooks.batch_starts, 5);
+      EXPECT_EQ(hooks.env_resets, 0);
+      // Per refill: the env's reset and the policy's; per tick: the render and the step.
+      EXPECT_EQ(hooks.Parts(LoopPart::kParallel, false), 3 * 2 + 45 * 2);
+      // Per refill: EpisodeStarted; per tick: TickStarting, ActionChosen and Stepped.
+      EXPECT_EQ(hooks.Parts(LoopPart::kSinks, false), 3 + 45 * 3);
+      EXPECT_EQ(hooks.Parts(LoopPart::kSinks, true), 0);
+    } else {
+      EXPECT_EQ(hooks.ticks, 0);
+      EXPECT_EQ(hooks.batch_starts, 0);
+      EXPECT_EQ(hooks.env_resets, 5);
+      EXPECT_EQ(hooks.Parts(LoopPart::kParallel, false), 1) << "the workers";
+      EXPECT_EQ(hooks.Parts(LoopPart::kPolicyActs, false), 0);
+      // Per episode: EpisodeStarted; per tick: SlotTickStarting, ActionChosen and SlotStepped.
+      EXPECT_EQ(hooks.Parts(LoopPart::kSinks, true), 5 * (1 + 15 * 3));
+      EXPECT_EQ(hooks.Parts(LoopPart::kSinks, false), 0);
+    }
+  }
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 #include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
 #include "scenarios/registry.h"
+#include "tests/batch/rendered_expert_cell.h"
 
 namespace tavis::batch {
 namespace {
@@ -125,7 +126,10 @@ TEST(PerturbationCatalog, EveryShippedAxisLoadsWithLevelsThatChangeSomething) {
       EXPECT_EQ(level.axis, axis);
       EXPECT_FALSE(level.description.empty()) << level.name;
       const engine::RenderPerturbation& e = level.effect;
-      EXPECT_TRUE(e.moves_cameras() || e.changes_lighting() || e.changes_images()) << level.name;
+      const engine::EpisodePerturbation& episodes = level.episode_effect;
+      EXPECT_TRUE(e.moves_cameras() || e.changes_lighting() || e.changes_images() || e.changes_surfaces() ||
+                  episodes.adds_distractors() || episodes.paraphrases_prompt() || episodes.moves_target())
+          << level.name;
     }
   }
 }
@@ -205,7 +209,7 @@ TEST(PerturbationCatalog, CellFilesRecordTheLevelsAndTheBaseCellIsAsBefore) {
 
 TEST(PerturbedView, TheDefaultChangesNothing) {
   const engine::RenderPerturbation none;
-  EXPECT_FALSE(none.moves_cameras() || none.changes_lighting() || none.changes_images());
+  EXPECT_FALSE(none.moves_cameras() || none.changes_lighting() || none.changes_images() || none.changes_surfaces());
   const render::CameraSpec head = render::HeadCameraSpec();
   EXPECT_EQ(PerturbedCameraSpec(head, none).focal_length_mm, head.focal_length_mm);
   EXPECT_TRUE(CameraMountOffset("head", none).isApprox(RigidTransform::Identity(), 0.0));
@@ -364,31 +368,13 @@ TEST(PerturbationAxes, SensorBlurSoftensEdgesAndBlockedCamerasStayBlack) {
 }
 
 TEST(PerturbationAxes, ViewAxesLeaveTheExpertsEpisodesExactlyAsInTheBaseCell) {
-  cell::EvaluationCellConfig base;
-  base.task = "clutter-pick-cube";
-  base.robot = "reachy2";
-  base.policy = "expert";
-  base.episodes = 2;
-  base.envs = 2;
-  base.seed = 7;
-  base.keep_actions = true;
-  base.config_dir = TAVIS_CONFIG_DIR;
-  base.render_cameras = {"head", "fixed"};  // rendered under the perturbation every policy tick
-  base.image_width = 32;
-  base.image_height = 24;
+  const cell::EvaluationCellConfig base = testing::RenderedExpertCell("reachy2", 2, 7);
   const cell::CellResult reference = cell::RunEvaluationCell(base);
   for (const char* choice : {"camera:head-mount-large", "lighting:low-side-sun", "sensor:noise-high"}) {
     SCOPED_TRACE(choice);
     cell::EvaluationCellConfig perturbed = base;
     perturbed.perturbations = {choice};
-    const cell::CellResult result = cell::RunEvaluationCell(perturbed);
-    ASSERT_EQ(result.episodes.size(), reference.episodes.size());
-    for (std::size_t i = 0; i < result.episodes.size(); ++i) {
-      EXPECT_EQ(result.episodes[i].success, reference.episodes[i].success);
-      EXPECT_EQ(result.episodes[i].end, reference.episodes[i].end);
-      EXPECT_EQ(result.episodes[i].length_control_ticks, reference.episodes[i].length_control_ticks);
-      EXPECT_EQ(result.episodes[i].actions, reference.episodes[i].actions) << "episode " << i;
-    }
+    testing::ExpectSameEpisodes(cell::RunEvaluationCell(perturbed), reference);
   }
 }
 

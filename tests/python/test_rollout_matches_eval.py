@@ -21,13 +21,14 @@ def run_cli(out):
                     stdout=subprocess.DEVNULL)
 
 
-def run_python(out):
-    env = tavis.make_vec(TASK, num_envs=3, seed=SEED, cameras=[], control_ticks_per_step=1, threads=2)
+def run_python(out, episodes=EPISODES, num_envs=3, seed=SEED, **options):
+    env = tavis.make_vec(TASK, num_envs=num_envs, seed=seed, cameras=[], control_ticks_per_step=1, threads=2,
+                         **options)
     expert = env.make_policy("expert")
     env.reset(seed=0)
-    while sum(record["episode"] < EPISODES for record in env.episode_records()) < EPISODES:
+    while sum(record["episode"] < episodes for record in env.episode_records()) < episodes:
         env.step(expert())
-    env.write_results(out, "expert", EPISODES)
+    env.write_results(out, "expert", episodes)
     return env
 
 
@@ -68,3 +69,15 @@ def test_an_episode_the_expert_gives_up_ends_as_tavis_eval_ends_it(tmp_path):
     assert terminated[0] and not truncated[0]
     assert infos["final_info"]["end"][0] == "gave_up"
     assert json.dumps(env.episode_records()[0]) == json.dumps(cli[7])
+
+
+def test_a_fixed_camera_ood_init_pose_rollout_reproduces_tavis_eval(tmp_path):
+    # The camera protocol's rule (neck actions and state zeroed) and the ood-init-pose warm-up in
+    # each reset, on the Python env's loop and on tavis eval's.
+    subprocess.run([os.environ["TAVIS_CLI"], "eval", "--task", TASK, "--split", "ood-init-pose", "--camera", "fixed",
+                    "--episodes", "4", "--envs", "2", "--seed", "3", "--threads", "2", "--quiet", "--out",
+                    str(tmp_path / "cli")], check=True, stdout=subprocess.DEVNULL)
+    run_python(tmp_path / "python", episodes=4, num_envs=2, seed=3, split="ood-init-pose", camera="fixed")
+    cli = (tmp_path / "cli" / "episodes.jsonl").read_text()
+    assert len(cli.splitlines()) == 4
+    assert (tmp_path / "python" / "episodes.jsonl").read_text() == cli

@@ -10,6 +10,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "batch/dataset/video/deterministic_heap.h"
 #include "batch/dataset/video/encoder_context.h"
 #include "batch/dataset/video/encoder_options.h"
 #include "batch/dataset/video/ffmpeg_error.h"
@@ -31,6 +32,7 @@ void CodecContextFree::operator()(AVCodecContext* context) const {
 }
 
 CodecContextPtr OpenEncoder(const VideoSettings& settings, const std::string& name) {
+  MakeHeapContentDeterministic();  // before the encoder allocates anything (deterministic_heap.h)
   const EncoderChoice choice = ChooseEncoder(settings);
   const AVCodec* codec = avcodec_find_encoder_by_name(choice.encoder_name.c_str());
   if (codec == nullptr)

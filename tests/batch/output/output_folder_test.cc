@@ -1,6 +1,7 @@
 // Which folders tavis may replace or write into, the lock on them, and replacing one without
 // losing it: the rules `tavis eval`, `demos`, `sweep` and `sweep merge` share.
 #include "batch/output/output_folder.h"
+#include "tests/support/test_folder.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,15 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class OutputFolder : public ::testing::Test {
+class OutputFolder : public testing::TestFolder {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("tavis_output_folder_" + std::to_string(getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
+  OutputFolder() : TestFolder("output_folder") {}
   static void Touch(const fs::path& path, const std::string& text = "x") {
     fs::create_directories(path.parent_path());
     std::ofstream(path) << text;
@@ -43,7 +38,6 @@ class OutputFolder : public ::testing::Test {
     }
     return "";
   }
-  fs::path root_;
 };
 
 TEST_F(OutputFolder, CellWithOnlyItsOwnFilesIsOwnAndAUsersFileMakesItForeign) {

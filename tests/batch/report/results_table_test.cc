@@ -1,4 +1,5 @@
 #include "batch/report/results_table.h"
+#include "tests/support/test_folder.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,15 +15,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // A fresh folder per test, removed afterwards.
-class ResultsTableTest : public ::testing::Test {
+class ResultsTableTest : public testing::TestFolder {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("tavis_results_table_" + std::to_string(getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
+  ResultsTableTest() : TestFolder("results_table") {}
 
   void WriteSummary(const std::string& cell_dir, const std::string& json) {
     fs::create_directories(root_ / cell_dir);
@@ -54,7 +49,6 @@ class ResultsTableTest : public ::testing::Test {
     WriteCell("gr1t2/id/head/peeking-box", "peeking_box", "gr1t2", "id", "head", 62, 96);
   }
 
-  fs::path root_;
 };
 
 std::vector<std::string> Lines(const std::string& text) {

@@ -1,5 +1,6 @@
 // `tavis table`'s stage funnel section, read from the cells' summary.json files.
 #include "batch/report/stage_funnel_table.h"
+#include "tests/support/test_folder.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,21 +14,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class StageFunnelTableTest : public ::testing::Test {
+class StageFunnelTableTest : public testing::TestFolder {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("tavis_stage_funnel_" + std::to_string(getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
+  StageFunnelTableTest() : TestFolder("stage_funnel") {}
 
   void Write(const std::string& cell, const std::string& json) {
     fs::create_directories(root_ / cell);
     std::ofstream(root_ / cell / "summary.json") << json;
   }
-  fs::path root_;
 };
 
 TEST_F(StageFunnelTableTest, PoolsSeedsPerTaskAndColumnWithTheSimulatorFaultsApart) {

@@ -10,6 +10,7 @@
 
 #include "batch/rollout/video_frame.h"
 #include "render/image_io.h"
+#include "tests/support/test_folder.h"
 
 namespace tavis::batch::rollout {
 namespace {
@@ -19,8 +20,7 @@ namespace fs = std::filesystem;
 class CellVideosTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tavis_cell_videos_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = testing::TestFolderPath("cell_videos");
     fs::remove_all(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
