@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tavis::batch::output {
@@ -29,6 +30,9 @@ struct SettingRange {
   double high = 0.0;
   const char* unit = "";
   std::vector<double> choices;
+
+  static SettingRange Between(double low, double high, const char* unit = "") { return {low, high, unit, {}}; }
+  static SettingRange OneOf(std::vector<double> values) { return {0.0, 0.0, "", std::move(values)}; }
 };
 
 // A number as messages print it: an integer without a decimal point, else as `<<` writes it.
