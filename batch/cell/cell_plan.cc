@@ -141,7 +141,7 @@ CellPlan PlanCell(const EvaluationCellConfig& config) {
   plan.model = BuildWorldModel(configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot)),
                                *plan.scenario);
   plan.perturbations = ResolvePerturbations(config.config_dir, config.perturbations);
-  if (!plan.perturbations.empty()) plan.model.view_perturbation = CombinePerturbations(plan.perturbations, config.seed);
+  ApplyPerturbationLevels(plan.perturbations, config.seed, &plan.model);
   const bool served = plan.policy == PolicyKind::kOpenpi;
   if (served) {
     PlanServedLayout(plan);

@@ -181,7 +181,8 @@ std::vector<CellSetting> TheEpisodes() {
           .Flag("--perturb", EvalOption::kHidingDefault,
                 "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
                 "sensor, lighting, appearance, distractors, language, runtime; docs/perturbations.md); repeat\n"
-                "it for several axes, one level each. Episode i keeps its base scene, so the cell pairs with its unperturbed one;\n"
+                "it for several axes, one level each. Episode i keeps its base scene, so the cell pairs with its "
+                "unperturbed one;\n"
                 "the levels are recorded in cell.json and summary.json, and the default folder is named\n"
                 "..._p-AXIS-LEVEL"),
   };
@@ -256,12 +257,12 @@ CellSetting& CellSetting::Flag(const char* name, EvalOption how, std::string tex
 }
 
 CellSetting& CellSetting::Range(double low, double high, const char* unit) {
-  range = output::SettingRange{low, high, unit, {}};
+  range = output::SettingRange::Between(low, high, unit);
   return *this;
 }
 
 CellSetting& CellSetting::Choices(std::vector<double> values) {
-  range = output::SettingRange{0.0, 0.0, "", std::move(values)};
+  range = output::SettingRange::OneOf(std::move(values));
   return *this;
 }
 
