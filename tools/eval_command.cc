@@ -2,6 +2,7 @@
 // cell per task of a suite.
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -14,7 +15,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/cell_folder.h"
 #include "batch/cell/cell_report.h"
 #include "batch/cell/evaluation_cell.h"
 #include "batch/cell_profile.h"
@@ -91,8 +92,71 @@ std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, bo
          "_" + cell.policy + mode + "_s" + std::to_string(cell.seed) + only + perturbed;
 }
 
-// One cell into `out`: its records streamed as episodes end (an interrupted cell keeps them and
-// --resume continues after them), the summary written last.
+// What the cell's rollouts leave beside its records (--videos, --record), made once the folder
+// holds the cell; what they wrote is printed after the summary.
+class EvalRollouts {
+ public:
+  explicit EvalRollouts(const EvalOptions& options) : options_(options) {}
+
+  batch::cell::CellAttachments Attach(const batch::cell::CellPlan& plan,
+                                      const std::function<std::filesystem::path()>& folder) {
+    // Videos go where the cell is at each write: beside the old cell until the new one is swapped in.
+    videos_ = std::make_unique<batch::rollout::CellVideos>(options_.videos, plan.config,
+                                                           [folder] { return folder() / "videos"; });
+    if (!options_.record.root.empty())
+      recording_ = std::make_unique<batch::rollout::CellRecording>(options_.record, plan.config);
+    batch::cell::CellAttachments attached;
+    attached.sinks = Sinks();
+    attached.on_record = [this](const batch::cell::EpisodeRecord& episode) {
+      videos_->RecordFinished(episode);
+      if (recording_) recording_->RecordFinished(episode);
+    };
+    return attached;
+  }
+
+  // The summary line, then what the rollouts and the profile wrote beside the records.
+  void Finish(const batch::cell::CellResult& result, const std::string& out) {
+    namespace fs = std::filesystem;
+    std::cout << batch::cell::CellSummaryLine(result) << " -> " << out << "\n";
+    if (recording_) {
+      recording_->Finish();
+      std::cout << "recorded " << recording_->episodes() << " episodes (" << recording_->frames()
+                << " frames) as a LeRobot v3.0 dataset -> " << options_.record.root << "\n";
+    }
+    if (videos_->videos_written() > 0) {
+      std::cout << videos_->videos_written()
+                << (options_.videos.format == batch::rollout::VideoFormat::kMp4 ? " videos" : " frame folders")
+                << " -> " << (fs::path(out) / "videos").string() << "\n";
+    }
+    if (result.profile) {
+      std::cout << batch::FormatCellProfile(*result.profile);
+      batch::output::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
+    }
+  }
+
+ private:
+  // The videos' and the rollout dataset's sinks, beside the cell's recorder.
+  batch::cell::CellSinks Sinks() {
+    batch::cell::CellSinks video_sinks = videos_->Sinks();
+    batch::cell::CellSinks record_sinks = recording_ ? recording_->Sinks() : nullptr;
+    if (!video_sinks && !record_sinks) return nullptr;
+    return [video_sinks, record_sinks](const batch::VecEnv& vec_env, const std::vector<std::string>& cameras) {
+      std::vector<batch::EpisodeSink*> all;
+      for (const batch::cell::CellSinks* part : {&video_sinks, &record_sinks}) {
+        if (!*part) continue;
+        for (batch::EpisodeSink* sink : (*part)(vec_env, cameras)) all.push_back(sink);
+      }
+      return all;
+    };
+  }
+
+  const EvalOptions& options_;
+  std::unique_ptr<batch::rollout::CellVideos> videos_;
+  std::unique_ptr<batch::rollout::CellRecording> recording_;
+};
+
+// One cell into `out` (batch/cell/cell_folder.h): its records streamed as episodes end (an
+// interrupted cell keeps them and --resume continues after them), the summary written last.
 batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
                                 const std::string& out) {
   batch::output::RequireUsableOutputPath(out);
@@ -103,102 +167,23 @@ batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, c
     std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": "
               << difference << "\n";
   }
-  namespace fs = std::filesystem;
-  if (options.resume && !fs::is_directory(out))
-    throw std::invalid_argument("--resume: " + out + " does not exist: there is no cell to finish");
-  // --overwrite replaces only a cell tavis wrote, and builds the new one beside it: the old one
-  // goes only once the new one has recorded an episode, so a run that fails before (an
-  // unreachable server, a missing file, too little memory) leaves it as it was.
-  const bool replace = options.overwrite && !batch::output::HoldsNoResults(out);
-  if (replace) {
-    batch::output::RequireEmptyOrOwn(
-        out, batch::output::OutputKind::kEvalCell,
-        "--overwrite replaces only a cell tavis wrote: move those files away or give another --out");
-  }
-  const bool created = !fs::exists(out);
-  batch::output::OutputLock lock = batch::output::CreateAndLockOutput(out, "eval");
-  std::unique_ptr<batch::output::OutputReplacement> replacement;
-  if (replace) replacement = std::make_unique<batch::output::OutputReplacement>(out, "eval");
-  const std::string dir = replacement ? replacement->staging().string() : out;
-  std::unique_ptr<batch::cell::CellRecordStream> stream_owner;
-  try {
-    stream_owner = std::make_unique<batch::cell::CellRecordStream>(dir, plan, options.resume);
-  } catch (...) {
-    if (created) fs::remove_all(out);
-    throw;
-  }
-  batch::cell::CellRecordStream& stream = *stream_owner;
-  plan.ContinueFrom(stream.next_episode());
-  const batch::cell::EvaluationCellConfig& config = plan.config;
-  batch::cell::CellResult result;
-  // Videos go where the cell is at each write: beside the old cell until the new one is swapped in.
-  batch::rollout::CellVideos videos(options.videos, config, [&replacement, &out] {
-    return (replacement && !replacement->swapped() ? replacement->staging() : fs::path(out)) / "videos";
-  });
-  std::unique_ptr<batch::rollout::CellRecording> recording;
-  if (!options.record.root.empty()) recording = std::make_unique<batch::rollout::CellRecording>(options.record, config);
-  const auto record = [&stream, &replacement, &out, &videos, &recording](const batch::cell::EpisodeRecord& episode) {
-    stream.Write(episode);
-    if (replacement && !replacement->swapped()) {
-      replacement->SwapIn();
-      stream.MovedTo(out);
-    }
-    videos.RecordFinished(episode);
-    if (recording) recording->RecordFinished(episode);
-  };
-  // The videos' and the rollout dataset's sinks, beside the cell's recorder.
-  const batch::cell::CellSinks video_sinks = videos.Sinks();
-  const batch::cell::CellSinks record_sinks = recording ? recording->Sinks() : nullptr;
-  batch::cell::CellSinks sinks;
-  if (video_sinks || record_sinks) {
-    sinks = [&video_sinks, &record_sinks](const batch::VecEnv& vec_env, const std::vector<std::string>& cameras) {
-      std::vector<batch::EpisodeSink*> all;
-      for (const batch::cell::CellSinks* part : {&video_sinks, &record_sinks}) {
-        if (!*part) continue;
-        for (batch::EpisodeSink* sink : (*part)(vec_env, cameras)) all.push_back(sink);
-      }
-      return all;
-    };
-  }
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
-  const batch::ProgressCallback progress = [&reporter](int64_t done, int64_t total) {
-    reporter.Update("", done, total);
-  };
-  try {
-    result = batch::cell::RunEvaluationCell(plan, options.quiet ? batch::ProgressCallback() : progress, record, sinks);
-  } catch (...) {
-    // A cell that failed before its first episode leaves nothing behind (and an --overwrite the
-    // old cell); one that recorded episodes keeps them for --resume.
-    if (created && stream.written() == 0) fs::remove_all(out);
-    throw;
+  batch::cell::CellFolderOptions folder;
+  folder.out = out;
+  folder.resume = options.resume;
+  folder.overwrite = options.overwrite;
+  folder.threads = threads;
+  if (!options.quiet) {
+    folder.progress = [&reporter](int64_t done, int64_t total) { reporter.Update("", done, total); };
   }
-  if (replacement && !replacement->swapped()) {
-    replacement->SwapIn();  // a cell with nothing left to run
-    stream.MovedTo(out);
-  }
-  // The summary covers the whole cell: the resumed records first.
-  std::vector<batch::cell::EpisodeRecord> episodes = stream.resumed();
-  for (batch::cell::EpisodeRecord& episode : result.episodes) episodes.push_back(std::move(episode));
-  result.episodes = std::move(episodes);
-  result.successes = 0;
-  for (const batch::cell::EpisodeRecord& episode : result.episodes) result.successes += episode.success ? 1 : 0;
-  batch::cell::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
-  std::cout << batch::cell::CellSummaryLine(result) << " -> " << out << "\n";
-  if (recording) {
-    recording->Finish();
-    std::cout << "recorded " << recording->episodes() << " episodes (" << recording->frames()
-              << " frames) as a LeRobot v3.0 dataset -> " << options.record.root << "\n";
-  }
-  if (videos.videos_written() > 0) {
-    std::cout << videos.videos_written()
-              << (options.videos.format == batch::rollout::VideoFormat::kMp4 ? " videos" : " frame folders") << " -> "
-              << (fs::path(out) / "videos").string() << "\n";
-  }
-  if (result.profile) {
-    std::cout << batch::FormatCellProfile(*result.profile);
-    batch::output::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
-  }
-  return result;
+  EvalRollouts rollouts(options);
+  return batch::cell::RunCellInFolder(
+      std::move(plan), folder,
+      [&rollouts, &out](const batch::cell::CellPlan& planned, const std::function<std::filesystem::path()>& where) {
+        batch::cell::CellAttachments attached = rollouts.Attach(planned, where);
+        attached.finish = [&rollouts, &out](const batch::cell::CellResult& result) { rollouts.Finish(result, out); };
+        return attached;
+      });
 }
 
 // Every task of the suite, one cell each in OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed>, then the
