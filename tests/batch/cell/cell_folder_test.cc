@@ -18,11 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The default cell (the expert on clutter-pick-cube), two episodes on two slots.
 EvaluationCellConfig TwoExpertEpisodes() {
   EvaluationCellConfig config;
-  config.policy = "expert";
-  config.episodes = 2;
-  config.envs = 2;
+  config.episodes = config.envs = 2;
   config.seed = 7;
   config.config_dir = TAVIS_CONFIG_DIR;
   return config;
