@@ -131,7 +131,7 @@ std::unique_ptr<Policy> MakeBuiltinPolicy(const std::string& name, const scenari
     return std::make_unique<ExpertPolicy>(scenario, model, num_envs, expert_mode);
   if (IsPolicy(name, PolicyKind::kHold)) return std::make_unique<HoldPolicy>(num_envs);
   if (actions_file.empty()) {
-    throw std::invalid_argument("policy 'replay' needs an actions file or folder (--actions FILE.csv | DIR/actions)");
+    throw std::invalid_argument("policy 'replay' needs actions_file: a CSV, or a folder of episode_<i>.csv");
   }
   return std::make_unique<ReplayPolicy>(actions_file, num_envs);
 }

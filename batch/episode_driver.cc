@@ -18,7 +18,7 @@ EpisodeDriver::EpisodeDriver(VecEnv& vec_env, Policy& policy, int64_t episodes, 
       total_(episodes),
       end_episode_(first_episode + episodes),
       next_episode_(first_episode) {
-  if (episodes < 1) throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(episodes));
+  if (episodes < 1) throw std::invalid_argument("episodes must be at least 1, got " + std::to_string(episodes));
   if (first_episode < 0)
     throw std::invalid_argument("the first episode index must be >= 0, got " + std::to_string(first_episode));
   const std::size_t slots = static_cast<std::size_t>(vec_env.num_envs());

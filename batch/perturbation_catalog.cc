@@ -279,7 +279,11 @@ nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels) {
 void ApplyPerturbations(const std::string& config_dir, const std::vector<std::string>& choices, uint64_t seed,
                         engine::WorldModel* model) {
   if (choices.empty()) return;
-  const std::vector<PerturbationLevel> levels = ResolvePerturbations(config_dir, choices);
+  ApplyPerturbationLevels(ResolvePerturbations(config_dir, choices), seed, model);
+}
+
+void ApplyPerturbationLevels(const std::vector<PerturbationLevel>& levels, uint64_t seed, engine::WorldModel* model) {
+  if (levels.empty()) return;
   model->view_perturbation = CombinePerturbations(levels, seed);
   model->episode_perturbation = CombineEpisodePerturbations(levels, seed);
   AddDistractorObjects(model);

@@ -68,5 +68,7 @@ nlohmann::json PerturbationsJson(const std::vector<PerturbationLevel>& levels);
 // task's own (distractor_placement.h); none: unchanged.
 void ApplyPerturbations(const std::string& config_dir, const std::vector<std::string>& choices, uint64_t seed,
                         engine::WorldModel* model);
+// The same for levels already resolved (a cell's plan resolves them once); none: unchanged.
+void ApplyPerturbationLevels(const std::vector<PerturbationLevel>& levels, uint64_t seed, engine::WorldModel* model);
 
 }  // namespace tavis::batch

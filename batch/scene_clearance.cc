@@ -56,7 +56,8 @@ bool ClearOfObjects(const engine::WorldModel& model, const engine::BatchState& s
   for (int object = 0; object < model.num_objects(); ++object) {
     if (object == skip || !state.object_enabled_at(env, object)) continue;
     const bool fixed = model.objects[static_cast<std::size_t>(object)].motion == engine::ObjectMotion::kKinematic;
-    if (scenarios::expert::BoxesOverlap(box, scenarios::expert::ObjectBox(model, state, env, object), fixed ? fixed_margin : margin))
+    if (scenarios::expert::BoxesOverlap(box, scenarios::expert::ObjectBox(model, state, env, object),
+                                        fixed ? fixed_margin : margin))
       return false;
   }
   return true;

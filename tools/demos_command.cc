@@ -1,4 +1,5 @@
 // `tavis demos`: scripted-expert demonstrations written as a LeRobot dataset.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -139,7 +140,13 @@ void RunDemos(DemosOptions options) {
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   // Every value is checked before --out is touched: a bad one must not remove what --overwrite would.
-  batch::dataset::ValidateDemoConfig(config);
+  try {
+    batch::dataset::ValidateDemoConfig(config);
+  } catch (const batch::output::SettingError& error) {
+    std::string flag = "--" + error.key();  // each setting's flag is its key with dashes: --max-attempts
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    ThrowNamingFlag(error, flag);
+  }
   std::unique_ptr<batch::output::OutputReplacement> replacement;
   const batch::output::OutputLock lock = PrepareOutput(config.out, options.overwrite, config.resume, &replacement);
   const std::string out = config.out;

@@ -2,6 +2,7 @@
 // cell per task of a suite.
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -14,7 +15,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/cell_folder.h"
 #include "batch/cell/cell_report.h"
 #include "batch/cell/evaluation_cell.h"
 #include "batch/cell_profile.h"
@@ -29,6 +30,7 @@
 #include "batch/rollout/cell_videos.h"
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
+#include "tools/cell_options.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
@@ -37,15 +39,11 @@ namespace tavis::tools {
 namespace {
 
 struct EvalOptions {
-  batch::cell::EvaluationCellConfig cell;
-  std::string split = "id";
-  std::string camera = "head";
-  std::string expert_mode = "gaze-first";
+  batch::cell::EvaluationCellConfig cell;  // its options are the table's (cell_options.h)
   std::string out;
   std::string render_cameras;
   std::string image_size;
   std::string suite;
-  std::string serving = "serial";
   bool task_given = false;
   bool image_size_given = false;
   bool envs_given = false;
@@ -77,8 +75,7 @@ batch::output::OutputLock PrepareRolloutDataset(const std::string& root, const s
   return lock;
 }
 
-std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, const std::string& split,
-                               bool one_episode) {
+std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, bool one_episode) {
   // A head-still expert's cell must not take the place of the gaze-first one.
   const std::string mode = cell.expert_mode == scenarios::expert::ExpertMode::kGazeFirst
                                ? ""
@@ -91,71 +88,59 @@ std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, co
     const batch::PerturbationChoice parsed = batch::ParsePerturbationChoice(choice);
     perturbed += "_p-" + parsed.axis + "-" + parsed.level;
   }
-  return cell.task + "_" + cell.robot + "_" + split + "_" + batch::ToString(cell.camera) + "_" + cell.policy + mode +
-         "_s" + std::to_string(cell.seed) + only + perturbed;
+  return cell.task + "_" + cell.robot + "_" + scenarios::ToString(cell.split) + "_" + batch::ToString(cell.camera) +
+         "_" + cell.policy + mode + "_s" + std::to_string(cell.seed) + only + perturbed;
 }
 
-// One cell into `out`: its records streamed as episodes end (an interrupted cell keeps them and
-// --resume continues after them), the summary written last.
-batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
-                                const std::string& out) {
-  batch::output::RequireUsableOutputPath(out);
-  batch::cell::CheckEvaluationCell(cell);  // a bad setting must not touch what --out holds
-  std::optional<batch::output::OutputLock> record_lock;
-  if (!options.record.root.empty()) record_lock.emplace(PrepareRolloutDataset(options.record.root, out));
-  for (const std::string& difference : batch::cell::ServedLayoutDifferences(cell)) {
-    std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": "
-              << difference << "\n";
+// What the cell's rollouts leave beside its records (--videos, --record), made once the folder
+// holds the cell; what they wrote is printed after the summary.
+class EvalRollouts {
+ public:
+  explicit EvalRollouts(const EvalOptions& options) : options_(options) {}
+
+  batch::cell::CellAttachments Attach(const batch::cell::CellPlan& plan,
+                                      const std::function<std::filesystem::path()>& folder) {
+    // Videos go where the cell is at each write: beside the old cell until the new one is swapped in.
+    videos_ = std::make_unique<batch::rollout::CellVideos>(options_.videos, plan.config,
+                                                           [folder] { return folder() / "videos"; });
+    if (!options_.record.root.empty())
+      recording_ = std::make_unique<batch::rollout::CellRecording>(options_.record, plan.config);
+    batch::cell::CellAttachments attached;
+    attached.sinks = Sinks();
+    attached.on_record = [this](const batch::cell::EpisodeRecord& episode) {
+      videos_->RecordFinished(episode);
+      if (recording_) recording_->RecordFinished(episode);
+    };
+    return attached;
   }
-  namespace fs = std::filesystem;
-  if (options.resume && !fs::is_directory(out))
-    throw std::invalid_argument("--resume: " + out + " does not exist: there is no cell to finish");
-  // --overwrite replaces only a cell tavis wrote, and builds the new one beside it: the old one
-  // goes only once the new one has recorded an episode, so a run that fails before (an
-  // unreachable server, a missing file, too little memory) leaves it as it was.
-  const bool replace = options.overwrite && !batch::output::HoldsNoResults(out);
-  if (replace) {
-    batch::output::RequireEmptyOrOwn(
-        out, batch::output::OutputKind::kEvalCell,
-        "--overwrite replaces only a cell tavis wrote: move those files away or give another --out");
-  }
-  const bool created = !fs::exists(out);
-  batch::output::OutputLock lock = batch::output::CreateAndLockOutput(out, "eval");
-  std::unique_ptr<batch::output::OutputReplacement> replacement;
-  if (replace) replacement = std::make_unique<batch::output::OutputReplacement>(out, "eval");
-  const std::string dir = replacement ? replacement->staging().string() : out;
-  std::unique_ptr<batch::cell::CellRecordStream> stream_owner;
-  try {
-    stream_owner = std::make_unique<batch::cell::CellRecordStream>(dir, cell, options.resume);
-  } catch (...) {
-    if (created) fs::remove_all(out);
-    throw;
-  }
-  batch::cell::CellRecordStream& stream = *stream_owner;
-  batch::cell::EvaluationCellConfig config = cell;
-  config.first_episode = stream.next_episode();
-  batch::cell::CellResult result;
-  // Videos go where the cell is at each write: beside the old cell until the new one is swapped in.
-  batch::rollout::CellVideos videos(options.videos, config, [&replacement, &out] {
-    return (replacement && !replacement->swapped() ? replacement->staging() : fs::path(out)) / "videos";
-  });
-  std::unique_ptr<batch::rollout::CellRecording> recording;
-  if (!options.record.root.empty()) recording = std::make_unique<batch::rollout::CellRecording>(options.record, config);
-  const auto record = [&stream, &replacement, &out, &videos, &recording](const batch::cell::EpisodeRecord& episode) {
-    stream.Write(episode);
-    if (replacement && !replacement->swapped()) {
-      replacement->SwapIn();
-      stream.MovedTo(out);
+
+  // The summary line, then what the rollouts and the profile wrote beside the records.
+  void Finish(const batch::cell::CellResult& result, const std::string& out) {
+    namespace fs = std::filesystem;
+    std::cout << batch::cell::CellSummaryLine(result) << " -> " << out << "\n";
+    if (recording_) {
+      recording_->Finish();
+      std::cout << "recorded " << recording_->episodes() << " episodes (" << recording_->frames()
+                << " frames) as a LeRobot v3.0 dataset -> " << options_.record.root << "\n";
     }
-    videos.RecordFinished(episode);
-    if (recording) recording->RecordFinished(episode);
-  };
+    if (videos_->videos_written() > 0) {
+      std::cout << videos_->videos_written()
+                << (options_.videos.format == batch::rollout::VideoFormat::kMp4 ? " videos" : " frame folders")
+                << " -> " << (fs::path(out) / "videos").string() << "\n";
+    }
+    if (result.profile) {
+      std::cout << batch::FormatCellProfile(*result.profile);
+      batch::output::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
+    }
+  }
+
+ private:
   // The videos' and the rollout dataset's sinks, beside the cell's recorder.
-  const batch::cell::CellSinks video_sinks = videos.Sinks();
-  const batch::cell::CellSinks record_sinks = recording ? recording->Sinks() : nullptr;
-  batch::cell::CellSinks sinks;
-  if (video_sinks || record_sinks) {
-    sinks = [&video_sinks, &record_sinks](const batch::VecEnv& vec_env, const std::vector<std::string>& cameras) {
+  batch::cell::CellSinks Sinks() {
+    batch::cell::CellSinks video_sinks = videos_->Sinks();
+    batch::cell::CellSinks record_sinks = recording_ ? recording_->Sinks() : nullptr;
+    if (!video_sinks && !record_sinks) return nullptr;
+    return [video_sinks, record_sinks](const batch::VecEnv& vec_env, const std::vector<std::string>& cameras) {
       std::vector<batch::EpisodeSink*> all;
       for (const batch::cell::CellSinks* part : {&video_sinks, &record_sinks}) {
         if (!*part) continue;
@@ -164,46 +149,41 @@ batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, c
       return all;
     };
   }
+
+  const EvalOptions& options_;
+  std::unique_ptr<batch::rollout::CellVideos> videos_;
+  std::unique_ptr<batch::rollout::CellRecording> recording_;
+};
+
+// One cell into `out` (batch/cell/cell_folder.h): its records streamed as episodes end (an
+// interrupted cell keeps them and --resume continues after them), the summary written last.
+batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
+                                const std::string& out) {
+  batch::output::RequireUsableOutputPath(out);
+  batch::cell::CellPlan plan = PlanCellNamingFlags(cell);  // a bad setting must not touch what --out holds
+  std::optional<batch::output::OutputLock> record_lock;
+  if (!options.record.root.empty()) record_lock.emplace(PrepareRolloutDataset(options.record.root, out));
+  for (const std::string& difference : plan.layout_differences) {
+    std::cerr << "warning: the served layout differs from the dataset " << cell.observation_dataset << ": "
+              << difference << "\n";
+  }
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
-  const batch::ProgressCallback progress = [&reporter](int64_t done, int64_t total) {
-    reporter.Update("", done, total);
-  };
-  try {
-    result =
-        batch::cell::RunEvaluationCell(config, options.quiet ? batch::ProgressCallback() : progress, record, sinks);
-  } catch (...) {
-    // A cell that failed before its first episode leaves nothing behind (and an --overwrite the
-    // old cell); one that recorded episodes keeps them for --resume.
-    if (created && stream.written() == 0) fs::remove_all(out);
-    throw;
+  batch::cell::CellFolderOptions folder;
+  folder.out = out;
+  folder.resume = options.resume;
+  folder.overwrite = options.overwrite;
+  folder.threads = threads;
+  if (!options.quiet) {
+    folder.progress = [&reporter](int64_t done, int64_t total) { reporter.Update("", done, total); };
   }
-  if (replacement && !replacement->swapped()) {
-    replacement->SwapIn();  // a cell with nothing left to run
-    stream.MovedTo(out);
-  }
-  // The summary covers the whole cell: the resumed records first.
-  std::vector<batch::cell::EpisodeRecord> episodes = stream.resumed();
-  for (batch::cell::EpisodeRecord& episode : result.episodes) episodes.push_back(std::move(episode));
-  result.episodes = std::move(episodes);
-  result.successes = 0;
-  for (const batch::cell::EpisodeRecord& episode : result.episodes) result.successes += episode.success ? 1 : 0;
-  batch::cell::WriteCellSummary(result, {threads, static_cast<int64_t>(stream.resumed().size())}, out);
-  std::cout << batch::cell::CellSummaryLine(result) << " -> " << out << "\n";
-  if (recording) {
-    recording->Finish();
-    std::cout << "recorded " << recording->episodes() << " episodes (" << recording->frames()
-              << " frames) as a LeRobot v3.0 dataset -> " << options.record.root << "\n";
-  }
-  if (videos.videos_written() > 0) {
-    std::cout << videos.videos_written()
-              << (options.videos.format == batch::rollout::VideoFormat::kMp4 ? " videos" : " frame folders") << " -> "
-              << (fs::path(out) / "videos").string() << "\n";
-  }
-  if (result.profile) {
-    std::cout << batch::FormatCellProfile(*result.profile);
-    batch::output::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
-  }
-  return result;
+  EvalRollouts rollouts(options);
+  return batch::cell::RunCellInFolder(
+      std::move(plan), folder,
+      [&rollouts, &out](const batch::cell::CellPlan& planned, const std::function<std::filesystem::path()>& where) {
+        batch::cell::CellAttachments attached = rollouts.Attach(planned, where);
+        attached.finish = [&rollouts, &out](const batch::cell::CellResult& result) { rollouts.Finish(result, out); };
+        return attached;
+      });
 }
 
 // Every task of the suite, one cell each in OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed>, then the
@@ -222,7 +202,7 @@ void RunSuite(batch::cell::EvaluationCellConfig cell, const EvalOptions& options
     cell.task = task;
     try {
       const batch::cell::CellResult result =
-          RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, options.split, false));
+          RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, false));
       rate_sum += static_cast<double>(result.successes) / static_cast<double>(result.episodes.size());
       successes += result.successes;
       episodes += static_cast<int>(result.episodes.size());
@@ -234,7 +214,7 @@ void RunSuite(batch::cell::EvaluationCellConfig cell, const EvalOptions& options
   }
   if (cells > 0) {
     std::printf("%s %s %s policy=%s camera=%s: suite mean over %d tasks %.1f%% (task average), %.1f%% pooled (%d/%d)\n",
-                options.suite.c_str(), cell.robot.c_str(), options.split.c_str(), cell.policy.c_str(),
+                options.suite.c_str(), cell.robot.c_str(), scenarios::ToString(cell.split), cell.policy.c_str(),
                 batch::ToString(cell.camera), cells, 100.0 * rate_sum / cells, 100.0 * successes / episodes, successes,
                 episodes);
   }
@@ -247,9 +227,6 @@ void RunSuite(batch::cell::EvaluationCellConfig cell, const EvalOptions& options
 
 void RunEval(const EvalOptions& options) {
   batch::cell::EvaluationCellConfig cell = options.cell;
-  cell.split = scenarios::ParseSplit(options.split);
-  cell.camera = batch::ParseCameraProtocol(options.camera);
-  cell.expert_mode = scenarios::expert::ParseExpertMode(options.expert_mode);
   if (!options.render_cameras.empty()) cell.render_cameras = batch::ParseCameraList(options.render_cameras);
   if (options.image_size_given) std::tie(cell.image_width, cell.image_height) = ParseImageSize(options.image_size);
   batch::rollout::ValidateEpisodeVideoSettings(options.videos);  // before anything is written
@@ -264,10 +241,75 @@ void RunEval(const EvalOptions& options) {
     return;
   }
   scenarios::FindScenario(cell.task);  // fail fast on an unknown task, before any work
-  RunCell(
-      cell, options, threads,
-      options.out.empty() ? "results/" + DefaultCellDirName(cell, options.split, options.one_episode) : options.out);
+  RunCell(cell, options, threads,
+          options.out.empty() ? "results/" + DefaultCellDirName(cell, options.one_episode) : options.out);
 }
+
+// --videos and --record: what the cell's rollouts leave beside its records.
+void AddRolloutOptions(CLI::App& command, EvalOptions& options) {
+  command
+      .add_option("--videos", options.videos.episodes,
+                  "Film the cell's first N episodes (episode indices from the first of the cell, --episode's with\n"
+                  "--episode) as DIR/videos/episode_<i>.mp4 at 20 fps: the policy's cameras tiled with the fixed\n"
+                  "camera, the step and the prompt over them, the end held one second with the outcome and GALT.\n"
+                  "Rendered apart from the policy's images; the records do not change")
+      ->check(IntegerIn(0, 100000000))
+      ->capture_default_str();
+  command.add_option(
+      "--video-cameras", options.video_cameras,
+      "For --videos: the cameras shown, comma-separated (head, fixed, left_wrist, right_wrist); default:\n"
+      "the policy's cameras under --camera (head or fixed, and the wrists), then the fixed camera");
+  command
+      .add_option("--video-size", options.video_size,
+                  "For --videos: each camera's size in the frame, WIDTHxHEIGHT, even")
+      ->capture_default_str();
+  command
+      .add_option("--video-format", options.video_format,
+                  "For --videos: mp4 (H.264), or png (DIR/videos/episode_<i>/frame_<k>.png, one per policy step and\n"
+                  "the end)")
+      ->capture_default_str();
+  command.add_option(
+      "--record", options.record.root,
+      "Also write the cell's episodes, failed ones too, as a LeRobot v3.0 dataset in DIR (new or empty):\n"
+      "per 20 Hz policy step the observation the policy was given and the action it stepped with (its\n"
+      "cameras rendered apart at --record-size), and DIR/tavis_rollouts.jsonl with each episode's record");
+  command.add_option("--record-cameras", options.record_cameras,
+                     "For --record: the cameras stored, comma-separated; default: the policy's cameras under --camera\n"
+                     "(the observation contract's head or fixed, and the wrists, for a policy that takes no images)");
+  command.add_option("--record-size", options.record_size, "For --record: the stored images' size, WIDTHxHEIGHT")
+      ->capture_default_str();
+}
+
+// The rollout options read, each refused where what it is for is not given.
+void ReadRolloutOptions(const CLI::App& command, EvalOptions& options) {
+  for (const char* video_only : {"--video-cameras", "--video-size", "--video-format"}) {
+    if (command.count(video_only) > 0 && options.videos.episodes == 0) {
+      throw std::invalid_argument(std::string(video_only) + " applies to --videos N (N >= 1), which is not given");
+    }
+  }
+  if (!options.video_cameras.empty()) options.videos.cameras = batch::ParseCameraList(options.video_cameras);
+  if (command.count("--video-size") > 0) {
+    std::tie(options.videos.tile_width, options.videos.tile_height) = ParseImageSize(options.video_size);
+  }
+  options.videos.format = batch::rollout::ParseVideoFormat(options.video_format);
+  for (const char* record_only : {"--record-cameras", "--record-size"}) {
+    if (command.count(record_only) > 0 && options.record.root.empty()) {
+      throw std::invalid_argument(std::string(record_only) + " applies to --record DIR, which is not given");
+    }
+  }
+  if (command.count("--record") > 0) {
+    if (options.record.root.empty()) throw std::invalid_argument("--record must name a folder, got an empty string");
+    if (!options.suite.empty()) throw std::invalid_argument("--record writes one cell's dataset, not a --suite's");
+    if (options.resume)
+      throw std::invalid_argument("--record cannot --resume: the dataset holds the episodes of one run");
+    if (!options.record_cameras.empty()) options.record.cameras = batch::ParseCameraList(options.record_cameras);
+    std::tie(options.record.width, options.record.height) = ParseImageSize(options.record_size);
+    batch::rollout::ValidateRolloutDatasetSettings(options.record);
+  }
+}
+
+// The flag a cell setting is given with (cell_settings.h).
+const char* FlagOf(const char* setting) { return batch::cell::CellSettingNamed(setting).flag; }
 
 }  // namespace
 
@@ -278,149 +320,28 @@ void RegisterEvalCommand(CLI::App& app) {
                          "Run one evaluation cell: N episodes of a task with a policy, batched over parallel envs.\n"
                          "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
                          "rate with its 95% Wilson interval, wall time, throughput).");
-  eval->add_option("--task", options->cell.task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
+  AddCellOptions(*eval, options->cell);
+  eval->get_option(FlagOf("episode_start"))->excludes(FlagOf("episodes"));
   eval->add_option(
       "--suite", options->suite,
       "Run every task of a suite instead of one task: " + scenarios::KnownSuites() +
           "; cells go to\n"
           "OUT/<task>_<robot>_<split>_<camera>_<policy>_s<seed> (OUT defaults to results/<suite>), then the\n"
           "suite mean is printed as a task average and pooled over episodes");
-  eval->add_option("--robot", options->cell.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
-      ->capture_default_str();
-  eval->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
-  eval->add_option("--camera", options->camera,
-                   "Camera protocol: head (the policy sees and moves the head camera; GALT computed) or fixed\n"
-                   "(the fixed camera instead, neck actions and neck state zeroed, no GALT); episode i has the\n"
-                   "same scene under both, so a head and a fixed cell pair. Camera sets: head-only (wrist images\n"
-                   "black), wrists-only (head rules, the head image black), fixed-only (fixed rules, wrist images\n"
-                   "black); head is head + wrists, fixed is fixed + wrists; every set pairs with head")
-      ->capture_default_str();
-  eval->add_option("--policy", options->cell.policy,
-                   "Policy (" + batch::cell::CellPolicyNames() +
-                       "); openpi: a policy served over openpi's websocket\n"
-                       "protocol (--server), acting at 20 Hz on the cameras its --keys name")
-      ->capture_default_str();
-  eval->add_option("--expert-mode", options->expert_mode,
-                   "For --policy expert: gaze-first (looks at the cue and the target, then acts) or head-still\n"
-                   "(neck still at its reset pose, hands act as soon as the task allows; its cells are named\n"
-                   "..._expert-head-still_s<seed>)")
-      ->capture_default_str();
-  eval->add_option("--perturb", options->cell.perturbations,
-                   "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
-                   "sensor, lighting, appearance, distractors, language, runtime; docs/perturbations.md); repeat\n"
-                   "it for several axes, one level each. Episode i keeps its base scene, so the cell pairs with its unperturbed one;\n"
-                   "the levels are recorded in cell.json and summary.json, and the default folder is named\n"
-                   "..._p-AXIS-LEVEL");
-  eval->add_option("--server", options->cell.servers,
-                   "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
-                   "several servers (slot i asks server i mod K). Each episode's actions are saved in\n"
-                   "DIR/actions/episode_<i>.csv for --policy replay");
-  eval->add_option("--replan-steps", options->cell.replan_steps,
-                   "For --policy openpi: rows of each action chunk an env steps with before asking again\n"
-                   "(0: the whole chunk, as openpi's ActionChunkBroker; its LIBERO example uses 5)")
-      ->check(IntegerIn(0, 1000000))
-      ->capture_default_str();
-  eval->add_option(
-          "--keys", options->cell.observation_keys,
-          "For --policy openpi: the request's key layout, a preset (" + batch::remote::KeyPresetNames() +
-              ") or a\n"
-              "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
-              "hwc/chw images, image size, letterbox). tavis: the dataset's keys (observation.images.OBS_HEAD,\n"
-              "..., observation.state, prompt and task) at 320x240 (docs/observation.md)")
-      ->capture_default_str();
-  eval->add_option("--match-dataset", options->cell.observation_dataset,
-                   "For --policy openpi: serve the layout of the LeRobot dataset DIR the policy was trained on (its\n"
-                   "meta/info.json: image keys, cameras, image size); with --keys or --image-size as well, every way\n"
-                   "the served layout differs from the dataset's is printed and recorded in summary.json");
-  eval->add_option("--serving", options->serving,
-                   "For --policy openpi: serial (one connection per server, requests one at a time in env order),\n"
-                   "per-env (one connection per env slot, requests of a tick in flight together) or batched (one\n"
-                   "message per server per tick with every due env stacked; the server's metadata must declare\n"
-                   "batched_requests: true). Records do not depend on it")
-      ->capture_default_str();
-  eval->add_option("--server-timeout", options->cell.server_ready_timeout_s,
-                   "For --policy openpi: seconds to wait for each server's /healthz before giving up")
-      ->check(NumberIn(0.001, 86400))
-      ->capture_default_str();
-  eval->add_option("--reply-timeout", options->cell.reply_timeout_s,
-                   "For --policy openpi: seconds to wait for each reply before the cell stops (a server's first\n"
-                   "inference may compile its model)")
-      ->check(NumberIn(0.001, 86400))
-      ->capture_default_str();
-  eval->add_option("--max-reply-mb", options->cell.max_reply_mb,
-                   "For --policy openpi: the largest reply accepted, in MiB; a longer one ends its episode as\n"
-                   "invalid_action, read no further (the default holds a 100,000-row float64 chunk)")
-      ->check(NumberIn(0.001, 4096))
-      ->capture_default_str();
-  eval->add_option("--actions", options->cell.actions_file,
-                   "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
-                   "episode; or a folder of episode_<i>.csv (a served cell's DIR/actions), episode i playing its own");
-  eval->add_option(
-          "--expert-hz", options->cell.expert_hz,
-          "For --policy expert: 60 (its action may change every control tick) or 20 (held for three ticks, as\n"
-          "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv, which\n"
-          "--policy replay --actions DIR/actions plays back exactly)")
-      ->capture_default_str();
-  eval->add_option("--episodes", options->cell.episodes, "Episodes in the cell")
-      ->check(IntegerIn(1, 100000000))
-      ->capture_default_str();
-  eval->add_option("--episode", options->cell.episode_start,
-                   "Run only episode I of the seed: the scene, and with a folder of --actions the actions, it has in\n"
-                   "the full cell (replaces --episodes; the cell's one record is episode I)")
-      ->check(IntegerIn(0, 100000000))
-      ->excludes("--episodes");
-  AddSeedOption(*eval, options->cell.seed, "Seed: episode i draws its randomness from (seed, i)");
-  eval->add_option("--envs", options->cell.envs,
-                   "Parallel env slots stepped lock-step, for a served policy (default: 32, or 6 per\n"
-                   "thread when that is more: 96 on 16 threads); a built-in policy runs one slot per thread instead,\n"
-                   "rendered or not (results do not depend on it)")
-      ->check(IntegerIn(1, 4096));
   eval->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
-  eval->add_option("--render-cameras", options->render_cameras,
-                   "Comma-separated cameras to render on every policy tick (20 Hz) even if the policy uses no\n"
-                   "images, e.g. head,left_wrist,right_wrist (known: head, fixed, left_wrist, right_wrist); the\n"
-                   "images are discarded: for measuring throughput with rendering");
-  eval->add_option("--image-size", options->image_size,
-                   "Size of the policy's images, WIDTHxHEIGHT (default: the observation keys' size for --policy\n"
-                   "openpi: 320x240 for tavis, 224x224 for libero and aloha, the dataset's with --match-dataset;\n"
-                   "otherwise the reference's 640x480)");
-  eval->add_option("--videos", options->videos.episodes,
-                   "Film the cell's first N episodes (episode indices from the first of the cell, --episode's with\n"
-                   "--episode) as DIR/videos/episode_<i>.mp4 at 20 fps: the policy's cameras tiled with the fixed\n"
-                   "camera, the step and the prompt over them, the end held one second with the outcome and GALT.\n"
-                   "Rendered apart from the policy's images; the records do not change")
-      ->check(IntegerIn(0, 100000000))
-      ->capture_default_str();
-  eval->add_option("--video-cameras", options->video_cameras,
-                   "For --videos: the cameras shown, comma-separated (head, fixed, left_wrist, right_wrist); default:\n"
-                   "the policy's cameras under --camera (head or fixed, and the wrists), then the fixed camera");
-  eval->add_option("--video-size", options->video_size,
-                   "For --videos: each camera's size in the frame, WIDTHxHEIGHT, even")
-      ->capture_default_str();
-  eval->add_option("--video-format", options->video_format,
-                   "For --videos: mp4 (H.264), or png (DIR/videos/episode_<i>/frame_<k>.png, one per policy step and\n"
-                   "the end)")
-      ->capture_default_str();
-  eval->add_option("--record", options->record.root,
-                   "Also write the cell's episodes, failed ones too, as a LeRobot v3.0 dataset in DIR (new or empty):\n"
-                   "per 20 Hz policy step the observation the policy was given and the action it stepped with (its\n"
-                   "cameras rendered apart at --record-size), and DIR/tavis_rollouts.jsonl with each episode's record");
-  eval->add_option("--record-cameras", options->record_cameras,
-                   "For --record: the cameras stored, comma-separated; default: the policy's cameras under --camera\n"
-                   "(the observation contract's head or fixed, and the wrists, for a policy that takes no images)");
-  eval->add_option("--record-size", options->record_size, "For --record: the stored images' size, WIDTHxHEIGHT")
-      ->capture_default_str();
+  // The settings taken in another form than their own option: a comma list, two sizes in one.
+  const batch::cell::CellSetting& render_cameras = batch::cell::CellSettingNamed("render_cameras");
+  eval->add_option(render_cameras.flag, options->render_cameras, render_cameras.help);
+  const batch::cell::CellSetting& image_size = batch::cell::CellSettingNamed("image_width");
+  eval->add_option(image_size.flag, options->image_size, image_size.help);
+  AddRolloutOptions(*eval, *options);
   eval->add_option("--out", options->out,
                    "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
   AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet,
                  "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
-  eval->add_flag("--profile", options->cell.profile,
-                 "Time every stage (actions/IK, physics, neck, task, reset, render, policy, recording) and\n"
-                 "episode; print the shares, the critical path (unlimited threads) and thread-count\n"
-                 "estimates, and write DIR/profile.json");
   eval->add_flag("--overwrite", options->overwrite,
                  "Replace the cell already in --out (only a folder tavis wrote as a cell; the old cell stays\n"
                  "until the new one has recorded its first episode)");
@@ -431,54 +352,18 @@ void RegisterEvalCommand(CLI::App& app) {
     if (eval->count("--out") > 0 && options->out.empty()) {
       throw std::invalid_argument("--out must name a folder, got an empty string");
     }
-    if (eval->count("--actions") > 0 && !batch::IsPolicy(options->cell.policy, batch::PolicyKind::kReplay)) {
-      throw std::invalid_argument("--actions '" + options->cell.actions_file +
-                                  "' applies to --policy replay only, got --policy " + options->cell.policy);
-    }
-    if (!batch::IsPolicy(options->cell.policy, batch::PolicyKind::kOpenpi)) {
-      for (const char* served_only : {"--serving", "--keys", "--replan-steps", "--match-dataset", "--server-timeout",
-                                      "--reply-timeout", "--max-reply-mb"}) {
-        if (eval->count(served_only) > 0) {
-          throw std::invalid_argument(std::string(served_only) + " applies to --policy openpi only, got --policy " +
-                                      options->cell.policy);
-        }
-      }
-    }
-    if (eval->count("--episode") > 0) {
+    RefuseOptionsOfOtherPolicies(*eval, options->cell.policy);
+    if (eval->count(FlagOf("episode_start")) > 0) {
       if (!options->suite.empty()) throw std::invalid_argument("--episode runs one cell's episode, not a --suite");
       options->cell.episodes = 1;
       options->cell.first_episode = options->cell.episode_start;
       options->one_episode = true;
     }
-    for (const char* video_only : {"--video-cameras", "--video-size", "--video-format"}) {
-      if (eval->count(video_only) > 0 && options->videos.episodes == 0) {
-        throw std::invalid_argument(std::string(video_only) + " applies to --videos N (N >= 1), which is not given");
-      }
-    }
-    if (!options->video_cameras.empty()) options->videos.cameras = batch::ParseCameraList(options->video_cameras);
-    if (eval->count("--video-size") > 0) {
-      std::tie(options->videos.tile_width, options->videos.tile_height) = ParseImageSize(options->video_size);
-    }
-    options->videos.format = batch::rollout::ParseVideoFormat(options->video_format);
-    for (const char* record_only : {"--record-cameras", "--record-size"}) {
-      if (eval->count(record_only) > 0 && options->record.root.empty()) {
-        throw std::invalid_argument(std::string(record_only) + " applies to --record DIR, which is not given");
-      }
-    }
-    if (eval->count("--record") > 0) {
-      if (options->record.root.empty()) throw std::invalid_argument("--record must name a folder, got an empty string");
-      if (!options->suite.empty()) throw std::invalid_argument("--record writes one cell's dataset, not a --suite's");
-      if (options->resume)
-        throw std::invalid_argument("--record cannot --resume: the dataset holds the episodes of one run");
-      if (!options->record_cameras.empty()) options->record.cameras = batch::ParseCameraList(options->record_cameras);
-      std::tie(options->record.width, options->record.height) = ParseImageSize(options->record_size);
-      batch::rollout::ValidateRolloutDatasetSettings(options->record);
-    }
-    options->cell.serving = batch::remote::ParseServingMode(options->serving);
-    options->cell.observation_keys_given = eval->count("--keys") > 0;
-    options->task_given = eval->count("--task") > 0;
-    options->image_size_given = eval->count("--image-size") > 0;
-    options->envs_given = eval->count("--envs") > 0;
+    ReadRolloutOptions(*eval, *options);
+    options->cell.observation_keys_given = eval->count(FlagOf("observation_keys")) > 0;
+    options->task_given = eval->count(FlagOf("task")) > 0;
+    options->image_size_given = eval->count(FlagOf("image_width")) > 0;
+    options->envs_given = eval->count(FlagOf("envs")) > 0;
     RunEval(*options);
   });
 }

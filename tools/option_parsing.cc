@@ -59,6 +59,10 @@ double ParseNumberInRange(const std::string& option, const std::string& text, do
   return value;
 }
 
+void ThrowNamingFlag(const batch::output::SettingError& error, const std::string& flag) {
+  throw std::invalid_argument(flag + " " + error.problem());
+}
+
 void RequireConfigDir(const std::string& dir) {
   std::error_code error;
   if (!fs::is_directory(dir, error)) {

@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "batch/output/setting_error.h"
+
 namespace tavis::tools {
 
 // "224x224" -> (224, 224); throws std::invalid_argument naming the value.
@@ -28,6 +30,10 @@ double ParseNumberInRange(const std::string& option, const std::string& text, do
 CLI::Validator IntegerIn(int64_t low, int64_t high);
 // The same for a number (seconds, rates): finite, within [low, high].
 CLI::Validator NumberIn(double low, double high);
+
+// The library names a bad setting by its key; a command names the flag the user typed:
+// std::invalid_argument("FLAG PROBLEM").
+[[noreturn]] void ThrowNamingFlag(const batch::output::SettingError& error, const std::string& flag);
 
 // Throws std::invalid_argument unless `dir` is a folder holding robots/*.yaml, so that a wrong
 // --config-dir is reported as such rather than as an unknown robot.

@@ -250,8 +250,8 @@ int AuditResult::Fixated(int object) const {
 
 AuditResult RunVisibilityAudit(const AuditConfig& config, const ProgressCallback& progress) {
   if (config.episodes < 1)
-    throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
-  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
+    throw std::invalid_argument("episodes must be at least 1, got " + std::to_string(config.episodes));
+  if (config.envs < 1) throw std::invalid_argument("envs must be at least 1, got " + std::to_string(config.envs));
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
   if (scenario.make_expert == nullptr)
     throw std::invalid_argument("task '" + config.task + "' has no scripted expert to audit");

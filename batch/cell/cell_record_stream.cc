@@ -11,13 +11,11 @@
 #include "batch/cell/cell_report.h"
 #include "batch/cell/stage_record.h"
 #include "batch/output/atomic_file.h"
-#include "batch/output/config_identity.h"
 #include "batch/output/json_error_text.h"
 #include "batch/output/output_folder.h"
 #include "batch/output/settings_difference.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
-#include "scenarios/split.h"
 
 namespace tavis::batch::cell {
 namespace {
@@ -44,41 +42,25 @@ double ParseActionValue(const nlohmann::json& value) {
   return 0.0;
 }
 
+nlohmann::json SettingsJson(const EvaluationCellConfig& config, const std::vector<PerturbationLevel>& levels,
+                            const nlohmann::json& identity) {
+  nlohmann::json settings =
+      RecordedSettingsJson(config, CellRecord::kCellJson, IsPolicy(config.policy, PolicyKind::kOpenpi));
+  // Only a perturbed cell names its perturbations, each level with its settings as read (so an
+  // edited level file is a different setting): a base cell's cell.json is as it was.
+  if (settings.contains("perturbations")) settings["perturbations"] = PerturbationsJson(levels);
+  settings["identity"] = identity;
+  return settings;
+}
+
 }  // namespace
 
+nlohmann::json CellSettingsJson(const CellPlan& plan) {
+  return SettingsJson(plan.config, plan.perturbations, plan.identity);
+}
+
 nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
-  nlohmann::json settings = {
-      {"task", config.task},
-      {"robot", config.robot},
-      {"split", scenarios::ToString(config.split)},
-      {"camera", ToString(config.camera)},
-      {"policy", config.policy},
-      {"actions_file", config.actions_file},
-      {"expert_hz", config.expert_hz},
-      {"servers", config.servers},
-      {"replan_steps", config.replan_steps},
-      {"observation_keys", config.observation_keys},
-      {"observation_dataset", config.observation_dataset},
-      {"episodes", config.episodes},
-      {"seed", config.seed},
-      {"render_cameras", config.render_cameras},
-      {"image_width", config.image_width},
-      {"image_height", config.image_height},
-      {"identity",
-       output::ConfigIdentityJson(config.config_dir, config.robot,
-                                  IsPolicy(config.policy, PolicyKind::kOpenpi) ? config.observation_keys : "")}};
-  // Only a cell that does not start at episode 0 names its start, so cells written before it
-  // existed still resume.
-  if (config.episode_start != 0) settings["episode_start"] = config.episode_start;
-  // Only the expert has a mode; it decides the expert's records, so a resume must keep it.
-  if (IsPolicy(config.policy, PolicyKind::kExpert))
-    settings["expert_mode"] = scenarios::expert::ToString(config.expert_mode);
-  // Only a perturbed cell names its perturbations (with each level's settings, so an edited level
-  // file is a different setting): a base cell's cell.json is as it was.
-  if (!config.perturbations.empty()) {
-    settings["perturbations"] = PerturbationsJson(ResolvePerturbations(config.config_dir, config.perturbations));
-  }
-  return settings;
+  return SettingsJson(config, ResolvePerturbations(config.config_dir, config.perturbations), CellIdentityJson(config));
 }
 
 EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
@@ -104,10 +86,10 @@ EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
   return record;
 }
 
-CellRecordStream::CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume)
-    : dir_(std::move(dir)), seed_(config.seed), episode_start_(config.episode_start) {
+CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool resume)
+    : dir_(std::move(dir)), seed_(plan.config.seed), episode_start_(plan.config.episode_start) {
   const fs::path cell_json = fs::path(dir_) / "cell.json";
-  const nlohmann::json settings = CellSettingsJson(config);
+  const nlohmann::json settings = CellSettingsJson(plan);
   const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
   if (resume) {
     if (!fs::exists(cell_json)) throw std::invalid_argument("--resume: " + dir_ + " holds no cell (no cell.json)");

@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/cell/cell_plan.h"
 #include "batch/cell/episode_recorder.h"
-#include "batch/cell/evaluation_cell.h"
 
 namespace tavis::batch::cell {
 
@@ -25,7 +25,7 @@ class CellRecordStream {
   // settings) and no summary.json; its complete lines are read back and a torn last line is cut.
   // Throws std::invalid_argument naming DIR and what is wrong, std::runtime_error when it cannot
   // be written.
-  CellRecordStream(std::string dir, const EvaluationCellConfig& config, bool resume);
+  CellRecordStream(std::string dir, const CellPlan& plan, bool resume);
   ~CellRecordStream();
   CellRecordStream(const CellRecordStream&) = delete;
   CellRecordStream& operator=(const CellRecordStream&) = delete;
@@ -52,7 +52,12 @@ class CellRecordStream {
   int64_t written_ = 0;
 };
 
-// The settings that decide a cell's records (cell.json), not how it ran (envs, threads).
+// The settings that decide a cell's records (cell.json), not how it ran (envs, threads): those the
+// table records in cell.json (cell_settings.h), each perturbation level with its settings, and
+// the identity of the files behind them.
+nlohmann::json CellSettingsJson(const CellPlan& plan);
+// The same for a cell that is not planned (one read back when finished, whose policy's files, an
+// actions CSV or a dataset, need not be here): its perturbation levels and identity read now.
 nlohmann::json CellSettingsJson(const EvaluationCellConfig& config);
 
 // An episodes.jsonl line read back; throws std::invalid_argument naming the bad field.

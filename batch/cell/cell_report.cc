@@ -16,7 +16,6 @@
 #include "batch/cell/stage_record.h"
 #include "batch/cell/statistics.h"
 #include "batch/output/atomic_file.h"
-#include "batch/policy_kinds.h"
 #include "batch/remote/value_json.h"
 
 namespace tavis::batch::cell {
@@ -114,15 +113,10 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
   const EvaluationCellConfig& config = result.config;
   const int n = static_cast<int>(result.episodes.size());
   const ProportionInterval ci = WilsonInterval(result.successes, n);
-  nlohmann::json summary = {
-      {"task", config.task},
-      {"robot", config.robot},
-      {"split", scenarios::ToString(config.split)},
-      {"camera", ToString(config.camera)},
-      {"policy", config.policy},
-      {"actions_file", config.actions_file.empty() ? nlohmann::json() : nlohmann::json(config.actions_file)},
-      {"expert_hz", config.expert_hz},
-      {"seed", config.seed},
+  // The settings summary.json records (cell_settings.h), then the results.
+  nlohmann::json summary = RecordedSettingsJson(config, CellRecord::kSummary, result.requests.has_value());
+  if (config.actions_file.empty()) summary["actions_file"] = nullptr;  // as summaries have always said
+  const nlohmann::json results = {
       {"n_episodes", n},
       {"n_successful", result.successes},
       {"success_rate", n > 0 ? static_cast<double>(result.successes) / n : 0.0},
@@ -139,7 +133,6 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
       {"envs", result.envs},
       {"threads", info.threads},
       {"resumed_episodes", info.resumed_episodes},
-      {"config_dir", config.config_dir},
       {"control_ticks", result.control_ticks},
       {"control_ticks_per_s", result.wall_s > 0 ? static_cast<double>(result.control_ticks) / result.wall_s : 0.0},
       {"render",
@@ -148,9 +141,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
         {"height", result.render_height},
         {"images", result.rendered_images}}},
   };
-  if (IsPolicy(config.policy, PolicyKind::kExpert))
-    summary["expert_mode"] = scenarios::expert::ToString(config.expert_mode);
-  if (!config.perturbations.empty()) summary["perturbations"] = config.perturbations;
+  summary.update(results);
   // null under the fixed protocol, where no GALT is computed (as in the reference).
   summary["galt"] =
       !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps) : nlohmann::json();
@@ -158,18 +149,12 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
   }
   if (result.requests) {
-    summary["servers"] = config.servers;
     nlohmann::json metadata = nlohmann::json::array();
     for (const remote::Value& message : result.server_metadata) metadata.push_back(remote::ToJson(message));
     summary["server_metadata"] = metadata;
     summary["observation_keys"] = result.observation_keys_source;
-    summary["serving"] = remote::ToString(config.serving);
-    if (!config.observation_dataset.empty()) {
-      summary["observation_dataset"] = config.observation_dataset;
-      summary["layout_differences"] = result.layout_differences;
-    }
+    if (!config.observation_dataset.empty()) summary["layout_differences"] = result.layout_differences;
     summary["policy_image"] = {{"width", config.image_width}, {"height", config.image_height}};
-    summary["replan_steps"] = config.replan_steps;
     const std::vector<int>& batch_sizes = result.requests->envs_per_request;
     int64_t env_requests = 0;
     for (int envs : batch_sizes) env_requests += envs;

@@ -15,6 +15,7 @@
 #include "batch/dataset/lerobot_writer.h"
 #include "batch/episode_driver.h"
 #include "batch/output/config_identity.h"
+#include "batch/output/setting_error.h"
 #include "batch/output/settings_difference.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/scene_render.h"
@@ -26,6 +27,9 @@ namespace tavis::batch::dataset {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The counts' upper bound (a count beyond it is a mistake, not a dataset).
+constexpr double kMaxCount = 1e9;
 
 // Where kept episodes wait, durable, until the dataset is finished (episode_spool.h).
 constexpr const char* kSpoolFolder = ".tavis_spool";
@@ -108,47 +112,7 @@ int64_t DirectoryBytes(const std::string& root) {
   return bytes;
 }
 
-}  // namespace
-
-void ValidateDemoConfig(const DemoConfig& config) {
-  if (config.tasks.empty()) throw std::invalid_argument("no task to record");
-  for (const std::string& task : config.tasks) {
-    if (scenarios::FindScenario(task).make_expert == nullptr) {
-      throw std::invalid_argument("task '" + task + "' has no scripted expert to record");
-    }
-  }
-  if (config.episodes < 1)
-    throw std::invalid_argument("--episodes must be at least 1, got " + std::to_string(config.episodes));
-  if (config.max_attempts < 0)
-    throw std::invalid_argument("--max-attempts must be >= 0, got " + std::to_string(config.max_attempts));
-  if (config.max_attempts > 0 && config.max_attempts < config.episodes) {
-    throw std::invalid_argument("--max-attempts " + std::to_string(config.max_attempts) + " is below --episodes " +
-                                std::to_string(config.episodes));
-  }
-  if (config.envs < 1) throw std::invalid_argument("--envs must be at least 1, got " + std::to_string(config.envs));
-  if (config.fps != 60 && config.fps != 20)
-    throw std::invalid_argument("--fps must be 60 or 20, got " + std::to_string(config.fps));
-  if (config.expert_hz != 60 && config.expert_hz != 20) {
-    throw std::invalid_argument("--expert-hz must be 60 or 20, got " + std::to_string(config.expert_hz));
-  }
-  batch::CameraSettings cameras;
-  cameras.cameras = config.cameras;
-  cameras.width = config.video.width;
-  cameras.height = config.video.height;
-  batch::ValidateCameraSettings(cameras);
-  for (const std::string& camera : config.cameras) CameraVideoKey(camera);
-  for (const std::string& choice : config.perturbations) batch::ParsePerturbationChoice(choice);
-  video::VideoSettings video = config.video;
-  video.fps = config.fps;
-  video::ValidateVideoSettings(video, "--image-size/--codec/--crf");
-}
-
-DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
-  ValidateDemoConfig(config);
-  const kinematics::RobotModel robot =
-      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
-  const Clock::time_point start = Clock::now();
-
+DatasetLayout DemoLayout(const DemoConfig& config, const kinematics::RobotModel& robot) {
   DatasetLayout layout;
   layout.version = config.version;
   layout.fps = config.fps;
@@ -158,6 +122,135 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   layout.video.fps = config.fps;
   layout.state_names = StateNames(robot);
   for (const std::string& task : config.tasks) layout.tasks.push_back(scenarios::FindScenario(task).class_name);
+  return layout;
+}
+
+// One recording's run: its settings, where its episodes go and what it reports.
+struct DemoSession {
+  const DemoConfig& config;
+  const DemoProgress& progress;
+  const DatasetLayout& layout;
+  EpisodeSpool& spool;
+  DatasetWriter& writer;
+  DemoReport& report;
+};
+
+// The spooled episodes, handed to the writer first: each task's count, where it goes on (after its
+// last kept one) and the failures before that, so that its report equals an uninterrupted
+// recording's.
+std::vector<DemoTaskReport> TakeSpooledEpisodes(DemoSession& session) {
+  std::vector<DemoTaskReport> tasks(session.config.tasks.size());
+  for (int64_t n = 0; n < session.spool.count(); ++n) {
+    const SpooledEpisode spooled = session.spool.Load(n);
+    DemoTaskReport& task = tasks[static_cast<std::size_t>(spooled.episode.task_index)];
+    session.writer.Add(spooled.episode);
+    ++task.written;
+    task.attempts = spooled.episode.source_episode + 1;
+    task.failures = spooled.task_failures_before;
+    ++session.report.resumed;
+  }
+  return tasks;
+}
+
+// Records the task's missing episodes in rounds of as many attempts as are still missing, until it
+// has its N or has run out of attempts (std::runtime_error; what is kept stays for a resume).
+void RecordTask(DemoSession& session, const kinematics::RobotModel& robot, std::size_t task_index,
+                DemoTaskReport task) {
+  const DemoConfig& config = session.config;
+  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.tasks[task_index]);
+  task.task = scenario.name;
+  const int cap = config.max_attempts > 0 ? config.max_attempts : 2 * config.episodes + 20;
+  const int slots = std::min(config.envs, config.episodes);
+  engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
+  batch::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
+  batch::VecEnv vec_env(std::move(model), scenario, config.split, slots, config.seed);
+  const int control_hz = static_cast<int>(vec_env.model().physics.control_hz + 0.5);
+  const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, vec_env.model(), slots, config.expert_mode,
+                                                            control_hz / config.expert_hz);
+  DemoRecording recording;
+  recording.cameras = config.cameras;
+  recording.video = session.layout.video;
+  recording.stride = control_hz / config.fps;
+  recording.task_index = static_cast<int>(task_index);
+  // The round's recorder: it hands episodes over in order, so when it keeps one its failures()
+  // are those of this round's episodes before it.
+  const DemoRecorder* round_recorder = nullptr;
+  const DemoRecorder::Keep keep = [&](RecordedEpisode&& episode) {
+    if (task.written >= config.episodes) {
+      ++task.surplus;
+      return;
+    }
+    const Clock::time_point write_start = Clock::now();
+    std::map<std::string, int64_t> failures_before = task.failures;
+    for (const auto& [end, count] : round_recorder->failures()) failures_before[end] += count;
+    session.spool.Save(episode, failures_before);
+    session.writer.Add(episode);
+    session.report.write_s += SecondsSince(write_start);
+    ++task.written;
+    if (session.progress) session.progress(task.task, task.written, config.episodes);
+  };
+  while (task.written < config.episodes && task.attempts < cap) {
+    const int64_t round = std::min<int64_t>(config.episodes - task.written, cap - task.attempts);
+    DemoRecorder recorder(vec_env, recording, task.attempts, keep);
+    round_recorder = &recorder;
+    batch::EpisodeDriver driver(vec_env, *expert, round, task.attempts);
+    driver.AddSink(recorder);
+    if (config.lock_step) driver.RequireLockStep();
+    driver.Run();
+    task.attempts += round;
+    for (const auto& [end, count] : recorder.failures()) task.failures[end] += count;
+    session.report.render_s += recorder.times().render_s;
+    session.report.encode_s += recorder.times().encode_s;
+    session.report.capture_s += recorder.times().capture_s;
+  }
+  session.report.tasks.push_back(task);
+  if (task.written < config.episodes) {
+    throw std::runtime_error(
+        "task " + task.task + ": only " + std::to_string(task.written) + " of " + std::to_string(config.episodes) +
+        " episodes succeeded in " + std::to_string(task.attempts) +
+        " attempts (--max-attempts); the episodes recorded so far are kept: --resume with a larger "
+        "--max-attempts finishes the dataset");
+  }
+}
+
+}  // namespace
+
+void ValidateDemoConfig(const DemoConfig& config) {
+  if (config.tasks.empty()) throw std::invalid_argument("no task to record");
+  for (const std::string& task : config.tasks) {
+    if (scenarios::FindScenario(task).make_expert == nullptr) {
+      throw std::invalid_argument("task '" + task + "' has no scripted expert to record");
+    }
+  }
+  // Each setting named by its key in the spool's settings (Fingerprint); `tavis demos` names the
+  // flag that gave it.
+  output::CheckSettingRange("episodes", config.episodes, output::SettingRange::Between(1, kMaxCount));
+  output::CheckSettingRange("max_attempts", config.max_attempts, output::SettingRange::Between(0, kMaxCount));
+  if (config.max_attempts > 0 && config.max_attempts < config.episodes) {
+    throw output::SettingError("max_attempts", std::to_string(config.max_attempts) + " is below episodes " +
+                                                   std::to_string(config.episodes) + " (0: 2 x episodes + 20)");
+  }
+  output::CheckSettingRange("envs", config.envs, output::SettingRange::Between(1, kMaxCount));
+  output::CheckSettingRange("fps", config.fps, output::SettingRange::OneOf({60, 20}));
+  output::CheckSettingRange("expert_hz", config.expert_hz, output::SettingRange::OneOf({60, 20}));
+  batch::CameraSettings cameras;
+  cameras.cameras = config.cameras;
+  cameras.width = config.video.width;
+  cameras.height = config.video.height;
+  batch::ValidateCameraSettings(cameras);
+  for (const std::string& camera : config.cameras) CameraVideoKey(camera);
+  for (const std::string& choice : config.perturbations) batch::ParsePerturbationChoice(choice);
+  video::VideoSettings video = config.video;
+  video.fps = config.fps;
+  video::ValidateVideoSettings(video, "video");
+}
+
+DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
+  ValidateDemoConfig(config);
+  const kinematics::RobotModel robot =
+      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const Clock::time_point start = Clock::now();
+  const DatasetLayout layout = DemoLayout(config, robot);
   EpisodeSpool spool(config.out + "/" + kSpoolFolder, layout);
   if (config.resume) {
     CheckResumable(config, spool);
@@ -167,82 +260,11 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   }
   spool.SaveProgress({{"settings", Fingerprint(config)}});
   const std::unique_ptr<DatasetWriter> writer = MakeDatasetWriter(config.out, layout);
-
   DemoReport report;
-  // The spooled episodes first: each task's count, where it goes on (after its last kept one) and
-  // the failures before that, so that its report equals an uninterrupted recording's.
-  std::vector<int64_t> written(config.tasks.size(), 0), next_episode(config.tasks.size(), 0);
-  std::vector<std::map<std::string, int64_t>> failures(config.tasks.size());
-  for (int64_t n = 0; n < spool.count(); ++n) {
-    const SpooledEpisode spooled = spool.Load(n);
-    const std::size_t task_index = static_cast<std::size_t>(spooled.episode.task_index);
-    writer->Add(spooled.episode);
-    ++written[task_index];
-    next_episode[task_index] = spooled.episode.source_episode + 1;
-    failures[task_index] = spooled.task_failures_before;
-    ++report.resumed;
-  }
-
-  const int cap = config.max_attempts > 0 ? config.max_attempts : 2 * config.episodes + 20;
+  DemoSession session{config, progress, layout, spool, *writer, report};
+  const std::vector<DemoTaskReport> spooled = TakeSpooledEpisodes(session);
   for (std::size_t task_index = 0; task_index < config.tasks.size(); ++task_index) {
-    const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.tasks[task_index]);
-    DemoTaskReport task;
-    task.task = scenario.name;
-    task.written = written[task_index];
-    task.attempts = next_episode[task_index];
-    task.failures = failures[task_index];
-    const int slots = std::min(config.envs, config.episodes);
-    engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
-    batch::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
-    batch::VecEnv vec_env(std::move(model), scenario, config.split, slots, config.seed);
-    const int control_hz = static_cast<int>(vec_env.model().physics.control_hz + 0.5);
-    const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, vec_env.model(), slots, config.expert_mode,
-                                                              control_hz / config.expert_hz);
-    DemoRecording recording;
-    recording.cameras = config.cameras;
-    recording.video = layout.video;
-    recording.stride = static_cast<int>(vec_env.model().physics.control_hz + 0.5) / config.fps;
-    recording.task_index = static_cast<int>(task_index);
-    // The round's recorder: it hands episodes over in order, so when it keeps one its failures()
-    // are those of this round's episodes before it.
-    const DemoRecorder* round_recorder = nullptr;
-    const DemoRecorder::Keep keep = [&](RecordedEpisode&& episode) {
-      if (task.written >= config.episodes) {
-        ++task.surplus;
-        return;
-      }
-      const Clock::time_point write_start = Clock::now();
-      std::map<std::string, int64_t> failures_before = task.failures;
-      for (const auto& [end, count] : round_recorder->failures()) failures_before[end] += count;
-      spool.Save(episode, failures_before);
-      writer->Add(episode);
-      report.write_s += SecondsSince(write_start);
-      ++task.written;
-      if (progress) progress(task.task, task.written, config.episodes);
-    };
-    // Rounds of as many attempts as episodes are still missing, until the task has its N.
-    while (task.written < config.episodes && task.attempts < cap) {
-      const int64_t round = std::min<int64_t>(config.episodes - task.written, cap - task.attempts);
-      DemoRecorder recorder(vec_env, recording, task.attempts, keep);
-      round_recorder = &recorder;
-      batch::EpisodeDriver driver(vec_env, *expert, round, task.attempts);
-      driver.AddSink(recorder);
-      if (config.lock_step) driver.RequireLockStep();
-      driver.Run();
-      task.attempts += round;
-      for (const auto& [end, count] : recorder.failures()) task.failures[end] += count;
-      report.render_s += recorder.times().render_s;
-      report.encode_s += recorder.times().encode_s;
-      report.capture_s += recorder.times().capture_s;
-    }
-    report.tasks.push_back(task);
-    if (task.written < config.episodes) {
-      throw std::runtime_error(
-          "task " + task.task + ": only " + std::to_string(task.written) + " of " + std::to_string(config.episodes) +
-          " episodes succeeded in " + std::to_string(task.attempts) +
-          " attempts (--max-attempts); the episodes recorded so far are kept: --resume with a larger "
-          "--max-attempts finishes the dataset");
-    }
+    RecordTask(session, robot, task_index, spooled[task_index]);
   }
   const Clock::time_point finish_start = Clock::now();
   writer->Finish();

@@ -70,7 +70,7 @@ RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
     : options_(std::move(options)), queues_(static_cast<std::size_t>(num_envs)) {
   if (options_.servers.empty()) throw std::invalid_argument("a served policy needs at least one server URL");
   if (options_.replan_steps < 0) {
-    throw std::invalid_argument("--replan-steps must be >= 0 (0: the whole chunk), got " +
+    throw std::invalid_argument("replan_steps must be at least 0 (0: the whole chunk), got " +
                                 std::to_string(options_.replan_steps));
   }
   const int sessions = options_.mode == ServingMode::kPerEnv ? num_envs : static_cast<int>(options_.servers.size());
@@ -85,7 +85,7 @@ RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
             "policy server " + options_.servers[i] + " does not declare \"" +
             batch::contract::kBatchedRequestsMetadata +
             "\": true in its metadata, so it may not understand batched requests; serve it with "
-            "--serving serial or per-env");
+            "serving serial or per-env");
       }
     }
   }

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <filesystem>
 #include <stdexcept>
+#include <type_traits>
+#include <variant>
 
 #include "batch/action_csv.h"
 #include "batch/builtin_policies.h"
@@ -30,28 +32,82 @@ void ReadCellFilter(const YamlValue& cells, const std::vector<std::string>& know
   cells.ExpectNoOtherKeys();
 }
 
+// The key a setting has in a spec's policy entry.
+std::string SpecKey(const char* setting) { return cell::CellSettingNamed(setting).spec_key; }
+
+// A spec's value of a setting, read as the setting's type allows; the error names the key.
+void ReadSpecSetting(const YamlValue& value, const cell::CellSetting& setting, cell::EvaluationCellConfig& settings) {
+  std::visit(
+      [&](auto member) {
+        using T = std::decay_t<decltype(settings.*member)>;
+        if constexpr (std::is_same_v<T, std::string>) {
+          settings.*member = value.AsString();
+        } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+          settings.*member = value.AsStrings();
+        } else if constexpr (std::is_same_v<T, int>) {
+          settings.*member = ReadSettingCount(value, setting.key);
+        } else if constexpr (std::is_same_v<T, double>) {
+          settings.*member = value.AsDouble({setting.range->low, setting.range->high, false, setting.range->unit});
+        } else if constexpr (std::is_enum_v<T>) {
+          try {
+            settings.*member = cell::SettingText<T>::Read(value.AsString());
+          } catch (const std::invalid_argument& error) {
+            value.Fail(error.what());
+          }
+        } else {
+          value.Fail("cannot be given in a sweep spec");  // no such setting has a spec key
+        }
+      },
+      setting.member);
+}
+
+// What the policy needs and what applies to it only: an error names the spec's key.
+void CheckPolicyOptions(const YamlValue& node, const cell::EvaluationCellConfig& settings) {
+  const std::string& name = settings.policy;
+  if (!IsPolicy(name, PolicyKind::kOpenpi)) {
+    try {
+      CheckBuiltinPolicyName(name);
+    } catch (const std::invalid_argument&) {
+      node.Required(SpecKey("policy")).Fail("unknown policy '" + name + "' (known: " + cell::CellPolicyNames() + ")");
+    }
+  }
+  if (IsPolicy(name, PolicyKind::kReplay) && settings.actions_file.empty())
+    node.Fail("policy 'replay' needs " + SpecKey("actions_file") + ": FILE.csv");
+  if (IsPolicy(name, PolicyKind::kOpenpi) && settings.servers.empty())
+    node.Fail("policy 'openpi' needs " + SpecKey("servers") + ": [ws://HOST:PORT, ...]");
+  for (const cell::CellSetting& setting : cell::CellSettings()) {
+    if (setting.spec_key == nullptr || !node.Optional(setting.spec_key) || cell::SettingApplies(setting.scope, name))
+      continue;
+    node.Required(setting.spec_key)
+        .Fail(std::string("applies to policy '") + cell::ScopePolicyName(setting.scope) + "' only, got policy '" +
+              name + "'");
+  }
+}
+
 // The files a policy names, read as its cells will read them; an error names the spec's key.
-void CheckPolicyFiles(const YamlValue& node, const PolicySpec& policy, const std::string& config_dir) {
-  if (!policy.actions_file.empty()) {
+void CheckPolicyFiles(const YamlValue& node, const cell::EvaluationCellConfig& settings,
+                      const std::string& config_dir) {
+  if (!settings.actions_file.empty()) {
     try {
-      ReadActionCsv(policy.actions_file);
+      ReadActionCsv(settings.actions_file);
     } catch (const std::exception& error) {
-      node.Required("actions").Fail(error.what());
+      node.Required(SpecKey("actions_file")).Fail(error.what());
     }
   }
-  if (policy.observation_keys_given) {
+  if (settings.observation_keys_given) {
     try {
-      remote::LoadObservationKeys(policy.observation_keys, config_dir);
+      remote::LoadObservationKeys(settings.observation_keys, config_dir);
     } catch (const std::exception& error) {
-      node.Required("keys").Fail(error.what());
+      node.Required(SpecKey("observation_keys")).Fail(error.what());
     }
   }
-  if (!policy.match_dataset.empty()) {
-    const std::filesystem::path info = std::filesystem::path(policy.match_dataset) / "meta" / "info.json";
+  const std::string& dataset = settings.observation_dataset;
+  if (!dataset.empty()) {
+    const std::filesystem::path info = std::filesystem::path(dataset) / "meta" / "info.json";
     const std::string not_a_file = configs::WhyNotARegularFile(info);
     if (!not_a_file.empty()) {
-      node.Required("match_dataset")
-          .Fail("'" + policy.match_dataset + "' is not a LeRobot dataset: " + info.string() + ": " + not_a_file);
+      node.Required(SpecKey("observation_dataset"))
+          .Fail("'" + dataset + "' is not a LeRobot dataset: " + info.string() + ": " + not_a_file);
     }
   }
 }
@@ -67,13 +123,18 @@ bool IsValidLabel(const std::string& label) {
 PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std::vector<std::string>& known_robots,
                           const std::string& config_dir, PolicyFiles files) {
   PolicySpec policy;
-  policy.name = node.String("name");
+  node.Required(SpecKey("policy"));  // every entry names its policy
+  for (const cell::CellSetting& setting : cell::CellSettings()) {
+    if (setting.spec_key == nullptr) continue;
+    if (const auto value = node.Optional(setting.spec_key)) ReadSpecSetting(*value, setting, policy.settings);
+  }
+  policy.settings.observation_keys_given = node.Optional(SpecKey("observation_keys")).has_value();
   if (const auto label = node.Optional("label")) {
     policy.label = label->AsString();
   } else if (label_required) {
     node.Fail("needs label: NAME (each policy of policies: is named by its label)");
   } else {
-    policy.label = policy.name;
+    policy.label = policy.settings.policy;
   }
   if (!IsValidLabel(policy.label)) {
     node.Required("label").Fail("must be 1 to 64 letters, digits, '-' or '.', got '" + policy.label + "'");
@@ -84,46 +145,9 @@ PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std:
       group->Fail("must be 1 to 64 letters, digits, '-' or '.', got '" + policy.seed_group + "'");
   }
   if (const auto cells = node.Optional("cells")) ReadCellFilter(*cells, known_robots, policy);
-  if (const auto actions = node.Optional("actions")) policy.actions_file = actions->AsString();
-  if (const auto servers = node.Optional("servers")) policy.servers = servers->AsStrings();
-  if (const auto keys = node.Optional("keys")) {
-    policy.observation_keys = keys->AsString();
-    policy.observation_keys_given = true;
-  }
-  if (const auto dataset = node.Optional("match_dataset")) policy.match_dataset = dataset->AsString();
-  if (const auto serving = node.Optional("serving")) {
-    try {
-      policy.serving = remote::ParseServingMode(serving->AsString());
-    } catch (const std::invalid_argument& error) {
-      serving->Fail(error.what());
-    }
-  }
-  if (const auto replan = node.Optional("replan_steps")) policy.replan_steps = ReadCount(*replan, 0, 1000000);
-  if (const auto timeout = node.Optional("server_timeout_s")) {
-    policy.server_timeout_s = timeout->AsDouble({0.001, 86400.0, false, "s"});
-  }
   node.ExpectNoOtherKeys();
-  const bool served = IsPolicy(policy.name, PolicyKind::kOpenpi);
-  if (!served) {
-    try {
-      CheckBuiltinPolicyName(policy.name);
-    } catch (const std::invalid_argument&) {
-      node.Required("name").Fail("unknown policy '" + policy.name + "' (known: " + cell::CellPolicyNames() + ")");
-    }
-  }
-  if (IsPolicy(policy.name, PolicyKind::kReplay) && policy.actions_file.empty())
-    node.Fail("policy 'replay' needs actions: FILE.csv");
-  if (!IsPolicy(policy.name, PolicyKind::kReplay) && !policy.actions_file.empty()) {
-    node.Required("actions").Fail("applies to policy 'replay' only, got policy '" + policy.name + "'");
-  }
-  if (served && policy.servers.empty()) node.Fail("policy 'openpi' needs servers: [ws://HOST:PORT, ...]");
-  if (!served && !policy.servers.empty())
-    node.Required("servers").Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
-  for (const char* key : {"keys", "replan_steps", "server_timeout_s", "match_dataset", "serving"}) {
-    if (!served && node.Optional(key))
-      node.Required(key).Fail("applies to policy 'openpi' only, got policy '" + policy.name + "'");
-  }
-  if (files == PolicyFiles::kRead) CheckPolicyFiles(node, policy, config_dir);
+  CheckPolicyOptions(node, policy.settings);
+  if (files == PolicyFiles::kRead) CheckPolicyFiles(node, policy.settings, config_dir);
   return policy;
 }
 
@@ -133,15 +157,10 @@ bool PolicySpec::Serves(const cell::EvaluationCellConfig& cell) const {
 }
 
 void PolicySpec::ApplyTo(cell::EvaluationCellConfig& cell) const {
-  cell.policy = name;
-  cell.actions_file = actions_file;
-  cell.servers = servers;
-  cell.replan_steps = replan_steps;
-  cell.observation_keys = observation_keys;
-  cell.observation_keys_given = observation_keys_given;
-  cell.observation_dataset = match_dataset;
-  cell.serving = serving;
-  cell.server_ready_timeout_s = server_timeout_s;
+  for (const cell::CellSetting& setting : cell::CellSettings()) {
+    if (setting.spec_key != nullptr) cell::CopySetting(setting, settings, cell);
+  }
+  cell.observation_keys_given = settings.observation_keys_given;
 }
 
 nlohmann::ordered_json PolicySpecJson(const PolicySpec& policy) {
@@ -149,16 +168,13 @@ nlohmann::ordered_json PolicySpecJson(const PolicySpec& policy) {
   for (const scenarios::Split split : policy.splits) splits.push_back(scenarios::ToString(split));
   nlohmann::ordered_json cameras = nlohmann::ordered_json::array();
   for (const CameraProtocol camera : policy.cameras) cameras.push_back(ToString(camera));
-  return {{"label", policy.label},
-          {"seed_group", policy.seed_group},
-          {"name", policy.name},
-          {"actions", policy.actions_file},
-          {"servers", policy.servers},
-          {"keys", policy.observation_keys},
-          {"replan_steps", policy.replan_steps},
-          {"match_dataset", policy.match_dataset},
-          {"serving", remote::ToString(policy.serving)},
-          {"cells", {{"tasks", policy.tasks}, {"robots", policy.robots}, {"splits", splits}, {"cameras", cameras}}}};
+  nlohmann::ordered_json json = {{"label", policy.label}, {"seed_group", policy.seed_group}};
+  for (const cell::CellSetting& setting : cell::CellSettings()) {
+    if (setting.in_manifest)
+      json[setting.spec_key] = nlohmann::ordered_json(cell::SettingJson(setting, policy.settings));
+  }
+  json["cells"] = {{"tasks", policy.tasks}, {"robots", policy.robots}, {"splits", splits}, {"cameras", cameras}};
+  return json;
 }
 
 }  // namespace tavis::batch::sweep

@@ -1,7 +1,9 @@
 // One labelled policy of a sweep spec: the policy and its serving options, the cells it serves
 // (a filter over the spec's suites, tasks, robots, splits and cameras) and, optionally, the seed
-// group it belongs to (checkpoints that are training seeds of one recipe). Every policy option is
-// read here and forwarded to the evaluation cell here, so a new serving option is added in one place.
+// group it belongs to (checkpoints that are training seeds of one recipe). The policy's options
+// are the cell settings that have a key in a spec (cell::CellSettings(), spec_key): they are read,
+// checked, forwarded to the cell and written in the manifest from that table, so a new serving
+// option is declared there alone.
 #pragma once
 
 #include <string>
@@ -17,15 +19,9 @@ namespace tavis::batch::sweep {
 struct PolicySpec {
   std::string label;       // names the policy in cell ids, tables and figures; never pooled with another
   std::string seed_group;  // empty: none; else the recipe whose training seeds this checkpoint is one of
-  std::string name = "expert";
-  std::string actions_file;
-  std::vector<std::string> servers;
-  int replan_steps = 0;
-  std::string observation_keys = "tavis";
-  bool observation_keys_given = false;
-  std::string match_dataset;  // the training dataset whose layout is served (--match-dataset)
-  remote::ServingMode serving = remote::ServingMode::kSerial;
-  double server_timeout_s = 60.0;
+  // The policy (settings.policy) and its options; the settings a spec cannot name keep their
+  // defaults.
+  cell::EvaluationCellConfig settings;
   // The cells it serves: empty lists mean every one of the spec's.
   std::vector<std::string> tasks;  // the filter's suites expanded, then its tasks
   std::vector<std::string> robots;
@@ -33,7 +29,7 @@ struct PolicySpec {
   std::vector<CameraProtocol> cameras;
 
   bool Serves(const cell::EvaluationCellConfig& cell) const;
-  // Copies the policy and its options into a cell's settings.
+  // Copies the policy and its options (every setting a spec can name) into a cell's settings.
   void ApplyTo(cell::EvaluationCellConfig& cell) const;
 };
 

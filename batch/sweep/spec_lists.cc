@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "batch/cell/cell_settings.h"
+
 namespace tavis::batch::sweep {
 namespace {
 
@@ -47,6 +49,11 @@ int ReadCount(const YamlValue& value, int low, int high) {
   }
   if (count < low || count > high) value.Fail(expected + value.Text());
   return count;
+}
+
+int ReadSettingCount(const YamlValue& value, const std::string& key) {
+  const output::SettingRange& range = *cell::CellSettingNamed(key).range;
+  return ReadCount(value, static_cast<int>(range.low), static_cast<int>(range.high));
 }
 
 std::vector<std::string> ReadTasks(const std::optional<YamlValue>& suites, const std::optional<YamlValue>& tasks,

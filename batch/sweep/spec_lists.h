@@ -13,6 +13,8 @@ namespace tavis::batch::sweep {
 
 // An integer in [low, high]; the error names the range and the value.
 int ReadCount(const configs::YamlValue& value, int low, int high);
+// An integer in the range the cell setting `key` allows (cell::CellSettings(): episodes, envs).
+int ReadSettingCount(const configs::YamlValue& value, const std::string& key);
 
 // `suites` (all their tasks, suite order) then `tasks`, no repeats; either may be absent.
 // Writes the suites as given to *suite_names when it is not null.

@@ -1,13 +1,15 @@
 #include "batch/sweep/sweep_cell.h"
 
 #include <fstream>
+#include <functional>
+#include <memory>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
+#include "batch/cell/cell_folder.h"
 #include "batch/cell/cell_record_stream.h"
-#include "batch/cell/cell_report.h"
 #include "batch/output/atomic_file.h"
-#include "batch/output/output_folder.h"
 #include "batch/rollout/cell_videos.h"
 
 namespace tavis::batch::sweep {
@@ -55,32 +57,29 @@ std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path&
 cell::CellResult RunCellInto(const cell::EvaluationCellConfig& config, const fs::path& dir, int threads,
                              const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
                              const rollout::EpisodeVideoSettings& videos) {
+  cell::CellFolderOptions folder;
+  folder.out = dir;
   // A folder with settings continues; anything else there (a cell that failed before writing its
   // settings, or one whose summary does not match its records) starts over.
-  const bool resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
-  if (!resume) fs::remove_all(dir);
+  folder.resume = fs::exists(dir / "cell.json") && !fs::exists(dir / "summary.json");
   // The sweep's lock keeps other sweeps out; this one keeps out an `eval --resume` of the cell.
-  const output::OutputLock lock = output::CreateAndLockOutput(dir, "sweep");
-  cell::CellRecordStream stream(dir.string(), config, resume);
-  output::WriteFileAtomically(dir / "policy.json",
-                              nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
-  cell::EvaluationCellConfig remaining = config;
-  remaining.first_episode = stream.next_episode();
-  rollout::CellVideos films(videos, remaining, [&dir] { return dir / "videos"; });
-  cell::CellResult result = cell::RunEvaluationCell(
-      remaining, progress,
-      [&stream, &films](const cell::EpisodeRecord& record) {
-        stream.Write(record);
-        films.RecordFinished(record);
-      },
-      films.Sinks());
-  std::vector<cell::EpisodeRecord> episodes = stream.resumed();
-  for (cell::EpisodeRecord& record : result.episodes) episodes.push_back(std::move(record));
-  result.episodes = std::move(episodes);
-  result.successes = 0;
-  for (const cell::EpisodeRecord& record : result.episodes) result.successes += record.success ? 1 : 0;
-  cell::WriteCellSummary(result, {threads, stream.next_episode()}, dir.string());
-  return result;
+  folder.command = "sweep";
+  // A cell that failed keeps its folder: the next run of the sweep continues it or starts it over.
+  folder.remove_new_folder_on_failure = false;
+  folder.threads = threads;
+  folder.progress = progress;
+  cell::CellPlan plan = cell::PlanCell(config);
+  if (!folder.resume) fs::remove_all(dir);
+  std::unique_ptr<rollout::CellVideos> films;
+  return cell::RunCellInFolder(
+      std::move(plan), folder,
+      [&](const cell::CellPlan& planned, const std::function<fs::path()>&) -> cell::CellAttachments {
+        output::WriteFileAtomically(
+            dir / "policy.json", nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
+        films = std::make_unique<rollout::CellVideos>(videos, planned.config, [&dir] { return dir / "videos"; });
+        return {films->Sinks(), [&films](const cell::EpisodeRecord& record) { films->RecordFinished(record); },
+                nullptr};
+      });
 }
 
 }  // namespace tavis::batch::sweep

@@ -10,11 +10,11 @@
 #include <stdexcept>
 #include <thread>
 
-#include "batch/output/utc_time.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/json_error_text.h"
 #include "batch/output/program_version.h"
 #include "batch/output/settings_difference.h"
+#include "batch/output/utc_time.h"
 
 namespace tavis::batch::sweep {
 nlohmann::ordered_json MachineJson() {

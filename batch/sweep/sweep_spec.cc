@@ -178,8 +178,8 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
       seed.Fail(seed.Text() + " is listed twice");
     spec.seeds.push_back(value);
   }
-  spec.episodes = ReadCount(root.Required("episodes"), 1, 100000000);
-  if (const auto envs = root.Optional("envs")) spec.envs = ReadCount(*envs, 1, 4096);
+  spec.episodes = ReadSettingCount(root.Required("episodes"), "episodes");
+  if (const auto envs = root.Optional("envs")) spec.envs = ReadSettingCount(*envs, "envs");
   if (const auto videos = root.Optional("videos")) spec.videos = ReadCount(*videos, 0, spec.episodes);
   ReadPolicies(root, known_robots, config_dir, files, spec);
   if (const auto perturbations = root.Optional("perturbations"))

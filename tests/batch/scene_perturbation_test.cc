@@ -336,7 +336,8 @@ MoveTrace FollowMove(const std::string& task, const std::string& level, int64_t 
   const std::unique_ptr<VecEnv> env = MakeEnv(task, {"runtime:" + level}, 1, robot);
   const engine::WorldModel& model = env->model();
   const double trigger = model.episode_perturbation.target_move.trigger_m;
-  std::unique_ptr<scenarios::Expert> expert = env->scenario().make_expert(model, 1, scenarios::expert::ExpertMode::kGazeFirst);
+  std::unique_ptr<scenarios::Expert> expert =
+      env->scenario().make_expert(model, 1, scenarios::expert::ExpertMode::kGazeFirst);
   env->ResetEnv(0, episode);
   expert->Reset(model, env->state(), 0);
   MoveTrace trace;
@@ -413,7 +414,8 @@ TEST(RuntimeAxis, ATargetWithNoFreePlaceStaysWhereItIs) {
   engine::WorldModel model = BuildWorldModel(tavis::testing::LoadRobot("gr1t2"), nowhere);
   ApplyPerturbations(TAVIS_CONFIG_DIR, {"runtime:move"}, kSeed, &model);
   VecEnv env(std::move(model), nowhere, scenarios::Split::kId, 1, kSeed);
-  std::unique_ptr<scenarios::Expert> expert = nowhere.make_expert(env.model(), 1, scenarios::expert::ExpertMode::kGazeFirst);
+  std::unique_ptr<scenarios::Expert> expert =
+      nowhere.make_expert(env.model(), 1, scenarios::expert::ExpertMode::kGazeFirst);
   env.ResetEnv(0, 0);
   expert->Reset(env.model(), env.state(), 0);
   std::vector<kinematics::Action> actions(1);

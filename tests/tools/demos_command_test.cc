@@ -80,14 +80,15 @@ TEST_P(DemosBadValue, OverwriteKeepsWhatIsThere) {
   EXPECT_EQ(ReadText(out / "keep.txt"), "mine") << "a bad value removed the user's files";
 }
 
-INSTANTIATE_TEST_SUITE_P(Values, DemosBadValue,
-                         ::testing::Values(BadValue{"fps", "--fps 30", "30"}, BadValue{"codec", "--codec vp9", "vp9"},
-                                           BadValue{"format", "--format v4", "v4"},
-                                           BadValue{"odd_size", "--image-size 65x48", "65"},
-                                           BadValue{"camera", "--cameras head,chest", "chest"},
-                                           BadValue{"task", "--task nope", "nope"},
-                                           BadValue{"attempts", "--max-attempts 1 --episodes 2", "--max-attempts 1"}),
-                         [](const ::testing::TestParamInfo<BadValue>& param) { return std::string(param.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Values, DemosBadValue,
+    ::testing::Values(BadValue{"fps", "--fps 30", "--fps must be 60 or 20, got 30"},
+                      BadValue{"expert_hz", "--expert-hz 30", "--expert-hz must be 60 or 20, got 30"},
+                      BadValue{"codec", "--codec vp9", "vp9"}, BadValue{"format", "--format v4", "v4"},
+                      BadValue{"odd_size", "--image-size 65x48", "65"},
+                      BadValue{"camera", "--cameras head,chest", "chest"}, BadValue{"task", "--task nope", "nope"},
+                      BadValue{"attempts", "--max-attempts 1 --episodes 2", "--max-attempts 1"}),
+    [](const ::testing::TestParamInfo<BadValue>& param) { return std::string(param.param.name); });
 
 TEST_F(DemosCommand, UnwritableOutFailsNamingIt) {
   const RunResult run = Run(Demos() + " --out /proc/tavis-demos-test/dataset");

@@ -95,7 +95,8 @@ TEST_F(ExpertModeCommand, BadModeOrAModeForAnotherPolicyIsRefusedNamingIt) {
   const fs::path out = root_ / "out";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"eval --episodes 1 --expert-mode sideways", "'sideways'"},
-      {"eval --episodes 1 --policy hold --expert-mode head-still", "--policy expert, not 'hold'"},
+      {"eval --episodes 1 --policy hold --expert-mode head-still",
+       "--expert-mode applies to --policy expert only, got --policy hold"},
       {"demos --episodes 1 --cameras '' --expert-mode sideways", "'sideways'"},
   };
   for (const auto& [args, needle] : cases) {

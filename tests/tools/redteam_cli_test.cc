@@ -150,8 +150,19 @@ TEST_F(RedTeamCliTest, GaltFpsOutsideOneToAThousandHertz) {
 TEST_F(RedTeamCliTest, EvalProvenanceOptionsAreNotIgnored) {
   WriteFile(root_ / "actions.csv", "0,0,0,1,0,0,0,0,0,0,1,0,0,0,0,0,0,-1,-1\n");
   ExpectRefused("eval --episodes 1 --actions actions.csv --out out",
-                "--actions 'actions.csv' applies to --policy replay only, got --policy expert");
+                "--actions applies to --policy replay only, got --policy expert");
+  ExpectRefused("eval --episodes 1 --policy hold --expert-hz 20 --out out",
+                "--expert-hz applies to --policy expert only, got --policy hold");
   ExpectRefused("eval --episodes 1 --out ''", "--out must name a folder, got an empty string");
+}
+
+// The library names a bad setting by its key (cell.json's); the command names the flag it was
+// given with.
+TEST_F(RedTeamCliTest, SettingsTheLibraryRefusesAreNamedByTheirFlags) {
+  ExpectRefused("eval --episodes 1 --expert-hz 30 --out out", "--expert-hz must be 60 or 20, got 30");
+  ExpectRefused("eval --episodes 1 --policy openpi --out out",
+                "--server must name a policy server (ws://HOST:PORT) for policy 'openpi'");
+  ExpectRefused("eval --episodes 1 --policy replay --out out", "--actions must name a CSV of actions");
 }
 
 // A device, a FIFO or a folder given as an input file is named as such. Before: /dev/zero was read

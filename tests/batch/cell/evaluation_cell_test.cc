@@ -149,13 +149,13 @@ void ExpectErrorNaming(const EvaluationCellConfig& config, const std::string& ne
 TEST(EvaluationCell, BadSettingsThrowNamingTheValue) {
   EvaluationCellConfig config = SmallCell();
   config.episodes = 0;
-  ExpectErrorNaming<std::invalid_argument>(config, "episodes must be at least 1, got 0");
+  ExpectErrorNaming<output::SettingError>(config, "episodes must be at least 1, got 0");
   config.episodes = -4;
   ExpectErrorNaming<std::invalid_argument>(config, "got -4");
 
   config = SmallCell();
   config.envs = 0;
-  ExpectErrorNaming<std::invalid_argument>(config, "envs must be at least 1, got 0");
+  ExpectErrorNaming<output::SettingError>(config, "envs must be at least 1, got 0");
 
   config = SmallCell();
   config.task = "clutter-pick-sphere";
@@ -167,7 +167,7 @@ TEST(EvaluationCell, BadSettingsThrowNamingTheValue) {
   config.render_cameras = {"head"};
   config.image_width = 0;
   config.image_height = 480;
-  ExpectErrorNaming<std::invalid_argument>(config, "give both image dimensions or neither, got 0x480");
+  ExpectErrorNaming<output::SettingError>(config, "image_width and image_height must be given together");
   config.image_width = -4;
   ExpectErrorNaming<std::invalid_argument>(config, "image size -4x480");
 
@@ -178,6 +178,29 @@ TEST(EvaluationCell, BadSettingsThrowNamingTheValue) {
   config = SmallCell();
   config.policy = "oracle";
   ExpectErrorNaming<std::invalid_argument>(config, "oracle");
+}
+
+// A resumed cell: its plan continued from an episode runs the rest of the cell, with the records
+// those episodes have in the whole cell.
+TEST(EvaluationCell, APlanContinuedFromAnEpisodeRecordsTheRestOfTheCell) {
+  EvaluationCellConfig config = SmallCell(3, 2);
+  config.episodes = 3;
+  const CellResult whole = RunWithThreads(config, 2);
+  CellPlan plan = PlanCell(config);
+  plan.ContinueFrom(1);
+  const CellResult rest = RunEvaluationCell(plan);
+  ASSERT_EQ(rest.episodes.size(), 2u);
+  EXPECT_EQ(rest.envs, 2);
+  for (std::size_t i = 0; i < rest.episodes.size(); ++i) {
+    const EpisodeRecord& x = whole.episodes[i + 1];
+    const EpisodeRecord& y = rest.episodes[i];
+    EXPECT_EQ(y.episode, x.episode);
+    EXPECT_EQ(y.end, x.end);
+    EXPECT_EQ(y.length_control_ticks, x.length_control_ticks);
+    EXPECT_EQ(y.actions, x.actions) << "episode " << y.episode;
+  }
+  plan.ContinueFrom(3);
+  EXPECT_TRUE(RunEvaluationCell(plan).episodes.empty()) << "a complete cell runs nothing";
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "batch/dataset/demo_generation.h"
 #include "batch/dataset/video/video_log.h"
+#include "batch/output/setting_error.h"
 #include "tests/batch/dataset/lerobot_dataset_checks.h"
 #include "tests/support/robot_loading.h"
 
@@ -113,6 +114,31 @@ TEST_F(DemoGeneration, OneAndTwoThreadsAndEitherScheduleWriteTheSameBytes) {
     }
     EXPECT_EQ(compared_media, 3 + 2) << "data, episodes and tasks tables and two mp4 files";
   }
+}
+
+// A bad setting is named by its key in the spool's settings (`tavis demos` names its flag).
+TEST(DemoConfigCheck, BadSettingsAreNamedByTheirKeys) {
+  const auto error_of = [](const DemoConfig& config) -> std::string {
+    try {
+      ValidateDemoConfig(config);
+    } catch (const output::SettingError& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  DemoConfig config = SmallConfig("unused");
+  EXPECT_EQ(error_of(config), "accepted");
+  config.episodes = 0;
+  EXPECT_EQ(error_of(config), "episodes must be at least 1, got 0");
+  config = SmallConfig("unused");
+  config.max_attempts = 1;
+  EXPECT_EQ(error_of(config), "max_attempts 1 is below episodes 2 (0: 2 x episodes + 20)");
+  config = SmallConfig("unused");
+  config.fps = 30;
+  EXPECT_EQ(error_of(config), "fps must be 60 or 20, got 30");
+  config = SmallConfig("unused");
+  config.expert_hz = 10;
+  EXPECT_EQ(error_of(config), "expert_hz must be 60 or 20, got 10");
 }
 
 }  // namespace

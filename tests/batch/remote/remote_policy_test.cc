@@ -455,7 +455,7 @@ TEST(RemotePolicy, ConfigurationMistakesAreNamed) {
         try {
           batch::cell::RunEvaluationCell(config);
         } catch (const std::invalid_argument& error) {
-          ExpectContains(error.what(), "needs a policy server");
+          ExpectContains(error.what(), "servers must name a policy server");
           throw;
         }
       },

@@ -48,7 +48,6 @@ class ResultsTableTest : public testing::TestFolder {
     WriteCell("reachy2/ood/seed1/multi-shelf-scan", "multi-shelf-scan", "reachy2", "ood-spatial", "head", 16, 48);
     WriteCell("gr1t2/id/head/peeking-box", "peeking_box", "gr1t2", "id", "head", 62, 96);
   }
-
 };
 
 std::vector<std::string> Lines(const std::string& text) {

@@ -86,8 +86,9 @@ TEST(SweepSpec, PerturbationsAreADimensionWhoseCellsCarryTheirLevelsInTheirLabel
 // live on the machine that ran the cells only).
 TEST(SweepSpec, PolicyFilesAreNotReadWhenAskedNotTo) {
   const std::string spec = Replace(kValid, "name: expert", "name: replay\n  actions: /nonexistent/a.csv");
-  EXPECT_EQ(ParseSweepSpec(spec, "specs/bad.yaml", TAVIS_CONFIG_DIR, PolicyFiles::kNotRead).policies[0].actions_file,
-            "/nonexistent/a.csv");
+  EXPECT_EQ(
+      ParseSweepSpec(spec, "specs/bad.yaml", TAVIS_CONFIG_DIR, PolicyFiles::kNotRead).policies[0].settings.actions_file,
+      "/nonexistent/a.csv");
 }
 
 TEST(SweepSpec, SuitesBringTheirTasksOnce) {

@@ -1,0 +1,352 @@
+#include "batch/cell/cell_settings.h"
+
+#include <cstring>
+#include <type_traits>
+
+#include "batch/policy_kinds.h"
+#include "batch/remote/observation_keys.h"
+#include "kinematics/invariant.h"
+#include "scenarios/registry.h"
+
+namespace tavis::batch::cell {
+namespace {
+
+using Config = EvaluationCellConfig;
+
+// The table, in groups (what a cell is, the policy, the served policy, the episodes, what is
+// rendered): each entry is one setting's whole declaration.
+std::vector<CellSetting> WhatTheCellIs() {
+  return {
+      CellSetting("task", &Config::task)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .Flag("--task", EvalOption::kShowingDefault, "Task (" + scenarios::KnownTasks() + ")"),
+      CellSetting("robot", &Config::robot)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .Flag("--robot", EvalOption::kShowingDefault, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)"),
+      CellSetting("split", &Config::split)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .Flag("--split", EvalOption::kShowingDefault, "Split: id, ood-spatial or ood-init-pose"),
+      CellSetting("camera", &Config::camera)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .Flag("--camera", EvalOption::kShowingDefault,
+                "Camera protocol: head (the policy sees and moves the head camera; GALT computed) or fixed\n"
+                "(the fixed camera instead, neck actions and neck state zeroed, no GALT); episode i has the\n"
+                "same scene under both, so a head and a fixed cell pair. Camera sets: head-only (wrist images\n"
+                "black), wrists-only (head rules, the head image black), fixed-only (fixed rules, wrist images\n"
+                "black); head is head + wrists, fixed is fixed + wrists; every set pairs with head"),
+  };
+}
+
+std::vector<CellSetting> ThePolicy() {
+  return {
+      CellSetting("policy", &Config::policy)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .InSpec("name", true)
+          .Flag("--policy", EvalOption::kShowingDefault,
+                "Policy (" + PolicyNames(/*built_in_only=*/false) +
+                    "); openpi: a policy served over openpi's websocket\n"
+                    "protocol (--server), acting at 20 Hz on the cameras its --keys name"),
+      CellSetting("expert_mode", &Config::expert_mode)
+          .AppliesTo(SettingScope::kExpert)
+          .InCellJson(Recorded::kWhereItApplies)  // it decides the expert's records
+          .InSummary(Recorded::kWhereItApplies)
+          .Flag("--expert-mode", EvalOption::kShowingDefault,
+                "For --policy expert: gaze-first (looks at the cue and the target, then acts) or head-still\n"
+                "(neck still at its reset pose, hands act as soon as the task allows; its cells are named\n"
+                "..._expert-head-still_s<seed>)"),
+      CellSetting("expert_hz", &Config::expert_hz)
+          .AppliesTo(SettingScope::kExpert)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .Flag("--expert-hz", EvalOption::kShowingDefault,
+                "For --policy expert: 60 (its action may change every control tick) or 20 (held for three ticks, as\n"
+                "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv, which\n"
+                "--policy replay --actions DIR/actions plays back exactly)")
+          .Choices({60, 20}),
+      CellSetting("actions_file", &Config::actions_file)
+          .AppliesTo(SettingScope::kReplay)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .InSpec("actions", true)
+          .Flag("--actions", EvalOption::kHidingDefault,
+                "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
+                "episode; or a folder of episode_<i>.csv (a served cell's DIR/actions), episode i playing its own"),
+  };
+}
+
+std::vector<CellSetting> TheServedPolicy() {
+  return {
+      CellSetting("servers", &Config::servers)
+          .AppliesTo(SettingScope::kServed)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kWhereItApplies)
+          .InSpec("servers", true)
+          .Flag("--server", EvalOption::kHidingDefault,
+                "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
+                "several servers (slot i asks server i mod K). Each episode's actions are saved in\n"
+                "DIR/actions/episode_<i>.csv for --policy replay"),
+      CellSetting("observation_keys", &Config::observation_keys)
+          .AppliesTo(SettingScope::kServed)
+          .InCellJson(Recorded::kAlways)  // summary.json names the layout's source (CellResult)
+          .InSpec("keys", true)
+          .Flag("--keys", EvalOption::kShowingDefault,
+                "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() +
+                    ") or a\n"
+                    "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
+                    "hwc/chw images, image size, letterbox). tavis: the dataset's keys (observation.images.OBS_HEAD,\n"
+                    "..., observation.state, prompt and task) at 320x240 (docs/observation.md)"),
+      CellSetting("replan_steps", &Config::replan_steps)
+          .AppliesTo(SettingScope::kServed)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kWhereItApplies)
+          .InSpec("replan_steps", true)
+          .Flag("--replan-steps", EvalOption::kShowingDefault,
+                "For --policy openpi: rows of each action chunk an env steps with before asking again\n"
+                "(0: the whole chunk, as openpi's ActionChunkBroker; its LIBERO example uses 5)")
+          .Range(0, 1000000),
+      CellSetting("observation_dataset", &Config::observation_dataset)
+          .AppliesTo(SettingScope::kServed)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kUnlessDefault)
+          .InSpec("match_dataset", true)
+          .Flag("--match-dataset", EvalOption::kHidingDefault,
+                "For --policy openpi: serve the layout of the LeRobot dataset DIR the policy was trained on (its\n"
+                "meta/info.json: image keys, cameras, image size); with --keys or --image-size as well, every way\n"
+                "the served layout differs from the dataset's is printed and recorded in summary.json"),
+      CellSetting("serving", &Config::serving)
+          .AppliesTo(SettingScope::kServed)
+          .InSummary(Recorded::kWhereItApplies)  // not in cell.json: the records do not depend on it
+          .InSpec("serving", true)
+          .Flag("--serving", EvalOption::kShowingDefault,
+                "For --policy openpi: serial (one connection per server, requests one at a time in env order),\n"
+                "per-env (one connection per env slot, requests of a tick in flight together) or batched (one\n"
+                "message per server per tick with every due env stacked; the server's metadata must declare\n"
+                "batched_requests: true). Records do not depend on it"),
+  };
+}
+
+std::vector<CellSetting> TheServersLimits() {
+  return {
+      CellSetting("server_ready_timeout_s", &Config::server_ready_timeout_s)
+          .AppliesTo(SettingScope::kServed)
+          .InSpec("server_timeout_s", false)  // a shard may wait longer for its servers
+          .Flag("--server-timeout", EvalOption::kShowingDefault,
+                "For --policy openpi: seconds to wait for each server's /healthz before giving up")
+          .Range(0.001, 86400, "s"),
+      CellSetting("reply_timeout_s", &Config::reply_timeout_s)
+          .AppliesTo(SettingScope::kServed)
+          .Flag("--reply-timeout", EvalOption::kShowingDefault,
+                "For --policy openpi: seconds to wait for each reply before the cell stops (a server's first\n"
+                "inference may compile its model)")
+          .Range(0.001, 86400, "s"),
+      CellSetting("max_reply_mb", &Config::max_reply_mb)
+          .AppliesTo(SettingScope::kServed)
+          .Flag("--max-reply-mb", EvalOption::kShowingDefault,
+                "For --policy openpi: the largest reply accepted, in MiB; a longer one ends its episode as\n"
+                "invalid_action, read no further (the default holds a 100,000-row float64 chunk)")
+          .Range(0.001, 4096, "MiB"),
+  };
+}
+
+std::vector<CellSetting> TheEpisodes() {
+  return {
+      CellSetting("episodes", &Config::episodes)
+          .InCellJson(Recorded::kAlways)  // summary.json counts the episodes it holds (n_episodes)
+          .Flag("--episodes", EvalOption::kShowingDefault, "Episodes in the cell")
+          .Range(1, 100000000),
+      CellSetting("episode_start", &Config::episode_start)
+          .InCellJson(Recorded::kUnlessDefault)  // so cells written before it existed still resume
+          .Flag("--episode", EvalOption::kHidingDefault,
+                "Run only episode I of the seed: the scene, and with a folder of --actions the actions, it has in\n"
+                "the full cell (replaces --episodes; the cell's one record is episode I)")
+          .Range(0, 100000000),
+      CellSetting("seed", &Config::seed)
+          .InCellJson(Recorded::kAlways)
+          .InSummary(Recorded::kAlways)
+          .Flag("--seed", EvalOption::kShowingDefault, "Seed: episode i draws its randomness from (seed, i)"),
+      CellSetting("envs", &Config::envs)  // summary.json records the slots that ran (CellResult::envs)
+          .Flag("--envs", EvalOption::kHidingDefault,
+                "Parallel env slots stepped lock-step, for a served policy (default: 32, or 6 per\n"
+                "thread when that is more: 96 on 16 threads); a built-in policy runs one slot per thread instead,\n"
+                "rendered or not (results do not depend on it)")
+          .Range(1, 4096),
+      CellSetting("perturbations", &Config::perturbations)
+          .InCellJson(Recorded::kUnlessDefault)  // each level with its settings (CellSettingsJson)
+          .InSummary(Recorded::kUnlessDefault)
+          .Flag("--perturb", EvalOption::kHidingDefault,
+                "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
+                "sensor, lighting, appearance, distractors, language, runtime; docs/perturbations.md); repeat\n"
+                "it for several axes, one level each. Episode i keeps its base scene, so the cell pairs with its "
+                "unperturbed one;\n"
+                "the levels are recorded in cell.json and summary.json, and the default folder is named\n"
+                "..._p-AXIS-LEVEL"),
+  };
+}
+
+std::vector<CellSetting> WhatIsRendered() {
+  const std::string image_size =
+      "Size of the policy's images, WIDTHxHEIGHT (default: the observation keys' size for --policy\n"
+      "openpi: 320x240 for tavis, 224x224 for libero and aloha, the dataset's with --match-dataset;\n"
+      "otherwise the reference's 640x480)";
+  return {
+      CellSetting("render_cameras", &Config::render_cameras)
+          .InCellJson(Recorded::kAlways)  // summary.json names the cameras rendered (CellResult)
+          .Flag("--render-cameras", EvalOption::kByHand,
+                "Comma-separated cameras to render on every policy tick (20 Hz) even if the policy uses no\n"
+                "images, e.g. head,left_wrist,right_wrist (known: head, fixed, left_wrist, right_wrist); the\n"
+                "images are discarded: for measuring throughput with rendering"),
+      CellSetting("image_width", &Config::image_width)
+          .InCellJson(Recorded::kAlways)  // as given (0: the policy's own); summary.json has it resolved
+          .Flag("--image-size", EvalOption::kByHand, image_size),
+      CellSetting("image_height", &Config::image_height)
+          .InCellJson(Recorded::kAlways)
+          .Flag("--image-size", EvalOption::kByHand, image_size),
+      CellSetting("config_dir", &Config::config_dir)
+          .InSummary(Recorded::kAlways)  // cell.json records what the files say (its identity) instead
+          .Flag("--config-dir", EvalOption::kByHand, "Directory holding robots/*.yaml"),
+      CellSetting("profile", &Config::profile)
+          .Flag("--profile", EvalOption::kShowingDefault,
+                "Time every stage (actions/IK, physics, neck, task, reset, render, policy, recording) and\n"
+                "episode; print the shares, the critical path (unlimited threads) and thread-count\n"
+                "estimates, and write DIR/profile.json"),
+  };
+}
+
+template <typename T>
+nlohmann::json ValueJson(const T& value) {
+  if constexpr (std::is_enum_v<T>) {
+    return SettingText<T>::Write(value);
+  } else {
+    return value;
+  }
+}
+
+}  // namespace
+
+CellSetting& CellSetting::AppliesTo(SettingScope policies) {
+  scope = policies;
+  return *this;
+}
+
+CellSetting& CellSetting::InCellJson(Recorded how) {
+  in_cell_json = how;
+  return *this;
+}
+
+CellSetting& CellSetting::InSummary(Recorded how) {
+  in_summary = how;
+  return *this;
+}
+
+CellSetting& CellSetting::InSpec(const char* key_in_spec, bool written_in_manifest) {
+  spec_key = key_in_spec;
+  in_manifest = written_in_manifest;
+  return *this;
+}
+
+CellSetting& CellSetting::Flag(const char* name, EvalOption how, std::string text) {
+  flag = name;
+  option = how;
+  help = std::move(text);
+  return *this;
+}
+
+CellSetting& CellSetting::Range(double low, double high, const char* unit) {
+  range = output::SettingRange::Between(low, high, unit);
+  return *this;
+}
+
+CellSetting& CellSetting::Choices(std::vector<double> values) {
+  range = output::SettingRange::OneOf(std::move(values));
+  return *this;
+}
+
+const std::vector<CellSetting>& CellSettings() {
+  static const std::vector<CellSetting> settings = [] {
+    std::vector<CellSetting> all;
+    for (std::vector<CellSetting> group :
+         {WhatTheCellIs(), ThePolicy(), TheServedPolicy(), TheServersLimits(), TheEpisodes(), WhatIsRendered()}) {
+      all.insert(all.end(), group.begin(), group.end());
+    }
+    return all;
+  }();
+  return settings;
+}
+
+const CellSetting* FindCellSetting(const std::string& key) {
+  for (const CellSetting& setting : CellSettings()) {
+    if (key == setting.key) return &setting;
+  }
+  return nullptr;
+}
+
+const CellSetting& CellSettingNamed(const std::string& key) {
+  const CellSetting* setting = FindCellSetting(key);
+  TAVIS_INVARIANT(setting != nullptr, ("no cell setting is named '" + key + "'").c_str());
+  return *setting;
+}
+
+const char* ScopePolicyName(SettingScope scope) {
+  switch (scope) {
+    case SettingScope::kExpert: return PolicyName(PolicyKind::kExpert);
+    case SettingScope::kReplay: return PolicyName(PolicyKind::kReplay);
+    case SettingScope::kServed: return PolicyName(PolicyKind::kOpenpi);
+    case SettingScope::kAnyPolicy: break;
+  }
+  return "";
+}
+
+bool SettingApplies(SettingScope scope, const std::string& policy) {
+  return scope == SettingScope::kAnyPolicy || policy == ScopePolicyName(scope);
+}
+
+nlohmann::json SettingJson(const CellSetting& setting, const EvaluationCellConfig& config) {
+  return std::visit([&config](auto member) { return ValueJson(config.*member); }, setting.member);
+}
+
+bool HasDefaultValue(const CellSetting& setting, const EvaluationCellConfig& config) {
+  static const EvaluationCellConfig defaults;
+  return std::visit([&config](auto member) { return config.*member == defaults.*member; }, setting.member);
+}
+
+void CopySetting(const CellSetting& setting, const EvaluationCellConfig& from, EvaluationCellConfig& to) {
+  std::visit([&](auto member) { to.*member = from.*member; }, setting.member);
+}
+
+nlohmann::json RecordedSettingsJson(const EvaluationCellConfig& config, CellRecord record, bool served) {
+  nlohmann::json json = nlohmann::json::object();
+  for (const CellSetting& setting : CellSettings()) {
+    const Recorded how = record == CellRecord::kCellJson ? setting.in_cell_json : setting.in_summary;
+    // A served policy's settings are recorded where the cell was run with one.
+    const bool applies = setting.scope == SettingScope::kServed ? served : SettingApplies(setting.scope, config.policy);
+    const bool recorded = how == Recorded::kAlways || (how == Recorded::kWhereItApplies && applies) ||
+                          (how == Recorded::kUnlessDefault && applies && !HasDefaultValue(setting, config));
+    if (recorded) json[setting.key] = SettingJson(setting, config);
+  }
+  return json;
+}
+
+void CheckSettingValues(const EvaluationCellConfig& config) {
+  for (const CellSetting& setting : CellSettings()) {
+    std::visit(
+        [&](auto member) {
+          using T = std::decay_t<decltype(config.*member)>;
+          if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+            if (setting.range)
+              output::CheckSettingRange(setting.key, static_cast<double>(config.*member), *setting.range);
+          }
+        },
+        setting.member);
+    if (!SettingApplies(setting.scope, config.policy) && !HasDefaultValue(setting, config)) {
+      throw output::SettingError(setting.key, std::string("applies to policy '") + ScopePolicyName(setting.scope) +
+                                                  "' only, got policy '" + config.policy + "'");
+    }
+  }
+}
+
+}  // namespace tavis::batch::cell

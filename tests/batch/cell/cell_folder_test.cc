@@ -1,0 +1,168 @@
+#include "batch/cell/cell_folder.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/test_folder.h"
+
+namespace tavis::batch::cell {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The default cell (the expert on clutter-pick-cube), two episodes on two slots.
+EvaluationCellConfig TwoExpertEpisodes() {
+  EvaluationCellConfig config;
+  config.episodes = config.envs = 2;
+  config.seed = 7;
+  config.config_dir = TAVIS_CONFIG_DIR;
+  return config;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> Lines(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// What the attachments heard: the plan's first episode to run, the folder at attach time, the
+// records and the results they were finished with.
+struct Heard {
+  int64_t first_episode = -1;
+  fs::path folder_at_attach;
+  std::vector<int64_t> records;
+  std::vector<fs::path> folder_at_record;
+  int finished = 0;
+};
+
+AttachToCell Listen(Heard& heard) {
+  return [&heard](const CellPlan& plan, const std::function<fs::path()>& folder) {
+    heard.first_episode = plan.config.first_episode;
+    heard.folder_at_attach = folder();
+    CellAttachments attached;
+    attached.on_record = [&heard, folder](const EpisodeRecord& record) {
+      heard.records.push_back(record.episode);
+      heard.folder_at_record.push_back(folder());
+    };
+    attached.finish = [&heard](const CellResult&) { ++heard.finished; };
+    return attached;
+  };
+}
+
+class CellFolder : public testing::TestFolder {
+ protected:
+  CellFolder() : TestFolder("cell_folder") {}
+  fs::path Out() const { return root() / "cell"; }
+  CellFolderOptions Options() const {
+    CellFolderOptions options;
+    options.out = Out();
+    options.threads = 2;
+    return options;
+  }
+};
+
+TEST_F(CellFolder, AFreshFolderGetsTheSettingsEveryRecordAndTheSummaryLast) {
+  Heard heard;
+  const CellResult result = RunCellInFolder(PlanCell(TwoExpertEpisodes()), Options(), Listen(heard));
+  ASSERT_EQ(result.episodes.size(), 2u);
+  EXPECT_EQ(heard.first_episode, 0);
+  EXPECT_EQ(heard.folder_at_attach, Out());
+  EXPECT_EQ(heard.records, (std::vector<int64_t>{0, 1}));
+  EXPECT_EQ(heard.finished, 1);
+  EXPECT_EQ(Lines(Out() / "episodes.jsonl").size(), 2u);
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(Out() / "summary.json"));
+  EXPECT_EQ(summary.at("n_episodes"), 2);
+  EXPECT_EQ(summary.at("n_successful"), result.successes);
+  EXPECT_TRUE(fs::exists(Out() / "cell.json"));
+}
+
+TEST_F(CellFolder, AResumedFolderRunsOnlyTheMissingEpisodesAndSummarisesTheWholeCell) {
+  RunCellInFolder(PlanCell(TwoExpertEpisodes()), Options());
+  const std::vector<std::string> whole = Lines(Out() / "episodes.jsonl");
+  const std::string whole_summary = ReadText(Out() / "summary.json");
+  // Interrupted after episode 0: its line kept, the second torn, no summary.
+  fs::remove(Out() / "summary.json");
+  std::ofstream(Out() / "episodes.jsonl", std::ios::binary | std::ios::trunc) << whole[0] << "\n{\"episode\": 1, \"su";
+
+  CellFolderOptions options = Options();
+  options.resume = true;
+  Heard heard;
+  const CellResult result = RunCellInFolder(PlanCell(TwoExpertEpisodes()), options, Listen(heard));
+  EXPECT_EQ(heard.first_episode, 1);
+  EXPECT_EQ(heard.records, (std::vector<int64_t>{1}));
+  ASSERT_EQ(result.episodes.size(), 2u) << "the resumed record first";
+  EXPECT_EQ(result.episodes[0].episode, 0);
+  EXPECT_EQ(Lines(Out() / "episodes.jsonl"), whole);
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(Out() / "summary.json"));
+  const nlohmann::json was = nlohmann::json::parse(whole_summary);
+  EXPECT_EQ(summary.at("n_episodes"), was.at("n_episodes"));
+  EXPECT_EQ(summary.at("n_successful"), was.at("n_successful"));
+}
+
+TEST_F(CellFolder, AnOverwriteBuildsTheNewCellBesideTheOldOneUntilItsFirstRecord) {
+  RunCellInFolder(PlanCell(TwoExpertEpisodes()), Options());
+  EvaluationCellConfig other = TwoExpertEpisodes();
+  other.seed = 8;
+  CellFolderOptions options = Options();
+  options.overwrite = true;
+  Heard heard;
+  RunCellInFolder(PlanCell(other), options, Listen(heard));
+  EXPECT_NE(heard.folder_at_attach, Out()) << "the new cell starts beside the old one";
+  ASSERT_EQ(heard.folder_at_record.size(), 2u);
+  EXPECT_EQ(heard.folder_at_record[0], Out()) << "the first record swaps it in";
+  EXPECT_EQ(nlohmann::json::parse(ReadText(Out() / "cell.json")).at("seed"), 8);
+  EXPECT_EQ(Lines(Out() / "episodes.jsonl").size(), 2u);
+}
+
+TEST_F(CellFolder, FoldersThatCannotTakeTheCellAreRefusedNamingThem) {
+  CellFolderOptions options = Options();
+  options.resume = true;
+  try {
+    RunCellInFolder(PlanCell(TwoExpertEpisodes()), options);
+    FAIL() << "a resume of a folder that does not exist must throw";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find(Out().string() + " does not exist"), std::string::npos) << error.what();
+  }
+  fs::create_directories(Out());
+  std::ofstream(Out() / "notes.txt") << "someone else's\n";
+  options.resume = false;
+  options.overwrite = true;
+  EXPECT_THROW(RunCellInFolder(PlanCell(TwoExpertEpisodes()), options), std::invalid_argument);
+  EXPECT_EQ(ReadText(Out() / "notes.txt"), "someone else's\n") << "a folder tavis did not write stays as it was";
+  options.overwrite = false;
+  EXPECT_THROW(RunCellInFolder(PlanCell(TwoExpertEpisodes()), options), std::invalid_argument);
+}
+
+// A served cell whose server does not answer fails before its first record.
+TEST_F(CellFolder, ANewFolderOfACellThatFailedBeforeItsFirstRecordGoesUnlessTheCallerKeepsIt) {
+  EvaluationCellConfig config;
+  config.policy = "openpi";
+  config.servers = {"ws://127.0.0.1:1"};
+  config.server_ready_timeout_s = 0.05;
+  config.episodes = 1;
+  config.envs = 1;
+  config.config_dir = TAVIS_CONFIG_DIR;
+  EXPECT_THROW(RunCellInFolder(PlanCell(config), Options()), std::runtime_error);
+  EXPECT_FALSE(fs::exists(Out()));
+  CellFolderOptions keep = Options();
+  keep.remove_new_folder_on_failure = false;
+  EXPECT_THROW(RunCellInFolder(PlanCell(config), keep), std::runtime_error);
+  EXPECT_TRUE(fs::exists(Out() / "cell.json")) << "the sweep's next run continues it";
+}
+
+}  // namespace
+}  // namespace tavis::batch::cell
