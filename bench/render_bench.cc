@@ -15,11 +15,15 @@
 //
 // Run: tavis_render_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // Set TAVIS_RENDER_BENCH_CONTACT_SHEET=/path/sheet.png to also write env 0's four 640x480 views
-// (TAVIS_RENDER_BENCH_TEXTURED_CONTACT_SHEET: the same views textured).
+// (TAVIS_RENDER_BENCH_TEXTURED_CONTACT_SHEET: the same views textured). Set
+// TAVIS_RENDER_BENCH_IMAGE_HASH=1 to print a hash of every image of every env of the first two
+// iterations (RGB, depth and object ids), so that two builds can be shown to draw the same pixels.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -220,7 +224,30 @@ void WriteContactSheetIfRequested(const BenchScene& scene, BatchRenderer* render
   WritePng(path, MakeContactSheet(views));
 }
 
-void RunRenderBenchmark(benchmark::State& state, int resolution_width, int resolution_height,
+// FNV-1a over bytes, continued from `hash`.
+uint64_t HashBytes(const void* data, std::size_t size, uint64_t hash) {
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  for (std::size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 0x100000001b3ull;
+  return hash;
+}
+
+// With TAVIS_RENDER_BENCH_IMAGE_HASH set: one line per iteration with the hash of all its images.
+void PrintImageHashIfRequested(const char* benchmark, const ImageBatch& images, int64_t tick) {
+  if (std::getenv("TAVIS_RENDER_BENCH_IMAGE_HASH") == nullptr || tick >= 2) return;
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (int env = 0; env < images.num_envs(); ++env) {
+    for (int c = 0; c < images.n_cameras(); ++c) {
+      const std::size_t pixels = static_cast<std::size_t>(images.width(c)) * static_cast<std::size_t>(images.height(c));
+      hash = HashBytes(images.rgb(env, c), 3 * pixels, hash);
+      if (images.has_depth()) hash = HashBytes(images.depth(env, c), sizeof(float) * pixels, hash);
+      if (images.has_object_id()) hash = HashBytes(images.object_id(env, c), sizeof(int32_t) * pixels, hash);
+    }
+  }
+  std::printf("image hash %s tick %lld: %016llx\n", benchmark, static_cast<long long>(tick),
+              static_cast<unsigned long long>(hash));
+}
+
+void RunRenderBenchmark(benchmark::State& state, const char* name, int resolution_width, int resolution_height,
                         const std::vector<uint8_t>& cameras, bool textured = false) {
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, kThreads);
   const BenchScene scene = MakeBenchScene(resolution_width, resolution_height);
@@ -242,6 +269,7 @@ void RunRenderBenchmark(benchmark::State& state, int resolution_width, int resol
     const RenderStats stats = renderer.Render(inputs.Update(tick), &images);
     full_seconds += std::chrono::duration<double>(Clock::now() - full_start).count();
     benchmark::DoNotOptimize(images.rgb(0, 0));
+    PrintImageHashIfRequested(name, images, tick);
     rays += stats.primary_rays + stats.shadow_rays;
 
     state.PauseTiming();
@@ -262,14 +290,16 @@ void RunRenderBenchmark(benchmark::State& state, int resolution_width, int resol
 }
 
 // (a) all four cameras at 640x480.
-void BM_FourCameras640x480(benchmark::State& state) { RunRenderBenchmark(state, 640, 480, {1, 1, 1, 1}); }
+void BM_FourCameras640x480(benchmark::State& state) { RunRenderBenchmark(state, "640x480", 640, 480, {1, 1, 1, 1}); }
 // (b) head and both wrists at 224x224 (the policy's cameras in head mode).
-void BM_HeadAndWrists224x224(benchmark::State& state) { RunRenderBenchmark(state, 224, 224, {1, 0, 1, 1}); }
+void BM_HeadAndWrists224x224(benchmark::State& state) { RunRenderBenchmark(state, "224x224", 224, 224, {1, 0, 1, 1}); }
 
 // (c), (d) the same with textures on the floor, the table and the objects.
-void BM_FourCameras640x480Textured(benchmark::State& state) { RunRenderBenchmark(state, 640, 480, {1, 1, 1, 1}, true); }
+void BM_FourCameras640x480Textured(benchmark::State& state) {
+  RunRenderBenchmark(state, "640x480 textured", 640, 480, {1, 1, 1, 1}, true);
+}
 void BM_HeadAndWrists224x224Textured(benchmark::State& state) {
-  RunRenderBenchmark(state, 224, 224, {1, 0, 1, 1}, true);
+  RunRenderBenchmark(state, "224x224 textured", 224, 224, {1, 0, 1, 1}, true);
 }
 
 BENCHMARK(BM_FourCameras640x480)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
