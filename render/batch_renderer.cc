@@ -239,7 +239,11 @@ void BatchRenderer::Impl::PrepareEnv(int env, const RenderInputs& inputs, const 
   const Eigen::Vector3f* rgb_override =
       inputs.instance_rgb.empty() ? nullptr
                                   : inputs.instance_rgb.data + static_cast<std::size_t>(env) * layout.instances.size();
-  flat_shades[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), rgb_override, lighting, encoder);
+  const ProceduralTexture* textures =
+      inputs.instance_texture.empty()
+          ? nullptr
+          : inputs.instance_texture.data + static_cast<std::size_t>(env) * layout.instances.size();
+  flat_shades[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), rgb_override, textures, lighting, encoder);
   if (!casters.empty()) {
     casters[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), shapes.surfaces().data(),
                                                  env_scenes.enabled(env));

@@ -2,25 +2,32 @@
 
 #include <algorithm>
 
+#include "render/internal/textured_base.h"
+
 namespace tavis::render::internal {
 
 FlatShades::FlatShades(const SurfaceModel* surfaces, int n_instances)
     : surfaces_(surfaces),
+      plain_kinds_(static_cast<std::size_t>(n_instances)),
       kinds_(static_cast<std::size_t>(n_instances)),
       faces_(12 * static_cast<std::size_t>(n_instances)) {
   for (int i = 0; i < n_instances; ++i) {
     const SurfaceModel& surface = surfaces[i];
     const bool flat =
         (surface.kind == ShapeKind::kBox || surface.kind == ShapeKind::kPlane) && HasConstantReflectance(surface);
-    kinds_[static_cast<std::size_t>(i)] = surface.appearance.emissive ? Kind::kEmissive
-                                          : flat                      ? Kind::kFlat
-                                                                      : Kind::kShaded;
+    plain_kinds_[static_cast<std::size_t>(i)] = surface.appearance.emissive ? Kind::kEmissive
+                                                : flat                      ? Kind::kFlat
+                                                                            : Kind::kShaded;
   }
+  kinds_ = plain_kinds_;
 }
 
-void FlatShades::Build(const InstanceFrame* frames, const Eigen::Vector3f* rgb_override, const LightingModel& lighting,
-                       const SrgbEncoder& encoder) {
+void FlatShades::Build(const InstanceFrame* frames, const Eigen::Vector3f* rgb_override,
+                       const ProceduralTexture* textures, const LightingModel& lighting, const SrgbEncoder& encoder) {
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
+    kinds_[i] = plain_kinds_[i];
+    // A texture replaces the flat colour (textured_base.h): such a face keeps its lighting only.
+    if (kinds_[i] == Kind::kFlat && HasTexture(textures, static_cast<unsigned int>(i))) kinds_[i] = Kind::kTexturedFlat;
     if (kinds_[i] == Kind::kShaded) continue;
     const SurfaceModel& surface = surfaces_[i];
     const Eigen::Vector3f base = rgb_override != nullptr ? rgb_override[i] : surface.appearance.rgb;
@@ -37,7 +44,13 @@ void FlatShades::Build(const InstanceFrame* frames, const Eigen::Vector3f* rgb_o
         Face& f = faces_[2 * (6 * i + static_cast<std::size_t>(face)) + static_cast<std::size_t>(side)];
         f.normal = side == 0 ? n : Eigen::Vector3f(-n);
         f.cosine = std::max(0.0f, f.normal.dot(lighting.to_light()));
-        f.colours = ShadeBoth(lighting, encoder, base, f.normal, f.cosine);
+        if (kinds_[i] == Kind::kTexturedFlat) {
+          f.local_normal = n_local;
+          f.lit = lighting.Irradiance(f.normal, f.cosine);
+          f.shadowed = lighting.Irradiance(f.normal, 0.0f);
+        } else {
+          f.colours = ShadeBoth(lighting, encoder, base, f.normal, f.cosine);
+        }
       }
     }
   }

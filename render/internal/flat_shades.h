@@ -4,7 +4,9 @@
 // links) has one normal, so its lighting, lit and in shadow, is the same at every pixel: the tile
 // loop then only picks the face's two colours instead of shading and encoding each pixel. The
 // colours come from the same functions, on the same values, as the per-pixel path's, so the
-// pixels are identical. Emissive instances get their one colour the same way.
+// pixels are identical. Emissive instances get their one colour the same way. A textured box or
+// plane (the appearance axis) keeps its per-face normal and irradiance, so that a pixel only
+// evaluates its texture and multiplies.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +17,7 @@
 #include "render/internal/env_scenes.h"
 #include "render/internal/lighting_model.h"
 #include "render/internal/surface_shading.h"
+#include "render/procedural_texture.h"
 
 namespace tavis::render::internal {
 
@@ -36,21 +39,27 @@ inline PixelColours ShadeBoth(const LightingModel& lighting, const SrgbEncoder& 
 
 class FlatShades {
  public:
-  enum class Kind : uint8_t { kShaded, kFlat, kEmissive };
+  enum class Kind : uint8_t { kShaded, kFlat, kTexturedFlat, kEmissive };
 
-  // A face seen from one side: the normal turned towards the viewer, its light cosine, colours.
+  // A face seen from one side: the normal turned towards the viewer, its light cosine, colours
+  // (kFlat), and for kTexturedFlat the outward local normal and the irradiance lit and in shadow
+  // (LightingModel::Irradiance).
   struct Face {
     Eigen::Vector3f normal;
     float cosine;
     PixelColours colours;
+    Eigen::Vector3f local_normal;
+    Eigen::Vector3f lit;
+    Eigen::Vector3f shadowed;
   };
 
   FlatShades() = default;
   explicit FlatShades(const SurfaceModel* surfaces, int n_instances);
 
-  // Recomputes the faces at this render's frames and colours (rgb_override may be nullptr).
-  void Build(const InstanceFrame* frames, const Eigen::Vector3f* rgb_override, const LightingModel& lighting,
-             const SrgbEncoder& encoder);
+  // Recomputes the faces at this render's frames, colours and textures (rgb_override and
+  // textures may be nullptr).
+  void Build(const InstanceFrame* frames, const Eigen::Vector3f* rgb_override, const ProceduralTexture* textures,
+             const LightingModel& lighting, const SrgbEncoder& encoder);
 
   Kind kind(unsigned int instance) const { return kinds_[instance]; }
   // Face `face` (a box's triangle / 2; 0 for a plane) of a flat instance, from its outward side.
@@ -61,8 +70,9 @@ class FlatShades {
 
  private:
   const SurfaceModel* surfaces_ = nullptr;
-  std::vector<Kind> kinds_;  // [instance]
-  std::vector<Face> faces_;  // [instance][face 0..5][outside, inside]
+  std::vector<Kind> plain_kinds_;  // [instance] without textures
+  std::vector<Kind> kinds_;        // [instance] at this render's textures
+  std::vector<Face> faces_;        // [instance][face 0..5][outside, inside]
 };
 
 }  // namespace tavis::render::internal

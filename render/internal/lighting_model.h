@@ -29,8 +29,13 @@ class LightingModel {
   // when the light reaches the point and 0 in shadow. The dome term weights the sky by how much
   // of it the normal faces, with a fraction `ground_bounce` coming back from below.
   Eigen::Vector3f Shade(const Eigen::Vector3f& rgb, const Eigen::Vector3f& n, float direct_cosine) const {
+    return rgb.cwiseProduct(Irradiance(n, direct_cosine));
+  }
+  // What Shade multiplies the reflectance by: the same for every point of a flat face, so a
+  // textured face computes it once (FlatShades) and Shade's result stays the same floats.
+  Eigen::Vector3f Irradiance(const Eigen::Vector3f& n, float direct_cosine) const {
     const float sky = 0.5f * (1.0f + n.z()) + ground_bounce_ * 0.5f * (1.0f - n.z());
-    return rgb.cwiseProduct(sky * ambient_ + direct_cosine * direct_);
+    return sky * ambient_ + direct_cosine * direct_;
   }
 
  private:

@@ -17,6 +17,10 @@
 #include <limits>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <Eigen/Core>
 
 #include "render/internal/env_scenes.h"
@@ -34,6 +38,23 @@ struct LightBounds {
 
   bool MayReach(const Eigen::Vector3f& uvw) const {
     return uvw.x() >= u0 && uvw.x() <= u1 && uvw.y() >= v0 && uvw.y() <= v1 && uvw.z() <= w1;
+  }
+
+  // MayReach for the four points (u[j], v[j], w[j]), j < 4, as bit j of the result (a NaN
+  // coordinate never reaches). One SIMD test for four pixels instead of a branch per bound.
+  int MayReach4(const float* u, const float* v, const float* w) const {
+#if defined(__SSE2__)
+    const __m128 pu = _mm_loadu_ps(u);
+    const __m128 pv = _mm_loadu_ps(v);
+    const __m128 inside_u = _mm_and_ps(_mm_cmpge_ps(pu, _mm_set1_ps(u0)), _mm_cmple_ps(pu, _mm_set1_ps(u1)));
+    const __m128 inside_v = _mm_and_ps(_mm_cmpge_ps(pv, _mm_set1_ps(v0)), _mm_cmple_ps(pv, _mm_set1_ps(v1)));
+    const __m128 below_w = _mm_cmple_ps(_mm_loadu_ps(w), _mm_set1_ps(w1));
+    return _mm_movemask_ps(_mm_and_ps(_mm_and_ps(inside_u, inside_v), below_w));
+#else
+    int bits = 0;
+    for (int j = 0; j < 4; ++j) bits |= MayReach(Eigen::Vector3f(u[j], v[j], w[j])) ? 1 << j : 0;
+    return bits;
+#endif
   }
 };
 

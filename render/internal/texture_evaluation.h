@@ -115,9 +115,14 @@ inline float Pattern(const ProceduralTexture& texture, const Eigen::Vector2f& uv
   return 0.0f;
 }
 
-// The reflectance at local point p with local normal n (render::TextureReflectance).
-inline Eigen::Vector3f EvaluateTexture(const ProceduralTexture& texture, const Eigen::Vector3f& p,
-                                       const Eigen::Vector3f& n) {
+// The reflectance at local point p with local normal n (render::TextureReflectance). Always
+// inlined: the shading loop calls it from two places (flat faces, round shapes), and GCC then
+// made it a call again (perf: 9% of a textured render).
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+inline Eigen::Vector3f
+EvaluateTexture(const ProceduralTexture& texture, const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
   switch (texture.pattern) {
     case engine::TexturePattern::kNone:
     case engine::TexturePattern::kSolid: return texture.colour_a;

@@ -13,25 +13,21 @@ namespace {
 // (the smooth normal and the tessellated facet differ slightly on round shapes).
 constexpr float kShadowRayOffset = 1e-3f;
 
-// Lane k of a packet covers pixel (block_x + kLaneColumn[k], block_y + kLaneRow[k]).
+// Lane k of a packet covers pixel (block_x + column_index[k], block_y + row_index[k]).
 template <int K>
 struct LaneOffsets {
-  float column[K];
-  float row[K];
   int column_index[K];
   int row_index[K];
-  constexpr LaneOffsets() : column(), row(), column_index(), row_index() {
+  constexpr LaneOffsets() : column_index(), row_index() {
     for (int k = 0; k < K; ++k) {
       column_index[k] = k % Packet<K>::kBlockWidth;
       row_index[k] = k / Packet<K>::kBlockWidth;
-      column[k] = static_cast<float>(column_index[k]);
-      row[k] = static_cast<float>(row_index[k]);
     }
   }
 };
 
-// The camera-axis terms of one tile's primary-ray directions, per pixel column (a * left) and
-// row (b * up). A direction is forward + column term + row term, added in the same order as
+// The camera-axis terms of one tile's primary-ray directions, per pixel column (forward + a * left)
+// and row (b * up). A direction is the column term plus the row term, added in the same order as
 // forward + a * left + b * up, so the directions are the same floats as without the table.
 struct TileRayTerms {
   float column[3][kTileSize];
@@ -42,7 +38,7 @@ struct TileRayTerms {
       const float a = (raster.cx - (static_cast<float>(rect.x0 + i) + 0.5f)) * raster.inv_fx;
       const float b = (raster.cy - (static_cast<float>(rect.y0 + i) + 0.5f)) * raster.inv_fx;
       for (int axis = 0; axis < 3; ++axis) {
-        column[axis][i] = a * camera.left[axis];
+        column[axis][i] = camera.forward[axis] + a * camera.left[axis];
         row[axis][i] = b * camera.up[axis];
       }
     }
@@ -51,28 +47,37 @@ struct TileRayTerms {
 
 // Directions of the primary rays of the block whose top-left pixel is (block_x, block_y); lanes
 // outside the tile are invalid. The other ray fields come from SetTileConstants. Returns the
-// number of valid lanes.
+// number of valid lanes. Written row by row of the block, four lanes at a time, so that the
+// compiler vectorises it (lane k is column k % 4, row k / 4 of the block).
 template <int K>
-int SetPrimaryRays(const CameraRaster& raster, const CameraFrame& camera, const TileRayTerms& terms,
-                   const TileRect& rect, int block_x, int block_y, int* valid, typename Packet<K>::RayHit* packet) {
-  static constexpr LaneOffsets<K> kLanes;
+int SetPrimaryRays(const CameraRaster& raster, const TileRayTerms& terms, const TileRect& rect, int block_x,
+                   int block_y, int* valid, typename Packet<K>::RayHit* packet) {
+  constexpr int kWidth = Packet<K>::kBlockWidth;
+  constexpr int kRows = K / kWidth;
   const int columns_left = rect.x1 - block_x;
   const int rows_left = rect.y1 - block_y;
-  int count = 0;
-  for (int k = 0; k < K; ++k) {
-    const bool inside = kLanes.column_index[k] < columns_left && kLanes.row_index[k] < rows_left;
-    valid[k] = inside ? -1 : 0;
-    count += inside ? 1 : 0;
-  }
   // Blocks start at multiples of the block size inside the tile, so these stay below kTileSize.
   const int column0 = block_x - rect.x0;
   const int row0 = block_y - rect.y0;
+  int count = 0;
+  for (int r = 0; r < kRows; ++r) {
+    for (int c = 0; c < kWidth; ++c) {
+      const bool inside = c < columns_left && r < rows_left;
+      valid[r * kWidth + c] = inside ? -1 : 0;
+      count += inside ? 1 : 0;
+    }
+  }
+  for (int r = 0; r < kRows; ++r) {
+    const float row_x = terms.row[0][row0 + r];
+    const float row_y = terms.row[1][row0 + r];
+    const float row_z = terms.row[2][row0 + r];
+    for (int c = 0; c < kWidth; ++c) {
+      packet->ray.dir_x[r * kWidth + c] = terms.column[0][column0 + c] + row_x;
+      packet->ray.dir_y[r * kWidth + c] = terms.column[1][column0 + c] + row_y;
+      packet->ray.dir_z[r * kWidth + c] = terms.column[2][column0 + c] + row_z;
+    }
+  }
   for (int k = 0; k < K; ++k) {
-    const int column = column0 + kLanes.column_index[k];
-    const int row = row0 + kLanes.row_index[k];
-    packet->ray.dir_x[k] = camera.forward.x() + terms.column[0][column] + terms.row[0][row];
-    packet->ray.dir_y[k] = camera.forward.y() + terms.column[1][column] + terms.row[1][row];
-    packet->ray.dir_z[k] = camera.forward.z() + terms.column[2][column] + terms.row[2][row];
     packet->ray.tfar[k] = raster.far_m;
     packet->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     packet->hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
@@ -85,11 +90,12 @@ template <int K>
 void Finish(std::size_t pixel, const Eigen::Vector3f& p, const Eigen::Vector3f& n, float cosine,
             const PixelColours& colours, float depth, int32_t object_id, bool shadows, const PixelWriter& writer,
             TileShadows<K>* tile_shadows) {
+  writer.WriteDepthAndId(pixel, depth, object_id);
   if (cosine > 0.0f && shadows) {
-    tile_shadows->Add(p + kShadowRayOffset * n, {pixel, colours, depth, object_id});
+    tile_shadows->Add(p + kShadowRayOffset * n, pixel, colours);
     return;
   }
-  writer.Write(pixel, colours.lit, depth, object_id);
+  writer.WriteColour(pixel, colours.lit);
 }
 
 // Shades the primary hit of lane k into `pixel` (or queues it for its shadow ray).
@@ -108,17 +114,30 @@ void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shad
   }
   const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
   const Eigen::Vector3f p = camera.origin + depth * direction;
-  // A textured instance (the appearance axis) is shaded per pixel, whatever its shape.
-  const bool textured = HasTexture(env.textures, instance);
-  if (kind == FlatShades::Kind::kFlat && !textured) {
-    // Plain boxes and planes (floor, table, most links): one colour per face, from its triangle.
+  if (kind != FlatShades::Kind::kShaded) {
+    // Boxes and planes (floor, table, most links): one normal and lighting per face, from its
+    // triangle; a plain face has its two colours ready, a textured one (the appearance axis)
+    // multiplies its texture by the face's irradiance.
     const uint32_t face = primary.hit.primID[k] / 2;  // a plane's two triangles are its face 0
     const FlatShades::Face* f = &env.flat->outside(instance, face);
     if (f->normal.dot(direction) > 0.0f) f = &env.flat->inside(instance, face);  // a plane from below, a camera inside
-    Finish<K>(pixel, p, f->normal, f->cosine, f->colours, depth, surface.object_id, lighting.shadows(), writer,
+    if (kind == FlatShades::Kind::kFlat) {
+      Finish<K>(pixel, p, f->normal, f->cosine, f->colours, depth, surface.object_id, lighting.shadows(), writer,
+                tile_shadows);
+      return;
+    }
+    const Eigen::Vector3f colour =
+        TexturedBase(env.textures[instance], env.frames[instance].ToLocal(p), f->local_normal);
+    PixelColours colours;
+    shading.encoder->Encode(colour.cwiseProduct(f->lit), colours.lit);
+    if (f->cosine > 0.0f && lighting.shadows())
+      shading.encoder->Encode(colour.cwiseProduct(f->shadowed), colours.shadowed);
+    Finish<K>(pixel, p, f->normal, f->cosine, colours, depth, surface.object_id, lighting.shadows(), writer,
               tile_shadows);
     return;
   }
+  // Round shapes and labelled surfaces: shaded per pixel.
+  const bool textured = HasTexture(env.textures, instance);
   const Eigen::Vector3f base = env.rgb_override != nullptr ? env.rgb_override[instance] : surface.appearance.rgb;
   const InstanceFrame& frame = env.frames[instance];
   const Eigen::Vector3f p_local = frame.ToLocal(p);
@@ -162,7 +181,7 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
-      counts.primary_rays += SetPrimaryRays<K>(raster, camera, terms, rect, block_x, block_y, valid, &primary);
+      counts.primary_rays += SetPrimaryRays<K>(raster, terms, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &primary_context, &primary);
       const std::size_t block_pixel = static_cast<std::size_t>(block_y) * width + static_cast<std::size_t>(block_x);
       for (int k = 0; k < K; ++k) {
@@ -194,7 +213,7 @@ TileCounts CastPrimaryTileK(const EnvView& env, const CameraRaster& raster, cons
   const TileRayTerms terms(raster, camera, rect);
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
-      counts.primary_rays += SetPrimaryRays<K>(raster, camera, terms, rect, block_x, block_y, valid, &primary);
+      counts.primary_rays += SetPrimaryRays<K>(raster, terms, rect, block_x, block_y, valid, &primary);
       P::Intersect(valid, env.scene, &context, &primary);
       for (int k = 0; k < K; ++k) {
         if (valid[k] != 0 && primary.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) ++counts.primary_hits;

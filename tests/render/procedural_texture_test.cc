@@ -1,7 +1,8 @@
 // Procedural textures (render/procedural_texture.h): each pattern's values at known points, its
 // period and its two colours; the face projection; the checks; and rendered: a texture changes
 // the pixels of its own instance only, no texture leaves every pixel as it was, and a texture
-// moves with its instance.
+// moves with its instance, and a textured box face is the same bytes by the flat-face path and the
+// per-pixel path.
 #include "render/procedural_texture.h"
 
 #include <gtest/gtest.h>
@@ -236,6 +237,37 @@ TEST(ProceduralTextureRender, ATableTextureChangesTheTablesPixelsAndNoOthers) {
     EXPECT_EQ(other_changed, 0) << "the floor, the legs and the objects are untouched";
     ASSERT_GT(table_pixels, 200);
     EXPECT_GT(table_changed, table_pixels / 2) << "both checker colours differ from the table's grey";
+  }
+}
+
+// A textured box face takes the flat-face path (its lighting once per face); a labelled box is
+// shaded per pixel. A stripes label leaves the top face unlabelled, so the table's top is drawn
+// by the two paths: its pixels must be the same bytes. The label's colour has no green, so every
+// other table pixel (its sides) shows the label in the labelled image.
+TEST(ProceduralTextureRender, ATexturedBoxFaceIsTheSameBytesAsThePerPixelPathDrawsIt) {
+  const testing::TestScene scene = SceneWithTableTopId();
+  std::vector<ProceduralTexture> textures(scene.layout.instances.size());
+  textures[kTableTop] = Texture(TexturePattern::kNoise, 0.05);
+  const Rendered flat = RenderScene(scene, textures);
+  testing::TestScene labelled_scene = scene;
+  labelled_scene.layout.instances[kTableTop].appearance.label = LabelPattern::kStripes;
+  labelled_scene.layout.instances[kTableTop].appearance.label_rgb = Eigen::Vector3f(1.0f, 0.0f, 1.0f);
+  const Rendered per_pixel = RenderScene(labelled_scene, textures);
+  for (std::size_t c = 0; c < flat.rgb.size(); ++c) {
+    SCOPED_TRACE(scene.layout.cameras[c].name);
+    int same = 0, label = 0, other = 0;
+    for (std::size_t p = 0; p < flat.ids[c].size(); ++p) {
+      if (flat.ids[c][p] != kTableTopId) continue;
+      if (std::memcmp(&flat.rgb[c][3 * p], &per_pixel.rgb[c][3 * p], 3) == 0) {
+        ++same;
+      } else if (per_pixel.rgb[c][3 * p + 1] == 0) {
+        ++label;
+      } else {
+        ++other;
+      }
+    }
+    EXPECT_GT(same, 200) << "the top face";
+    EXPECT_EQ(other, 0) << "a top-face pixel the two paths shade differently";
   }
 }
 
