@@ -60,11 +60,16 @@ int SetPrimaryRays(const CameraRaster& raster, const TileRayTerms& terms, const 
   const int column0 = block_x - rect.x0;
   const int row0 = block_y - rect.y0;
   int count = 0;
-  for (int r = 0; r < kRows; ++r) {
-    for (int c = 0; c < kWidth; ++c) {
-      const bool inside = c < columns_left && r < rows_left;
-      valid[r * kWidth + c] = inside ? -1 : 0;
-      count += inside ? 1 : 0;
+  if (columns_left >= kWidth && rows_left >= kRows) {  // every block of an image a multiple of the tile
+    std::fill_n(valid, K, -1);
+    count = K;
+  } else {
+    for (int r = 0; r < kRows; ++r) {
+      for (int c = 0; c < kWidth; ++c) {
+        const bool inside = c < columns_left && r < rows_left;
+        valid[r * kWidth + c] = inside ? -1 : 0;
+        count += inside ? 1 : 0;
+      }
     }
   }
   for (int r = 0; r < kRows; ++r) {
@@ -98,6 +103,18 @@ void Finish(std::size_t pixel, const Eigen::Vector3f& p, const Eigen::Vector3f& 
   writer.WriteColour(pixel, colours.lit);
 }
 
+// A textured flat face's two colours at local point p_local (the texture times the face's
+// irradiance, lit and, where the light can reach, in shadow): the same floats as the per-pixel
+// path's Shade.
+inline PixelColours TexturedFaceColours(const FlatShades::Face& f, const ProceduralTexture& texture,
+                                        const Eigen::Vector3f& p_local, bool shadows, const SrgbEncoder& encoder) {
+  const Eigen::Vector3f colour = TexturedBase(texture, p_local, f.local_normal);
+  PixelColours colours{};  // shadowed stays unused where the light cannot reach
+  encoder.Encode(colour.cwiseProduct(f.lit), colours.lit);
+  if (f.cosine > 0.0f && shadows) encoder.Encode(colour.cwiseProduct(f.shadowed), colours.shadowed);
+  return colours;
+}
+
 // Shades the primary hit of lane k into `pixel` (or queues it for its shadow ray).
 template <int K>
 void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shading,
@@ -126,12 +143,8 @@ void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shad
                 tile_shadows);
       return;
     }
-    const Eigen::Vector3f colour =
-        TexturedBase(env.textures[instance], env.frames[instance].ToLocal(p), f->local_normal);
-    PixelColours colours;
-    shading.encoder->Encode(colour.cwiseProduct(f->lit), colours.lit);
-    if (f->cosine > 0.0f && lighting.shadows())
-      shading.encoder->Encode(colour.cwiseProduct(f->shadowed), colours.shadowed);
+    const PixelColours colours = TexturedFaceColours(*f, env.textures[instance], env.frames[instance].ToLocal(p),
+                                                     lighting.shadows(), *shading.encoder);
     Finish<K>(pixel, p, f->normal, f->cosine, colours, depth, surface.object_id, lighting.shadows(), writer,
               tile_shadows);
     return;
@@ -154,6 +167,64 @@ void ShadeHit(const EnvView& env, const CameraFrame& camera, const Shading& shad
     shading.encoder->Encode(lighting.Shade(colour, n, cosine), colours.lit);
   }
   Finish<K>(pixel, p, n, cosine, colours, depth, surface.object_id, lighting.shadows(), writer, tile_shadows);
+}
+
+// If every lane of a full packet hit the same face of the same flat instance (kFlat or
+// kTexturedFlat), from the same side, returns that face; else nullptr. Most packets of the floor,
+// the table and the links are such, and then shading is the same few operations on every lane.
+template <int K>
+const FlatShades::Face* CommonFlatFace(const EnvView& env, const typename Packet<K>::RayHit& primary, int n_valid) {
+  if (n_valid != K) return nullptr;
+  const unsigned int instance = primary.hit.instID[0][0];
+  const uint32_t face = primary.hit.primID[0] / 2;
+  bool same = true;
+  for (int k = 0; k < K; ++k) {
+    same &= primary.hit.instID[0][k] == instance && primary.hit.primID[k] / 2 == face;
+  }
+  if (!same || instance == RTC_INVALID_GEOMETRY_ID) return nullptr;
+  const FlatShades::Kind kind = env.flat->kind(instance);
+  if (kind != FlatShades::Kind::kFlat && kind != FlatShades::Kind::kTexturedFlat) return nullptr;
+  const FlatShades::Face& outside = env.flat->outside(instance, face);
+  int from_inside = 0;
+  for (int k = 0; k < K; ++k) {
+    const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
+    from_inside += outside.normal.dot(direction) > 0.0f ? 1 : 0;
+  }
+  if (from_inside == 0) return &outside;
+  return from_inside == K ? &env.flat->inside(instance, face) : nullptr;
+}
+
+// ShadeHit for every lane of a packet that CommonFlatFace answered: the same pixels, with the
+// per-hit look-ups done once.
+template <int K>
+void ShadeFlatPacket(const EnvView& env, const FlatShades::Face& f, const CameraFrame& camera, const Shading& shading,
+                     const typename Packet<K>::RayHit& primary, std::size_t block_pixel, const std::size_t* lane_offset,
+                     const PixelWriter& writer, TileShadows<K>* tile_shadows) {
+  const unsigned int instance = primary.hit.instID[0][0];
+  const int32_t object_id = env.surfaces[instance].object_id;
+  const bool textured = env.flat->kind(instance) == FlatShades::Kind::kTexturedFlat;
+  const bool shadows = shading.lighting->shadows();
+  const bool queue = f.cosine > 0.0f && shadows;
+  for (int k = 0; k < K; ++k) {
+    const std::size_t pixel = block_pixel + lane_offset[k];
+    const float depth = primary.ray.tfar[k];
+    writer.WriteDepthAndId(pixel, depth, object_id);
+    if (!queue && !textured) {
+      writer.WriteColour(pixel, f.colours.lit);
+      continue;
+    }
+    const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
+    const Eigen::Vector3f p = camera.origin + depth * direction;
+    const PixelColours colours =
+        textured
+            ? TexturedFaceColours(f, env.textures[instance], env.frames[instance].ToLocal(p), shadows, *shading.encoder)
+            : f.colours;
+    if (queue) {
+      tile_shadows->Add(p + kShadowRayOffset * f.normal, pixel, colours);
+    } else {
+      writer.WriteColour(pixel, colours.lit);
+    }
+  }
 }
 
 template <int K>
@@ -181,9 +252,15 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
 
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
-      counts.primary_rays += SetPrimaryRays<K>(raster, terms, rect, block_x, block_y, valid, &primary);
+      const int n_valid = SetPrimaryRays<K>(raster, terms, rect, block_x, block_y, valid, &primary);
+      counts.primary_rays += n_valid;
       P::Intersect(valid, env.scene, &primary_context, &primary);
       const std::size_t block_pixel = static_cast<std::size_t>(block_y) * width + static_cast<std::size_t>(block_x);
+      if (const FlatShades::Face* face = CommonFlatFace<K>(env, primary, n_valid)) {
+        counts.primary_hits += K;
+        ShadeFlatPacket<K>(env, *face, camera, shading, primary, block_pixel, lane_offset, writer, &tile_shadows);
+        continue;
+      }
       for (int k = 0; k < K; ++k) {
         if (valid[k] == 0) continue;
         const std::size_t pixel = block_pixel + lane_offset[k];
