@@ -148,6 +148,37 @@ int ShadowCasters::Candidates(const Eigen::Vector3f& low, const Eigen::Vector3f&
   return count;
 }
 
+int ShadowCasters::MeetsBox4(int32_t caster, const float* x, const float* y, const float* z) const {
+  const Caster& c = casters_[static_cast<std::size_t>(caster)];
+#if defined(__SSE2__)
+  const __m128 dx = _mm_sub_ps(_mm_loadu_ps(x), _mm_set1_ps(c.centre.x()));
+  const __m128 dy = _mm_sub_ps(_mm_loadu_ps(y), _mm_set1_ps(c.centre.y()));
+  const __m128 dz = _mm_sub_ps(_mm_loadu_ps(z), _mm_set1_ps(c.centre.z()));
+  __m128 t_min = _mm_setzero_ps();
+  __m128 t_max = _mm_set1_ps(std::numeric_limits<float>::max());
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3f& axis = c.axes[i];
+    const __m128 local =
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, _mm_set1_ps(axis.x())), _mm_mul_ps(dy, _mm_set1_ps(axis.y()))),
+                   _mm_mul_ps(dz, _mm_set1_ps(axis.z())));
+    const __m128 inv = _mm_set1_ps(c.inv_light_local[i]);
+    const __m128 half = _mm_set1_ps(c.outer[i]);
+    const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_sub_ps(_mm_setzero_ps(), half), local), inv);
+    const __m128 t2 = _mm_mul_ps(_mm_sub_ps(half, local), inv);
+    t_min = _mm_max_ps(_mm_min_ps(t2, t1), t_min);  // std::max(t_min, std::min(t1, t2))
+    t_max = _mm_min_ps(_mm_max_ps(t2, t1), t_max);  // std::min(t_max, std::max(t1, t2))
+  }
+  return _mm_movemask_ps(_mm_cmple_ps(t_min, t_max));
+#else
+  int bits = 0;
+  for (int j = 0; j < 4; ++j) {
+    const Eigen::Vector3f local = ToLocal(c, Eigen::Vector3f(x[j], y[j], z[j]));
+    bits |= RayMeetsBox(local, c.inv_light_local, c.outer, false) ? 1 << j : 0;
+  }
+  return bits;
+#endif
+}
+
 ShadowTest ShadowCasters::TestPlane(const Caster& c, const Eigen::Vector3f& origin) {
   const float side = (origin - c.centre).dot(c.axes[2]);
   return side * c.normal_dot_light > kPad * std::fabs(c.normal_dot_light) ? ShadowTest::kMiss : ShadowTest::kUnknown;

@@ -94,10 +94,23 @@ class ShadowCasters {
   ShadowTest Test(int32_t caster, const Eigen::Vector3f& origin) const {
     const Caster& c = casters_[static_cast<std::size_t>(caster)];
     if (c.kind == ShapeKind::kPlane) return TestPlane(c, origin);
-    const Eigen::Vector3f offset = origin - c.centre;
-    const Eigen::Vector3f local(offset.dot(c.axes[0]), offset.dot(c.axes[1]), offset.dot(c.axes[2]));
+    const Eigen::Vector3f local = ToLocal(c, origin);
     if (!RayMeetsBox(local, c.inv_light_local, c.outer, false)) return ShadowTest::kMiss;
     return TestCore(c, local);
+  }
+
+  bool IsPlane(int32_t caster) const { return casters_[static_cast<std::size_t>(caster)].kind == ShapeKind::kPlane; }
+
+  // Test's bounding-box step for four origins (x[j], y[j], z[j]) of a caster that is not a plane:
+  // bit j set where the ray may meet the caster, so that TestPastBox must decide it; a clear bit
+  // is a miss. The same test as Test's, four rays in one SIMD pass (the float operations may
+  // round differently from the scalar ones, which the box's margin kPad absorbs).
+  int MeetsBox4(int32_t caster, const float* x, const float* y, const float* z) const;
+
+  // Test for an origin whose ray MeetsBox4 did not rule out.
+  ShadowTest TestPastBox(int32_t caster, const Eigen::Vector3f& origin) const {
+    const Caster& c = casters_[static_cast<std::size_t>(caster)];
+    return TestCore(c, ToLocal(c, origin));
   }
 
  private:
@@ -118,6 +131,10 @@ class ShadowCasters {
     float normal_dot_light = 0.0f;
   };
 
+  static Eigen::Vector3f ToLocal(const Caster& c, const Eigen::Vector3f& origin) {
+    const Eigen::Vector3f offset = origin - c.centre;
+    return {offset.dot(c.axes[0]), offset.dot(c.axes[1]), offset.dot(c.axes[2])};
+  }
   static ShadowTest TestPlane(const Caster& c, const Eigen::Vector3f& origin);
   // The tests after the bounding box: the box or cylinder core, the capsule or sphere radii.
   static ShadowTest TestCore(const Caster& c, const Eigen::Vector3f& local);

@@ -116,15 +116,23 @@ class TileShadows {
       v_[i] = uvw.y();
       w_[i] = uvw.z();
     }
-    for (int i = size_; i < padded; ++i) u_[i] = v_[i] = w_[i] = std::numeric_limits<float>::quiet_NaN();
+    for (int i = size_; i < padded; ++i) {
+      u_[i] = v_[i] = w_[i] = std::numeric_limits<float>::quiet_NaN();  // reaches no caster
+      origin_x_[i] = origin_y_[i] = origin_z_[i] = 0.0f;
+    }
     std::fill_n(test_, size_, ShadowTest::kMiss);
     for (int c = 0; c < n_candidates; ++c) {
-      const LightBounds& bounds = candidates[c];
+      const int32_t caster = candidates[c].caster;
+      const bool plane = casters.IsPlane(caster);
       for (int group = 0; group < padded; group += 4) {
-        for (int bits = bounds.MayReach4(u_ + group, v_ + group, w_ + group); bits != 0; bits &= bits - 1) {
+        int bits = candidates[c].MayReach4(u_ + group, v_ + group, w_ + group);
+        if (bits == 0) continue;
+        // Most rays inside a caster's bounds still miss its box: four rays per box test.
+        if (!plane) bits &= casters.MeetsBox4(caster, origin_x_ + group, origin_y_ + group, origin_z_ + group);
+        for (; bits != 0; bits &= bits - 1) {
           const int i = group + __builtin_ctz(static_cast<unsigned int>(bits));
           if (test_[i] == ShadowTest::kHit) continue;
-          const ShadowTest test = casters.Test(bounds.caster, origin(i));
+          const ShadowTest test = plane ? casters.Test(caster, origin(i)) : casters.TestPastBox(caster, origin(i));
           if (test != ShadowTest::kMiss) test_[i] = test;
         }
       }
