@@ -34,6 +34,17 @@ struct PixelWriter {
     if (image.depth != nullptr) image.depth[pixel] = depth;
     if (image.object_id != nullptr) image.object_id[pixel] = object_id;
   }
+  // Depths of the K pixels block_pixel + lane_offset[k], all of one object.
+  template <int K>
+  void WriteDepthsAndId(std::size_t block_pixel, const std::size_t* lane_offset, const float* depths,
+                        int32_t object_id) const {
+    if (image.depth != nullptr) {
+      for (int k = 0; k < K; ++k) image.depth[block_pixel + lane_offset[k]] = depths[k];
+    }
+    if (image.object_id != nullptr) {
+      for (int k = 0; k < K; ++k) image.object_id[block_pixel + lane_offset[k]] = object_id;
+    }
+  }
   void Write(std::size_t pixel, const uint8_t* colour, float depth, int32_t object_id) const {
     WriteColour(pixel, colour);
     WriteDepthAndId(pixel, depth, object_id);
@@ -67,6 +78,31 @@ class TileShadows {
     low_ = low_.cwiseMin(origin);
     high_ = high_.cwiseMax(origin);
     ++size_;
+  }
+
+  // Add for the K pixels block_pixel + lane_offset[k] of one colour pair, origins (x, y, z)[k].
+  void AddBlock(const float* x, const float* y, const float* z, std::size_t block_pixel, const std::size_t* lane_offset,
+                const PixelColours& colours) {
+    float low_x = low_.x(), low_y = low_.y(), low_z = low_.z();
+    float high_x = high_.x(), high_y = high_.y(), high_z = high_.z();
+    for (int k = 0; k < K; ++k) {
+      origin_x_[size_ + k] = x[k];
+      origin_y_[size_ + k] = y[k];
+      origin_z_[size_ + k] = z[k];
+      pixel_[size_ + k] = block_pixel + lane_offset[k];
+      colours_[size_ + k] = colours;
+    }
+    for (int k = 0; k < K; ++k) {
+      low_x = std::min(low_x, x[k]);
+      low_y = std::min(low_y, y[k]);
+      low_z = std::min(low_z, z[k]);
+      high_x = std::max(high_x, x[k]);
+      high_y = std::max(high_y, y[k]);
+      high_z = std::max(high_z, z[k]);
+    }
+    low_ = Eigen::Vector3f(low_x, low_y, low_z);
+    high_ = Eigen::Vector3f(high_x, high_y, high_z);
+    size_ += K;
   }
 
   // Colours every waiting pixel, lit or in shadow, and empties the list; returns the number of

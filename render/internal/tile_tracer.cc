@@ -195,30 +195,37 @@ const FlatShades::Face* CommonFlatFace(const EnvView& env, const typename Packet
 }
 
 // ShadeHit for every lane of a packet that CommonFlatFace answered: the same pixels, with the
-// per-hit look-ups done once.
+// per-hit look-ups done once, and for a plain face the shadow-ray origins computed as arrays
+// (the compiler vectorises them) and queued together.
 template <int K>
 void ShadeFlatPacket(const EnvView& env, const FlatShades::Face& f, const CameraFrame& camera, const Shading& shading,
                      const typename Packet<K>::RayHit& primary, std::size_t block_pixel, const std::size_t* lane_offset,
                      const PixelWriter& writer, TileShadows<K>* tile_shadows) {
   const unsigned int instance = primary.hit.instID[0][0];
-  const int32_t object_id = env.surfaces[instance].object_id;
   const bool textured = env.flat->kind(instance) == FlatShades::Kind::kTexturedFlat;
   const bool shadows = shading.lighting->shadows();
   const bool queue = f.cosine > 0.0f && shadows;
+  writer.WriteDepthsAndId<K>(block_pixel, lane_offset, primary.ray.tfar, env.surfaces[instance].object_id);
+  if (!textured) {
+    if (!queue) {
+      for (int k = 0; k < K; ++k) writer.WriteColour(block_pixel + lane_offset[k], f.colours.lit);
+      return;
+    }
+    // p + kShadowRayOffset * n with p = origin + depth * direction, per component as Eigen's.
+    const Eigen::Vector3f offset = kShadowRayOffset * f.normal;
+    alignas(16) float x[K], y[K], z[K];
+    for (int k = 0; k < K; ++k) x[k] = (camera.origin.x() + primary.ray.tfar[k] * primary.ray.dir_x[k]) + offset.x();
+    for (int k = 0; k < K; ++k) y[k] = (camera.origin.y() + primary.ray.tfar[k] * primary.ray.dir_y[k]) + offset.y();
+    for (int k = 0; k < K; ++k) z[k] = (camera.origin.z() + primary.ray.tfar[k] * primary.ray.dir_z[k]) + offset.z();
+    tile_shadows->AddBlock(x, y, z, block_pixel, lane_offset, f.colours);
+    return;
+  }
   for (int k = 0; k < K; ++k) {
     const std::size_t pixel = block_pixel + lane_offset[k];
-    const float depth = primary.ray.tfar[k];
-    writer.WriteDepthAndId(pixel, depth, object_id);
-    if (!queue && !textured) {
-      writer.WriteColour(pixel, f.colours.lit);
-      continue;
-    }
     const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
-    const Eigen::Vector3f p = camera.origin + depth * direction;
+    const Eigen::Vector3f p = camera.origin + primary.ray.tfar[k] * direction;
     const PixelColours colours =
-        textured
-            ? TexturedFaceColours(f, env.textures[instance], env.frames[instance].ToLocal(p), shadows, *shading.encoder)
-            : f.colours;
+        TexturedFaceColours(f, env.textures[instance], env.frames[instance].ToLocal(p), shadows, *shading.encoder);
     if (queue) {
       tile_shadows->Add(p + kShadowRayOffset * f.normal, pixel, colours);
     } else {
