@@ -21,6 +21,7 @@
 #include "batch/output/atomic_file.h"
 #include "batch/output/program_version.h"
 #include "batch/output/utc_time.h"
+#include "kinematics/enum_names.h"
 
 namespace tavis::batch::output {
 namespace {
@@ -107,12 +108,9 @@ bool SameFile(int fd, const fs::path& path) {
 }  // namespace
 
 const char* ToString(OutputKind kind) {
-  switch (kind) {
-    case OutputKind::kEvalCell: return "evaluation cell";
-    case OutputKind::kDataset: return "dataset";
-    case OutputKind::kSweep: return "sweep";
-  }
-  return "output";
+  static constexpr kinematics::EnumName<OutputKind> kNames[] = {
+      {OutputKind::kEvalCell, "evaluation cell"}, {OutputKind::kDataset, "dataset"}, {OutputKind::kSweep, "sweep"}};
+  return kinematics::NameOf(kNames, kind, "output");
 }
 
 void RequireUsableOutputPath(const fs::path& out, const std::string& option) {
