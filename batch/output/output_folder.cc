@@ -20,6 +20,7 @@
 
 #include "batch/output/atomic_file.h"
 #include "batch/output/program_version.h"
+#include "batch/output/setting_error.h"
 #include "batch/output/utc_time.h"
 #include "kinematics/enum_names.h"
 
@@ -179,7 +180,8 @@ void RequireEmptyOrOwn(const fs::path& dir, OutputKind kind, const std::string& 
     if (in_the_way.size() > 5) names += " and " + std::to_string(in_the_way.size() - 5) + " more";
     names = "files that are not a tavis " + std::string(ToString(kind)) + "'s: " + names;
   }
-  throw std::invalid_argument(dir.string() + " holds " + names + "; " + what_to_do);
+  // `what_to_do` may name settings (SettingKey), which a command names by flag.
+  throw SettingsAdvice<std::invalid_argument>(dir.string() + " holds " + names + "; " + what_to_do);
 }
 
 void WriteOutputMarker(const fs::path& dir, OutputKind kind) {

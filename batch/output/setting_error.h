@@ -38,7 +38,8 @@ class SettingError : public std::invalid_argument, public NamesSettings {
 };
 
 // A setting's key marked in a SettingsAdvice's text: "give " + SettingKey("overwrite") + " to ...".
-// The marks are NUL characters, which no path or value in a message holds.
+// The marks are NUL characters, which no path or value in a message holds; only a SettingsAdvice
+// may carry them (another exception's what() would end at the first).
 std::string SettingKey(const std::string& key);
 // `text` with each marked key written as name_of(key).
 std::string NameSettings(const std::string& text, const SettingNamer& name_of);

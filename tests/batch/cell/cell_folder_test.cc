@@ -147,7 +147,19 @@ TEST_F(CellFolder, FoldersThatCannotTakeTheCellAreRefusedNamingThem) {
   std::ofstream(Out() / "notes.txt") << "someone else's\n";
   options.resume = false;
   options.overwrite = true;
-  EXPECT_THROW(RunCellInFolder(PlanCell(TwoExpertEpisodes()), options), std::invalid_argument);
+  try {
+    RunCellInFolder(PlanCell(TwoExpertEpisodes()), options);
+    FAIL() << "an overwrite of a folder tavis did not write must throw";
+  } catch (const std::invalid_argument& error) {
+    const std::string advice =
+        "; overwrite replaces only a cell tavis wrote: move those files away or give another out";
+    EXPECT_EQ(std::string(error.what()),
+              Out().string() + " holds files that are not a tavis evaluation cell's: notes.txt" + advice);
+    const auto* named = dynamic_cast<const output::NamesSettings*>(&error);
+    ASSERT_NE(named, nullptr);
+    EXPECT_NE(named->MessageNaming([](const std::string& key) { return "--" + key; }).find("give another --out"),
+              std::string::npos);
+  }
   EXPECT_EQ(ReadText(Out() / "notes.txt"), "someone else's\n") << "a folder tavis did not write stays as it was";
   options.overwrite = false;
   EXPECT_THROW(RunCellInFolder(PlanCell(TwoExpertEpisodes()), options), std::invalid_argument);
