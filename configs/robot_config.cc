@@ -373,8 +373,10 @@ std::vector<kinematics::CameraMount> ReadCameras(const YamlValue& root, const st
 
 }  // namespace
 
-RobotModel LoadRobotModel(const std::string& path) {
-  const YamlValue root = YamlValue::LoadFile(path);
+RobotModel LoadRobotModel(const std::string& path) { return ParseRobotModel(YamlValue::ReadFileText(path), path); }
+
+RobotModel ParseRobotModel(const std::string& text, const std::string& path) {
+  const YamlValue root = YamlValue::LoadString(text, path);
   RobotModel robot;
   robot.name = root.String("name");
   // Commands find a robot by its file's name (robots/NAME.yaml) and record that name in their

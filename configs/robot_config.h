@@ -33,6 +33,9 @@ namespace tavis::configs {
 // Throws ConfigError "file: key.path: message" naming the file, the key path and the bad value
 // for a missing, unknown, duplicate or invalid entry.
 kinematics::RobotModel LoadRobotModel(const std::string& path);
+// The same from the file's text, read by a caller that also records it (YamlValue::ReadFileText;
+// a cell's plan): `path` names the file in errors, and its name must be the robot's.
+kinematics::RobotModel ParseRobotModel(const std::string& text, const std::string& path);
 
 // The robot file for a robot name inside a config directory: <dir>/robots/<name>.yaml. Throws
 // ConfigError listing the known robots if there is no such file.

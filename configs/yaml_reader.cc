@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -61,18 +63,16 @@ bool IsOutOfRangeNumber(const std::string& text) {
 
 }  // namespace
 
-YamlValue YamlValue::LoadFile(const std::string& path) {
-  // A missing file is yaml-cpp's BadFile below; anything else that is not a file is named here.
+std::string YamlValue::ReadFileText(const std::string& path) {
+  // A missing file cannot be opened; anything else that is not a file is named here.
   const std::string not_a_file = WhyNotARegularFile(path);
   if (!not_a_file.empty() && std::filesystem::exists(path)) throw ConfigError(path + ": " + not_a_file);
-  try {
-    return YamlValue(Checked(YAML::LoadFile(path), path), path, "");
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(path + ": cannot open file");
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(path + ": malformed YAML: " + e.what());
-  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot open file");
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
+
+YamlValue YamlValue::LoadFile(const std::string& path) { return LoadString(ReadFileText(path), path); }
 
 YamlValue YamlValue::LoadString(const std::string& text, const std::string& source_name) {
   try {

@@ -42,6 +42,10 @@ class YamlValue {
   // Parses `path`; throws ConfigError for a missing file or malformed YAML.
   static YamlValue LoadFile(const std::string& path);
   static YamlValue LoadString(const std::string& text, const std::string& source_name);
+  // The text LoadFile parses, for a caller that also keeps it (a cell records its robot file):
+  // read once, then LoadString(text, path). Throws ConfigError as LoadFile does for a path that
+  // is not a readable file.
+  static std::string ReadFileText(const std::string& path);
 
   YamlValue(const YAML::Node& node, std::string file, std::string key_path);
   YamlValue(const YamlValue& other);

@@ -20,6 +20,7 @@
 #include "batch/scene_render.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
+#include "tools/error_text.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
 
@@ -140,13 +141,7 @@ void RunDemos(DemosOptions options) {
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   // Every value is checked before --out is touched: a bad one must not remove what --overwrite would.
-  try {
-    batch::dataset::ValidateDemoConfig(config);
-  } catch (const batch::output::SettingError& error) {
-    std::string flag = "--" + error.key();  // each setting's flag is its key with dashes: --max-attempts
-    std::replace(flag.begin(), flag.end(), '_', '-');
-    ThrowNamingFlag(error, flag);
-  }
+  batch::dataset::ValidateDemoConfig(config);
   std::unique_ptr<batch::output::OutputReplacement> replacement;
   const batch::output::OutputLock lock = PrepareOutput(config.out, options.overwrite, config.resume, &replacement);
   const std::string out = config.out;
@@ -262,7 +257,7 @@ void RegisterDemosCommand(CLI::App& app) {
     if (demos->count("--out") > 0 && options->config.out.empty()) {
       throw std::invalid_argument("--out must name a folder, got an empty string");
     }
-    RunDemos(*options);
+    RunNamingFlags([&options] { RunDemos(*options); });
   });
 }
 

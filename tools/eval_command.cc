@@ -32,6 +32,7 @@
 #include "scenarios/registry.h"
 #include "tools/cell_options.h"
 #include "tools/commands.h"
+#include "tools/error_text.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
 
@@ -208,7 +209,7 @@ void RunSuite(batch::cell::EvaluationCellConfig cell, const EvalOptions& options
       episodes += static_cast<int>(result.episodes.size());
       ++cells;
     } catch (const std::invalid_argument& error) {
-      std::cout << task << ": not run: " << error.what() << "\n";
+      std::cout << task << ": not run: " << ErrorText(error) << "\n";
       failed.push_back(task);
     }
   }
@@ -311,6 +312,27 @@ void ReadRolloutOptions(const CLI::App& command, EvalOptions& options) {
 // The flag a cell setting is given with (cell_settings.h).
 const char* FlagOf(const char* setting) { return batch::cell::CellSettingNamed(setting).flag; }
 
+// The eval command once CLI11 has parsed its options: what they imply, then the cell or suite.
+void ReadOptionsAndRun(const CLI::App& eval, EvalOptions& options) {
+  // Refused rather than ignored: a cell's files must come from the options its command names.
+  if (eval.count("--out") > 0 && options.out.empty()) {
+    throw std::invalid_argument("--out must name a folder, got an empty string");
+  }
+  RefuseOptionsOfOtherPolicies(eval, options.cell.policy);
+  if (eval.count(FlagOf("episode_start")) > 0) {
+    if (!options.suite.empty()) throw std::invalid_argument("--episode runs one cell's episode, not a --suite");
+    options.cell.episodes = 1;
+    options.cell.first_episode = options.cell.episode_start;
+    options.one_episode = true;
+  }
+  ReadRolloutOptions(eval, options);
+  options.cell.observation_keys_given = eval.count(FlagOf("observation_keys")) > 0;
+  options.task_given = eval.count(FlagOf("task")) > 0;
+  options.image_size_given = eval.count(FlagOf("image_width")) > 0;
+  options.envs_given = eval.count(FlagOf("envs")) > 0;
+  RunEval(options);
+}
+
 }  // namespace
 
 void RegisterEvalCommand(CLI::App& app) {
@@ -347,25 +369,8 @@ void RegisterEvalCommand(CLI::App& app) {
                  "until the new one has recorded its first episode)");
   eval->add_flag("--resume", options->resume,
                  "Finish an interrupted cell in --out (same settings): its complete episodes are kept, the rest run");
-  eval->callback([options, eval] {
-    // Refused rather than ignored: a cell's files must come from the options its command names.
-    if (eval->count("--out") > 0 && options->out.empty()) {
-      throw std::invalid_argument("--out must name a folder, got an empty string");
-    }
-    RefuseOptionsOfOtherPolicies(*eval, options->cell.policy);
-    if (eval->count(FlagOf("episode_start")) > 0) {
-      if (!options->suite.empty()) throw std::invalid_argument("--episode runs one cell's episode, not a --suite");
-      options->cell.episodes = 1;
-      options->cell.first_episode = options->cell.episode_start;
-      options->one_episode = true;
-    }
-    ReadRolloutOptions(*eval, *options);
-    options->cell.observation_keys_given = eval->count(FlagOf("observation_keys")) > 0;
-    options->task_given = eval->count(FlagOf("task")) > 0;
-    options->image_size_given = eval->count(FlagOf("image_width")) > 0;
-    options->envs_given = eval->count(FlagOf("envs")) > 0;
-    RunEval(*options);
-  });
+  // Every setting of tavis eval comes from its flags: an error naming a setting names the flag.
+  eval->callback([options, eval] { RunNamingFlags([&options, &eval] { ReadOptionsAndRun(*eval, *options); }); });
 }
 
 }  // namespace tavis::tools

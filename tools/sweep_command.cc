@@ -19,6 +19,7 @@
 #include "batch/sweep/sweep_spec.h"
 #include "configs/input_file.h"
 #include "tools/commands.h"
+#include "tools/error_text.h"
 #include "tools/option_parsing.h"
 
 namespace tavis::tools {
@@ -57,7 +58,7 @@ void RunSweepCommand(const SweepOptions& options) {
   run.config_dir = options.config_dir;
   const batch::sweep::SweepSpec spec =
       batch::sweep::ParseSweepSpec(run.spec_yaml, options.spec_file, options.config_dir);
-  run.shard = batch::sweep::ParseShard(options.shard);
+  RunNamingFlags([&] { run.shard = batch::sweep::ParseShard(options.shard); });
   run.out_dir =
       options.out.empty() ? "results/" + std::filesystem::path(options.spec_file).stem().string() : options.out;
   run.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();

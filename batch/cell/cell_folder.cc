@@ -8,11 +8,15 @@
 #include "batch/cell/cell_record_stream.h"
 #include "batch/cell/cell_report.h"
 #include "batch/output/output_folder.h"
+#include "batch/output/setting_error.h"
 
 namespace tavis::batch::cell {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A refusal naming the folder settings, which tavis eval names by flag.
+using Advice = output::SettingsAdvice<std::invalid_argument>;
 
 // The cell's folder while it runs: locked, and under --overwrite with the new cell built beside
 // the old one until its first record swaps it in.
@@ -21,12 +25,13 @@ class LockedCellFolder {
   explicit LockedCellFolder(const CellFolderOptions& options) : options_(options) {
     const fs::path& out = options.out;
     if (options.resume && !fs::is_directory(out))
-      throw std::invalid_argument("--resume: " + out.string() + " does not exist: there is no cell to finish");
+      throw Advice(output::SettingKey("resume") + ": " + out.string() + " does not exist: there is no cell to finish");
     const bool replace = options.overwrite && !output::HoldsNoResults(out);
     if (replace) {
-      output::RequireEmptyOrOwn(
-          out, output::OutputKind::kEvalCell,
-          "--overwrite replaces only a cell tavis wrote: move those files away or give another --out");
+      output::RequireEmptyOrOwn(out, output::OutputKind::kEvalCell,
+                                output::SettingKey("overwrite") +
+                                    " replaces only a cell tavis wrote: move those files away or give another " +
+                                    output::SettingKey("out"));
     }
     created_ = !fs::exists(out);
     lock_ = output::CreateAndLockOutput(out, options.command);

@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <tuple>
+#include <utility>
 
 #include "batch/camera_protocol.h"
 #include "batch/output/config_identity.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
+#include "configs/yaml_reader.h"
 #include "scenarios/registry.h"
 
 namespace tavis::batch::cell {
@@ -47,17 +50,33 @@ void CheckSettings(const EvaluationCellConfig& config, PolicyKind policy) {
   ValidateCameraSettings(cameras);
 }
 
+// The files a plan reads, each once: what it builds from them and what cell.json records of them
+// (the identity) come from the same bytes.
+struct PlanFiles {
+  std::string robot_path;
+  std::string robot_yaml;
+  std::string key_file;  // a served policy's key file, "" when none was read
+  std::string key_text;
+};
+
 // The served policy's request layout: the dataset's when one is named and no keys are, else the
 // keys' (preset or file), with an explicit image size taking the place of its own; a layout that
 // differs from a dataset named alongside is reported.
-void PlanServedLayout(CellPlan& plan) {
+void PlanServedLayout(CellPlan& plan, PlanFiles& files) {
   const EvaluationCellConfig& config = plan.config;
   const int state_size = static_cast<int>(plan.model.robot.observation_state.size());
   std::optional<remote::ObservationKeys> dataset;
   if (!config.observation_dataset.empty()) dataset = remote::LoadDatasetKeys(config.observation_dataset, state_size);
-  remote::ObservationKeys keys = dataset && !config.observation_keys_given
-                                     ? *dataset
-                                     : remote::LoadObservationKeys(config.observation_keys, config.config_dir);
+  remote::ObservationKeys keys;
+  if (dataset && !config.observation_keys_given) {
+    keys = *dataset;
+  } else {
+    remote::LoadedObservationKeys loaded =
+        remote::LoadObservationKeysWithFile(config.observation_keys, config.config_dir);
+    keys = std::move(loaded.keys);
+    files.key_file = std::move(loaded.file);
+    files.key_text = std::move(loaded.text);
+  }
   if (config.image_width != 0) {
     keys.image_width = config.image_width;
     keys.image_height = config.image_height;
@@ -91,6 +110,20 @@ void PlanCamerasAndRecords(CellPlan& plan) {
   plan.control_ticks_per_action = plan.policy == PolicyKind::kExpert ? 1 : physics.controls_per_policy();
   plan.record =
       RecordSettingsFor(plan.config, plan.control_ticks_per_action, physics, plan.policy == PolicyKind::kOpenpi);
+}
+
+// What cell.json records of the files (CellIdentityJson), from the bytes the plan read; a key
+// file the identity names but the layout did not come from (a dataset's) is read here.
+nlohmann::json PlanIdentity(const CellPlan& plan, const PlanFiles& files) {
+  std::string keys_identity;
+  if (plan.policy == PolicyKind::kOpenpi) {
+    const std::string file = output::ObservationKeysIdentityFile(plan.config.config_dir, plan.config.observation_keys);
+    const std::string bytes = file.empty()             ? ""
+                              : file == files.key_file ? files.key_text
+                                                       : configs::YamlValue::ReadFileText(file);
+    keys_identity = output::ObservationKeysIdentity(file, bytes);
+  }
+  return output::ConfigIdentityFromTexts(files.robot_path, files.robot_yaml, keys_identity);
 }
 
 }  // namespace
@@ -138,18 +171,20 @@ CellPlan PlanCell(const EvaluationCellConfig& config) {
   CheckSettings(config, plan.policy);
   plan.ContinueFrom(config.first_episode);
   plan.scenario = &scenarios::FindScenario(config.task);
-  plan.model = BuildWorldModel(configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot)),
-                               *plan.scenario);
+  PlanFiles files;
+  files.robot_path = configs::RobotConfigPath(config.config_dir, config.robot);
+  files.robot_yaml = configs::YamlValue::ReadFileText(files.robot_path);
+  plan.model = BuildWorldModel(configs::ParseRobotModel(files.robot_yaml, files.robot_path), *plan.scenario);
   plan.perturbations = ResolvePerturbations(config.config_dir, config.perturbations);
   ApplyPerturbationLevels(plan.perturbations, config.seed, &plan.model);
   const bool served = plan.policy == PolicyKind::kOpenpi;
   if (served) {
-    PlanServedLayout(plan);
+    PlanServedLayout(plan, files);
   } else {
     PlanBuiltinImages(plan);
   }
   PlanCamerasAndRecords(plan);
-  plan.identity = CellIdentityJson(config);
+  plan.identity = PlanIdentity(plan, files);
   return plan;
 }
 

@@ -1,4 +1,5 @@
-// A cell's settings resolved and checked once: PlanCell reads the robot file, finds the task,
+// A cell's settings resolved and checked once: PlanCell reads the robot file (and a served
+// policy's key file) once, builds from it and records its identity from the same bytes, finds the task,
 // resolves the perturbation levels and a served policy's request layout, and decides the image
 // and render sizes, the cameras to render and what the recorder keeps, without running anything.
 // RunEvaluationCell executes a plan; the commands, the sweep and the records (cell.json) use the
@@ -29,7 +30,8 @@ struct CellPlan {
   engine::WorldModel model;
   PolicyKind policy = PolicyKind::kExpert;
   std::vector<PerturbationLevel> perturbations;  // the levels chosen, as their files say
-  // What cell.json records of the files behind the settings (output::ConfigIdentityJson).
+  // What cell.json records of the files behind the settings (output::ConfigIdentityJson), from
+  // the bytes the plan read.
   nlohmann::json identity;
   // A served policy's request layout, and how it differs from observation_dataset's (one line
   // each; empty when it does not or no dataset is named).
@@ -62,7 +64,7 @@ struct CellPlan {
 CellPlan PlanCell(const EvaluationCellConfig& config);
 
 // What cell.json records of the files behind the settings: the robot file, a served policy's key
-// file and the program version (output::ConfigIdentityJson).
+// file and the program version (output::ConfigIdentityJson), reading them; a plan has it already.
 nlohmann::json CellIdentityJson(const EvaluationCellConfig& config);
 
 // What a cell's recorder keeps for a policy acting every `hold_ticks` control ticks: GALT at that

@@ -13,6 +13,7 @@
 #include "batch/output/atomic_file.h"
 #include "batch/output/json_error_text.h"
 #include "batch/output/output_folder.h"
+#include "batch/output/setting_error.h"
 #include "batch/output/settings_difference.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
@@ -21,6 +22,9 @@ namespace tavis::batch::cell {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A refusal naming the folder settings resume and overwrite, which tavis eval names by flag.
+using Advice = output::SettingsAdvice<std::invalid_argument>;
 
 std::optional<kinematics::GaltResult> ParseGalt(const nlohmann::json& line, const std::string& prefix) {
   if (!line.contains(prefix + "_reason")) return std::nullopt;
@@ -92,9 +96,10 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
   const nlohmann::json settings = CellSettingsJson(plan);
   const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
   if (resume) {
-    if (!fs::exists(cell_json)) throw std::invalid_argument("--resume: " + dir_ + " holds no cell (no cell.json)");
+    if (!fs::exists(cell_json))
+      throw Advice(output::SettingKey("resume") + ": " + dir_ + " holds no cell (no cell.json)");
     if (fs::exists(fs::path(dir_) / "summary.json"))
-      throw std::invalid_argument("--resume: " + dir_ + " is complete (it has summary.json)");
+      throw Advice(output::SettingKey("resume") + ": " + dir_ + " is complete (it has summary.json)");
     nlohmann::json was;
     try {
       std::ifstream(cell_json) >> was;
@@ -103,7 +108,8 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
                                   ": damaged cell file, not valid JSON: " + output::JsonErrorText(error.what()));
     }
     const std::string differences = output::SettingsDifference(was, settings);
-    if (!differences.empty()) throw std::invalid_argument("--resume " + dir_ + " with other settings: " + differences);
+    if (!differences.empty())
+      throw Advice(output::SettingKey("resume") + " " + dir_ + " with other settings: " + differences);
     // The complete lines, in order; what follows the last one (a line cut by the interruption) goes.
     std::ifstream in(episodes_path, std::ios::binary);
     std::string line;
@@ -122,9 +128,8 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
     if (fs::exists(episodes_path)) fs::resize_file(episodes_path, kept_bytes);
   } else {
     if (!output::HoldsNoResults(dir_)) {
-      throw std::invalid_argument(dir_ +
-                                  " already holds results; give --overwrite to replace them or --resume to finish "
-                                  "an interrupted cell");
+      throw Advice(dir_ + " already holds results; give " + output::SettingKey("overwrite") + " to replace them or " +
+                   output::SettingKey("resume") + " to finish an interrupted cell");
     }
     fs::create_directories(dir_);
     output::WriteOutputMarker(dir_, output::OutputKind::kEvalCell);

@@ -14,24 +14,27 @@ namespace {
 using Config = EvaluationCellConfig;
 
 // The table, in groups (what a cell is, the policy, the served policy, the episodes, what is
-// rendered): each entry is one setting's whole declaration.
+// rendered): each entry is one setting's whole declaration, made by the builder of its kind.
+
+// A setting that says what the cell is: cell.json and summary.json record it under any policy.
+CellSetting Identity(const char* key, SettingMember member) {
+  return CellSetting(key, member).Records(Recorded::kAlways, Recorded::kAlways);
+}
+
+// A setting of one policy: another must leave it at its default; its help starts "For --policy P:".
+CellSetting OfPolicy(SettingScope scope, const char* key, SettingMember member) {
+  return CellSetting(key, member).AppliesTo(scope);
+}
+
 std::vector<CellSetting> WhatTheCellIs() {
   return {
-      CellSetting("task", &Config::task)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      Identity("task", &Config::task)
           .Flag("--task", EvalOption::kShowingDefault, "Task (" + scenarios::KnownTasks() + ")"),
-      CellSetting("robot", &Config::robot)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      Identity("robot", &Config::robot)
           .Flag("--robot", EvalOption::kShowingDefault, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)"),
-      CellSetting("split", &Config::split)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      Identity("split", &Config::split)
           .Flag("--split", EvalOption::kShowingDefault, "Split: id, ood-spatial or ood-init-pose"),
-      CellSetting("camera", &Config::camera)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      Identity("camera", &Config::camera)
           .Flag("--camera", EvalOption::kShowingDefault,
                 "Camera protocol: head (the policy sees and moves the head camera; GALT computed) or fixed\n"
                 "(the fixed camera instead, neck actions and neck state zeroed, no GALT); episode i has the\n"
@@ -43,87 +46,71 @@ std::vector<CellSetting> WhatTheCellIs() {
 
 std::vector<CellSetting> ThePolicy() {
   return {
-      CellSetting("policy", &Config::policy)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      Identity("policy", &Config::policy)
           .InSpec("name", true)
           .Flag("--policy", EvalOption::kShowingDefault,
                 "Policy (" + PolicyNames(/*built_in_only=*/false) +
                     "); openpi: a policy served over openpi's websocket\n"
                     "protocol (--server), acting at 20 Hz on the cameras its --keys name"),
-      CellSetting("expert_mode", &Config::expert_mode)
-          .AppliesTo(SettingScope::kExpert)
-          .InCellJson(Recorded::kWhereItApplies)  // it decides the expert's records
-          .InSummary(Recorded::kWhereItApplies)
+      OfPolicy(SettingScope::kExpert, "expert_mode", &Config::expert_mode)
+          .Records(Recorded::kWhereItApplies, Recorded::kWhereItApplies)  // it decides the expert's records
           .Flag("--expert-mode", EvalOption::kShowingDefault,
-                "For --policy expert: gaze-first (looks at the cue and the target, then acts) or head-still\n"
+                "gaze-first (looks at the cue and the target, then acts) or head-still\n"
                 "(neck still at its reset pose, hands act as soon as the task allows; its cells are named\n"
                 "..._expert-head-still_s<seed>)"),
-      CellSetting("expert_hz", &Config::expert_hz)
-          .AppliesTo(SettingScope::kExpert)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      OfPolicy(SettingScope::kExpert, "expert_hz", &Config::expert_hz)
+          .Records(Recorded::kAlways, Recorded::kAlways)
           .Flag("--expert-hz", EvalOption::kShowingDefault,
-                "For --policy expert: 60 (its action may change every control tick) or 20 (held for three ticks, as\n"
+                "60 (its action may change every control tick) or 20 (held for three ticks, as\n"
                 "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv, which\n"
                 "--policy replay --actions DIR/actions plays back exactly)")
           .Choices({60, 20}),
-      CellSetting("actions_file", &Config::actions_file)
-          .AppliesTo(SettingScope::kReplay)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      OfPolicy(SettingScope::kReplay, "actions_file", &Config::actions_file)
+          .Records(Recorded::kAlways, Recorded::kAlways)
           .InSpec("actions", true)
           .Flag("--actions", EvalOption::kHidingDefault,
-                "For --policy replay: T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
+                "T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
                 "episode; or a folder of episode_<i>.csv (a served cell's DIR/actions), episode i playing its own"),
   };
 }
 
 std::vector<CellSetting> TheServedPolicy() {
   return {
-      CellSetting("servers", &Config::servers)
-          .AppliesTo(SettingScope::kServed)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kWhereItApplies)
+      OfPolicy(SettingScope::kServed, "servers", &Config::servers)
+          .Records(Recorded::kAlways, Recorded::kWhereItApplies)
           .InSpec("servers", true)
           .Flag("--server", EvalOption::kHidingDefault,
-                "For --policy openpi: ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
+                "ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
                 "several servers (slot i asks server i mod K). Each episode's actions are saved in\n"
                 "DIR/actions/episode_<i>.csv for --policy replay"),
-      CellSetting("observation_keys", &Config::observation_keys)
-          .AppliesTo(SettingScope::kServed)
-          .InCellJson(Recorded::kAlways)  // summary.json names the layout's source (CellResult)
+      OfPolicy(SettingScope::kServed, "observation_keys", &Config::observation_keys)
+          .Records(Recorded::kAlways, Recorded::kNo)  // summary.json names the layout's source (CellResult)
           .InSpec("keys", true)
           .Flag("--keys", EvalOption::kShowingDefault,
-                "For --policy openpi: the request's key layout, a preset (" + remote::KeyPresetNames() +
+                "the request's key layout, a preset (" + remote::KeyPresetNames() +
                     ") or a\n"
                     "YAML file of that schema (configs/policy_keys/*.yaml: keys per camera, state and prompt,\n"
                     "hwc/chw images, image size, letterbox). tavis: the dataset's keys (observation.images.OBS_HEAD,\n"
                     "..., observation.state, prompt and task) at 320x240 (docs/observation.md)"),
-      CellSetting("replan_steps", &Config::replan_steps)
-          .AppliesTo(SettingScope::kServed)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kWhereItApplies)
+      OfPolicy(SettingScope::kServed, "replan_steps", &Config::replan_steps)
+          .Records(Recorded::kAlways, Recorded::kWhereItApplies)
           .InSpec("replan_steps", true)
           .Flag("--replan-steps", EvalOption::kShowingDefault,
-                "For --policy openpi: rows of each action chunk an env steps with before asking again\n"
+                "rows of each action chunk an env steps with before asking again\n"
                 "(0: the whole chunk, as openpi's ActionChunkBroker; its LIBERO example uses 5)")
           .Range(0, 1000000),
-      CellSetting("observation_dataset", &Config::observation_dataset)
-          .AppliesTo(SettingScope::kServed)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kUnlessDefault)
+      OfPolicy(SettingScope::kServed, "observation_dataset", &Config::observation_dataset)
+          .Records(Recorded::kAlways, Recorded::kUnlessDefault)
           .InSpec("match_dataset", true)
           .Flag("--match-dataset", EvalOption::kHidingDefault,
-                "For --policy openpi: serve the layout of the LeRobot dataset DIR the policy was trained on (its\n"
+                "serve the layout of the LeRobot dataset DIR the policy was trained on (its\n"
                 "meta/info.json: image keys, cameras, image size); with --keys or --image-size as well, every way\n"
                 "the served layout differs from the dataset's is printed and recorded in summary.json"),
-      CellSetting("serving", &Config::serving)
-          .AppliesTo(SettingScope::kServed)
-          .InSummary(Recorded::kWhereItApplies)  // not in cell.json: the records do not depend on it
+      OfPolicy(SettingScope::kServed, "serving", &Config::serving)
+          .Records(Recorded::kNo, Recorded::kWhereItApplies)  // not in cell.json: the records do not depend on it
           .InSpec("serving", true)
           .Flag("--serving", EvalOption::kShowingDefault,
-                "For --policy openpi: serial (one connection per server, requests one at a time in env order),\n"
+                "serial (one connection per server, requests one at a time in env order),\n"
                 "per-env (one connection per env slot, requests of a tick in flight together) or batched (one\n"
                 "message per server per tick with every due env stacked; the server's metadata must declare\n"
                 "batched_requests: true). Records do not depend on it"),
@@ -132,22 +119,19 @@ std::vector<CellSetting> TheServedPolicy() {
 
 std::vector<CellSetting> TheServersLimits() {
   return {
-      CellSetting("server_ready_timeout_s", &Config::server_ready_timeout_s)
-          .AppliesTo(SettingScope::kServed)
+      OfPolicy(SettingScope::kServed, "server_ready_timeout_s", &Config::server_ready_timeout_s)
           .InSpec("server_timeout_s", false)  // a shard may wait longer for its servers
           .Flag("--server-timeout", EvalOption::kShowingDefault,
-                "For --policy openpi: seconds to wait for each server's /healthz before giving up")
+                "seconds to wait for each server's /healthz before giving up")
           .Range(0.001, 86400, "s"),
-      CellSetting("reply_timeout_s", &Config::reply_timeout_s)
-          .AppliesTo(SettingScope::kServed)
+      OfPolicy(SettingScope::kServed, "reply_timeout_s", &Config::reply_timeout_s)
           .Flag("--reply-timeout", EvalOption::kShowingDefault,
-                "For --policy openpi: seconds to wait for each reply before the cell stops (a server's first\n"
+                "seconds to wait for each reply before the cell stops (a server's first\n"
                 "inference may compile its model)")
           .Range(0.001, 86400, "s"),
-      CellSetting("max_reply_mb", &Config::max_reply_mb)
-          .AppliesTo(SettingScope::kServed)
+      OfPolicy(SettingScope::kServed, "max_reply_mb", &Config::max_reply_mb)
           .Flag("--max-reply-mb", EvalOption::kShowingDefault,
-                "For --policy openpi: the largest reply accepted, in MiB; a longer one ends its episode as\n"
+                "the largest reply accepted, in MiB; a longer one ends its episode as\n"
                 "invalid_action, read no further (the default holds a 100,000-row float64 chunk)")
           .Range(0.001, 4096, "MiB"),
   };
@@ -156,18 +140,16 @@ std::vector<CellSetting> TheServersLimits() {
 std::vector<CellSetting> TheEpisodes() {
   return {
       CellSetting("episodes", &Config::episodes)
-          .InCellJson(Recorded::kAlways)  // summary.json counts the episodes it holds (n_episodes)
+          .Records(Recorded::kAlways, Recorded::kNo)  // summary.json counts the episodes it holds (n_episodes)
           .Flag("--episodes", EvalOption::kShowingDefault, "Episodes in the cell")
           .Range(1, 100000000),
       CellSetting("episode_start", &Config::episode_start)
-          .InCellJson(Recorded::kUnlessDefault)  // so cells written before it existed still resume
+          .Records(Recorded::kUnlessDefault, Recorded::kNo)  // so cells written before it existed still resume
           .Flag("--episode", EvalOption::kHidingDefault,
                 "Run only episode I of the seed: the scene, and with a folder of --actions the actions, it has in\n"
                 "the full cell (replaces --episodes; the cell's one record is episode I)")
           .Range(0, 100000000),
-      CellSetting("seed", &Config::seed)
-          .InCellJson(Recorded::kAlways)
-          .InSummary(Recorded::kAlways)
+      Identity("seed", &Config::seed)
           .Flag("--seed", EvalOption::kShowingDefault, "Seed: episode i draws its randomness from (seed, i)"),
       CellSetting("envs", &Config::envs)  // summary.json records the slots that ran (CellResult::envs)
           .Flag("--envs", EvalOption::kHidingDefault,
@@ -175,9 +157,9 @@ std::vector<CellSetting> TheEpisodes() {
                 "thread when that is more: 96 on 16 threads); a built-in policy runs one slot per thread instead,\n"
                 "rendered or not (results do not depend on it)")
           .Range(1, 4096),
+      // Each level with its settings (CellSettingsJson).
       CellSetting("perturbations", &Config::perturbations)
-          .InCellJson(Recorded::kUnlessDefault)  // each level with its settings (CellSettingsJson)
-          .InSummary(Recorded::kUnlessDefault)
+          .Records(Recorded::kUnlessDefault, Recorded::kUnlessDefault)
           .Flag("--perturb", EvalOption::kHidingDefault,
                 "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
                 "sensor, lighting, appearance, distractors, language, runtime; docs/perturbations.md); repeat\n"
@@ -195,19 +177,19 @@ std::vector<CellSetting> WhatIsRendered() {
       "otherwise the reference's 640x480)";
   return {
       CellSetting("render_cameras", &Config::render_cameras)
-          .InCellJson(Recorded::kAlways)  // summary.json names the cameras rendered (CellResult)
+          .Records(Recorded::kAlways, Recorded::kNo)  // summary.json names the cameras rendered (CellResult)
           .Flag("--render-cameras", EvalOption::kByHand,
                 "Comma-separated cameras to render on every policy tick (20 Hz) even if the policy uses no\n"
                 "images, e.g. head,left_wrist,right_wrist (known: head, fixed, left_wrist, right_wrist); the\n"
                 "images are discarded: for measuring throughput with rendering"),
       CellSetting("image_width", &Config::image_width)
-          .InCellJson(Recorded::kAlways)  // as given (0: the policy's own); summary.json has it resolved
+          .Records(Recorded::kAlways, Recorded::kNo)  // as given (0: the policy's own); summary.json has it resolved
           .Flag("--image-size", EvalOption::kByHand, image_size),
       CellSetting("image_height", &Config::image_height)
-          .InCellJson(Recorded::kAlways)
+          .Records(Recorded::kAlways, Recorded::kNo)
           .Flag("--image-size", EvalOption::kByHand, image_size),
       CellSetting("config_dir", &Config::config_dir)
-          .InSummary(Recorded::kAlways)  // cell.json records what the files say (its identity) instead
+          .Records(Recorded::kNo, Recorded::kAlways)  // cell.json records what the files say (its identity) instead
           .Flag("--config-dir", EvalOption::kByHand, "Directory holding robots/*.yaml"),
       CellSetting("profile", &Config::profile)
           .Flag("--profile", EvalOption::kShowingDefault,
@@ -233,13 +215,9 @@ CellSetting& CellSetting::AppliesTo(SettingScope policies) {
   return *this;
 }
 
-CellSetting& CellSetting::InCellJson(Recorded how) {
-  in_cell_json = how;
-  return *this;
-}
-
-CellSetting& CellSetting::InSummary(Recorded how) {
-  in_summary = how;
+CellSetting& CellSetting::Records(Recorded in_cell, Recorded in_summary_json) {
+  in_cell_json = in_cell;
+  in_summary = in_summary_json;
   return *this;
 }
 
@@ -249,10 +227,10 @@ CellSetting& CellSetting::InSpec(const char* key_in_spec, bool written_in_manife
   return *this;
 }
 
-CellSetting& CellSetting::Flag(const char* name, EvalOption how, std::string text) {
+CellSetting& CellSetting::Flag(const char* name, EvalOption how, const std::string& text) {
   flag = name;
   option = how;
-  help = std::move(text);
+  help = scope == SettingScope::kAnyPolicy ? text : "For --policy " + std::string(ScopePolicyName(scope)) + ": " + text;
   return *this;
 }
 

@@ -118,10 +118,10 @@ struct CellSetting {
 
   // Builders for the table's entries.
   CellSetting& AppliesTo(SettingScope policies);
-  CellSetting& InCellJson(Recorded how);
-  CellSetting& InSummary(Recorded how);
+  CellSetting& Records(Recorded in_cell, Recorded in_summary_json);  // how cell.json and summary.json hold it
   CellSetting& InSpec(const char* key_in_spec, bool written_in_manifest);
-  CellSetting& Flag(const char* name, EvalOption how, std::string text);
+  // The help of a setting of one policy starts "For --policy P: " (AppliesTo comes first).
+  CellSetting& Flag(const char* name, EvalOption how, const std::string& text);
   CellSetting& Range(double low, double high, const char* unit = "");
   CellSetting& Choices(std::vector<double> values);
 };

@@ -59,8 +59,6 @@ CellResult PlannedResult(const CellPlan& plan, int slots) {
 
 std::string CellPolicyNames() { return PolicyNames(/*built_in_only=*/false); }
 
-void CheckEvaluationCell(const EvaluationCellConfig& config) { PlanCell(config); }
-
 bool RunsPerSlot(const EvaluationCellConfig& config) { return !IsPolicy(config.policy, PolicyKind::kOpenpi); }
 
 int DefaultEnvs(const std::string& policy, int threads) {

@@ -45,10 +45,6 @@ struct CellResult {
 // Policy names a cell accepts, for --help texts and errors: the built-in ones and "openpi".
 std::string CellPolicyNames();
 
-// Checks every setting without running anything (PlanCell, the plan discarded); throws as
-// PlanCell does.
-void CheckEvaluationCell(const EvaluationCellConfig& config);
-
 // True if the cell's episodes run on the episode driver's per-slot schedule: a built-in policy
 // (each env decided on its own; its cameras, rendered or not, are drawn per slot), unless a sink
 // the caller adds needs the common tick (episode videos). Such a cell keeps every thread busy

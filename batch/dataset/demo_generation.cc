@@ -76,8 +76,9 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
 void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   const nlohmann::json progress = spool.LoadProgress();
   if (progress.is_null()) {
-    throw std::invalid_argument("--resume: " + config.out + " holds no interrupted recording (no " + spool.dir() +
-                                "/progress.json)");
+    throw output::SettingsAdvice<std::invalid_argument>(output::SettingKey("resume") + ": " + config.out +
+                                                        " holds no interrupted recording (no " + spool.dir() +
+                                                        "/progress.json)");
   }
   if (!progress.contains("settings") || !progress["settings"].is_object()) {
     throw std::runtime_error(spool.dir() + "/progress.json: damaged spool file, no \"settings\" object");
@@ -90,7 +91,8 @@ void CheckResumable(const DemoConfig& config, const EpisodeSpool& spool) {
   now.erase("max_attempts");
   const std::string differences = batch::output::SettingsDifference(was, now);
   if (!differences.empty())
-    throw std::invalid_argument("--resume with other settings than the interrupted recording: " + differences);
+    throw output::SettingsAdvice<std::invalid_argument>(
+        output::SettingKey("resume") + " with other settings than the interrupted recording: " + differences);
 }
 
 // Files an interrupted run left unfinished (FILE.partial) outside the spool: they are written again.
@@ -205,11 +207,12 @@ void RecordTask(DemoSession& session, const kinematics::RobotModel& robot, std::
   }
   session.report.tasks.push_back(task);
   if (task.written < config.episodes) {
-    throw std::runtime_error(
+    const std::string max_attempts = output::SettingKey("max_attempts");
+    throw output::SettingsAdvice<std::runtime_error>(
         "task " + task.task + ": only " + std::to_string(task.written) + " of " + std::to_string(config.episodes) +
-        " episodes succeeded in " + std::to_string(task.attempts) +
-        " attempts (--max-attempts); the episodes recorded so far are kept: --resume with a larger "
-        "--max-attempts finishes the dataset");
+        " episodes succeeded in " + std::to_string(task.attempts) + " attempts (" + max_attempts +
+        "); the episodes recorded so far are kept: " + output::SettingKey("resume") + " with a larger " + max_attempts +
+        " finishes the dataset");
   }
 }
 
@@ -256,7 +259,9 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
     CheckResumable(config, spool);
     RemovePartialFiles(config.out, spool.dir());
   } else if (spool.count() > 0) {
-    throw std::invalid_argument(config.out + " holds an interrupted recording: --resume it or --overwrite it");
+    throw output::SettingsAdvice<std::invalid_argument>(
+        config.out + " holds an interrupted recording: " + output::SettingKey("resume") + " it or " +
+        output::SettingKey("overwrite") + " it");
   }
   spool.SaveProgress({{"settings", Fingerprint(config)}});
   const std::unique_ptr<DatasetWriter> writer = MakeDatasetWriter(config.out, layout);

@@ -3,14 +3,13 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
 
 #include "batch/output/program_version.h"
 #include "configs/robot_config.h"
+#include "configs/yaml_reader.h"
 
 namespace tavis::batch::output {
 namespace {
@@ -33,23 +32,19 @@ nlohmann::json YamlAsJson(const YAML::Node& node) {
   }
 }
 
-nlohmann::json YamlFileAsJson(const std::string& path) {
+nlohmann::json YamlTextAsJson(const std::string& text, const std::string& path) {
   try {
-    return YamlAsJson(YAML::LoadFile(path));
+    return YamlAsJson(YAML::Load(text));
   } catch (const YAML::Exception& error) {
     throw std::invalid_argument(path + ": " + error.what());
   }
 }
 
 // FNV-1a over the file's bytes, as 16 hex digits: enough to tell an edited file from the one a
-// cell started with, whatever its encoding ("" for a file that cannot be read).
-std::string FileHash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "";
+// cell started with, whatever its encoding.
+std::string BytesHash(const std::string& bytes) {
   std::uint64_t hash = 14695981039346656037ull;
-  for (std::istreambuf_iterator<char> it(in), end; it != end; ++it) {
-    hash = (hash ^ static_cast<unsigned char>(*it)) * 1099511628211ull;
-  }
+  for (const char byte : bytes) hash = (hash ^ static_cast<unsigned char>(byte)) * 1099511628211ull;
   char text[17];
   std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
   return text;
@@ -57,19 +52,35 @@ std::string FileHash(const std::string& path) {
 
 }  // namespace
 
+nlohmann::json ConfigIdentityFromTexts(const std::string& robot_path, const std::string& robot_yaml,
+                                       const std::string& keys_identity) {
+  nlohmann::json identity = {{"program_version", ProgramVersion()},
+                             {"robot_config", YamlTextAsJson(robot_yaml, robot_path)}};
+  if (!keys_identity.empty()) identity["observation_keys_config"] = keys_identity;
+  return identity;
+}
+
+std::string ObservationKeysIdentityFile(const std::string& config_dir, const std::string& observation_keys) {
+  // A key file or a shipped preset's file by the hash of its bytes; the built-in contract preset
+  // (observation_contract.h) is part of the program, whose version is recorded beside it.
+  const bool is_file = std::filesystem::is_regular_file(observation_keys);
+  const std::string path = is_file ? observation_keys : config_dir + "/policy_keys/" + observation_keys + ".yaml";
+  return std::filesystem::is_regular_file(path) ? path : "";
+}
+
+std::string ObservationKeysIdentity(const std::string& file, const std::string& bytes) {
+  return file.empty() ? "built-in" : "fnv1a:" + BytesHash(bytes);
+}
+
 nlohmann::json ConfigIdentityJson(const std::string& config_dir, const std::string& robot,
                                   const std::string& observation_keys) {
-  nlohmann::json identity = {{"program_version", ProgramVersion()},
-                             {"robot_config", YamlFileAsJson(configs::RobotConfigPath(config_dir, robot))}};
+  const std::string robot_path = configs::RobotConfigPath(config_dir, robot);
+  std::string keys_identity;
   if (!observation_keys.empty()) {
-    // A key file or a shipped preset's file by the hash of its bytes; the built-in contract
-    // preset (observation_contract.h) is part of the program, whose version is recorded above.
-    const bool is_file = std::filesystem::is_regular_file(observation_keys);
-    const std::string path = is_file ? observation_keys : config_dir + "/policy_keys/" + observation_keys + ".yaml";
-    identity["observation_keys_config"] =
-        std::filesystem::is_regular_file(path) ? "fnv1a:" + FileHash(path) : "built-in";
+    const std::string file = ObservationKeysIdentityFile(config_dir, observation_keys);
+    keys_identity = ObservationKeysIdentity(file, file.empty() ? "" : configs::YamlValue::ReadFileText(file));
   }
-  return identity;
+  return ConfigIdentityFromTexts(robot_path, configs::YamlValue::ReadFileText(robot_path), keys_identity);
 }
 
 }  // namespace tavis::batch::output

@@ -20,7 +20,9 @@
 
 #include "batch/output/atomic_file.h"
 #include "batch/output/program_version.h"
+#include "batch/output/setting_error.h"
 #include "batch/output/utc_time.h"
+#include "kinematics/enum_names.h"
 
 namespace tavis::batch::output {
 namespace {
@@ -107,12 +109,9 @@ bool SameFile(int fd, const fs::path& path) {
 }  // namespace
 
 const char* ToString(OutputKind kind) {
-  switch (kind) {
-    case OutputKind::kEvalCell: return "evaluation cell";
-    case OutputKind::kDataset: return "dataset";
-    case OutputKind::kSweep: return "sweep";
-  }
-  return "output";
+  static constexpr kinematics::EnumName<OutputKind> kNames[] = {
+      {OutputKind::kEvalCell, "evaluation cell"}, {OutputKind::kDataset, "dataset"}, {OutputKind::kSweep, "sweep"}};
+  return kinematics::NameOf(kNames, kind, "output");
 }
 
 void RequireUsableOutputPath(const fs::path& out, const std::string& option) {
@@ -181,7 +180,8 @@ void RequireEmptyOrOwn(const fs::path& dir, OutputKind kind, const std::string& 
     if (in_the_way.size() > 5) names += " and " + std::to_string(in_the_way.size() - 5) + " more";
     names = "files that are not a tavis " + std::string(ToString(kind)) + "'s: " + names;
   }
-  throw std::invalid_argument(dir.string() + " holds " + names + "; " + what_to_do);
+  // `what_to_do` may name settings (SettingKey), which a command names by flag.
+  throw SettingsAdvice<std::invalid_argument>(dir.string() + " holds " + names + "; " + what_to_do);
 }
 
 void WriteOutputMarker(const fs::path& dir, OutputKind kind) {

@@ -39,7 +39,8 @@ std::vector<std::string> ForeignEntries(const std::filesystem::path& dir, Output
 bool IsOwnOutput(const std::filesystem::path& dir, OutputKind kind);
 
 // Throws std::invalid_argument unless DIR holds no results or is tavis's own output of `kind`;
-// the message names what is in the way (at most a few entries) and `what_to_do`.
+// the message names what is in the way (at most a few entries) and `what_to_do`, whose settings
+// may be marked by SettingKey (the error is then a SettingsAdvice naming them).
 void RequireEmptyOrOwn(const std::filesystem::path& dir, OutputKind kind, const std::string& what_to_do);
 
 // Writes DIR/.tavis_output ({"kind": ..., "program_version": ...}).

@@ -282,16 +282,21 @@ ObservationKeys ContractKeys() {
 }
 
 ObservationKeys LoadObservationKeys(const std::string& preset_or_path, const std::string& config_dir) {
-  if (preset_or_path == kContractPreset) return ContractKeys();
+  return LoadObservationKeysWithFile(preset_or_path, config_dir).keys;
+}
+
+LoadedObservationKeys LoadObservationKeysWithFile(const std::string& preset_or_path, const std::string& config_dir) {
+  if (preset_or_path == kContractPreset) return {ContractKeys(), "", ""};
+  std::string file = preset_or_path;
   if (std::find(std::begin(kPresets), std::end(kPresets), preset_or_path) != std::end(kPresets)) {
-    const std::string path = config_dir + "/policy_keys/" + preset_or_path + ".yaml";
-    return ReadKeys(configs::YamlValue::LoadFile(path), preset_or_path);
-  }
-  if (!std::filesystem::is_regular_file(preset_or_path)) {
+    file = config_dir + "/policy_keys/" + preset_or_path + ".yaml";
+  } else if (!std::filesystem::is_regular_file(preset_or_path)) {
     throw std::invalid_argument("observation keys '" + preset_or_path + "' are neither a preset (" + KeyPresetNames() +
                                 ") nor a YAML file");
   }
-  return ReadKeys(configs::YamlValue::LoadFile(preset_or_path), preset_or_path);
+  std::string text = configs::YamlValue::ReadFileText(file);
+  ObservationKeys keys = ReadKeys(configs::YamlValue::LoadString(text, file), preset_or_path);
+  return {std::move(keys), std::move(file), std::move(text)};
 }
 
 std::pair<int, int> RenderSize(const ObservationKeys& keys) {

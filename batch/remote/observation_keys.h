@@ -68,6 +68,15 @@ ObservationKeys ContractKeys();
 // that is neither a preset nor a file.
 ObservationKeys LoadObservationKeys(const std::string& preset_or_path, const std::string& config_dir);
 
+// The same with the file the layout was read from ("" for the built-in preset) and its bytes, read
+// once, for a caller that also records the file (a cell's identity).
+struct LoadedObservationKeys {
+  ObservationKeys keys;
+  std::string file;
+  std::string text;
+};
+LoadedObservationKeys LoadObservationKeysWithFile(const std::string& preset_or_path, const std::string& config_dir);
+
 // The layout a policy trained on a LeRobot dataset (v3.0 or v2.1, e.g. written by `tavis demos`)
 // reads: its image features observation.images.OBS_* as the cameras, at the features' size, with
 // the contract's state, prompt and task keys. Throws std::invalid_argument naming the file and

@@ -11,6 +11,7 @@
 #include "batch/remote/openpi_reply.h"
 #include "batch/remote/remote_error.h"
 #include "batch/remote/websocket_url.h"
+#include "kinematics/enum_names.h"
 
 namespace tavis::batch::remote {
 namespace {
@@ -43,6 +44,9 @@ std::unique_ptr<OpenpiSession> OpenWhenReady(const std::string& server, const Re
   }
 }
 
+constexpr kinematics::EnumName<ServingMode> kServingModes[] = {
+    {ServingMode::kSerial, "serial"}, {ServingMode::kPerEnv, "per-env"}, {ServingMode::kBatched, "batched"}};
+
 bool DeclaresBatchedRequests(const Value& metadata) {
   const Value* flag = metadata.Find(batch::contract::kBatchedRequestsMetadata);
   return flag != nullptr && flag->is<bool>() && *flag->get_if<bool>();
@@ -50,20 +54,12 @@ bool DeclaresBatchedRequests(const Value& metadata) {
 
 }  // namespace
 
-const char* ToString(ServingMode mode) {
-  switch (mode) {
-    case ServingMode::kSerial: return "serial";
-    case ServingMode::kPerEnv: return "per-env";
-    case ServingMode::kBatched: return "batched";
-  }
-  return "?";
-}
+const char* ToString(ServingMode mode) { return kinematics::NameOf(kServingModes, mode, "?"); }
 
 ServingMode ParseServingMode(const std::string& text) {
-  for (ServingMode mode : {ServingMode::kSerial, ServingMode::kPerEnv, ServingMode::kBatched}) {
-    if (text == ToString(mode)) return mode;
-  }
-  throw std::invalid_argument("unknown serving mode '" + text + "' (known: serial, per-env, batched)");
+  if (const auto* mode = kinematics::FindNamed(kServingModes, text)) return mode->value;
+  throw std::invalid_argument("unknown serving mode '" + text + "' (known: " + kinematics::NameList(kServingModes) +
+                              ")");
 }
 
 RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)

@@ -5,6 +5,7 @@
 #include "batch/cell/cell_report.h"
 #include "batch/dataset/lerobot_features.h"
 #include "batch/output/atomic_file.h"
+#include "batch/output/setting_error.h"
 #include "batch/rollout/observed_cameras.h"
 #include "batch/scene_render.h"
 
@@ -22,7 +23,8 @@ void ValidateRolloutDatasetSettings(const RolloutDatasetSettings& settings) {
   video.height = settings.height;
   video.fps = 20;
   video.codec = settings.codec;
-  dataset::video::ValidateVideoSettings(video, "--record-size");
+  const std::string problem = dataset::video::VideoSettingsProblem(video);
+  if (!problem.empty()) throw output::SettingError("record_size", problem);
 }
 
 CellRecording::CellRecording(RolloutDatasetSettings settings, const cell::EvaluationCellConfig& cell)

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "batch/dataset/video/video_writer.h"
+#include "batch/output/setting_error.h"
 #include "batch/rollout/observed_cameras.h"
 #include "batch/rollout/video_frame.h"
 #include "scenarios/stage_progress.h"
@@ -76,12 +77,12 @@ VideoFormat ParseVideoFormat(const std::string& text) {
 
 void ValidateEpisodeVideoSettings(const EpisodeVideoSettings& settings) {
   if (settings.episodes < 0)
-    throw std::invalid_argument("--videos must be at least 0, got " + std::to_string(settings.episodes));
+    throw output::SettingError("videos", "must be at least 0, got " + std::to_string(settings.episodes));
   const std::string size = std::to_string(settings.tile_width) + "x" + std::to_string(settings.tile_height);
   if (settings.tile_width < 64 || settings.tile_height < 48 || settings.tile_width % 2 != 0 ||
       settings.tile_height % 2 != 0) {
-    throw std::invalid_argument("--video-size must be even and at least 64x48 (the encoder's yuv420p halves it), got " +
-                                size);
+    throw output::SettingError("video_size",
+                               "must be even and at least 64x48 (the encoder's yuv420p halves it), got " + size);
   }
   CameraSettings cameras;
   cameras.cameras = settings.cameras;

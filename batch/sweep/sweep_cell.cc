@@ -29,11 +29,11 @@ std::optional<nlohmann::json> ReadJson(const fs::path& path) {
 
 }  // namespace
 
-std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path& dir,
-                                                                 const cell::EvaluationCellConfig& config) {
+std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path& dir, const nlohmann::json& cell_json,
+                                                                 int64_t episodes) {
   const std::optional<nlohmann::json> settings = ReadJson(dir / "cell.json");
   const std::optional<nlohmann::json> summary = ReadJson(dir / "summary.json");
-  if (!settings || !summary || *settings != cell::CellSettingsJson(config)) return std::nullopt;
+  if (!settings || !summary || *settings != cell_json) return std::nullopt;
   std::ifstream in(dir / "episodes.jsonl", std::ios::binary);
   std::vector<cell::EpisodeRecord> records;
   int64_t successes = 0;
@@ -46,15 +46,14 @@ std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path&
     if (records.back().episode != static_cast<int64_t>(records.size()) - 1) return std::nullopt;
     successes += records.back().success ? 1 : 0;
   }
-  if (static_cast<int64_t>(records.size()) != config.episodes ||
-      summary->value("n_episodes", int64_t{-1}) != config.episodes ||
+  if (static_cast<int64_t>(records.size()) != episodes || summary->value("n_episodes", int64_t{-1}) != episodes ||
       summary->value("n_successful", int64_t{-1}) != successes) {
     return std::nullopt;
   }
   return records;
 }
 
-cell::CellResult RunCellInto(const cell::EvaluationCellConfig& config, const fs::path& dir, int threads,
+cell::CellResult RunCellInto(const cell::CellPlan& plan, const fs::path& dir, int threads,
                              const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
                              const rollout::EpisodeVideoSettings& videos) {
   cell::CellFolderOptions folder;
@@ -68,12 +67,10 @@ cell::CellResult RunCellInto(const cell::EvaluationCellConfig& config, const fs:
   folder.remove_new_folder_on_failure = false;
   folder.threads = threads;
   folder.progress = progress;
-  cell::CellPlan plan = cell::PlanCell(config);
   if (!folder.resume) fs::remove_all(dir);
   std::unique_ptr<rollout::CellVideos> films;
   return cell::RunCellInFolder(
-      std::move(plan), folder,
-      [&](const cell::CellPlan& planned, const std::function<fs::path()>&) -> cell::CellAttachments {
+      plan, folder, [&](const cell::CellPlan& planned, const std::function<fs::path()>&) -> cell::CellAttachments {
         output::WriteFileAtomically(
             dir / "policy.json", nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
         films = std::make_unique<rollout::CellVideos>(videos, planned.config, [&dir] { return dir / "videos"; });

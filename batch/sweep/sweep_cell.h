@@ -7,6 +7,9 @@
 #include <optional>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "batch/cell/cell_plan.h"
 #include "batch/cell/episode_recorder.h"
 #include "batch/cell/evaluation_cell.h"
 #include "batch/episode_driver.h"
@@ -14,17 +17,18 @@
 
 namespace tavis::batch::sweep {
 
-// The cell's records when DIR holds it complete: cell.json with these settings, summary.json,
-// and episodes.jsonl with exactly episodes 0 .. N-1 whose successes match the summary's count.
-// nullopt otherwise (absent, interrupted, or not matching: such a folder is run again).
+// The cell's records when DIR holds it complete: cell.json equal to `cell_json` (what the cell
+// records: cell::CellSettingsJson of its plan), summary.json, and episodes.jsonl with exactly
+// episodes 0 .. `episodes` - 1 whose successes match the summary's count. nullopt otherwise
+// (absent, interrupted, or not matching: such a folder is run again).
 std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir,
-                                                                 const cell::EvaluationCellConfig& config);
+                                                                 const nlohmann::json& cell_json, int64_t episodes);
 
-// Runs the cell into DIR (continuing an interrupted one), writes its summary.json last and
-// returns the whole cell's result (the kept records first). DIR/policy.json names the policy's
-// label and seed group, so that tools reading the folder (`tavis table`) keep labels apart.
-// `videos` films the cell's first episodes into DIR/videos (none by default).
-cell::CellResult RunCellInto(const cell::EvaluationCellConfig& config, const std::filesystem::path& dir, int threads,
+// Runs the planned cell into DIR (continuing an interrupted one), writes its summary.json last
+// and returns the whole cell's result (the kept records first). DIR/policy.json names the
+// policy's label and seed group, so that tools reading the folder (`tavis table`) keep labels
+// apart. `videos` films the cell's first episodes into DIR/videos (none by default).
+cell::CellResult RunCellInto(const cell::CellPlan& plan, const std::filesystem::path& dir, int threads,
                              const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
                              const rollout::EpisodeVideoSettings& videos = {});
 

@@ -2,7 +2,9 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <vector>
 
+#include "batch/cell/cell_record_stream.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/output_folder.h"
 #include "batch/output/settings_difference.h"
@@ -82,16 +84,18 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
                                      {"machine", manifest_of[index]->value("machine", Json())},
                                      {"timing", manifest_of[index]->value("timing", Json())}});
   }
+  std::vector<nlohmann::json> cell_jsons;  // what each cell's cell.json must say, its files read once
   for (std::size_t i = 0; i < cells.size(); ++i) {
+    cell_jsons.push_back(cell::CellSettingsJson(cells[i].config));
     const fs::path from = fs::path(shard_of[i % static_cast<std::size_t>(count)]) / "cells" / cells[i].id;
-    if (!ReadCompleteCell(from, cells[i].config)) {
+    if (!ReadCompleteCell(from, cell_jsons.back(), cells[i].config.episodes)) {
       throw std::invalid_argument(from.string() + " is not complete: rerun that shard (it resumes) before merging");
     }
     fs::copy(from, out / "cells" / cells[i].id, fs::copy_options::recursive);
     merged["cells"][cells[i].id] = "complete";
   }
   output::WriteFileAtomically(out / "manifest.json", merged.dump(2) + "\n");
-  WriteSweepResults(out, SweepSpecJson(spec), cells, merged);
+  WriteSweepResults(out, SweepSpecJson(spec), cells, cell_jsons, merged);
 }
 
 }  // namespace tavis::batch::sweep

@@ -26,11 +26,14 @@ nlohmann::ordered_json ServerMetadata(const std::filesystem::path& cell_dir) {
 }  // namespace
 
 void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered_json& spec_json,
-                       const std::vector<SweepCell>& cells, const nlohmann::ordered_json& manifest) {
+                       const std::vector<SweepCell>& cells, const std::vector<nlohmann::json>& cell_jsons,
+                       const nlohmann::ordered_json& manifest) {
   std::vector<report::CellEpisodes> episodes;
-  for (const SweepCell& cell : cells) {
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const SweepCell& cell = cells[i];
     const std::filesystem::path cell_dir = dir / "cells" / cell.id;
-    std::optional<std::vector<cell::EpisodeRecord>> records = ReadCompleteCell(cell_dir, cell.config);
+    std::optional<std::vector<cell::EpisodeRecord>> records =
+        ReadCompleteCell(cell_dir, cell_jsons.at(i), cell.config.episodes);
     if (!records) throw std::runtime_error(cell_dir.string() + " is not a complete cell of this sweep");
     episodes.push_back(
         {cell.id, cell.config, std::move(*records), cell.label, cell.seed_group, ServerMetadata(cell_dir)});

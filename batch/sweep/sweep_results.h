@@ -11,8 +11,10 @@
 
 namespace tavis::batch::sweep {
 
-// Throws std::runtime_error naming the cell when one is not complete in DIR/cells/<id>.
+// `cell_jsons[i]` is what cells[i] records in its cell.json (cell::CellSettingsJson). Throws
+// std::runtime_error naming the cell when one is not complete in DIR/cells/<id>.
 void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered_json& spec_json,
-                       const std::vector<SweepCell>& cells, const nlohmann::ordered_json& manifest);
+                       const std::vector<SweepCell>& cells, const std::vector<nlohmann::json>& cell_jsons,
+                       const nlohmann::ordered_json& manifest);
 
 }  // namespace tavis::batch::sweep

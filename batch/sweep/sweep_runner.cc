@@ -12,6 +12,8 @@
 
 #include <tbb/global_control.h>
 
+#include "batch/cell/cell_plan.h"
+#include "batch/cell/cell_record_stream.h"
 #include "batch/cell/cell_report.h"
 #include "batch/dataset/video/video_log.h"
 #include "batch/output/output_folder.h"
@@ -34,6 +36,12 @@ int64_t RecordedEpisodes(const fs::path& dir) {
   return lines;
 }
 
+// A cell of this shard with its plan, made once before any work.
+struct PlannedCell {
+  const SweepCell* cell;
+  cell::CellPlan plan;
+};
+
 }  // namespace
 
 int DefaultConcurrentCells(bool all_per_slot, int threads) {
@@ -47,12 +55,13 @@ int DefaultConcurrentCells(bool all_per_slot, int threads) {
 
 // The cells of `mine` still to run (all but the complete ones in `out`), marking the interrupted
 // ones in the manifest; `episodes_done` counts the episodes already recorded.
-std::vector<const SweepCell*> CellsToRun(const std::vector<SweepCell>& mine, const fs::path& out,
-                                         SweepManifest& manifest, int64_t* episodes_done) {
-  std::vector<const SweepCell*> to_run;
-  for (const SweepCell& cell : mine) {
+std::vector<const PlannedCell*> CellsToRun(const std::vector<PlannedCell>& mine, const fs::path& out,
+                                           SweepManifest& manifest, int64_t* episodes_done) {
+  std::vector<const PlannedCell*> to_run;
+  for (const PlannedCell& planned : mine) {
+    const SweepCell& cell = *planned.cell;
     const fs::path dir = out / "cells" / cell.id;
-    if (ReadCompleteCell(dir, cell.config)) {
+    if (ReadCompleteCell(dir, cell::CellSettingsJson(planned.plan), cell.config.episodes)) {
       manifest.SetState(cell.id, "complete");
       *episodes_done += cell.config.episodes;
     } else {
@@ -60,7 +69,7 @@ std::vector<const SweepCell*> CellsToRun(const std::vector<SweepCell>& mine, con
         manifest.SetState(cell.id, "interrupted");
         *episodes_done += std::min<int64_t>(RecordedEpisodes(dir), cell.config.episodes);
       }
-      to_run.push_back(&cell);
+      to_run.push_back(&planned);
     }
   }
   return to_run;
@@ -68,7 +77,7 @@ std::vector<const SweepCell*> CellsToRun(const std::vector<SweepCell>& mine, con
 
 // Runs `to_run` into out/cells, `jobs` cells at a time, keeping the manifest's states current.
 // Returns the first error of a cell, if any (the other running cells finish first).
-std::exception_ptr RunCells(const std::vector<const SweepCell*>& to_run, int jobs, const fs::path& out,
+std::exception_ptr RunCells(const std::vector<const PlannedCell*>& to_run, int jobs, const fs::path& out,
                             const SweepRunOptions& options, const rollout::EpisodeVideoSettings& videos,
                             SweepManifest& manifest, SweepProgress& progress) {
   std::atomic<std::size_t> next{0};
@@ -77,13 +86,13 @@ std::exception_ptr RunCells(const std::vector<const SweepCell*>& to_run, int job
   std::mutex error_mutex;
   const auto worker = [&] {
     for (std::size_t i = next++; i < to_run.size() && !failed; i = next++) {
-      const SweepCell& cell = *to_run[i];
+      const SweepCell& cell = *to_run[i]->cell;
       try {
         manifest.SetState(cell.id, "running");
         manifest.Write(out);
         int64_t reported = 0;
         const cell::CellResult result = RunCellInto(
-            cell.config, out / "cells" / cell.id, options.threads,
+            to_run[i]->plan, out / "cells" / cell.id, options.threads,
             [&progress, &reported](int64_t finished, int64_t) {
               progress.AddEpisodes(finished - reported);
               reported = finished;
@@ -110,13 +119,15 @@ std::exception_ptr RunCells(const std::vector<const SweepCell*>& to_run, int job
 void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   const fs::path out = options.out_dir;
   const std::vector<SweepCell> all = ExpandCells(spec, options.config_dir);
-  std::vector<SweepCell> mine;
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    if (InShard(i, options.shard)) mine.push_back(all[i]);
-  }
+  // Each cell of the shard planned once, here: bad settings fail before any work, and the cell
+  // runs that plan (its files read once).
+  std::vector<PlannedCell> mine;
   std::vector<std::string> ids;
-  for (const SweepCell& cell : mine) ids.push_back(cell.id);
-  for (const SweepCell& cell : mine) cell::CheckEvaluationCell(cell.config);  // bad settings fail before any work
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (!InShard(i, options.shard)) continue;
+    mine.push_back({&all[i], cell::PlanCell(all[i].config)});
+    ids.push_back(all[i].id);
+  }
   DatasetGaltReference(spec.figures);  // an unreadable reference dataset fails before any work, not after it
 
   SweepManifest manifest(spec, options.spec_yaml, options.shard, ids);
@@ -131,11 +142,11 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   fs::create_directories(out / "cells");
 
   int64_t episodes_done = 0;
-  const std::vector<const SweepCell*> to_run = CellsToRun(mine, out, manifest, &episodes_done);
+  const std::vector<const PlannedCell*> to_run = CellsToRun(mine, out, manifest, &episodes_done);
   manifest.Write(out);
 
-  const bool all_per_slot =
-      std::all_of(to_run.begin(), to_run.end(), [](const SweepCell* cell) { return cell::RunsPerSlot(cell->config); });
+  const bool all_per_slot = std::all_of(to_run.begin(), to_run.end(),
+                                        [](const PlannedCell* cell) { return cell::RunsPerSlot(cell->cell->config); });
   const int default_jobs = DefaultConcurrentCells(all_per_slot, options.threads);
   const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : default_jobs,
                                              static_cast<int>(to_run.size())));
@@ -153,7 +164,11 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
                      jobs);
   manifest.Write(out);
   if (first_error) std::rethrow_exception(first_error);
-  if (options.shard.count == 1) WriteSweepResults(out, SweepSpecJson(spec), all, manifest.Json());
+  if (options.shard.count == 1) {  // then the shard's cells are all the cells
+    std::vector<nlohmann::json> cell_jsons;
+    for (const PlannedCell& planned : mine) cell_jsons.push_back(cell::CellSettingsJson(planned.plan));
+    WriteSweepResults(out, SweepSpecJson(spec), all, cell_jsons, manifest.Json());
+  }
 }
 
 }  // namespace tavis::batch::sweep

@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "batch/output/setting_error.h"
 #include "batch/perturbation_catalog.h"
 #include "batch/sweep/spec_lists.h"
 #include "configs/robot_config.h"
@@ -278,14 +279,14 @@ Shard ParseShard(const std::string& text) {
   const auto number = [&text](const std::string& part) {
     if (part.empty() || part.size() > 6 ||
         !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c) != 0; })) {
-      throw std::invalid_argument("--shard must be I/N with 0 <= I < N (e.g. 0/3), got '" + text + "'");
+      throw output::SettingError("shard", "must be I/N with 0 <= I < N (e.g. 0/3), got '" + text + "'");
     }
     return std::stoi(part);
   };
   if (slash == std::string::npos) number("");
   const Shard shard{number(text.substr(0, slash)), number(text.substr(slash + 1))};
   if (shard.count < 1 || shard.index >= shard.count) {
-    throw std::invalid_argument("--shard must be I/N with 0 <= I < N (e.g. 0/3), got '" + text + "'");
+    throw output::SettingError("shard", "must be I/N with 0 <= I < N (e.g. 0/3), got '" + text + "'");
   }
   return shard;
 }

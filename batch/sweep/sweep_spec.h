@@ -68,7 +68,7 @@ struct Shard {
   int count = 1;
 };
 
-// "I/N" with 0 <= I < N; throws std::invalid_argument naming the text.
+// "I/N" with 0 <= I < N; throws output::SettingError (key "shard") naming the text.
 Shard ParseShard(const std::string& text);
 // Shard I of N holds the cells whose position in ExpandCells() is I mod N.
 bool InShard(std::size_t cell_position, const Shard& shard);

@@ -1,4 +1,5 @@
 #include "batch/action_csv.h"
+#include "tests/support/thrown_message.h"
 
 #include <gtest/gtest.h>
 
@@ -25,12 +26,7 @@ ActionTrajectory Parse(const std::string& text) {
 
 // The message of the error that parsing `text` throws.
 std::string ErrorOf(const std::string& text) {
-  try {
-    Parse(text);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "no error";
+  return testing::ThrownMessage<std::runtime_error>([&text] { Parse(text); }, "no error");
 }
 
 TEST(ActionCsv, ReadsRowsWithOptionalHeaderAndBlankLines) {

@@ -160,8 +160,11 @@ std::string LoadError(const std::string& text) {
   return "";
 }
 
-std::string LevelWithTable(const std::string& table_yaml) {
-  return "axis: appearance\nlevels:\n  - name: a\n    description: x\n    table:\n" + table_yaml;
+// An axis file of one level whose table has these "key: value" lines.
+std::string LevelWithTable(const std::vector<std::string>& table) {
+  std::string yaml = "axis: appearance\nlevels:\n  - name: a\n    description: x\n    table:\n";
+  for (const std::string& line : table) yaml += "      " + line + "\n";
+  return yaml;
 }
 
 TEST(AppearanceAxis, ShippedLevelsLoadAndRecordTheirSettings) {
@@ -189,28 +192,25 @@ TEST(AppearanceAxis, ShippedLevelsLoadAndRecordTheirSettings) {
 
 TEST(AppearanceAxis, BadSurfacesAreRefusedNamingFileKeyAndValue) {
   struct Case {
-    std::string table_yaml;
+    std::vector<std::string> table;     // the level's table: "key: value" lines
     std::vector<std::string> expected;  // substrings of the error
   };
+  const std::string two_colours = "colours: [[0, 0, 0], [1, 1, 1]]";
   const std::vector<Case> cases = {
-      {"      pattern: plaid\n      scale_m: 0.1\n      colours: [[0, 0, 0], [1, 1, 1]]\n",
+      {{"pattern: plaid", "scale_m: 0.1", two_colours},
        {"appearance.yaml", "levels[0].table.pattern", "plaid", "checker"}},
-      {"      pattern: checker\n      scale_m: 0\n      colours: [[0, 0, 0], [1, 1, 1]]\n",
-       {"levels[0].table.scale_m", "0"}},
-      {"      pattern: checker\n      scale_m: 0.1\n      colours: [[0, 0, 0]]\n", {"table.colours", "2 colours"}},
-      {"      pattern: checker\n      scale_m: 0.1\n      colours: [[0, 0, 0], [1, 1.5, 1]]\n",
-       {"table.colours[1]", "1.5"}},
-      {"      pattern: checker\n      scale_m: 0.1\n      colours: rainbow\n", {"table.colours", "rainbow"}},
-      {"      pattern: checker\n      scale_m: 0.1\n      colours: random\n      turbulence: 1\n",
-       {"table.turbulence", "no turbulence"}},
-      {"      pattern: solid\n      scale_m: 0.1\n      colours: [[0, 0, 0]]\n", {"table.scale_m", "no scale_m"}},
-      {"      pattern: stripes\n      scale_m: 0.1\n      colours: random\n      angle_deg: 200\n",
-       {"table.angle_deg", "200"}},
-      {"      pattern: stripes\n      scale_m: 0.1\n      colour: random\n", {"table", "colours"}},
-      {"      pattern: wood\n      scale_m: 0.1\n      colours: random\n      grain: 2\n", {"table.grain", "unknown"}},
+      {{"pattern: checker", "scale_m: 0", two_colours}, {"levels[0].table.scale_m", "0"}},
+      {{"pattern: checker", "scale_m: 0.1", "colours: [[0, 0, 0]]"}, {"table.colours", "2 colours"}},
+      {{"pattern: checker", "scale_m: 0.1", "colours: [[0, 0, 0], [1, 1.5, 1]]"}, {"table.colours[1]", "1.5"}},
+      {{"pattern: checker", "scale_m: 0.1", "colours: rainbow"}, {"table.colours", "rainbow"}},
+      {{"pattern: checker", "scale_m: 0.1", "colours: random", "turbulence: 1"}, {"table.turbulence", "no turbulence"}},
+      {{"pattern: solid", "scale_m: 0.1", "colours: [[0, 0, 0]]"}, {"table.scale_m", "no scale_m"}},
+      {{"pattern: stripes", "scale_m: 0.1", "colours: random", "angle_deg: 200"}, {"table.angle_deg", "200"}},
+      {{"pattern: stripes", "scale_m: 0.1", "colour: random"}, {"table", "colours"}},
+      {{"pattern: wood", "scale_m: 0.1", "colours: random", "grain: 2"}, {"table.grain", "unknown"}},
   };
   for (const Case& c : cases) {
-    const std::string error = LoadError(LevelWithTable(c.table_yaml));
+    const std::string error = LoadError(LevelWithTable(c.table));
     for (const std::string& part : c.expected) EXPECT_NE(error.find(part), std::string::npos) << error;
   }
   const std::string nothing = LoadError("axis: appearance\nlevels:\n  - name: a\n    description: x\n");

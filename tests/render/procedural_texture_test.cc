@@ -26,14 +26,9 @@ const Eigen::Vector3f kDark(0.05f, 0.1f, 0.4f);
 const Eigen::Vector3f kUp = Eigen::Vector3f::UnitZ();
 
 ProceduralTexture Texture(TexturePattern pattern, double scale_m, double angle_deg = 0.0, double turbulence = 0.0) {
-  engine::SurfaceTexture texture;
-  texture.pattern = pattern;
-  texture.scale_m = scale_m;
-  texture.colour_a = kLight;
-  texture.colour_b = kDark;
-  texture.angle_deg = angle_deg;
-  texture.turbulence = turbulence;
-  return MakeProceduralTexture(texture);
+  // SurfaceTexture's members in their order: the level's two colours, not random ones.
+  return MakeProceduralTexture(
+      engine::SurfaceTexture{pattern, scale_m, kLight, kDark, angle_deg, turbulence, /*random_colours=*/false});
 }
 
 // The reflectance on an upward face at (x, y).

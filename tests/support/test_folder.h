@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace tavis::testing {
@@ -19,12 +21,27 @@ inline std::filesystem::path TestFolderPath(const std::string& prefix) {
   return std::filesystem::temp_directory_path() / ("tavis_" + prefix + "_" + std::to_string(::getpid()) + "_" + test);
 }
 
-// A fixture whose root() is that folder, created empty for each test.
+// Writes `text` as the whole of the file at `path`, creating its folders.
+inline void WriteTextFile(const std::filesystem::path& path, const std::string& text) {
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// The whole of the file at `path` ("" when it cannot be read).
+inline std::string ReadTextFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// A fixture whose root() is that folder, created empty for each test. The folder's prefix is the
+// test suite's name unless one is given.
 class TestFolder : public ::testing::Test {
  protected:
+  TestFolder() = default;
   explicit TestFolder(std::string prefix) : prefix_(std::move(prefix)) {}
   void SetUp() override {
-    root_ = TestFolderPath(prefix_);
+    root_ = TestFolderPath(prefix_.empty() ? ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name()
+                                           : prefix_);
     std::filesystem::remove_all(root_);
     std::filesystem::create_directories(root_);
   }

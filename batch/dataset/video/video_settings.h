@@ -29,9 +29,11 @@ std::string VideoCodecName(VideoCodec codec);
 // naming the value otherwise.
 VideoCodec ParseVideoCodec(const std::string& name);
 
-// Throws std::invalid_argument naming `path` and the bad value: non-positive or odd width or
-// height, av1 frames under 64x64 (SVT-AV1's minimum), non-positive fps or gop, crf or preset
-// outside the codec's range.
+// The first thing wrong with the settings, naming the bad value ("width 63 is odd; ..."), or ""
+// when they are usable: non-positive or odd width or height, av1 frames under 64x64 (SVT-AV1's
+// minimum), non-positive fps or gop, crf or preset outside the codec's range.
+std::string VideoSettingsProblem(const VideoSettings& settings);
+// Throws std::invalid_argument "video PATH: PROBLEM" for such a problem.
 void ValidateVideoSettings(const VideoSettings& settings, const std::string& path);
 
 }  // namespace tavis::batch::dataset::video

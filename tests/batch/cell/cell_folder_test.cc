@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/output/setting_error.h"
 #include "tests/support/test_folder.h"
 
 namespace tavis::batch::cell {
@@ -136,12 +137,29 @@ TEST_F(CellFolder, FoldersThatCannotTakeTheCellAreRefusedNamingThem) {
     FAIL() << "a resume of a folder that does not exist must throw";
   } catch (const std::invalid_argument& error) {
     EXPECT_NE(std::string(error.what()).find(Out().string() + " does not exist"), std::string::npos) << error.what();
+    // It names the setting by its key; tavis eval names its flag.
+    EXPECT_EQ(std::string(error.what()).rfind("resume: ", 0), 0u) << error.what();
+    const auto* named = dynamic_cast<const output::NamesSettings*>(&error);
+    ASSERT_NE(named, nullptr);
+    EXPECT_EQ(named->MessageNaming([](const std::string& key) { return "--" + key; }).rfind("--resume: ", 0), 0u);
   }
   fs::create_directories(Out());
   std::ofstream(Out() / "notes.txt") << "someone else's\n";
   options.resume = false;
   options.overwrite = true;
-  EXPECT_THROW(RunCellInFolder(PlanCell(TwoExpertEpisodes()), options), std::invalid_argument);
+  try {
+    RunCellInFolder(PlanCell(TwoExpertEpisodes()), options);
+    FAIL() << "an overwrite of a folder tavis did not write must throw";
+  } catch (const std::invalid_argument& error) {
+    const std::string advice =
+        "; overwrite replaces only a cell tavis wrote: move those files away or give another out";
+    EXPECT_EQ(std::string(error.what()),
+              Out().string() + " holds files that are not a tavis evaluation cell's: notes.txt" + advice);
+    const auto* named = dynamic_cast<const output::NamesSettings*>(&error);
+    ASSERT_NE(named, nullptr);
+    EXPECT_NE(named->MessageNaming([](const std::string& key) { return "--" + key; }).find("give another --out"),
+              std::string::npos);
+  }
   EXPECT_EQ(ReadText(Out() / "notes.txt"), "someone else's\n") << "a folder tavis did not write stays as it was";
   options.overwrite = false;
   EXPECT_THROW(RunCellInFolder(PlanCell(TwoExpertEpisodes()), options), std::invalid_argument);

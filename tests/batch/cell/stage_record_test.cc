@@ -70,7 +70,9 @@ struct CellRun {
   ObjectWatch watch;
 };
 
-void RunCell(VecEnv& vec_env, Policy& policy, int episodes, CellRun& run) {
+// `episodes` episodes of `policy` on the lock-step schedule, recorded and watched.
+CellRun RunCell(VecEnv& vec_env, Policy& policy, int episodes) {
+  CellRun run;
   EpisodeRecorder recorder(vec_env.num_envs(), vec_env.model().physics.max_control_steps(), RecordSettings(), 0,
                            [&run](EpisodeRecord&& record) { run.records.push_back(std::move(record)); });
   EpisodeDriver driver(vec_env, policy, episodes);
@@ -78,6 +80,14 @@ void RunCell(VecEnv& vec_env, Policy& policy, int episodes, CellRun& run) {
   driver.AddSink(run.watch);
   driver.RequireLockStep();
   driver.Run();
+  return run;
+}
+
+// The same for a built-in policy ("expert", "hold").
+CellRun RunBuiltinCell(VecEnv& vec_env, const std::string& policy, int episodes) {
+  const std::unique_ptr<Policy> builtin =
+      MakeBuiltinPolicy(policy, vec_env.scenario(), vec_env.model(), vec_env.num_envs());
+  return RunCell(vec_env, *builtin, episodes);
 }
 
 const StageReached& Stage(const EpisodeRecord& record, const std::string& name) {
@@ -98,9 +108,7 @@ TEST(StageMetrics, ConditionalPickDeclaresTheCueThenThePickStages) {
 
 TEST(StageMetrics, TheExpertPassesEveryStageInOrderAndRecordsItsTarget) {
   VecEnv vec_env = MakeEnv("conditional-pick", 12.0, 3);
-  std::unique_ptr<Policy> expert = MakeBuiltinPolicy("expert", vec_env.scenario(), vec_env.model(), vec_env.num_envs());
-  CellRun run;
-  RunCell(vec_env, *expert, 3, run);
+  const CellRun run = RunBuiltinCell(vec_env, "expert", 3);
   ASSERT_EQ(run.records.size(), 3u);
   for (const EpisodeRecord& record : run.records) {
     SCOPED_TRACE("episode " + std::to_string(record.episode));
@@ -132,9 +140,7 @@ TEST(StageMetrics, TheExpertPassesEveryStageInOrderAndRecordsItsTarget) {
 
 TEST(StageMetrics, TheHoldPolicyNeverGrasps) {
   VecEnv vec_env = MakeEnv("clutter-pick-cube", 3.0, 2);
-  std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), vec_env.num_envs());
-  CellRun run;
-  RunCell(vec_env, *hold, 2, run);
+  const CellRun run = RunBuiltinCell(vec_env, "hold", 2);
   ASSERT_EQ(run.records.size(), 2u);
   for (const EpisodeRecord& record : run.records) {
     EXPECT_FALSE(Stage(record, "target_grasped").reached());
@@ -146,8 +152,7 @@ TEST(StageMetrics, TheHoldPolicyNeverGrasps) {
 TEST(StageMetrics, APolicyThatPicksTheWrongSideFailsAtTheCorrectTarget) {
   VecEnv vec_env = MakeEnv("conditional-pick", 10.0, 3);
   testing::WrongSidePolicy wrong_side(vec_env);
-  CellRun run;
-  RunCell(vec_env, wrong_side, 3, run);
+  const CellRun run = RunCell(vec_env, wrong_side, 3);
   ASSERT_EQ(run.records.size(), 3u);
   int lifted_the_other = 0;
   for (std::size_t i = 0; i < run.records.size(); ++i) {

@@ -1,5 +1,6 @@
 #include "batch/report/results_table.h"
 #include "tests/support/test_folder.h"
+#include "tests/support/thrown_message.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -20,8 +21,7 @@ class ResultsTableTest : public testing::TestFolder {
   ResultsTableTest() : TestFolder("results_table") {}
 
   void WriteSummary(const std::string& cell_dir, const std::string& json) {
-    fs::create_directories(root_ / cell_dir);
-    std::ofstream(root_ / cell_dir / "summary.json") << json;
+    testing::WriteTextFile(root_ / cell_dir / "summary.json", json);
   }
 
   void WriteCell(const std::string& cell_dir, const std::string& task, const std::string& robot,
@@ -209,12 +209,7 @@ void WriteRecordedCell(const fs::path& dir, const std::string& seed_json, int ep
 }
 
 std::string LoadError(const fs::path& root) {
-  try {
-    LoadCellResults(root);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "";
+  return testing::ThrownMessage<std::runtime_error>([&root] { LoadCellResults(root); });
 }
 
 // The 192-from-96 case: a copied cell whose summary lost its seed, or names it as a string, or

@@ -14,15 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class StageFunnelTableTest : public testing::TestFolder {
- protected:
-  StageFunnelTableTest() : TestFolder("stage_funnel") {}
-
-  void Write(const std::string& cell, const std::string& json) {
-    fs::create_directories(root_ / cell);
-    std::ofstream(root_ / cell / "summary.json") << json;
-  }
-};
+using StageFunnelTableTest = testing::TestFolder;
 
 TEST_F(StageFunnelTableTest, PoolsSeedsPerTaskAndColumnWithTheSimulatorFaultsApart) {
   const std::string stages =
@@ -37,10 +29,12 @@ TEST_F(StageFunnelTableTest, PoolsSeedsPerTaskAndColumnWithTheSimulatorFaultsApa
            std::to_string(seed) + R"(, "n_episodes": )" + std::to_string(episodes) + R"(, "n_successful": )" +
            std::to_string(successes) + R"(, "simulator_faults": )" + std::to_string(faults) + ", " + funnel + "}";
   };
-  Write("s0", cell(0, 10, 4, 8, 6, 4, 1));
-  Write("s1", cell(1, 10, 6, 10, 8, 6, 0));
+  testing::WriteTextFile(root_ / "s0" / "summary.json", cell(0, 10, 4, 8, 6, 4, 1));
+  testing::WriteTextFile(root_ / "s1" / "summary.json", cell(1, 10, 6, 10, 8, 6, 0));
   // A cell written before stages existed: its faults come from "ends".
-  Write("old", R"({"task": "peeking-box", "robot": "gr1t2", "split": "id", "camera": "wrists-only", "policy": "p",
+  testing::WriteTextFile(
+      root_ / "old" / "summary.json",
+      R"({"task": "peeking-box", "robot": "gr1t2", "split": "id", "camera": "wrists-only", "policy": "p",
                   "n_episodes": 4, "n_successful": 1, "ends": {"physics_blow_up": 2, "success": 1, "time_out": 1}})");
   const std::vector<CellCounts> cells = LoadCellResults(root_);
   const std::string clutter = FormatFunnelMarkdown(BuildResultsTable(cells, "tavis-head"), cells);
@@ -53,7 +47,8 @@ TEST_F(StageFunnelTableTest, PoolsSeedsPerTaskAndColumnWithTheSimulatorFaultsApa
 }
 
 TEST_F(StageFunnelTableTest, AMalformedFunnelNamesTheFile) {
-  Write("bad", R"({"stages": [{"stage": "target_grasped", "reached": "many"}]})");
+  testing::WriteTextFile(root_ / "bad" / "summary.json",
+                         R"({"stages": [{"stage": "target_grasped", "reached": "many"}]})");
   try {
     ReadCellFunnel((root_ / "bad" / "summary.json").string());
     FAIL() << "expected an error";

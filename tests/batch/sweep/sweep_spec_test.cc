@@ -10,6 +10,7 @@
 #include <ostream>
 #include <string>
 
+#include "batch/output/setting_error.h"
 #include "configs/yaml_reader.h"
 
 namespace tavis::batch::sweep {
@@ -105,7 +106,13 @@ TEST(SweepSpec, ShardsPartitionTheCells) {
   }
   EXPECT_EQ(held, 10);
   for (const char* bad : {"3/3", "1", "-1/3", "a/b", "0/0", "1/2/3"}) {
-    EXPECT_THROW(ParseShard(bad), std::invalid_argument) << bad;
+    try {
+      ParseShard(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const output::SettingError& error) {
+      EXPECT_EQ(error.key(), "shard") << "named by its key, not tavis sweep's flag: " << error.what();
+      EXPECT_NE(error.problem().find(std::string("'") + bad + "'"), std::string::npos) << error.what();
+    }
   }
 }
 
