@@ -80,9 +80,7 @@ std::vector<CellSetting> TheServedPolicy() {
           .Records(Recorded::kAlways, Recorded::kWhereItApplies)
           .InSpec("servers", true)
           .Flag("--server", EvalOption::kHidingDefault,
-                "ws://HOST:PORT of a policy server; repeat it to spread the env slots over\n"
-                "several servers (slot i asks server i mod K). Each episode's actions are saved in\n"
-                "DIR/actions/episode_<i>.csv for --policy replay"),
+                "ws://HOST:PORT of a policy server; repeat it to spread env slots (slot i asks server i mod K)"),
       OfPolicy(SettingScope::kServed, "observation_keys", &Config::observation_keys)
           .Records(Recorded::kAlways, Recorded::kNo)  // summary.json names the layout's source (CellResult)
           .InSpec("keys", true)

@@ -57,7 +57,7 @@ const GymVecEnvConfig& Checked(const GymVecEnvConfig& config) {
     throw std::invalid_argument("num_envs must be at least 1, got " + std::to_string(config.num_envs));
   if (config.num_envs > kMaxGymEnvs) {
     throw std::invalid_argument("num_envs must be at most " + std::to_string(kMaxGymEnvs) +
-                                " (as tavis eval --envs), got " + std::to_string(config.num_envs));
+                                " (as an evaluation cell allows), got " + std::to_string(config.num_envs));
   }
   if (config.threads < 0)
     throw std::invalid_argument("threads must be >= 0 (0: all cores), got " + std::to_string(config.threads));

@@ -28,7 +28,7 @@
 
 namespace tavis::batch::gym {
 
-// The most envs one GymVecEnv runs, as `tavis eval --envs` allows.
+// The most envs one GymVecEnv runs, as the cell setting envs allows.
 constexpr int kMaxGymEnvs = 4096;
 
 struct GymVecEnvConfig {

@@ -77,7 +77,7 @@ InferResult OpenpiSession::Infer(const Value& observation) {
     } catch (const MessageTooLarge& error) {
       client_.reset();  // the rest of the oversize reply is still on the wire: the next request reconnects
       throw MalformedReply("reply over the limit of " + std::to_string(options_.max_reply_bytes) +
-                           " bytes (--max-reply-mb): " + error.what());
+                           " bytes (the max_reply_mb setting): " + error.what());
     } catch (const ConnectionLost&) {
       if (reconnected) throw;
     } catch (const RemoteTimeout&) {

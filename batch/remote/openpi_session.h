@@ -27,7 +27,7 @@ struct OpenpiSessionOptions {
   // Send plus reply; generous because a server's first inference may compile its model.
   std::chrono::milliseconds reply_timeout{300'000};
   // A reply (or metadata message) over this many bytes is refused from its frame header, before
-  // its bytes are read, so a runaway server cannot exhaust memory (`tavis eval --max-reply-mb`).
+  // its bytes are read, so a runaway server cannot exhaust memory (the cell setting max_reply_mb).
   std::uint64_t max_reply_bytes = kDefaultMaxReplyBytes;
 };
 

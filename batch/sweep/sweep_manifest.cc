@@ -89,7 +89,7 @@ void SweepManifest::RequireSameSweep(const nlohmann::ordered_json& existing, con
   const std::string difference = output::SettingsDifference(was, now);
   if (!difference.empty()) {
     throw std::invalid_argument(dir.string() + " holds another sweep (" + difference +
-                                "); give another --out, or remove it to start over");
+                                "); write the sweep to another folder, or remove this one to start over");
   }
 }
 

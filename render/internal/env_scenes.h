@@ -22,6 +22,16 @@ struct InstanceFrame {
     return {xfm[0] * d.x() + xfm[1] * d.y() + xfm[2] * d.z(), xfm[3] * d.x() + xfm[4] * d.y() + xfm[5] * d.z(),
             xfm[6] * d.x() + xfm[7] * d.y() + xfm[8] * d.z()};
   }
+  // ToLocal for K points given as arrays (x, y, z)[k]: local[axis][k], the same floats per lane.
+  template <int K>
+  void ToLocalLanes(const float* x, const float* y, const float* z, float (*local)[K]) const {
+    for (int k = 0; k < K; ++k) {
+      const float dx = x[k] - xfm[9], dy = y[k] - xfm[10], dz = z[k] - xfm[11];
+      local[0][k] = xfm[0] * dx + xfm[1] * dy + xfm[2] * dz;
+      local[1][k] = xfm[3] * dx + xfm[4] * dy + xfm[5] * dz;
+      local[2][k] = xfm[6] * dx + xfm[7] * dy + xfm[8] * dz;
+    }
+  }
   Eigen::Vector3f RotateToWorld(const Eigen::Vector3f& v) const {
     return {xfm[0] * v.x() + xfm[3] * v.y() + xfm[6] * v.z(), xfm[1] * v.x() + xfm[4] * v.y() + xfm[7] * v.z(),
             xfm[2] * v.x() + xfm[5] * v.y() + xfm[8] * v.z()};

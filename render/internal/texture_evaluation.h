@@ -83,14 +83,27 @@ inline float Noise(float x, float y) {
   return bottom + sy * (top - bottom);
 }
 
-// Texture coordinates of p on the face with normal n: the two axes across n's largest component.
-inline Eigen::Vector2f FaceUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+// Which coordinates of a local point are a face's texture coordinates (u, v): the two axes across
+// the largest component of its normal n. One face has one answer, so a packet of hits on one face
+// asks once.
+struct FaceAxes {
+  int u;
+  int v;
+};
+
+inline FaceAxes FaceUvAxes(const Eigen::Vector3f& n) {
   const float ax = std::fabs(n.x());
   const float ay = std::fabs(n.y());
   const float az = std::fabs(n.z());
-  if (az >= ax && az >= ay) return {p.x(), p.y()};
-  if (ax >= ay) return {p.y(), p.z()};
-  return {p.x(), p.z()};
+  if (az >= ax && az >= ay) return {0, 1};
+  if (ax >= ay) return {1, 2};
+  return {0, 2};
+}
+
+// Texture coordinates of p on the face with normal n.
+inline Eigen::Vector2f FaceUv(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+  const FaceAxes axes = FaceUvAxes(n);
+  return {p[axes.u], p[axes.v]};
 }
 
 // Where face coordinates uv (metres) lie between the colours: 0 colour_a, 1 colour_b.
@@ -135,6 +148,100 @@ EvaluateTexture(const ProceduralTexture& texture, const Eigen::Vector3f& p, cons
   }
   const float value = Pattern(texture, FaceUv(p, n));
   return texture.colour_a + value * (texture.colour_b - texture.colour_a);
+}
+
+// Noise for K points at once: the cells, weights and blends as arrays (the compiler vectorises
+// them), the table look-ups one lane at a time. The same floats as Noise lane by lane.
+template <int K>
+void NoiseLanes(const float* x, const float* y, float* noise) {
+  int32_t i[K], j[K];
+  float sx[K], sy[K];
+  for (int k = 0; k < K; ++k) {
+    i[k] = FloorToInt(x[k]);
+    j[k] = FloorToInt(y[k]);
+    const float tx = x[k] - static_cast<float>(i[k]);
+    const float ty = y[k] - static_cast<float>(j[k]);
+    sx[k] = tx * tx * (3.0f - 2.0f * tx);
+    sy[k] = ty * ty * (3.0f - 2.0f * ty);
+  }
+  float v00[K], v10[K], v01[K], v11[K];
+  const auto& perm = kNoiseTables.permutation;
+  const auto& value = kNoiseTables.values;
+  for (int k = 0; k < K; ++k) {
+    const uint32_t column0 = perm[static_cast<uint32_t>(i[k]) & 255u];
+    const uint32_t column1 = perm[static_cast<uint32_t>(i[k] + 1) & 255u];
+    const uint32_t row = static_cast<uint32_t>(j[k]);
+    v00[k] = value[perm[(column0 + row) & 255u]];
+    v10[k] = value[perm[(column1 + row) & 255u]];
+    v01[k] = value[perm[(column0 + row + 1u) & 255u]];
+    v11[k] = value[perm[(column1 + row + 1u) & 255u]];
+  }
+  for (int k = 0; k < K; ++k) {
+    const float bottom = v00[k] + sx[k] * (v10[k] - v00[k]);
+    const float top = v01[k] + sx[k] * (v11[k] - v01[k]);
+    noise[k] = bottom + sy[k] * (top - bottom);
+  }
+}
+
+// EvaluateTexture for K points of one face, as arrays: local points (px, py, pz)[k] in, the
+// reflectance (r, g, b)[k] out. The face's axes are chosen once (FaceUvAxes of its local normal);
+// every lane is the same floats as EvaluateTexture of that point, so a packet of hits shades
+// exactly as its pixels one at a time (tests/render/procedural_texture_test.cc).
+template <int K>
+void EvaluateTextureLanes(const ProceduralTexture& texture, const float* const local[3], const FaceAxes& axes, float* r,
+                          float* g, float* b) {
+  float value[K] = {};  // 0 (colour_a) for the patterns without a value
+  const float* uv_x = local[axes.u];
+  const float* uv_y = local[axes.v];
+  float u[K], v[K];
+  for (int k = 0; k < K; ++k) {
+    u[k] = (texture.cos_angle * uv_x[k] + texture.sin_angle * uv_y[k]) * texture.inv_scale;
+    v[k] = (-texture.sin_angle * uv_x[k] + texture.cos_angle * uv_y[k]) * texture.inv_scale;
+  }
+  switch (texture.pattern) {
+    case engine::TexturePattern::kNone:
+    case engine::TexturePattern::kSolid: break;
+    case engine::TexturePattern::kChecker:
+      for (int k = 0; k < K; ++k) value[k] = static_cast<float>((FloorToInt(u[k]) ^ FloorToInt(v[k])) & 1);
+      break;
+    case engine::TexturePattern::kStripes:
+      for (int k = 0; k < K; ++k) value[k] = static_cast<float>(FloorToInt(u[k]) & 1);
+      break;
+    case engine::TexturePattern::kNoise: NoiseLanes<K>(u, v, value); break;
+    case engine::TexturePattern::kWood: {
+      float along[K], across[K], bend[K];
+      for (int k = 0; k < K; ++k) {
+        along[k] = kGrainAlong * u[k];
+        across[k] = kGrainAcross * v[k];
+      }
+      NoiseLanes<K>(along, across, bend);
+      for (int k = 0; k < K; ++k) {
+        const float ring = v[k] + texture.turbulence * bend[k];
+        const float t = ring - static_cast<float>(FloorToInt(ring));
+        value[k] = t * t;
+      }
+      break;
+    }
+  }
+  const Eigen::Vector3f& a = texture.colour_a;
+  const Eigen::Vector3f& c = texture.colour_b;
+  if (texture.pattern == engine::TexturePattern::kChecker || texture.pattern == engine::TexturePattern::kStripes) {
+    // Exactly one of the two colours, as EvaluateTexture.
+    for (int k = 0; k < K; ++k) {
+      const bool second = value[k] != 0.0f;
+      r[k] = second ? c.x() : a.x();
+      g[k] = second ? c.y() : a.y();
+      b[k] = second ? c.z() : a.z();
+    }
+    return;
+  }
+  // colour_a + value * (colour_b - colour_a) per channel (value 0 for a solid colour: colour_a).
+  const float dr = c.x() - a.x(), dg = c.y() - a.y(), db = c.z() - a.z();
+  for (int k = 0; k < K; ++k) {
+    r[k] = a.x() + value[k] * dr;
+    g[k] = a.y() + value[k] * dg;
+    b[k] = a.z() + value[k] * db;
+  }
 }
 
 }  // namespace tavis::render::internal

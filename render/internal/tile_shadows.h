@@ -83,26 +83,15 @@ class TileShadows {
   // Add for the K pixels block_pixel + lane_offset[k] of one colour pair, origins (x, y, z)[k].
   void AddBlock(const float* x, const float* y, const float* z, std::size_t block_pixel, const std::size_t* lane_offset,
                 const PixelColours& colours) {
-    float low_x = low_.x(), low_y = low_.y(), low_z = low_.z();
-    float high_x = high_.x(), high_y = high_.y(), high_z = high_.z();
-    for (int k = 0; k < K; ++k) {
-      origin_x_[size_ + k] = x[k];
-      origin_y_[size_ + k] = y[k];
-      origin_z_[size_ + k] = z[k];
-      pixel_[size_ + k] = block_pixel + lane_offset[k];
-      colours_[size_ + k] = colours;
-    }
-    for (int k = 0; k < K; ++k) {
-      low_x = std::min(low_x, x[k]);
-      low_y = std::min(low_y, y[k]);
-      low_z = std::min(low_z, z[k]);
-      high_x = std::max(high_x, x[k]);
-      high_y = std::max(high_y, y[k]);
-      high_z = std::max(high_z, z[k]);
-    }
-    low_ = Eigen::Vector3f(low_x, low_y, low_z);
-    high_ = Eigen::Vector3f(high_x, high_y, high_z);
-    size_ += K;
+    for (int k = 0; k < K; ++k) colours_[size_ + k] = colours;
+    AddBlockOrigins(x, y, z, block_pixel, lane_offset);
+  }
+
+  // The same with a colour pair per pixel (colours[k]: a textured face).
+  void AddBlock(const float* x, const float* y, const float* z, std::size_t block_pixel, const std::size_t* lane_offset,
+                const PixelColours* colours) {
+    for (int k = 0; k < K; ++k) colours_[size_ + k] = colours[k];
+    AddBlockOrigins(x, y, z, block_pixel, lane_offset);
   }
 
   // Colours every waiting pixel, lit or in shadow, and empties the list; returns the number of
@@ -140,6 +129,30 @@ class TileShadows {
   // More candidates than this for one tile: every ray of the tile goes to Embree.
   static constexpr int kMaxCandidates = 32;
   static constexpr int kCapacity = kTileSize * kTileSize;
+
+  // The origins, pixels and bounds of AddBlock's K pixels (their colours are already in place).
+  void AddBlockOrigins(const float* x, const float* y, const float* z, std::size_t block_pixel,
+                       const std::size_t* lane_offset) {
+    float low_x = low_.x(), low_y = low_.y(), low_z = low_.z();
+    float high_x = high_.x(), high_y = high_.y(), high_z = high_.z();
+    for (int k = 0; k < K; ++k) {
+      origin_x_[size_ + k] = x[k];
+      origin_y_[size_ + k] = y[k];
+      origin_z_[size_ + k] = z[k];
+      pixel_[size_ + k] = block_pixel + lane_offset[k];
+    }
+    for (int k = 0; k < K; ++k) {
+      low_x = std::min(low_x, x[k]);
+      low_y = std::min(low_y, y[k]);
+      low_z = std::min(low_z, z[k]);
+      high_x = std::max(high_x, x[k]);
+      high_y = std::max(high_y, y[k]);
+      high_z = std::max(high_z, z[k]);
+    }
+    low_ = Eigen::Vector3f(low_x, low_y, low_z);
+    high_ = Eigen::Vector3f(high_x, high_y, high_z);
+    size_ += K;
+  }
 
   // test_[i] for every waiting pixel: kHit if a candidate blocks its ray for certain, else
   // kUnknown if one may, else kMiss. Caster by caster over all pixels, four pixels per bounds test;

@@ -194,43 +194,71 @@ const FlatShades::Face* CommonFlatFace(const EnvView& env, const typename Packet
   return from_inside == K ? &env.flat->inside(instance, face) : nullptr;
 }
 
+// A textured face's colour pairs for the K hits at world points (x, y, z)[k]: the texture
+// evaluated as arrays (EvaluateTextureLanes) and multiplied by the face's irradiance, lit and,
+// where the light can reach (`queue`), in shadow. The same bytes as TexturedFaceColours per lane.
+template <int K>
+void TexturedFaceLanes(const FlatShades::Face& f, const ProceduralTexture& texture, const InstanceFrame& frame,
+                       const float* x, const float* y, const float* z, bool queue, const SrgbEncoder& encoder,
+                       PixelColours* colours) {
+  float local[3][K];
+  frame.ToLocalLanes<K>(x, y, z, local);
+  const float* const local_axes[3] = {local[0], local[1], local[2]};
+  float r[K], g[K], b[K];
+  EvaluateTextureLanes<K>(texture, local_axes, FaceUvAxes(f.local_normal), r, g, b);
+  float shaded_r[K], shaded_g[K], shaded_b[K];
+  for (int k = 0; k < K; ++k) {
+    shaded_r[k] = r[k] * f.lit.x();
+    shaded_g[k] = g[k] * f.lit.y();
+    shaded_b[k] = b[k] * f.lit.z();
+  }
+  encoder.EncodeLanes<K>(shaded_r, shaded_g, shaded_b, colours[0].lit, sizeof(PixelColours));
+  if (!queue) return;  // shadowed stays unused where the light cannot reach
+  for (int k = 0; k < K; ++k) {
+    shaded_r[k] = r[k] * f.shadowed.x();
+    shaded_g[k] = g[k] * f.shadowed.y();
+    shaded_b[k] = b[k] * f.shadowed.z();
+  }
+  encoder.EncodeLanes<K>(shaded_r, shaded_g, shaded_b, colours[0].shadowed, sizeof(PixelColours));
+}
+
 // ShadeHit for every lane of a packet that CommonFlatFace answered: the same pixels, with the
-// per-hit look-ups done once, and for a plain face the shadow-ray origins computed as arrays
-// (the compiler vectorises them) and queued together.
+// per-hit look-ups done once and the hit points, a textured face's colours and the shadow-ray
+// origins computed as arrays (the compiler vectorises them), queued together.
 template <int K>
 void ShadeFlatPacket(const EnvView& env, const FlatShades::Face& f, const CameraFrame& camera, const Shading& shading,
                      const typename Packet<K>::RayHit& primary, std::size_t block_pixel, const std::size_t* lane_offset,
                      const PixelWriter& writer, TileShadows<K>* tile_shadows) {
   const unsigned int instance = primary.hit.instID[0][0];
   const bool textured = env.flat->kind(instance) == FlatShades::Kind::kTexturedFlat;
-  const bool shadows = shading.lighting->shadows();
-  const bool queue = f.cosine > 0.0f && shadows;
+  const bool queue = f.cosine > 0.0f && shading.lighting->shadows();
   writer.WriteDepthsAndId<K>(block_pixel, lane_offset, primary.ray.tfar, env.surfaces[instance].object_id);
-  if (!textured) {
-    if (!queue) {
-      for (int k = 0; k < K; ++k) writer.WriteColour(block_pixel + lane_offset[k], f.colours.lit);
-      return;
-    }
-    // p + kShadowRayOffset * n with p = origin + depth * direction, per component as Eigen's.
-    const Eigen::Vector3f offset = kShadowRayOffset * f.normal;
-    alignas(16) float x[K], y[K], z[K];
-    for (int k = 0; k < K; ++k) x[k] = (camera.origin.x() + primary.ray.tfar[k] * primary.ray.dir_x[k]) + offset.x();
-    for (int k = 0; k < K; ++k) y[k] = (camera.origin.y() + primary.ray.tfar[k] * primary.ray.dir_y[k]) + offset.y();
-    for (int k = 0; k < K; ++k) z[k] = (camera.origin.z() + primary.ray.tfar[k] * primary.ray.dir_z[k]) + offset.z();
-    tile_shadows->AddBlock(x, y, z, block_pixel, lane_offset, f.colours);
+  if (!textured && !queue) {
+    for (int k = 0; k < K; ++k) writer.WriteColour(block_pixel + lane_offset[k], f.colours.lit);
     return;
   }
-  for (int k = 0; k < K; ++k) {
-    const std::size_t pixel = block_pixel + lane_offset[k];
-    const Eigen::Vector3f direction(primary.ray.dir_x[k], primary.ray.dir_y[k], primary.ray.dir_z[k]);
-    const Eigen::Vector3f p = camera.origin + primary.ray.tfar[k] * direction;
-    const PixelColours colours =
-        TexturedFaceColours(f, env.textures[instance], env.frames[instance].ToLocal(p), shadows, *shading.encoder);
-    if (queue) {
-      tile_shadows->Add(p + kShadowRayOffset * f.normal, pixel, colours);
-    } else {
-      writer.WriteColour(pixel, colours.lit);
+  // The hit points p = origin + depth * direction, per component as Eigen's.
+  alignas(16) float x[K], y[K], z[K];
+  for (int k = 0; k < K; ++k) x[k] = camera.origin.x() + primary.ray.tfar[k] * primary.ray.dir_x[k];
+  for (int k = 0; k < K; ++k) y[k] = camera.origin.y() + primary.ray.tfar[k] * primary.ray.dir_y[k];
+  for (int k = 0; k < K; ++k) z[k] = camera.origin.z() + primary.ray.tfar[k] * primary.ray.dir_z[k];
+  PixelColours colours[K];
+  if (textured) {
+    TexturedFaceLanes<K>(f, env.textures[instance], env.frames[instance], x, y, z, queue, *shading.encoder, colours);
+    if (!queue) {
+      for (int k = 0; k < K; ++k) writer.WriteColour(block_pixel + lane_offset[k], colours[k].lit);
+      return;
     }
+  }
+  // The shadow rays start at p + kShadowRayOffset * n.
+  const Eigen::Vector3f offset = kShadowRayOffset * f.normal;
+  for (int k = 0; k < K; ++k) x[k] += offset.x();
+  for (int k = 0; k < K; ++k) y[k] += offset.y();
+  for (int k = 0; k < K; ++k) z[k] += offset.z();
+  if (textured) {
+    tile_shadows->AddBlock(x, y, z, block_pixel, lane_offset, colours);
+  } else {
+    tile_shadows->AddBlock(x, y, z, block_pixel, lane_offset, f.colours);
   }
 }
 

@@ -2,18 +2,23 @@
 // period and its two colours; the face projection; the checks; and rendered: a texture changes
 // the pixels of its own instance only, no texture leaves every pixel as it was, and a texture
 // moves with its instance, and a textured box face is the same bytes by the flat-face path and the
-// per-pixel path.
+// per-pixel path; the packet path's lanes (texture, local frame, sRGB encoding) are the same floats
+// and bytes as one point at a time.
 #include "render/procedural_texture.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "render/internal/env_scenes.h"
+#include "render/internal/lighting_model.h"
+#include "render/internal/texture_evaluation.h"
 #include "tests/render/test_scenes.h"
 
 namespace tavis::render {
@@ -138,6 +143,67 @@ TEST(ProceduralTexture, FacesAreProjectedAcrossTheirNormal) {
   const Eigen::Vector3f side = Eigen::Vector3f::UnitX();
   EXPECT_EQ(TextureReflectance(stripes, Eigen::Vector3f(0.4f, 0.025f, 0.0f), side), kLight);
   EXPECT_EQ(TextureReflectance(stripes, Eigen::Vector3f(0.4f, 0.075f, 0.0f), side), kDark);
+}
+
+// The shading loop evaluates a packet of hits on one face as arrays (render/internal/
+// texture_evaluation.h, env_scenes.h, lighting_model.h); every lane must be exactly what the
+// one-point functions give, or a textured face would differ between packets that all hit it and
+// packets that do not.
+TEST(ProceduralTexture, PacketLanesAreTheSameFloatsAsOnePointAtATime) {
+  constexpr int K = 16;
+  const std::vector<ProceduralTexture> textures = {
+      Texture(TexturePattern::kChecker, 0.07, 30.0), Texture(TexturePattern::kStripes, 0.05, -45.0),
+      Texture(TexturePattern::kNoise, 0.11, 10.0), Texture(TexturePattern::kWood, 0.03, 80.0, 2.5),
+      Texture(TexturePattern::kSolid, 0.1)};
+  const std::vector<Eigen::Vector3f> normals = {Eigen::Vector3f::UnitZ(), -Eigen::Vector3f::UnitX(),
+                                                Eigen::Vector3f(0.1f, 0.9f, -0.2f)};
+  // A turned, moved instance frame (column-major [R | t]): a rotation about z by 0.6 rad.
+  const float c = std::cos(0.6f), s = std::sin(0.6f);
+  const internal::InstanceFrame frame{{c, s, 0.0f, -s, c, 0.0f, 0.0f, 0.0f, 1.0f, 0.3f, -0.2f, 0.75f}};
+  const internal::SrgbEncoder encoder;
+  int mismatches = 0;
+  for (int round = 0; round < 20; ++round) {
+    float x[K], y[K], z[K];
+    for (int k = 0; k < K; ++k) {  // points spread over several features, negative coordinates too
+      x[k] = -1.3f + 0.173f * static_cast<float>(k) + 0.0917f * static_cast<float>(round);
+      y[k] = 0.9f - 0.061f * static_cast<float>(k * k % 23) - 0.113f * static_cast<float>(round);
+      z[k] = 0.75f + 0.029f * static_cast<float>((k * 7 + round) % 11);
+    }
+    float local[3][K];
+    frame.ToLocalLanes<K>(x, y, z, local);
+    for (int k = 0; k < K; ++k) {
+      const Eigen::Vector3f one = frame.ToLocal(Eigen::Vector3f(x[k], y[k], z[k]));
+      mismatches += one != Eigen::Vector3f(local[0][k], local[1][k], local[2][k]) ? 1 : 0;
+    }
+    const float* const axes[3] = {local[0], local[1], local[2]};
+    for (const ProceduralTexture& texture : textures) {
+      for (const Eigen::Vector3f& n : normals) {
+        float r[K], g[K], b[K];
+        internal::EvaluateTextureLanes<K>(texture, axes, internal::FaceUvAxes(n), r, g, b);
+        uint8_t lanes[K][3];
+        encoder.EncodeLanes<K>(r, g, b, lanes[0], 3);
+        for (int k = 0; k < K; ++k) {
+          const Eigen::Vector3f p(local[0][k], local[1][k], local[2][k]);
+          const Eigen::Vector3f one = TextureReflectance(texture, p, n);
+          EXPECT_EQ(one, Eigen::Vector3f(r[k], g[k], b[k]))
+              << "pattern " << static_cast<int>(texture.pattern) << " lane " << k << " round " << round;
+          uint8_t encoded[3];
+          encoder.Encode(one, encoded);
+          mismatches += std::memcmp(encoded, lanes[k], 3) != 0 ? 1 : 0;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  // Encoding clamps as the one-colour path does, at both ends.
+  float low[K], high[K];
+  std::fill_n(low, K, -0.5f);
+  std::fill_n(high, K, 3.0f);
+  uint8_t clamped[K][3];
+  encoder.EncodeLanes<K>(low, high, low, clamped[0], 3);
+  uint8_t expected[3];
+  encoder.Encode(Eigen::Vector3f(-0.5f, 3.0f, -0.5f), expected);
+  for (int k = 0; k < K; ++k) EXPECT_EQ(std::memcmp(clamped[k], expected, 3), 0) << "lane " << k;
 }
 
 TEST(ProceduralTexture, BadValuesAreRefusedNamingThem) {
