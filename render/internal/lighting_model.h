@@ -89,8 +89,8 @@ class SrgbEncoder {
         _mm_set1_ps(0.5f));
     const __m128 clamped =
         _mm_min_ps(_mm_max_ps(scaled, _mm_setzero_ps()), _mm_set1_ps(static_cast<float>(kSteps - 1)));
-    // The indices are read from the register (they fit 16 bits): a store and reload of the
-    // three stalled on store forwarding in the shading loop (perf annotate).
+    // The indices are read from the register (they fit 16 bits) rather than stored to memory
+    // and loaded back one by one.
     const __m128i index = _mm_cvttps_epi32(clamped);
     rgb[0] = table_[static_cast<std::size_t>(_mm_cvtsi128_si32(index))];
     rgb[1] = table_[static_cast<std::size_t>(_mm_extract_epi16(index, 2))];
