@@ -36,6 +36,15 @@ struct InstanceFrame {
     return {xfm[0] * v.x() + xfm[3] * v.y() + xfm[6] * v.z(), xfm[1] * v.x() + xfm[4] * v.y() + xfm[7] * v.z(),
             xfm[2] * v.x() + xfm[5] * v.y() + xfm[8] * v.z()};
   }
+  // RotateToWorld for K vectors given as arrays v[axis][k]: world[axis][k], the same floats per lane.
+  template <int K>
+  void RotateToWorldLanes(const float (*v)[K], float (*world)[K]) const {
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int k = 0; k < K; ++k) {
+        world[axis][k] = xfm[axis] * v[0][k] + xfm[3 + axis] * v[1][k] + xfm[6 + axis] * v[2][k];
+      }
+    }
+  }
 };
 
 class EnvScenes {

@@ -38,6 +38,16 @@ class LightingModel {
     const float sky = 0.5f * (1.0f + n.z()) + ground_bounce_ * 0.5f * (1.0f - n.z());
     return sky * ambient_ + direct_cosine * direct_;
   }
+  // Irradiance for K normals, given by their z components nz[k] (the only one it reads), and
+  // cosines direct_cosine[k]: irradiance[channel][k], the same floats per lane.
+  template <int K>
+  void IrradianceLanes(const float* nz, const float* direct_cosine, float (*irradiance)[K]) const {
+    float sky[K];
+    for (int k = 0; k < K; ++k) sky[k] = 0.5f * (1.0f + nz[k]) + ground_bounce_ * 0.5f * (1.0f - nz[k]);
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < K; ++k) irradiance[c][k] = sky[k] * ambient_[c] + direct_cosine[k] * direct_[c];
+    }
+  }
 
  private:
   Eigen::Vector3f to_light_;

@@ -55,6 +55,29 @@ inline Eigen::Vector3f LocalNormal(const SurfaceModel& surface, const Eigen::Vec
   return Eigen::Vector3f::UnitZ();
 }
 
+// Whether RoundNormalLanes covers the shape: capsules and spheres, whose smooth normal does not
+// depend on the triangle hit.
+inline bool HasRoundNormalLanes(const SurfaceModel& surface) {
+  return surface.kind == ShapeKind::kCapsule || surface.kind == ShapeKind::kSphere;
+}
+
+// LocalNormal for K points of one capsule or sphere (HasRoundNormalLanes) given as arrays
+// p[axis][k]: n[axis][k], the same floats per lane (Eigen sums three terms as x + (y + z)).
+template <int K>
+void RoundNormalLanes(const SurfaceModel& surface, const float (*p)[K], float (*n)[K]) {
+  const bool capsule = surface.kind == ShapeKind::kCapsule;
+  const float h = surface.capsule_half_length;
+  for (int k = 0; k < K; ++k) {
+    const float x = p[0][k], y = p[1][k];
+    const float z = capsule ? p[2][k] - std::fmax(-h, std::fmin(h, p[2][k])) : p[2][k];
+    const float length = std::sqrt(x * x + (y * y + z * z));
+    const bool usable = length > 1e-12f;
+    n[0][k] = usable ? x / length : 0.0f;
+    n[1][k] = usable ? y / length : 0.0f;
+    n[2][k] = usable ? z / length : 1.0f;
+  }
+}
+
 // Position across a side face in [-1, 1]: the angle about z (over pi) on round shapes, the
 // horizontal face coordinate on boxes.
 inline float AcrossSide(const SurfaceModel& surface, const Eigen::Vector3f& p, const Eigen::Vector3f& n) {

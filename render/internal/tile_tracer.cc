@@ -262,6 +262,87 @@ void ShadeFlatPacket(const EnvView& env, const FlatShades::Face& f, const Camera
   }
 }
 
+// If every lane of a full packet hit the same capsule or sphere of one colour (no label, no
+// texture), returns its instance; else RTC_INVALID_GEOMETRY_ID. The robot's links are capsules,
+// and such packets are most of what the per-pixel path would shade.
+template <int K>
+unsigned int CommonRoundInstance(const EnvView& env, const typename Packet<K>::RayHit& primary, int n_valid) {
+  const unsigned int instance = primary.hit.instID[0][0];
+  if (n_valid != K || instance == RTC_INVALID_GEOMETRY_ID) return RTC_INVALID_GEOMETRY_ID;
+  bool same = true;
+  for (int k = 0; k < K; ++k) same &= primary.hit.instID[0][k] == instance;
+  if (!same || env.flat->kind(instance) != FlatShades::Kind::kShaded) return RTC_INVALID_GEOMETRY_ID;
+  const SurfaceModel& surface = env.surfaces[instance];
+  if (!HasRoundNormalLanes(surface) || !HasConstantReflectance(surface) || HasTexture(env.textures, instance)) {
+    return RTC_INVALID_GEOMETRY_ID;
+  }
+  return instance;
+}
+
+// ShadeHit for every lane of a packet that CommonRoundInstance answered: the hit points, their
+// smooth normals, the light cosines and both colours as arrays (the same floats as ShadeHit's per
+// lane), then each pixel written or queued for its shadow ray.
+template <int K>
+void ShadeRoundPacket(const EnvView& env, unsigned int instance, const CameraFrame& camera, const Shading& shading,
+                      const typename Packet<K>::RayHit& primary, std::size_t block_pixel,
+                      const std::size_t* lane_offset, const PixelWriter& writer, TileShadows<K>* tile_shadows) {
+  const SurfaceModel& surface = env.surfaces[instance];
+  const InstanceFrame& frame = env.frames[instance];
+  const LightingModel& lighting = *shading.lighting;
+  writer.WriteDepthsAndId<K>(block_pixel, lane_offset, primary.ray.tfar, surface.object_id);
+  const float* const direction[3] = {primary.ray.dir_x, primary.ray.dir_y, primary.ray.dir_z};
+  alignas(16) float p[3][K];
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int k = 0; k < K; ++k) p[axis][k] = camera.origin[axis] + primary.ray.tfar[k] * direction[axis][k];
+  }
+  float local[3][K], n_local[3][K], n[3][K];
+  frame.ToLocalLanes<K>(p[0], p[1], p[2], local);
+  RoundNormalLanes<K>(surface, local, n_local);
+  frame.RotateToWorldLanes<K>(n_local, n);
+  const Eigen::Vector3f& to_light = lighting.to_light();
+  float cosine[K];
+  for (int k = 0; k < K; ++k) {
+    // Seen from behind (a camera inside): the normal turns towards the camera.
+    const float facing = n[0][k] * direction[0][k] + (n[1][k] * direction[1][k] + n[2][k] * direction[2][k]);
+    const float sign = facing > 0.0f ? -1.0f : 1.0f;
+    for (int axis = 0; axis < 3; ++axis) n[axis][k] *= sign;
+    const float d = n[0][k] * to_light.x() + (n[1][k] * to_light.y() + n[2][k] * to_light.z());
+    cosine[k] = 0.0f < d ? d : 0.0f;  // std::max(0.0f, d)
+  }
+  const Eigen::Vector3f base = env.rgb_override != nullptr ? env.rgb_override[instance] : surface.appearance.rgb;
+  float irradiance[3][K], shaded[3][K];
+  PixelColours colours[K];
+  lighting.IrradianceLanes<K>(n[2], cosine, irradiance);
+  for (int c = 0; c < 3; ++c) {
+    for (int k = 0; k < K; ++k) shaded[c][k] = base[c] * irradiance[c][k];
+  }
+  shading.encoder->EncodeLanes<K>(shaded[0], shaded[1], shaded[2], colours[0].lit, sizeof(PixelColours));
+  bool queue[K];
+  bool any_queued = false;
+  for (int k = 0; k < K; ++k) {
+    queue[k] = cosine[k] > 0.0f && lighting.shadows();
+    any_queued |= queue[k];
+  }
+  if (any_queued) {
+    const float no_direct[K] = {};
+    lighting.IrradianceLanes<K>(n[2], no_direct, irradiance);
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < K; ++k) shaded[c][k] = base[c] * irradiance[c][k];
+    }
+    shading.encoder->EncodeLanes<K>(shaded[0], shaded[1], shaded[2], colours[0].shadowed, sizeof(PixelColours));
+  }
+  for (int k = 0; k < K; ++k) {
+    const std::size_t pixel = block_pixel + lane_offset[k];
+    if (!queue[k]) {
+      writer.WriteColour(pixel, colours[k].lit);
+      continue;
+    }
+    const Eigen::Vector3f origin(p[0][k] + kShadowRayOffset * n[0][k], p[1][k] + kShadowRayOffset * n[1][k],
+                                 p[2][k] + kShadowRayOffset * n[2][k]);
+    tile_shadows->Add(origin, pixel, colours[k]);
+  }
+}
+
 template <int K>
 TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const CameraFrame& camera, const TileRect& rect,
                       const Shading& shading, const ImageView& image) {
@@ -294,6 +375,11 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
       if (const FlatShades::Face* face = CommonFlatFace<K>(env, primary, n_valid)) {
         counts.primary_hits += K;
         ShadeFlatPacket<K>(env, *face, camera, shading, primary, block_pixel, lane_offset, writer, &tile_shadows);
+        continue;
+      }
+      if (const unsigned int round = CommonRoundInstance<K>(env, primary, n_valid); round != RTC_INVALID_GEOMETRY_ID) {
+        counts.primary_hits += K;
+        ShadeRoundPacket<K>(env, round, camera, shading, primary, block_pixel, lane_offset, writer, &tile_shadows);
         continue;
       }
       for (int k = 0; k < K; ++k) {
