@@ -238,27 +238,12 @@ constexpr int kHeight = 120;
 constexpr int32_t kTableTopId = 10;
 constexpr std::size_t kTableTop = 1;  // GoldenScene's instance order: floor, table top, legs...
 
-struct Rendered {
-  std::vector<std::vector<uint8_t>> rgb;  // [camera]
-  std::vector<std::vector<int32_t>> ids;  // [camera]
-};
+using Rendered = testing::EnvImages;
 
 Rendered RenderScene(const testing::TestScene& scene, const std::vector<ProceduralTexture>& textures) {
-  RenderOptions options;
-  options.with_object_id = true;
-  BatchRenderer renderer(scene.layout, scene.num_envs, options);
-  ImageBatch images = renderer.MakeImageBatch();
   RenderInputs inputs = scene.Inputs();
   inputs.instance_texture = textures;
-  renderer.Validate(inputs);
-  renderer.Render(inputs, &images);
-  Rendered out;
-  for (int c = 0; c < images.n_cameras(); ++c) {
-    const std::size_t pixels = static_cast<std::size_t>(images.width(c)) * images.height(c);
-    out.rgb.emplace_back(images.rgb(0, c), images.rgb(0, c) + 3 * pixels);
-    out.ids.emplace_back(images.object_id(0, c), images.object_id(0, c) + pixels);
-  }
-  return out;
+  return testing::RenderEnvZero(scene, inputs);
 }
 
 testing::TestScene SceneWithTableTopId() {

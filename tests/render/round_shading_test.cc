@@ -101,25 +101,9 @@ testing::TestScene RoundScene() {
   return scene;
 }
 
-struct Rendered {
-  std::vector<std::vector<uint8_t>> rgb;  // [camera]
-  std::vector<std::vector<int32_t>> ids;  // [camera]
-};
+using Rendered = testing::EnvImages;
 
-Rendered RenderScene(const testing::TestScene& scene) {
-  RenderOptions options;
-  options.with_object_id = true;
-  BatchRenderer renderer(scene.layout, scene.num_envs, options);
-  ImageBatch images = renderer.MakeImageBatch();
-  renderer.Render(scene.Inputs(), &images);
-  Rendered out;
-  for (int c = 0; c < images.n_cameras(); ++c) {
-    const std::size_t pixels = static_cast<std::size_t>(images.width(c)) * images.height(c);
-    out.rgb.emplace_back(images.rgb(0, c), images.rgb(0, c) + 3 * pixels);
-    out.ids.emplace_back(images.object_id(0, c), images.object_id(0, c) + pixels);
-  }
-  return out;
-}
+Rendered RenderScene(const testing::TestScene& scene) { return testing::RenderEnvZero(scene, scene.Inputs()); }
 
 // A caps label (no green) recolours only where the normal is within 45 degrees of the axis and
 // sends the whole shape down the per-pixel path; every other pixel of it must be the same bytes.

@@ -120,6 +120,22 @@ bool AllZero(const ImageBatch& images, int env, int camera) {
   return true;
 }
 
+EnvImages RenderEnvZero(const TestScene& scene, const RenderInputs& inputs) {
+  RenderOptions options;
+  options.with_object_id = true;
+  BatchRenderer renderer(scene.layout, scene.num_envs, options);
+  ImageBatch images = renderer.MakeImageBatch();
+  renderer.Validate(inputs);
+  renderer.Render(inputs, &images);
+  EnvImages out;
+  for (int c = 0; c < images.n_cameras(); ++c) {
+    const std::size_t pixels = static_cast<std::size_t>(images.width(c)) * images.height(c);
+    out.rgb.emplace_back(images.rgb(0, c), images.rgb(0, c) + 3 * pixels);
+    out.ids.emplace_back(images.object_id(0, c), images.object_id(0, c) + pixels);
+  }
+  return out;
+}
+
 std::string GoldenDirectory() { return std::string(TAVIS_TEST_DATA_DIR) + "/golden"; }
 
 }  // namespace tavis::render::testing

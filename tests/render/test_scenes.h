@@ -49,6 +49,15 @@ int Brightness(const ImageBatch& images, int env, int camera, double u, double v
 
 bool AllZero(const ImageBatch& images, int env, int camera);
 
+// Env 0's colours and object ids of every camera, copied out: what tests compare byte for byte.
+struct EnvImages {
+  std::vector<std::vector<uint8_t>> rgb;  // [camera]
+  std::vector<std::vector<int32_t>> ids;  // [camera]
+};
+
+// Validates `inputs` (the scene's own or changed ones) and renders env 0 with object ids.
+EnvImages RenderEnvZero(const TestScene& scene, const RenderInputs& inputs);
+
 std::string GoldenDirectory();
 
 }  // namespace tavis::render::testing
