@@ -116,6 +116,8 @@ struct BatchRenderer::Impl {
                        internal::FlatShades(shapes.surfaces().data(), n_instances()));
     if (lighting.shadows() && !options.trace_every_shadow_ray)
       casters.assign(static_cast<std::size_t>(num_envs), {lighting.to_light(), n_instances()});
+    if (!options.trace_every_primary_ray)
+      bounds.assign(static_cast<std::size_t>(num_envs), internal::InstanceBounds(n_instances()));
   }
 
   int n_instances() const { return static_cast<int>(layout.instances.size()); }
@@ -141,6 +143,7 @@ struct BatchRenderer::Impl {
     view.surfaces = shapes.surfaces().data();
     view.flat = &flat_shades[static_cast<std::size_t>(env)];
     if (!casters.empty()) view.casters = &casters[static_cast<std::size_t>(env)];
+    if (!bounds.empty()) view.bounds = &bounds[static_cast<std::size_t>(env)];
     if (!inputs.instance_rgb.empty()) {
       view.rgb_override = inputs.instance_rgb.data + static_cast<std::size_t>(env) * layout.instances.size();
     }
@@ -164,6 +167,7 @@ struct BatchRenderer::Impl {
   std::vector<int64_t> tiles_per_camera;          // [camera]
   std::vector<internal::FlatShades> flat_shades;  // [env]
   std::vector<internal::ShadowCasters> casters;   // [env], when the light casts shadows
+  std::vector<internal::InstanceBounds> bounds;   // [env], unless every primary ray is traced
 
   // Per-tick state, sized once here so that Render does not allocate.
   std::vector<CameraFrame> camera_frames;    // [env][camera]
@@ -235,6 +239,12 @@ void BatchRenderer::Impl::PrepareEnv(int env, const RenderInputs& inputs, const 
   }
   if (!any_active) return;
   env_scenes.Update(env, inputs);
+  // Both passes skip the tiles of sky, so that the primary-only baseline stays the primary rays'
+  // cost in the shaded pass.
+  if (!bounds.empty()) {
+    bounds[static_cast<std::size_t>(env)].Build(env_scenes.frames(env), shapes.surfaces().data(),
+                                                env_scenes.enabled(env));
+  }
   if (!shading) return;
   const Eigen::Vector3f* rgb_override =
       inputs.instance_rgb.empty() ? nullptr
@@ -272,6 +282,7 @@ RenderStats BatchRenderer::Impl::ForEachTile(const TileFunction& trace_tile) con
   std::atomic<int64_t> primary_rays{0};
   std::atomic<int64_t> shadow_rays{0};
   std::atomic<int64_t> primary_hits{0};
+  std::atomic<int64_t> sky_tiles{0};
   tbb::parallel_for(tbb::blocked_range<int64_t>(0, tiles_per_env * num_envs),
                     [&](const tbb::blocked_range<int64_t>& items) {
                       const internal::FlushDenormalsScope flush_denormals;
@@ -290,16 +301,14 @@ RenderStats BatchRenderer::Impl::ForEachTile(const TileFunction& trace_tile) con
                         rect.y0 = (tile / across) * kTileSize;
                         rect.x1 = std::min(rect.x0 + kTileSize, raster.width);
                         rect.y1 = std::min(rect.y0 + kTileSize, raster.height);
-                        const TileCounts counts = trace_tile(env, camera, rect);
-                        sum.primary_rays += counts.primary_rays;
-                        sum.shadow_rays += counts.shadow_rays;
-                        sum.primary_hits += counts.primary_hits;
+                        sum += trace_tile(env, camera, rect);
                       }
                       primary_rays += sum.primary_rays;
                       shadow_rays += sum.shadow_rays;
                       primary_hits += sum.primary_hits;
+                      sky_tiles += sum.sky_tiles;
                     });
-  return RenderStats{primary_rays.load(), shadow_rays.load(), primary_hits.load()};
+  return RenderStats{primary_rays.load(), shadow_rays.load(), primary_hits.load(), sky_tiles.load()};
 }
 
 BatchRenderer::BatchRenderer(const SceneLayout& layout, int num_envs, const RenderOptions& options) {
@@ -375,14 +384,11 @@ RenderStats BatchRenderer::RenderEnv(int env, const RenderInputs& inputs, ImageB
     for (int y0 = 0; y0 < raster.height; y0 += kTileSize) {
       for (int x0 = 0; x0 < raster.width; x0 += kTileSize) {
         const TileRect rect{x0, y0, std::min(x0 + kTileSize, raster.width), std::min(y0 + kTileSize, raster.height)};
-        const TileCounts counts = impl.ShadeOrClear(env, camera, rect, inputs, shading, images);
-        sum.primary_rays += counts.primary_rays;
-        sum.shadow_rays += counts.shadow_rays;
-        sum.primary_hits += counts.primary_hits;
+        sum += impl.ShadeOrClear(env, camera, rect, inputs, shading, images);
       }
     }
   }
-  return RenderStats{sum.primary_rays, sum.shadow_rays, sum.primary_hits};
+  return RenderStats{sum.primary_rays, sum.shadow_rays, sum.primary_hits, sum.sky_tiles};
 }
 
 RenderStats BatchRenderer::CastPrimaryRaysOnly(const RenderInputs& inputs) {

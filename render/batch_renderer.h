@@ -20,6 +20,7 @@ struct RenderStats {
   int64_t primary_rays = 0;
   int64_t shadow_rays = 0;
   int64_t primary_hits = 0;
+  int64_t sky_tiles = 0;  // tiles written as background without tracing (none of their rays can hit)
 };
 
 class BatchRenderer {

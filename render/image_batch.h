@@ -16,6 +16,9 @@ struct RenderOptions {
   // Trace every shadow ray with Embree instead of deciding most of them with exact tests
   // (render/internal/shadow_casters.h): slower, the same images; the reference for tests.
   bool trace_every_shadow_ray = false;
+  // Trace every tile's primary rays with Embree instead of writing the tiles that provably see
+  // only sky as background (render/internal/instance_bounds.h): the tests' reference.
+  bool trace_every_primary_ray = false;
 };
 
 // Layout: env-major, then camera, then row-major pixels. RGB is height x width x 3 uint8 (sRGB).

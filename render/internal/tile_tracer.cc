@@ -45,6 +45,24 @@ struct TileRayTerms {
   }
 };
 
+// Whether every primary ray of the tile provably hits nothing (InstanceBounds): the pyramid of
+// its corner pixels' directions, computed as SetPrimaryRays computes them.
+bool TileSeesNothing(const EnvView& env, const CameraRaster& raster, const CameraFrame& camera,
+                     const TileRayTerms& terms, const TileRect& rect) {
+  if (env.bounds == nullptr) return false;
+  const int last_column = rect.x1 - rect.x0 - 1;
+  const int last_row = rect.y1 - rect.y0 - 1;
+  const int columns[4] = {0, last_column, last_column, 0};  // around the tile
+  const int rows[4] = {0, 0, last_row, last_row};
+  InstanceBounds::Pyramid pyramid{camera.origin, camera.forward, raster.near_m, raster.far_m, {}};
+  for (int c = 0; c < 4; ++c) {
+    for (int axis = 0; axis < 3; ++axis) {
+      pyramid.corner[c][axis] = terms.column[axis][columns[c]] + terms.row[axis][rows[c]];
+    }
+  }
+  return env.bounds->MissesEverything(pyramid);
+}
+
 // Directions of the primary rays of the block whose top-left pixel is (block_x, block_y); lanes
 // outside the tile are invalid. The other ray fields come from SetTileConstants. Returns the
 // number of valid lanes. Written row by row of the block, four lanes at a time, so that the
@@ -360,6 +378,17 @@ TileCounts ShadeTileK(const EnvView& env, const CameraRaster& raster, const Came
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
   const TileRayTerms terms(raster, camera, rect);
   const std::size_t width = static_cast<std::size_t>(image.width);
+  if (TileSeesNothing(env, raster, camera, terms, rect)) {
+    for (int y = rect.y0; y < rect.y1; ++y) {
+      for (int x = rect.x0; x < rect.x1; ++x) {
+        writer.Write(static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x), background, 0.0f,
+                     kBackgroundObjectId);
+      }
+    }
+    counts.primary_rays += (rect.x1 - rect.x0) * (rect.y1 - rect.y0);
+    counts.sky_tiles = 1;
+    return counts;
+  }
   std::size_t lane_offset[K];  // pixel of lane k minus the block's top-left pixel
   for (int k = 0; k < K; ++k) {
     lane_offset[k] =
@@ -409,6 +438,11 @@ TileCounts CastPrimaryTileK(const EnvView& env, const CameraRaster& raster, cons
   TileCounts counts;
   SetTileConstants<K>(&primary.ray, camera.origin, raster.near_m);
   const TileRayTerms terms(raster, camera, rect);
+  if (TileSeesNothing(env, raster, camera, terms, rect)) {
+    counts.primary_rays += (rect.x1 - rect.x0) * (rect.y1 - rect.y0);
+    counts.sky_tiles = 1;
+    return counts;
+  }
   for (int block_y = rect.y0; block_y < rect.y1; block_y += kBlockHeight) {
     for (int block_x = rect.x0; block_x < rect.x1; block_x += P::kBlockWidth) {
       counts.primary_rays += SetPrimaryRays<K>(raster, terms, rect, block_x, block_y, valid, &primary);

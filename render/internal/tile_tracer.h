@@ -9,6 +9,7 @@
 
 #include "render/internal/env_scenes.h"
 #include "render/internal/flat_shades.h"
+#include "render/internal/instance_bounds.h"
 #include "render/internal/lighting_model.h"
 #include "render/internal/shadow_casters.h"
 #include "render/internal/surface_shading.h"
@@ -55,6 +56,7 @@ struct EnvView {
   const FlatShades* flat = nullptr;               // for shading
   const ShadowCasters* casters = nullptr;         // shadows decided without rays where exact; nullptr: all traced
   const ProceduralTexture* textures = nullptr;    // per instance, or nullptr (no textures)
+  const InstanceBounds* bounds = nullptr;         // tiles of sky skip Embree; nullptr: every tile traced
 };
 
 // One camera image of one env; depth and object_id may be nullptr.
@@ -74,6 +76,15 @@ struct TileCounts {
   int64_t primary_rays = 0;
   int64_t shadow_rays = 0;
   int64_t primary_hits = 0;
+  int64_t sky_tiles = 0;
+
+  TileCounts& operator+=(const TileCounts& other) {
+    primary_rays += other.primary_rays;
+    shadow_rays += other.shadow_rays;
+    primary_hits += other.primary_hits;
+    sky_tiles += other.sky_tiles;
+    return *this;
+  }
 };
 
 // 16 where the CPU traces 16-wide packets natively (AVX-512), else 8.
