@@ -17,33 +17,12 @@ namespace {
 constexpr int kWidth = 120;
 constexpr int kHeight = 90;
 
-RigidTransform RandomPose(std::mt19937* rng, const Vec3& low, const Vec3& high) {
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const Vec3 p(low.x() + unit(*rng) * (high.x() - low.x()), low.y() + unit(*rng) * (high.y() - low.y()),
-               low.z() + unit(*rng) * (high.z() - low.z()));
-  const Quat q = Quat(unit(*rng) - 0.5, unit(*rng) - 0.5, unit(*rng) - 0.5, unit(*rng) - 0.5).normalized();
-  return MakeTransform(p, q.toRotationMatrix());
-}
-
 // Floor, table, 14 random shapes over it (boxes, spheres, capsules, cylinders; plain, labelled and
 // one emissive), two cameras looking at the cluster; `inside_room` adds a closed box around it
 // all and a third camera inside it.
 testing::TestScene RandomCluster(unsigned seed, bool inside_room) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> size(0.02, 0.12);
-  testing::TestScene scene;
-  scene.Add(MakePlane(), PaletteAppearance("floor"), kBackgroundObjectId, RigidTransform::Identity());
-  scene.Add(MakeBox(Vec3(0.9, 1.2, 0.04)), PaletteAppearance("table"), kBackgroundObjectId,
-            MakeTransform(Vec3(0.6, 0.0, 0.98), Mat3::Identity()));
-  const char* looks[] = {"robot_link", "gripper", "soup_can", "pudding_box", "red_cube", "gelatin_box", "wood"};
-  for (int i = 0; i < 14; ++i) {
-    const RigidTransform X = RandomPose(&rng, Vec3(0.35, -0.25, 1.0), Vec3(0.85, 0.25, 1.35));
-    const double s = size(rng);
-    const ShapeGeometry shapes[] = {MakeBox(Vec3(s, 0.5 * s + 0.01, 1.5 * s)), MakeSphere(0.5 * s),
-                                    MakeCapsule(0.3 * s, 2.0 * s), MakeCylinder(0.4 * s, 1.2 * s)};
-    const Appearance& look = PaletteAppearance(i == 5 ? "signal_light" : looks[i % 7]);
-    scene.Add(shapes[i % 4], look, i, X);
-  }
+  testing::TestScene scene = testing::RandomClusterOverTable(&rng);
   scene.AddCamera(HeadCameraSpec(kWidth, kHeight), CameraLookAt(Vec3(0.0, 0.3, 1.6), Vec3(0.6, 0.0, 1.1)));
   scene.AddCamera(FixedCameraSpec(kWidth, kHeight), CameraLookAt(Vec3(1.2, -0.6, 1.5), Vec3(0.6, 0.0, 1.1)));
   if (inside_room) {

@@ -1,7 +1,8 @@
 // Tiles written as sky without tracing (render/internal/instance_bounds.h) must be exactly what
-// tracing every primary ray draws: random clusters of every shape kind over a table, seen by
-// cameras that look over them into the sky, from below the floor, along the floor's horizon, and
-// by a wrist-like camera (clipped at 0.1-1 m) with a box and a capsule right next to it.
+// tracing every primary ray draws: random clusters of every shape kind over a table
+// (RandomClusterOverTable), seen by cameras that look over them into the sky, from below the
+// floor, along the floor's horizon, and by a wrist-like camera (clipped at 0.1-1 m) with boxes and
+// a capsule right next to it.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -20,19 +21,7 @@ constexpr int kHeight = 72;
 testing::TestScene SkyScene(unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  testing::TestScene scene;
-  scene.Add(MakePlane(), PaletteAppearance("floor"), kBackgroundObjectId, RigidTransform::Identity());
-  scene.Add(MakeBox(Vec3(0.9, 1.2, 0.04)), PaletteAppearance("table"), kBackgroundObjectId,
-            MakeTransform(Vec3(0.6, 0.0, 0.98), Mat3::Identity()));
-  for (int i = 0; i < 12; ++i) {
-    const Vec3 p(0.35 + 0.5 * unit(rng), -0.25 + 0.5 * unit(rng), 1.0 + 0.4 * unit(rng));
-    const Quat q = Quat(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5).normalized();
-    const double s = 0.02 + 0.1 * unit(rng);
-    const ShapeGeometry shapes[] = {MakeBox(Vec3(s, 0.5 * s + 0.01, 1.5 * s)), MakeSphere(0.5 * s),
-                                    MakeCapsule(0.3 * s, 2.0 * s), MakeCylinder(0.4 * s, 1.2 * s)};
-    scene.Add(shapes[i % 4], PaletteAppearance(i % 2 == 0 ? "robot_link" : "red_cube"), i,
-              MakeTransform(p, q.toRotationMatrix()));
-  }
+  testing::TestScene scene = testing::RandomClusterOverTable(&rng);
   // A "hand" right next to the wrist camera: a box behind it, a capsule beside it, and a box
   // that straddles its near clipping depth (0.1 m) above the middle of its view.
   const Vec3 wrist(0.1 + 0.1 * unit(rng), 0.4, 1.3);

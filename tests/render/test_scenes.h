@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,10 @@ struct TestScene {
 // Floor, a table (top and four legs), a red cube (object 0), a soup-can cylinder (object 1) and a
 // capsule (object 2); cameras head, fixed, left_wrist, right_wrist at width x height.
 TestScene GoldenScene(int width, int height);
+
+// Floor, table, and 14 shapes of random pose and size over it (boxes, spheres, capsules,
+// cylinders; plain, labelled and one emissive; object ids 0-13), drawn from `rng`; no camera.
+TestScene RandomClusterOverTable(std::mt19937* rng);
 
 // Head camera 10 cm in front of the neck at GR1T2's zero pose, pitched down by `pitch_deg`.
 RigidTransform PitchedHeadCameraPose(double pitch_deg);
