@@ -22,12 +22,12 @@ bool RunsAway(const Eigen::Vector3f& m, float side, const Eigen::Vector3f& d) {
 
 InstanceBounds::InstanceBounds(int n_instances) {
   boxes_.resize(static_cast<std::size_t>(n_instances));
-  planes_.reserve(static_cast<std::size_t>(n_instances));
+  planes_.resize(static_cast<std::size_t>(n_instances));
 }
 
 void InstanceBounds::Build(const InstanceFrame* frames, const SurfaceModel* surfaces, const uint8_t* visible) {
   n_boxes_ = 0;
-  planes_.clear();
+  n_planes_ = 0;
   const int n_instances = static_cast<int>(boxes_.size());
   for (int i = 0; i < n_instances; ++i) {
     if (visible[i] == 0) continue;
@@ -35,7 +35,7 @@ void InstanceBounds::Build(const InstanceFrame* frames, const SurfaceModel* surf
     const Eigen::Vector3f origin(xfm[9], xfm[10], xfm[11]);
     if (surfaces[i].kind == ShapeKind::kPlane) {
       // Local z = 0 with normal z, taken as unbounded: its mesh is a finite part of it.
-      planes_.push_back({Eigen::Vector3f(xfm[6], xfm[7], xfm[8]), origin});
+      planes_[static_cast<std::size_t>(n_planes_++)] = {Eigen::Vector3f(xfm[6], xfm[7], xfm[8]), origin};
       continue;
     }
     // The shapes are centred on their local origin.
@@ -89,7 +89,8 @@ bool InstanceBounds::MissesEverything(const Pyramid& pyramid) const {
   // A ray meets a plane at depth |side| / approach, where `approach` (linear in the direction, so
   // largest at a corner) is how fast it closes in on the plane: a plane is missed when every corner
   // ray runs away from it or would meet it only beyond the far depth.
-  for (const Plane& plane : planes_) {
+  for (int p = 0; p < n_planes_; ++p) {
+    const Plane& plane = planes_[static_cast<std::size_t>(p)];
     const float side = plane.normal.dot(pyramid.origin - plane.point);
     const float towards = side >= 0.0f ? -1.0f : 1.0f;
     for (int c = 0; c < 4; ++c) {

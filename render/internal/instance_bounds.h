@@ -61,7 +61,9 @@ class InstanceBounds {
   static bool Misses(const Box& box, const Pyramid& pyramid, const Eigen::Vector3f* normal,
                      const float* normal_dot_origin);
 
+  // Sized once (copies keep the size, not a reserved capacity); the first n_ are this render's.
   int n_boxes_ = 0;
+  int n_planes_ = 0;
   std::vector<Box> boxes_;
   std::vector<Plane> planes_;
 };
