@@ -10,13 +10,12 @@
 #include <utility>
 #include <vector>
 
+#include "kinematics/cpu_clock.h"
+
 namespace tavis::batch {
 
-// CPU time of the calling thread: an env's cost measured on it does not include the time its
-// thread waited for a core, so costs measured on a loaded machine stay meaningful.
-int64_t ThreadCpuNanoseconds();
-// CPU time of the whole process (every thread).
-int64_t ProcessCpuNanoseconds();
+using kinematics::ProcessCpuNanoseconds;
+using kinematics::ThreadCpuNanoseconds;
 
 struct EpisodeCost {
   int64_t episode = 0;
@@ -47,10 +46,13 @@ struct CellProfile {
   // Lock-step: the render calls' wall time x threads, for the estimates (per slot, renders are
   // part of their episodes' costs: 0).
   double render_seconds = 0.0;
-  double render_wall_seconds = 0.0;  // render calls' wall time, summed over the calling threads
-  double render_cpu_seconds = 0.0;   // CPU time inside render calls (every thread's)
+  // Render calls' wall time, summed over the calling threads (per slot, with the time helping
+  // threads spent on their tiles).
+  double render_wall_seconds = 0.0;
+  double render_cpu_seconds = 0.0;  // CPU time inside render calls (every thread's)
   // Thread time render calls held without rendering: lock-step, the "render_idle" stage; per
-  // slot, a call's wall time beyond its thread's CPU time (the machine preempting it).
+  // slot, a call's wall time beyond its thread's CPU time (the machine preempting it, or the
+  // thread waiting for the last tiles a helping thread took).
   double render_idle_seconds = 0.0;
 
   double work_seconds() const;  // all measured work (stages' sum)

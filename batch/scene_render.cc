@@ -267,11 +267,12 @@ void SceneRender::Render(const engine::BatchState& state, const uint8_t* render_
   ApplySensorPerturbation(perturbation_, state, settings_.cameras, tick_enabled_, images_.get());
 }
 
-void SceneRender::RenderEnv(const engine::BatchState& state, int env) {
+render::RenderStats SceneRender::RenderEnv(const engine::BatchState& state, int env) {
   for (int c = 0; c < num_cameras(); ++c) tick_enabled_[Index(env, c)] = enabled_[Index(env, c)];
   FillEnv(state, env);
-  renderer_->RenderEnv(env, Inputs(), images_.get());
+  const render::RenderStats stats = renderer_->RenderEnv(env, Inputs(), images_.get());
   ApplySensorPerturbationToEnv(perturbation_, state, settings_.cameras, tick_enabled_, env, images_.get());
+  return stats;
 }
 
 render::RenderInputs SceneRender::Inputs() const {

@@ -15,6 +15,7 @@
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/gripper_geometry.h"
+#include "render/batch_renderer.h"
 #include "render/image_batch.h"
 #include "render/render_inputs.h"
 #include "render/scene_layout.h"
@@ -67,10 +68,10 @@ class SceneRender {
   // Renders every env with render_env[env] != 0 (num_envs flags) from the state; the other envs'
   // images are cleared to zero. Deterministic for any thread count; allocates nothing.
   void Render(const engine::BatchState& state, const uint8_t* render_env);
-  // Renders env `env` alone from the state, on the calling thread; the other envs' images are
-  // left as they are. Calls for distinct envs may run concurrently (not with Render). The images
-  // are those Render draws for the env.
-  void RenderEnv(const engine::BatchState& state, int env);
+  // Renders env `env` alone from the state (idle threads may take some of its tiles); the other
+  // envs' images are left as they are. Calls for distinct envs may run concurrently (not with
+  // Render). The images are those Render draws for the env.
+  render::RenderStats RenderEnv(const engine::BatchState& state, int env);
 
   const render::ImageBatch& images() const { return *images_; }
   // The instance poses (layout order) and camera poses (settings order) of env `env` at its last

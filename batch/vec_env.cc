@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -121,13 +122,20 @@ void VecEnv::TimedRender(int env, Body&& body) {
   // The wall interval encloses the CPU one, so that the CPU time never exceeds the time held.
   const auto start = std::chrono::steady_clock::now();
   const int64_t cpu_start = batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds();
-  body();
-  const int64_t cpu = (batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds()) - cpu_start;
+  // A single env's call returns the CPU that idle threads spent on its tiles, off this thread's
+  // clock; they were held for it too. A whole batch's call is on the process's clock.
+  int64_t helpers = 0;
+  if constexpr (std::is_void_v<std::invoke_result_t<Body>>) {
+    body();
+  } else {
+    helpers = body();
+  }
+  const int64_t cpu = (batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds()) - cpu_start + helpers;
   const int64_t wall =
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
-  stage_nanoseconds_[static_cast<int>(Stage::kRender)] += wall;
+  stage_nanoseconds_[static_cast<int>(Stage::kRender)] += wall + helpers;
   render_cpu_nanoseconds_ += cpu;
-  render_held_nanoseconds_ += batch ? wall * tbb::this_task_arena::max_concurrency() : wall;
+  render_held_nanoseconds_ += batch ? wall * tbb::this_task_arena::max_concurrency() : wall + helpers;
   if (!batch) env_nanoseconds_[env] += cpu;
 }
 
@@ -398,7 +406,7 @@ void VecEnv::RenderPolicyTick() {
 void VecEnv::RenderEnvPolicyTick(int env) {
   if (!renderer_ || !state_.running(env) || state_.images_current[env] != 0) return;
   if (state_.control_step[env] % model_.physics.controls_per_policy() != 0) return;
-  TimedRender(env, [&] { renderer_->RenderEnv(state_, env); });
+  TimedRender(env, [&] { return renderer_->RenderEnv(state_, env).helper_cpu_ns; });
   state_.images_current[env] = 1;
   rendered_images_ += renderer_->num_cameras();
 }

@@ -158,8 +158,9 @@ class VecEnv {
 
   template <typename Body>
   void Timed(Stage stage, Body&& body);
-  // A render call of the whole batch (all threads) or of `env` alone (its thread), timed for
-  // render_times() and, for a single env, added to the env's cost.
+  // A render call of the whole batch (all threads) or of `env` alone (its thread, and idle threads
+  // for some of its tiles), timed for render_times() and, for a single env, added to the env's
+  // cost. A single env's `body` returns the CPU time of the helping threads.
   template <typename Body>
   void TimedRender(int env, Body&& body);
 

@@ -1,15 +1,20 @@
 #include "render/batch_renderer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
+#include "kinematics/cpu_clock.h"
 #include "render/internal/embree_device.h"
 #include "render/internal/env_scenes.h"
 #include "render/internal/flush_denormals.h"
@@ -135,6 +140,17 @@ struct BatchRenderer::Impl {
                           const internal::Shading& shading, ImageBatch* images) const;
   template <typename TileFunction>
   RenderStats ForEachTile(const TileFunction& trace_tile) const;
+  // Tile `tile` of camera `camera`, counted along rows of tiles from the top left.
+  TileRect TileOf(int camera, int tile) const {
+    const CameraRaster& raster = rasters[static_cast<std::size_t>(camera)];
+    const int across = tiles_x[static_cast<std::size_t>(camera)];
+    TileRect rect;
+    rect.x0 = (tile % across) * kTileSize;
+    rect.y0 = (tile / across) * kTileSize;
+    rect.x1 = std::min(rect.x0 + kTileSize, raster.width);
+    rect.y1 = std::min(rect.y0 + kTileSize, raster.height);
+    return rect;
+  }
 
   EnvView ViewOf(int env, const RenderInputs& inputs) const {
     EnvView view;
@@ -294,14 +310,7 @@ RenderStats BatchRenderer::Impl::ForEachTile(const TileFunction& trace_tile) con
                         while (rendered_tile_start[static_cast<std::size_t>(r) + 1] <= env_tile) ++r;
                         const int camera = rendered_cameras[static_cast<std::size_t>(r)];
                         const int tile = static_cast<int>(env_tile - rendered_tile_start[static_cast<std::size_t>(r)]);
-                        const CameraRaster& raster = rasters[static_cast<std::size_t>(camera)];
-                        const int across = tiles_x[static_cast<std::size_t>(camera)];
-                        TileRect rect;
-                        rect.x0 = (tile % across) * kTileSize;
-                        rect.y0 = (tile / across) * kTileSize;
-                        rect.x1 = std::min(rect.x0 + kTileSize, raster.width);
-                        rect.y1 = std::min(rect.y0 + kTileSize, raster.height);
-                        sum += trace_tile(env, camera, rect);
+                        sum += trace_tile(env, camera, TileOf(camera, tile));
                       }
                       primary_rays += sum.primary_rays;
                       shadow_rays += sum.shadow_rays;
@@ -376,19 +385,43 @@ RenderStats BatchRenderer::RenderEnv(int env, const RenderInputs& inputs, ImageB
   };
   impl.PrepareEnv(env, inputs, rendered, true);
   const internal::Shading shading{&impl.lighting, &impl.encoder};
-  // The same tiles as Render's, one after the other: the caller's other envs keep the other threads busy.
-  TileCounts sum;
+  // The same tiles as Render's, as tasks over the env's rendered cameras one after the other.
+  // While the caller's other envs keep every thread busy, this thread runs them all; at a cell's
+  // tail, when threads have no env left to step, they take some. A tile's bytes do not depend on
+  // the thread that shades it, and the counts are sums of integers.
+  std::vector<int> cameras;
+  std::vector<int64_t> tile_start{0};  // prefix sums of the rendered cameras' tile counts
   for (int camera = 0; camera < impl.n_cameras(); ++camera) {
     if (!rendered(camera)) continue;
-    const CameraRaster& raster = impl.rasters[static_cast<std::size_t>(camera)];
-    for (int y0 = 0; y0 < raster.height; y0 += kTileSize) {
-      for (int x0 = 0; x0 < raster.width; x0 += kTileSize) {
-        const TileRect rect{x0, y0, std::min(x0 + kTileSize, raster.width), std::min(y0 + kTileSize, raster.height)};
-        sum += impl.ShadeOrClear(env, camera, rect, inputs, shading, images);
-      }
-    }
+    cameras.push_back(camera);
+    tile_start.push_back(tile_start.back() + impl.tiles_per_camera[static_cast<std::size_t>(camera)]);
   }
-  return RenderStats{sum.primary_rays, sum.shadow_rays, sum.primary_hits, sum.sky_tiles};
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<int64_t> helper_cpu_ns{0};
+  const auto shade_tiles = [&](const tbb::blocked_range<int64_t>& items, TileCounts counts) {
+    const internal::FlushDenormalsScope flush_tile_denormals;
+    // Only a helper's chunks are timed: the caller's CPU is on its own thread's clock.
+    const bool helper = std::this_thread::get_id() != caller;
+    const int64_t cpu_start = helper ? kinematics::ThreadCpuNanoseconds() : 0;
+    std::size_t r = 0;
+    for (int64_t item = items.begin(); item != items.end(); ++item) {
+      while (tile_start[r + 1] <= item) ++r;
+      const int tile = static_cast<int>(item - tile_start[r]);
+      counts += impl.ShadeOrClear(env, cameras[r], impl.TileOf(cameras[r], tile), inputs, shading, images);
+    }
+    if (helper) helper_cpu_ns += kinematics::ThreadCpuNanoseconds() - cpu_start;
+    return counts;
+  };
+  const auto add = [](TileCounts a, const TileCounts& b) {
+    a += b;
+    return a;
+  };
+  // Isolated: while this thread waits for its tiles it runs only tiles of this call, never
+  // another slot's episode loop (which would hold this env's render until that loop ended).
+  const TileCounts sum = tbb::this_task_arena::isolate([&] {
+    return tbb::parallel_reduce(tbb::blocked_range<int64_t>(0, tile_start.back()), TileCounts{}, shade_tiles, add);
+  });
+  return RenderStats{sum.primary_rays, sum.shadow_rays, sum.primary_hits, sum.sky_tiles, helper_cpu_ns.load()};
 }
 
 RenderStats BatchRenderer::CastPrimaryRaysOnly(const RenderInputs& inputs) {

@@ -21,6 +21,9 @@ struct RenderStats {
   int64_t shadow_rays = 0;
   int64_t primary_hits = 0;
   int64_t sky_tiles = 0;  // tiles written as background without tracing (none of their rays can hit)
+  // RenderEnv: the CPU time that other threads spent on this call's tiles, which the calling
+  // thread's own CPU clock does not see (0 for Render, whose work every thread shares).
+  int64_t helper_cpu_ns = 0;
 };
 
 class BatchRenderer {
@@ -51,10 +54,11 @@ class BatchRenderer {
   // std::invalid_argument only if array sizes or the image batch do not match the declared
   // shapes (a caller bug, caught on the first call); never throws on the data, never allocates.
   RenderStats Render(const RenderInputs& inputs, ImageBatch* images);
-  // Renders the requested cameras of env `env` alone, on the calling thread, into its images;
-  // the other envs' images and scenes are left as they are. Calls for distinct envs may run
-  // concurrently with each other (not with Render): the per-env schedule of the episode driver
-  // renders each env at its own policy ticks. Images are the same as Render's for that env.
+  // Renders the requested cameras of env `env` alone into its images; the other envs' images and
+  // scenes are left as they are. Its tiles are tasks: the calling thread shades them unless idle
+  // threads take some (at a cell's tail). Calls for distinct envs may run concurrently with each
+  // other (not with Render): the per-env schedule of the episode driver renders each env at its
+  // own policy ticks. Images are the same as Render's for that env.
   RenderStats RenderEnv(int env, const RenderInputs& inputs, ImageBatch* images);
 
   // Benchmark baseline: the same scene update and primary-ray packets as Render, with no
