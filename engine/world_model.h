@@ -51,7 +51,10 @@ struct StaticPart {
 };
 
 struct PhysicsSettings {
-  double substep_hz = 240.0;
+  // 3 ODE substeps per control tick. ODE's exact LCP is most of a cell's time and runs once per
+  // substep; below 180 Hz an arm point could move farther in one substep than the kinematic-arm
+  // margin (docs/fidelity.md, "Physics rate").
+  double substep_hz = 180.0;
   double control_hz = 60.0;
   double policy_hz = 20.0;
   double episode_length_s = 20.0;

@@ -5,7 +5,7 @@
 //    commands per 60 Hz control tick, `--ticks` ticks, holding the last command after an episode
 //    ends).
 // 2. Physics: replays those commands in both engines over the batch of envs on `--threads`
-//    threads (one world per env; 240 Hz steps, 4 per control tick). Ours is engine::PhysicsWorld,
+//    threads (one world per env; 180 Hz steps, 3 per control tick). Ours is engine::PhysicsWorld,
 //    the code path VecEnv steps; MuJoCo's model is built from the same WorldModel
 //    (bench/peer/mujoco_physics.cc), stepped with its default (dense) and sparse Jacobians.
 // 3. Rendering: the states of our replay at `--frames` sample ticks, rendered by our SceneRender

@@ -19,8 +19,9 @@ enum class ArmMode { kSimulated, kGrip, kKinematic };
 
 // An arm none of whose geoms comes within this distance of an object or the static scene
 // follows its servo kinematically: its bodies leave the LCP (docs/fidelity.md). The margin
-// exceeds a substep's motion of any arm point (5 rad/s joints, under 1 m of arm: 2 cm at
-// 240 Hz), so every contact begins with the arm already simulated.
+// exceeds a substep's motion of any arm point (a 5 rad/s joint swinging the 0.80 m from GR1T2's
+// shoulder to past its pads: 2.2 cm at 180 Hz; PhysicsWorld.TheKinematicArmMarginExceedsASubstepsSwingOfEitherArm),
+// so every contact begins with the arm already simulated.
 constexpr double kKinematicArmMargin = 0.03;  // m
 
 // Which mode each arm takes in a substep, from the geoms' boxes. An object near the static scene

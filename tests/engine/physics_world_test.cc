@@ -5,9 +5,12 @@
 #include <algorithm>
 
 #include "engine/batch_state.h"
+#include "engine/internal/arm_proximity.h"
 #include "engine/object_catalog.h"
+#include "kinematics/forward_kinematics.h"
 #include "kinematics/inverse_kinematics.h"
 #include "scenarios/expert/arm_planner.h"
+#include "scenarios/expert/arm_reach.h"
 #include "tests/support/robot_loading.h"
 
 namespace tavis::engine {
@@ -89,6 +92,27 @@ double CubeHeightAfterLift(double friction) {
 }
 
 TEST(PhysicsWorld, FrictionGraspLiftsTheCube) { EXPECT_GT(CubeHeightAfterLift(1.0), kCubeOnTable.z() + 0.10); }
+
+// An arm leaves the solver only while none of its boxes is within the kinematic-arm margin of
+// anything, so the margin must exceed how far an arm point can move in one substep: one joint at
+// the velocity limit swinging everything from the shoulder to past the pads (docs/fidelity.md,
+// "Kinematic arms"). A faster servo or a lower substep rate would let a contact begin with the arm
+// outside the solver.
+TEST(PhysicsWorld, TheKinematicArmMarginExceedsASubstepsSwingOfEitherArm) {
+  for (const char* name : {"gr1t2", "reachy2"}) {
+    const kinematics::RobotModel robot = tavis::testing::LoadRobot(name);
+    const std::vector<double> q = robot.DefaultPositions();
+    std::vector<RigidTransform> X_BL(robot.links.size());
+    kinematics::ComputeLinkPoses(robot, q.data(), X_BL.data());
+    for (const Side side : {Side::kLeft, Side::kRight}) {
+      const double lever = scenarios::expert::ArmReachOf(robot, side, X_BL.data()).radius + robot.gripper.tcp.norm() +
+                           robot.gripper.pad_size.norm();
+      EXPECT_GT(lever, 0.3) << name;  // an arm, not an empty chain
+      const double swing = robot.arm_actuator.velocity_limit * lever / PhysicsSettings{}.substep_hz;
+      EXPECT_LT(swing, internal::kKinematicArmMargin) << name << ": lever " << lever << " m";
+    }
+  }
+}
 
 TEST(PhysicsWorld, FrictionlessGraspLetsTheCubeSlip) { EXPECT_LT(CubeHeightAfterLift(0.0), kCubeOnTable.z() + 0.02); }
 
