@@ -11,7 +11,8 @@
 # Extra arguments go to every `tavis eval` (options other than those the script sets: --envs,
 # --expert-mode, --profile). Needs only a POSIX shell, date, cmp and awk. The records of every
 # run must be the same: the script compares each run's episodes.jsonl with the first's and fails
-# if one differs.
+# if one differs. The cell itself is bench/rendering_cell.sh's; `bench/parallel_ceiling.sh --cell
+# TAVIS` gives the speed-up to read this one against.
 set -eu
 
 if [ $# -lt 1 ]; then
@@ -31,6 +32,7 @@ if [ "$threads" -lt 1 ] || [ "$repeats" -lt 1 ]; then
   exit 2
 fi
 "$tavis" --version >/dev/null || { echo "$0: cannot run '$tavis'" >&2; exit 2; }
+here=$(CDPATH= cd -- "$(dirname -- "$0")" && pwd)
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/tavis-scaling.XXXXXX")
 trap 'rm -rf "$work"' EXIT INT TERM
@@ -42,9 +44,8 @@ run() {
   shift 2
   out="$work/$label"
   start=$(date +%s.%N)
-  "$tavis" eval --task clutter-pick-cube --robot gr1t2 --split id --policy expert --episodes 96 --seed 0 \
-    --render-cameras head,left_wrist,right_wrist --image-size 224x224 --threads "$on" --out "$out" "$@" \
-    >/dev/null 2>"$work/$label.log" || { cat "$work/$label.log" >&2; echo "$0: the cell on $on threads failed" >&2; exit 1; }
+  "$here/rendering_cell.sh" "$tavis" "$on" 96 "$out" "$@" >/dev/null 2>"$work/$label.log" ||
+    { cat "$work/$label.log" >&2; echo "$0: the cell on $on threads failed" >&2; exit 1; }
   end=$(date +%s.%N)
   if [ -f "$work/reference.jsonl" ]; then
     cmp -s "$work/reference.jsonl" "$out/episodes.jsonl" ||
