@@ -21,7 +21,7 @@
 # script fails. Needs only a POSIX shell, date, cmp and awk.
 set -eu
 
-here=$(CDPATH= cd -- "$(dirname -- "$0")" && pwd)
+here=$(CDPATH='' cd -- "$(dirname -- "$0")" && pwd)
 tavis=
 if [ "${1:-}" = --cell ]; then
   if [ $# -lt 2 ]; then

@@ -32,7 +32,7 @@ if [ "$threads" -lt 1 ] || [ "$repeats" -lt 1 ]; then
   exit 2
 fi
 "$tavis" --version >/dev/null || { echo "$0: cannot run '$tavis'" >&2; exit 2; }
-here=$(CDPATH= cd -- "$(dirname -- "$0")" && pwd)
+here=$(CDPATH='' cd -- "$(dirname -- "$0")" && pwd)
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/tavis-scaling.XXXXXX")
 trap 'rm -rf "$work"' EXIT INT TERM
