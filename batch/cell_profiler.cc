@@ -3,9 +3,8 @@
 #include <algorithm>
 #include <array>
 
-#include <tbb/task_arena.h>
-
 #include "batch/policy.h"
+#include "batch/usable_threads.h"
 #include "batch/vec_env.h"
 
 namespace tavis::batch {
@@ -105,7 +104,7 @@ void CellProfiler::EpisodeEnded(int slot) {
 
 void CellProfiler::RunEnded() {
   const double wall_seconds = SecondsSince(run_start_);
-  const int threads = tbb::this_task_arena::max_concurrency();
+  const int threads = UsableThreads();
   const std::array<double, kNumStages> stage = vec_env_->stage_seconds();
   profile_.threads = threads;
   profile_.wall_seconds = wall_seconds;

@@ -6,7 +6,8 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
-#include <tbb/task_arena.h>
+
+#include "batch/usable_threads.h"
 
 namespace tavis::batch {
 
@@ -108,7 +109,7 @@ void EpisodeDriver::CollectAndRefill(int64_t tick) {
 
 void EpisodeDriver::RunPerSlot(PerEnvPolicy& policy) {
   // One worker per thread, each on its own slot: the slots beyond the threads stay idle.
-  const int workers = std::min(vec_env_.num_envs(), tbb::this_task_arena::max_concurrency());
+  const int workers = std::min(vec_env_.num_envs(), UsableThreads());
   Observe(slots_.observer(), LoopPart::kParallel, kWholeBatch, [&] {
     tbb::parallel_for(
         0, workers, 1, [&](int slot) { RunSlot(policy, slot); }, tbb::simple_partitioner());

@@ -9,13 +9,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "batch/cell_profile.h"
 #include "batch/distractor_placement.h"
 #include "batch/init_pose_warmup.h"
 #include "batch/prompt_paraphrase.h"
 #include "batch/target_move.h"
+#include "batch/usable_threads.h"
 #include "kinematics/action_check.h"
 #include "kinematics/inverse_kinematics.h"
 #include "kinematics/robot_buffers.h"
@@ -135,7 +135,7 @@ void VecEnv::TimedRender(int env, Body&& body) {
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
   stage_nanoseconds_[static_cast<int>(Stage::kRender)] += wall + helpers;
   render_cpu_nanoseconds_ += cpu;
-  render_held_nanoseconds_ += batch ? wall * tbb::this_task_arena::max_concurrency() : wall + helpers;
+  render_held_nanoseconds_ += batch ? wall * UsableThreads() : wall + helpers;
   if (!batch) env_nanoseconds_[env] += cpu;
 }
 

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <set>
@@ -95,9 +98,9 @@ TEST(CellProfiler, PerSlotASlotsSinksCountWhenItsEpisodeEndsAndTheEndIsSerial) {
   EXPECT_TRUE(profile.sections.empty());
 }
 
-// A profiled run of the hold policy: 5 episodes of 15 ticks on 2 slots.
-CellProfile HoldRun(bool lock_step) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+// A profiled run of the hold policy: 5 episodes of 15 ticks on 2 slots, `threads` allowed.
+CellProfile HoldRun(bool lock_step, std::size_t threads = 2) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   VecEnv vec_env = ShortEpisodes(2);
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
   EpisodeDriver driver(vec_env, *hold, 5);
@@ -136,6 +139,16 @@ TEST(CellProfiler, AProfiledRunHasEveryStageEpisodeAndSectionOnEitherSchedule) {
     EXPECT_EQ(profile.sections.size(), lock_step ? 48u : 0u) << label;
     EXPECT_GT(profile.wall_seconds, 0.0) << label;
     EXPECT_LE(profile.serial_seconds, profile.wall_seconds + 1e-9) << label;
+  }
+}
+
+// `--threads 1` sets a process-wide limit of one thread; the profile must say 1 whatever the
+// machine's cores (it once reported the default arena's size, which is the number of cores).
+TEST(CellProfiler, AProfileCountsTheThreadsTheLimitAllowsNotTheMachinesCores) {
+  for (const bool lock_step : {true, false}) {
+    EXPECT_EQ(HoldRun(lock_step, 1).threads, 1) << (lock_step ? "lock-step" : "per slot");
+    EXPECT_EQ(HoldRun(lock_step, 2).threads, std::min(2, tbb::this_task_arena::max_concurrency()))
+        << (lock_step ? "lock-step" : "per slot");
   }
 }
 

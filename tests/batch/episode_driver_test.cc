@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <map>
 #include <memory>
@@ -461,31 +463,36 @@ double Stage(const CellProfile& profile, const std::string& name) {
 
 // --profile's render figures: the CPU time inside render calls and the thread time they held
 // idle. Per slot a render is part of its episode's cost (so not counted again for the
-// estimates); lock-step a render call holds every thread.
-TEST(EpisodeDriver, TheProfileReportsRenderCpuAndIdleTimeOnEitherSchedule) {
-  for (const bool lock_step : {false, true}) {
-    const RenderedRun run = RenderedExpert(lock_step, 2, 3);
-    const CellProfile& profile = run.profile;
-    const char* label = lock_step ? "lock-step" : "per slot";
-    EXPECT_GT(profile.render_cpu_seconds, 0.0) << label;
-    EXPECT_GT(profile.render_wall_seconds, 0.0) << label;
-    EXPECT_GE(profile.render_idle_seconds, 0.0) << label;
-    EXPECT_DOUBLE_EQ(Stage(profile, "render"), profile.render_cpu_seconds) << label;
-    if (lock_step) {
-      EXPECT_DOUBLE_EQ(Stage(profile, "render_idle"), profile.render_idle_seconds);
-      // Each batch call holds both threads for its wall time: what the threads did not spend
-      // rendering is idle.
-      EXPECT_NEAR(profile.render_seconds, 2.0 * profile.render_wall_seconds, 1e-6);
-      EXPECT_NEAR(profile.render_cpu_seconds + profile.render_idle_seconds, profile.render_seconds,
-                  1e-3 * profile.render_seconds);
-    } else {
-      EXPECT_EQ(profile.render_seconds, 0.0) << "per slot, renders are in the episodes' costs";
-      for (const auto& stage : profile.stages) EXPECT_NE(stage.first, "render_idle") << "preemption is no work";
-      double episode_costs = 0.0;
-      for (const EpisodeCost& cost : profile.episodes) episode_costs += cost.seconds;
-      EXPECT_GT(episode_costs, profile.render_cpu_seconds);
-      EXPECT_NEAR(profile.render_cpu_seconds + profile.render_idle_seconds, profile.render_wall_seconds,
-                  1e-3 * profile.render_wall_seconds);
+// estimates); lock-step a render call holds every thread the run may use (`--threads`, not the
+// machine's cores).
+TEST(EpisodeDriver, TheProfileReportsRenderCpuAndIdleTimeOnEitherScheduleAndThreadCount) {
+  for (const std::size_t threads : {std::size_t{1}, std::size_t{2}}) {
+    for (const bool lock_step : {false, true}) {
+      const RenderedRun run = RenderedExpert(lock_step, threads, 3);
+      const CellProfile& profile = run.profile;
+      const std::string label = std::string(lock_step ? "lock-step" : "per slot") + " on " + std::to_string(threads);
+      const int usable = std::min(static_cast<int>(threads), tbb::this_task_arena::max_concurrency());
+      EXPECT_EQ(profile.threads, usable) << label;
+      EXPECT_GT(profile.render_cpu_seconds, 0.0) << label;
+      EXPECT_GT(profile.render_wall_seconds, 0.0) << label;
+      EXPECT_GE(profile.render_idle_seconds, 0.0) << label;
+      EXPECT_DOUBLE_EQ(Stage(profile, "render"), profile.render_cpu_seconds) << label;
+      if (lock_step) {
+        EXPECT_DOUBLE_EQ(Stage(profile, "render_idle"), profile.render_idle_seconds);
+        // Each batch call holds the run's threads for its wall time: what they did not spend
+        // rendering is idle.
+        EXPECT_NEAR(profile.render_seconds, usable * profile.render_wall_seconds, 1e-6) << label;
+        EXPECT_NEAR(profile.render_cpu_seconds + profile.render_idle_seconds, profile.render_seconds,
+                    1e-3 * profile.render_seconds);
+      } else {
+        EXPECT_EQ(profile.render_seconds, 0.0) << "per slot, renders are in the episodes' costs";
+        for (const auto& stage : profile.stages) EXPECT_NE(stage.first, "render_idle") << "preemption is no work";
+        double episode_costs = 0.0;
+        for (const EpisodeCost& cost : profile.episodes) episode_costs += cost.seconds;
+        EXPECT_GT(episode_costs, profile.render_cpu_seconds);
+        EXPECT_NEAR(profile.render_cpu_seconds + profile.render_idle_seconds, profile.render_wall_seconds,
+                    1e-3 * profile.render_wall_seconds);
+      }
     }
   }
 }
