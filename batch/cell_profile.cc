@@ -54,8 +54,8 @@ std::string FormatCellProfile(const CellProfile& profile) {
   std::string text;
   char line[256];
   const double work = profile.work_seconds();
-  std::snprintf(line, sizeof line, "profile: %.2f s wall on %d threads, %.2f s of measured work\n",
-                profile.wall_seconds, profile.threads, work);
+  std::snprintf(line, sizeof line, "profile: %.2f s wall on %d thread%s, %.2f s of measured work\n",
+                profile.wall_seconds, profile.threads, profile.threads == 1 ? "" : "s", work);
   text += line;
   for (const auto& [name, seconds] : profile.stages) {
     std::snprintf(line, sizeof line, "  %-14s %8.3f s  %5.1f%%\n", name.c_str(), seconds,
@@ -94,8 +94,9 @@ std::string FormatCellProfile(const CellProfile& profile) {
   }
   text += line;
   for (int on_threads : {1, 2, 16}) {
-    std::snprintf(line, sizeof line, "  estimate on %2d threads: %.3f s (%.0f%% serial or tail)\n", on_threads,
-                  profile.EstimatedSeconds(on_threads), 100.0 * SerialOrTailShare(profile, on_threads));
+    std::snprintf(line, sizeof line, "  estimate on %2d thread%s: %.3f s (%.0f%% serial or tail)\n", on_threads,
+                  on_threads == 1 ? "" : "s", profile.EstimatedSeconds(on_threads),
+                  100.0 * SerialOrTailShare(profile, on_threads));
     text += line;
   }
   return text;

@@ -5,6 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <string>
+#include <utility>
+
 namespace tavis::batch {
 namespace {
 
@@ -87,6 +90,20 @@ TEST(CellProfile, TextNamesEveryStageAndTheCriticalPath) {
                            "estimate on  2 threads: 5.900 s"}) {
     EXPECT_NE(text.find(part), std::string::npos) << part << " missing in\n" << text;
   }
+}
+
+// The first line names the threads the run had, in the singular for one.
+TEST(CellProfile, TextNamesTheRunsThreads) {
+  CellProfile profile = HandMadeProfile();
+  profile.wall_seconds = 5.0;
+  for (const auto& [threads, words] :
+       {std::pair<int, const char*>{1, "5.00 s wall on 1 thread, 8.30 s of measured work"},
+        std::pair<int, const char*>{16, "5.00 s wall on 16 threads, 8.30 s"}}) {
+    profile.threads = threads;
+    const std::string text = FormatCellProfile(profile);
+    EXPECT_EQ(text.rfind(std::string("profile: ") + words, 0), 0u) << text;
+  }
+  EXPECT_NE(FormatCellProfile(profile).find("estimate on  1 thread: "), std::string::npos);
 }
 
 }  // namespace
