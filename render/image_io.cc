@@ -1,11 +1,12 @@
 #include "render/image_io.h"
 
+#include <png.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace tavis::render {
@@ -40,36 +41,74 @@ void DrawLabel(cv::Mat* cell, const std::string& label) {
               cv::LINE_AA);
 }
 
+// libpng's simplified interface for tightly packed 8-bit RGB rows. Fast compression: the files
+// are frames and figures written in bulk, as OpenCV's default (level 1) wrote them before.
+png_image RgbPngHeader(int height, int width) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(width);
+  image.height = static_cast<png_uint_32>(height);
+  image.format = PNG_FORMAT_RGB;
+  image.flags = PNG_IMAGE_FLAG_FAST;
+  return image;
+}
+
+// Why libpng failed (for a file it could not open, strerror's text), read before it is freed.
+std::string FailureReason(png_image* image) {
+  std::string reason = image->message;
+  png_image_free(image);
+  return reason;
+}
+
 }  // namespace
 
 void WritePng(const std::string& path, int height, int width, const uint8_t* rgb) {
   RequireImage(("WritePng '" + path + "'").c_str(), height, width, rgb);
-  cv::Mat bgr;
-  cv::cvtColor(RgbView(height, width, rgb), bgr, cv::COLOR_RGB2BGR);
-  bool written = false;
-  std::string reason = "the encoder reported failure (does the directory exist and is it writable?)";
-  try {
-    written = cv::imwrite(path, bgr);
-  } catch (const cv::Exception& error) {
-    reason = error.what();
+  png_image image = RgbPngHeader(height, width);
+  if (png_image_write_to_file(&image, path.c_str(), 0, rgb, 0, nullptr) == 0) {
+    throw std::runtime_error("WritePng: cannot write '" + path + "': " + FailureReason(&image));
   }
-  if (!written) throw std::runtime_error("WritePng: cannot write '" + path + "': " + reason);
 }
 
 void WritePng(const std::string& path, const RgbImage& image) {
   WritePng(path, image.height, image.width, image.pixels.data());
 }
 
+std::string EncodePng(int height, int width, const uint8_t* rgb) {
+  RequireImage("EncodePng", height, width, rgb);
+  png_image image = RgbPngHeader(height, width);
+  png_alloc_size_t size = 0;
+  auto encode = [&](void* memory) {
+    if (png_image_write_to_memory(&image, memory, &size, 0, rgb, 0, nullptr) == 0) {
+      throw std::runtime_error("EncodePng: cannot encode a " + std::to_string(height) + "x" + std::to_string(width) +
+                               " image: " + FailureReason(&image));
+    }
+  };
+  encode(nullptr);  // measures
+  std::string bytes(size, '\0');
+  encode(bytes.data());
+  bytes.resize(size);
+  return bytes;
+}
+
 RgbImage ReadPng(const std::string& path) {
-  const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
-  if (bgr.empty()) throw std::runtime_error("ReadPng: cannot read '" + path + "' as an image");
-  RgbImage image;
-  image.height = bgr.rows;
-  image.width = bgr.cols;
-  image.pixels.resize(static_cast<std::size_t>(bgr.rows) * static_cast<std::size_t>(bgr.cols) * 3);
-  cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, image.pixels.data());
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  return image;
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (png_image_begin_read_from_file(&image, path.c_str()) == 0) {
+    throw std::runtime_error("ReadPng: cannot read '" + path + "' as a PNG image: " + FailureReason(&image));
+  }
+  // Whatever the file holds (grey, palette, alpha, 16 bits), 8-bit RGB comes out; an alpha
+  // channel is composited onto black.
+  image.format = PNG_FORMAT_RGB;
+  RgbImage read;
+  read.height = static_cast<int>(image.height);
+  read.width = static_cast<int>(image.width);
+  read.pixels.resize(PNG_IMAGE_SIZE(image));
+  const png_color black{0, 0, 0};
+  if (png_image_finish_read(&image, &black, read.pixels.data(), 0, nullptr) == 0) {
+    throw std::runtime_error("ReadPng: cannot read '" + path + "' as a PNG image: " + FailureReason(&image));
+  }
+  return read;
 }
 
 RgbImage MakeContactSheet(const std::vector<LabelledImage>& images) {

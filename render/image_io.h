@@ -1,4 +1,4 @@
-// PNG files and labelled contact sheets of RGB images (height x width x 3 uint8, row-major).
+// PNG files (through libpng) and labelled contact sheets of RGB images (height x width x 3 uint8, row-major).
 #pragma once
 
 #include <cstdint>
@@ -18,7 +18,12 @@ struct RgbImage {
 void WritePng(const std::string& path, int height, int width, const uint8_t* rgb);
 void WritePng(const std::string& path, const RgbImage& image);
 
-// Throws std::runtime_error naming the path when it cannot be read as an image.
+// The PNG file's bytes, as WritePng writes them (for figures embedded in other files).
+// Throws std::invalid_argument for a non-positive size or null pixels.
+std::string EncodePng(int height, int width, const uint8_t* rgb);
+
+// Any PNG (grey, palette, 16 bits; alpha composited onto black) as 8-bit RGB. Throws
+// std::runtime_error naming the path and libpng's reason when it cannot be read as a PNG.
 RgbImage ReadPng(const std::string& path);
 
 struct LabelledImage {

@@ -7,8 +7,9 @@
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "render/image_io.h"
 
 namespace tavis::batch::report {
 namespace {
@@ -209,9 +210,9 @@ std::string Canvas::Png() const {
   }
   cv::Mat half;
   cv::resize(image, half, cv::Size(width_, height_), 0, 0, cv::INTER_AREA);
-  std::vector<unsigned char> bytes;
-  if (!cv::imencode(".png", half, bytes)) throw std::runtime_error("cannot encode a figure as PNG");
-  return std::string(bytes.begin(), bytes.end());
+  cv::Mat rgb;
+  cv::cvtColor(half, rgb, cv::COLOR_BGR2RGB);
+  return render::EncodePng(rgb.rows, rgb.cols, rgb.data);
 }
 
 }  // namespace tavis::batch::report

@@ -1,11 +1,17 @@
 // PNG writing/reading and contact sheets.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "render/image_io.h"
+#include "tests/support/child_process.h"
 
 namespace tavis::render {
 namespace {
@@ -30,6 +36,47 @@ TEST(ImageIoTest, PngRoundTripKeepsRgbOrder) {
   EXPECT_EQ(read.pixels, rgb);
 }
 
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Another reader (FFmpeg's PNG decoder through PyAV) sees the pixels WritePng was given, and
+// EncodePng makes the very bytes WritePng writes.
+TEST(ImageIoTest, AnIndependentDecoderReadsTheWrittenPixels) {
+  const int height = 37;
+  const int width = 53;  // odd sizes: rows are not padded
+  const std::vector<uint8_t> rgb = Gradient(height, width);
+  const std::string path = ::testing::TempDir() + "tavis_render_pyav.png";
+  const std::string decoded = ::testing::TempDir() + "tavis_render_pyav.rgb";
+  WritePng(path, height, width, rgb.data());
+  EXPECT_EQ(EncodePng(height, width, rgb.data()), FileBytes(path));
+
+  tavis::testing::ChildProcess reader(
+      tavis::testing::kDebianPython,
+      tavis::testing::ScriptArgs(std::string(TAVIS_TEST_DATA_DIR) + "/decode_png.py", {path, decoded}),
+      "is python3-av (PyAV) installed for /usr/bin/python3?");
+  const nlohmann::json seen = nlohmann::json::parse(reader.ReadAllOutput(std::chrono::seconds(60)));
+  EXPECT_EQ(seen["width"], width);
+  EXPECT_EQ(seen["height"], height);
+  EXPECT_EQ(seen["format"], "rgb24");  // 8-bit RGB, no alpha, no palette
+  const std::string pixels = FileBytes(decoded);
+  EXPECT_EQ(std::vector<uint8_t>(pixels.begin(), pixels.end()), rgb);
+}
+
+TEST(ImageIoTest, ReadingSomethingElseNamesThePathAndTheReason) {
+  const std::string path = ::testing::TempDir() + "tavis_render_not_a.png";
+  std::ofstream(path) << "not a PNG";
+  try {
+    ReadPng(path);
+    ADD_FAILURE() << "expected std::runtime_error";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("PNG"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(EncodePng(4, 0, Gradient(4, 4).data()), std::invalid_argument);
+}
+
 TEST(ImageIoTest, WriteFailureNamesThePath) {
   const std::vector<uint8_t> rgb = Gradient(4, 4);
   const std::string path = "/nonexistent-directory/for/tavis/image.png";
@@ -38,6 +85,7 @@ TEST(ImageIoTest, WriteFailureNamesThePath) {
     ADD_FAILURE() << "expected std::runtime_error";
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("No such file or directory"), std::string::npos) << error.what();
   }
   EXPECT_THROW(WritePng(::testing::TempDir() + "x.png", 0, 4, rgb.data()), std::invalid_argument);
   EXPECT_THROW(ReadPng("/nonexistent-directory/missing.png"), std::runtime_error);
