@@ -14,12 +14,13 @@
 namespace tavis::batch::report {
 namespace {
 
-cv::Scalar Bgr(const std::string& colour) {
+// The canvas is drawn in RGB order (what EncodePng takes), not OpenCV's usual BGR.
+cv::Scalar Rgb(const std::string& colour) {
   unsigned r = 0, g = 0, b = 0;
   if (colour.size() != 7 || std::sscanf(colour.c_str(), "#%02x%02x%02x", &r, &g, &b) != 3) {
     throw std::invalid_argument("colour must be #rrggbb, got '" + colour + "'");
   }
-  return cv::Scalar(b, g, r);
+  return cv::Scalar(r, g, b);
 }
 
 std::string DataText(const DataAttributes& data) {
@@ -160,7 +161,7 @@ std::string Canvas::Png() const {
       case Mark::Kind::kLine: {
         const int thickness = std::max(1, static_cast<int>(std::lround(mark.stroke_width * kScale)));
         if (!mark.dashed) {
-          cv::line(image, Px(mark.a * kScale, mark.b * kScale), Px(mark.c * kScale, mark.d * kScale), Bgr(mark.colour),
+          cv::line(image, Px(mark.a * kScale, mark.b * kScale), Px(mark.c * kScale, mark.d * kScale), Rgb(mark.colour),
                    thickness, cv::LINE_AA, kShift);
           break;
         }
@@ -171,7 +172,7 @@ std::string Canvas::Png() const {
             return Px((mark.a + (mark.c - mark.a) * t / length) * kScale,
                       (mark.b + (mark.d - mark.b) * t / length) * kScale);
           };
-          cv::line(image, at(s), at(e), Bgr(mark.colour), thickness, cv::LINE_AA, kShift);
+          cv::line(image, at(s), at(e), Rgb(mark.colour), thickness, cv::LINE_AA, kShift);
         }
         break;
       }
@@ -182,10 +183,10 @@ std::string Canvas::Png() const {
         const cv::Rect clipped = box & cv::Rect(0, 0, image.cols, image.rows);
         if (clipped.area() > 0) {
           cv::Mat region = image(clipped);
-          cv::Mat fill(region.size(), region.type(), Bgr(mark.colour));
+          cv::Mat fill(region.size(), region.type(), Rgb(mark.colour));
           cv::addWeighted(fill, mark.opacity, region, 1.0 - mark.opacity, 0.0, region);
         }
-        if (!mark.stroke.empty()) cv::rectangle(image, box, Bgr(mark.stroke), static_cast<int>(kScale), cv::LINE_AA);
+        if (!mark.stroke.empty()) cv::rectangle(image, box, Rgb(mark.stroke), static_cast<int>(kScale), cv::LINE_AA);
         break;
       }
       case Mark::Kind::kCircle:
@@ -193,7 +194,7 @@ std::string Canvas::Png() const {
           cv::circle(image, Px(mark.a * kScale, mark.b * kScale), static_cast<int>(mark.c * kScale * 16),
                      cv::Scalar(255, 255, 255), cv::FILLED, cv::LINE_AA, kShift);
         cv::circle(image, Px(mark.a * kScale, mark.b * kScale), static_cast<int>(mark.c * kScale * 16),
-                   Bgr(mark.colour), mark.filled ? cv::FILLED : static_cast<int>(kScale), cv::LINE_AA, kShift);
+                   Rgb(mark.colour), mark.filled ? cv::FILLED : static_cast<int>(kScale), cv::LINE_AA, kShift);
         break;
       case Mark::Kind::kText: {
         const double font_scale = HersheyScale(mark.c);
@@ -203,16 +204,14 @@ std::string Canvas::Png() const {
         if (mark.anchor == Anchor::kMiddle) x -= size.width / 2.0;
         if (mark.anchor == Anchor::kEnd) x -= size.width;
         cv::putText(image, mark.text, cv::Point(static_cast<int>(x), static_cast<int>(mark.b * kScale)),
-                    cv::FONT_HERSHEY_SIMPLEX, font_scale, Bgr(mark.colour), 1, cv::LINE_AA);
+                    cv::FONT_HERSHEY_SIMPLEX, font_scale, Rgb(mark.colour), 1, cv::LINE_AA);
         break;
       }
     }
   }
   cv::Mat half;
   cv::resize(image, half, cv::Size(width_, height_), 0, 0, cv::INTER_AREA);
-  cv::Mat rgb;
-  cv::cvtColor(half, rgb, cv::COLOR_BGR2RGB);
-  return render::EncodePng(rgb.rows, rgb.cols, rgb.data);
+  return render::EncodePng(half.rows, half.cols, half.data);
 }
 
 }  // namespace tavis::batch::report

@@ -35,8 +35,8 @@ class Canvas {
 
   // <svg> with a white background; `id` names it (for the HTML report and tests).
   std::string Svg(const std::string& id) const;
-  // The same drawing as the bytes of an 8-bit RGB PNG file (rasterised with OpenCV; text in its
-  // Hershey font).
+  // The same drawing as the bytes of an 8-bit RGB PNG file (rasterised with OpenCV, text in its
+  // Hershey font; encoded by libpng).
   std::string Png() const;
 
  private:
