@@ -11,7 +11,6 @@ runs out (training then stops cleanly after the step in progress).
 """
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -20,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from . import checkpoint
+from . import checkpoint, train_output
 from .augment import random_shift
 from .config import BaselineConfig
 from .dataset import ACTION, STATE, DemoDataset
@@ -75,15 +74,6 @@ def arguments(argv):
     if args.val_episodes < 0:
         parser.error(f"--val-episodes must be >= 0, got {args.val_episodes}")
     return args
-
-
-def check_out(folder, overwrite):
-    """Refuses an --out that would lose something, before the (long) dataset load."""
-    folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
-        raise ValueError(f"--out {folder} is a file, not a folder")
-    if folder.is_dir() and any(folder.iterdir()) and not overwrite:
-        raise ValueError(f"--out {folder} is not empty; give --overwrite to replace the checkpoint there")
 
 
 def build_policy(data, args):
@@ -144,7 +134,7 @@ def train(args):
         torch.set_num_threads(args.threads)
     torch.manual_seed(args.seed)
     np.random.seed(args.seed)
-    check_out(args.out, args.overwrite)
+    train_output.prepare(args.out, args.overwrite)
 
     keys = BaselineConfig(camera=args.camera, state_dim=34).image_keys
     episodes = range(args.episodes) if args.episodes else None
@@ -168,7 +158,7 @@ def train(args):
           f"chunk {policy.config.chunk_size} (execute {policy.config.n_action_steps}), device {device}", flush=True)
     optimizer = torch.optim.AdamW(policy.parameters(), lr=args.lr, weight_decay=args.weight_decay)
     generator = torch.Generator().manual_seed(args.seed)
-    log = open(Path(args.out) / "train_log.jsonl", "w")
+    log = train_output.TrainLog(args.out)  # train_log.jsonl.tmp until the first save
     summary = {"dataset": str(args.dataset), "seed": args.seed, "steps_requested": args.steps, "parameters": parameters,
                "frames": len(data), "episodes": len(episodes_loaded), "validation_episodes": sorted(val_set),
                "load_s": round(load_s, 2), "device": str(device)}
@@ -178,7 +168,8 @@ def train(args):
                      wall_s=round(time.monotonic() - started, 2))
         if len(val_rows):
             extra["validation_l1"] = validation_loss(policy, data, val_rows.to(device), device, args.batch_size)
-        checkpoint.save(policy, args.out, extra)
+        checkpoint.save(policy, args.out, extra, staged=log.staged())
+        log.saved()
         return extra
 
     loop_start = time.monotonic()
@@ -208,8 +199,7 @@ def train(args):
             if deadline is not None:
                 eta = min(eta, max(0.0, deadline - now))
             print(f"step {step}/{args.steps} loss {loss_value:.4f} {rate:.1f} steps/s ETA {eta:.0f} s", flush=True)
-            log.write(json.dumps({"step": step, "loss": loss_value, "steps_per_s": rate, "lr": learning_rate(step - 1, args)}) + "\n")
-            log.flush()
+            log.write({"step": step, "loss": loss_value, "steps_per_s": rate, "lr": learning_rate(step - 1, args)})
             window_start, window_loss, window_steps = now, 0.0, 0
         if step % args.save_every == 0 and step < args.steps:
             save(step, loss_value, "running")

@@ -80,3 +80,55 @@ def test_bad_arguments_fail_before_anything_is_lost(demo_dataset, tmp_path, caps
     assert "nothing" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         run(demo_dataset, tmp_path / "y", "--image-size", "96")
+
+
+CHECKPOINT_FILES = ("config.json", "stats.json", "model.pt", "training.json", "train_log.jsonl")
+
+
+def folder_bytes(folder):
+    return {path.name: path.read_bytes() for path in sorted(folder.iterdir())}
+
+
+def test_overwrite_keeps_the_old_checkpoint_whole_until_the_new_one_is_saved(demo_dataset, tmp_path, monkeypatch):
+    out = tmp_path / "ckpt"
+    assert run(demo_dataset, out, "--steps", "20", "--seed", "1") == 0
+    before = folder_bytes(out)
+    assert sorted(before) == sorted(CHECKPOINT_FILES) and len(log_losses(out)) == 2
+
+    # Interrupted before its first save (Ctrl-C at the save): the old checkpoint, log included, is as it was.
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(checkpoint, "save", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        run(demo_dataset, out, "--steps", "20", "--seed", "2", "--overwrite")
+    monkeypatch.undo()
+    after = folder_bytes(out)
+    assert {name: after[name] for name in CHECKPOINT_FILES} == before
+
+    # Interrupted inside the save, after some new files were written: still nothing replaced.
+    monkeypatch.setattr(torch, "save", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        run(demo_dataset, out, "--steps", "20", "--seed", "2", "--overwrite")
+    monkeypatch.undo()
+    after = folder_bytes(out)
+    assert {name: after[name] for name in CHECKPOINT_FILES} == before
+
+    # The leftovers of those runs are the trainer's own: the next --overwrite replaces them, and the
+    # checkpoint it saves holds the new run's log alone.
+    assert run(demo_dataset, out, "--steps", "10", "--seed", "2", "--overwrite") == 0
+    assert sorted(path.name for path in out.iterdir()) == sorted(CHECKPOINT_FILES)
+    assert len(log_losses(out)) == 1
+    assert (out / "model.pt").read_bytes() != before["model.pt"]
+
+
+def test_overwrite_replaces_only_a_checkpoint(demo_dataset, tmp_path, capsys):
+    out = tmp_path / "mixed"
+    assert run(demo_dataset, out, "--steps", "2") == 0
+    (out / "notes.txt").write_text("mine")
+    (out / "plots").mkdir()
+    before = folder_bytes(out / "plots"), (out / "model.pt").read_bytes()
+    assert run(demo_dataset, out, "--steps", "2", "--seed", "9", "--overwrite") == 2
+    error = capsys.readouterr().err
+    assert "notes.txt" in error and "plots" in error and "did not write" in error
+    assert (out / "notes.txt").read_text() == "mine" and (folder_bytes(out / "plots"), (out / "model.pt").read_bytes()) == before
