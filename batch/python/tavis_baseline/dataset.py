@@ -33,6 +33,64 @@ def _sorted_parquet(folder):
     return files
 
 
+def _read_json(path, missing):
+    """The JSON object in `path`; ValueError naming the file when it is missing or not one."""
+    if not path.is_file():
+        raise ValueError(missing)
+    try:
+        value = json.loads(path.read_text())
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ValueError(f"{path} is not valid JSON: {error}") from None
+    if not isinstance(value, dict):
+        raise ValueError(f"{path} holds a JSON {type(value).__name__}, not an object")
+    return value
+
+
+def _entry(mapping, key, where, kind=None):
+    """mapping[key]; ValueError naming `where` and the key when it is missing or not of `kind`."""
+    if key not in mapping:
+        raise ValueError(f"{where} has no {key!r}")
+    value = mapping[key]
+    if kind is not None and (not isinstance(value, kind) or isinstance(value, bool)):
+        names = " or ".join(k.__name__ for k in (kind if isinstance(kind, tuple) else (kind,)))
+        raise ValueError(f"{where}: {key!r} is {value!r}, not a {names}")
+    return value
+
+
+def _count(info, key, where):
+    value = _entry(info, key, where, int)
+    if value < 0:
+        raise ValueError(f"{where}: {key!r} is {value}, a negative count")
+    return value
+
+
+def _vector_width(features, key, where):
+    """The length of the 1-D feature `key` (observation.state, action) from info.json's features."""
+    feature = _entry(features, key, f"{where} features", dict)
+    shape = _entry(feature, "shape", f"{where} features[{key!r}]", list)
+    if len(shape) != 1 or not isinstance(shape[0], int) or isinstance(shape[0], bool) or shape[0] < 1:
+        raise ValueError(f"{where}: features[{key!r}] has shape {shape!r}, not [N] with N >= 1")
+    return shape[0]
+
+
+def video_file(root, template, where, **fields):
+    """root / template.format(**fields); ValueError naming `where` (info.json) and the value when the
+    template does not format, gives a path outside the dataset (absolute, or climbing out with
+    '..'), or a file that does not exist."""
+    try:
+        relative = template.format(**fields)
+    except (KeyError, IndexError, ValueError, AttributeError) as error:
+        raise ValueError(f"{where}: video_path {template!r} does not format with the fields "
+                         f"{', '.join(sorted(fields))}: {error!r}") from None
+    if not relative or Path(relative).is_absolute() or ".." in Path(relative).parts:
+        raise ValueError(f"{where}: video_path {template!r} gives {relative!r}, which is not a path inside the "
+                         f"dataset {root} (absolute, or climbing out with '..')")
+    path = root / relative
+    if not path.is_file():
+        raise ValueError(f"{where}: video_path {template!r} gives {path}, which does not exist")
+    return path
+
+
 class DemoDataset:
     def __init__(self, root, camera_keys, image_size=None, episodes=None, decode_threads=None, video_backend=None):
         """root: the dataset folder; camera_keys: the video features to load, e.g.
@@ -41,39 +99,49 @@ class DemoDataset:
         (PyAV if importable, else OpenCV)."""
         self.root = Path(root)
         info_path = self.root / "meta" / "info.json"
-        if not info_path.is_file():
-            raise ValueError(f"{root} is not a finished LeRobot dataset: {info_path} is missing")
-        self.info = json.loads(info_path.read_text())
+        self._info_path = info_path
+        self.info = _read_json(info_path, f"{root} is not a finished LeRobot dataset: {info_path} is missing")
         if self.info.get("codebase_version") != "v3.0":
-            raise ValueError(f"{root}: codebase_version {self.info.get('codebase_version')!r}, this loader reads v3.0")
-        self.fps = int(self.info["fps"])
-        self.stats = json.loads((self.root / "meta" / "stats.json").read_text())
-        features = self.info["features"]
+            raise ValueError(f"{info_path}: codebase_version {self.info.get('codebase_version')!r}, this loader reads v3.0")
+        fps = _entry(self.info, "fps", info_path, (int, float))
+        if fps <= 0 or fps != int(fps):
+            raise ValueError(f"{info_path}: 'fps' is {fps!r}, not a positive whole number")
+        self.fps = int(fps)
+        self.video_path = _entry(self.info, "video_path", info_path, str) if camera_keys else None
+        self.stats_path = stats_path = self.root / "meta" / "stats.json"
+        self.stats = _read_json(stats_path, f"{root}: {stats_path} is missing (the normalisation statistics)")
+        features = _entry(self.info, "features", info_path, dict)
         for key in camera_keys:
-            if features.get(key, {}).get("dtype") != "video":
-                videos = [name for name, f in features.items() if f.get("dtype") == "video"]
-                raise ValueError(f"{root} has no video feature {key!r} (it has {', '.join(videos)})")
+            feature = features.get(key)
+            if not isinstance(feature, dict) or feature.get("dtype") != "video":
+                videos = [name for name, f in features.items() if isinstance(f, dict) and f.get("dtype") == "video"]
+                raise ValueError(f"{info_path} has no video feature {key!r} (it has {', '.join(videos) or 'none'})")
+            shape = feature.get("shape")
+            if not (isinstance(shape, list) and len(shape) == 3 and all(isinstance(n, int) and n > 0 for n in shape)):
+                raise ValueError(f"{info_path}: features[{key!r}] has shape {shape!r}, not [height, width, channels]")
         self.camera_keys = list(camera_keys)
         stored = features[camera_keys[0]]["shape"][:2] if camera_keys else [0, 0]
         self.image_size = tuple(image_size) if image_size else tuple(stored)
 
         self._read_rows(features)
         self._read_episodes(episodes)
+        self._check_totals()
         self.images = self._decode_videos(decode_threads, video_backend)
 
     # -- Parquet ---------------------------------------------------------------------------------
     def _read_rows(self, features):
         columns = {STATE: [], ACTION: [], "episode_index": [], "frame_index": [], "index": []}
+        widths = {name: _vector_width(features, name, self._info_path) for name in (STATE, ACTION)}
         for path in _sorted_parquet(self.root / "data"):
             table = ParquetFile(path)
             for name in columns:
-                width = features[name]["shape"][0] if name in (STATE, ACTION) else None
-                columns[name].append(table.column(name, width))
+                columns[name].append(table.column(name, widths.get(name)))
         self.state = np.concatenate(columns[STATE]).astype(np.float32)
         self.action = np.concatenate(columns[ACTION]).astype(np.float32)
         self.row_episode = np.concatenate(columns["episode_index"])
         self.frame_index = np.concatenate(columns["frame_index"])
         index = np.concatenate(columns["index"])
+        self.total_rows = int(index.size)
         if not np.array_equal(index, np.arange(index.size)):
             raise ValueError(f"{self.root}: the data files' `index` column is not 0..{index.size - 1} in file order")
 
@@ -88,6 +156,7 @@ class DemoDataset:
                 parts[name].append(table.column(name))
         table = {name: np.concatenate(values) for name, values in parts.items()}
         everything = table["episode_index"]
+        self.total_episodes = int(everything.size)
         if not np.array_equal(everything, np.arange(everything.size)):
             raise ValueError(f"{self.root}: meta/episodes rows are not episodes 0..{everything.size - 1} in order")
         chosen = everything if keep is None else np.asarray(sorted(set(int(e) for e in keep)), np.int64)
@@ -111,6 +180,15 @@ class DemoDataset:
         self.row_episode = self.row_episode[self.source_rows]
         self.frame_index = self.frame_index[self.source_rows]
 
+    def _check_totals(self):
+        """info.json's totals against what the data files and meta/episodes hold."""
+        for key, held, where in (("total_frames", self.total_rows, "the data files hold"),
+                                 ("total_episodes", self.total_episodes, "meta/episodes holds")):
+            said = _count(self.info, key, self._info_path)
+            if said != held:
+                raise ValueError(f"{self._info_path} says {key} {said}, but {where} {held}: the dataset is "
+                                 f"incomplete or its files do not belong together")
+
     # -- video -----------------------------------------------------------------------------------
     def _decode_videos(self, threads, backend):
         table = self._episode_table
@@ -131,7 +209,8 @@ class DemoDataset:
                 files.setdefault(file_key, []).append((first, length, position))
                 position += length
             for (chunk, file), spans in files.items():
-                path = self.root / self.info["video_path"].format(video_key=key, chunk_index=chunk, file_index=file)
+                path = video_file(self.root, self.video_path, self._info_path, video_key=key, chunk_index=chunk,
+                                  file_index=file)
                 frame_rows = np.full(max(first + length for first, length, _ in spans), -1, np.int64)
                 for first, length, position in spans:
                     frame_rows[first:first + length] = np.arange(position, position + length)

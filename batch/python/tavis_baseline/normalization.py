@@ -13,13 +13,17 @@ import numpy as np
 QUATERNION_ACTION_DIMS = (3, 4, 5, 6, 10, 11, 12, 13)
 
 
-def mean_std(stats, key, size, min_std, unnormalised=()):
-    if key not in stats or "mean" not in stats[key] or "std" not in stats[key]:
-        raise ValueError(f"meta/stats.json has no mean/std for {key!r}")
-    mean = np.asarray(stats[key]["mean"], np.float64).reshape(-1)
-    std = np.asarray(stats[key]["std"], np.float64).reshape(-1)
+def mean_std(stats, key, size, min_std, unnormalised=(), where="meta/stats.json"):
+    """where: the stats file, for the messages."""
+    if not isinstance(stats.get(key), dict) or "mean" not in stats[key] or "std" not in stats[key]:
+        raise ValueError(f"{where} has no mean/std for {key!r}")
+    try:
+        mean = np.asarray(stats[key]["mean"], np.float64).reshape(-1)
+        std = np.asarray(stats[key]["std"], np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: the mean/std of {key!r} are not lists of numbers") from None
     if mean.size != size or std.size != size:
-        raise ValueError(f"meta/stats.json: {key!r} has {mean.size} means / {std.size} stds, the data has {size} dims")
+        raise ValueError(f"{where}: {key!r} has {mean.size} means / {std.size} stds, the data has {size} dims")
     std = np.maximum(std, min_std)
     for dim in unnormalised:
         mean[dim], std[dim] = 0.0, 1.0

@@ -145,7 +145,7 @@ class ParquetFile:
     def column(self, name, width=None):
         """Column `name`: a 1-D array, or (rows, width) for a list column of `width` items per row."""
         if name not in self._leaves:
-            raise KeyError(f"{self.path} has no column {name!r} (it has {', '.join(self._leaves)})")
+            raise ValueError(f"{self.path} has no column {name!r} (it has {', '.join(self._leaves)})")
         leaf, physical, max_def, max_rep = self._leaves[name]
         if physical not in _PHYSICAL:
             raise ValueError(f"{self.path}: column {name!r} has physical type {physical}, which this reader does not read")

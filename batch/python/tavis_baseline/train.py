@@ -83,8 +83,8 @@ def build_policy(data, args):
                             history_stride=args.history_stride, chunk_size=args.chunk_size,
                             n_action_steps=args.n_action_steps, shift_px=args.shift_px)
     quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
-    state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std)
-    action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions)
+    state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std, where=data.stats_path)
+    action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions, where=data.stats_path)
     return BaselinePolicy(config, state_mean, state_std, action_mean, action_std)
 
 
@@ -220,7 +220,7 @@ def main(argv=None):
     args = arguments(argv)
     try:
         train(args)
-    except (ValueError, KeyError) as error:
+    except (ValueError, OSError) as error:
         print(f"tavis_baseline.train: {error}", file=sys.stderr)
         return 2
     return 0
