@@ -24,6 +24,10 @@ fi
 T=$1
 W=$2
 STEPS=${STEPS:-1800}
+# Rows of each predicted chunk executed per forward pass, stored in each checkpoint's config.json
+# and served as stored (tavis_baseline.serve reads it): 1 re-plans every step (the measured
+# default, docs/baselines.md "Chunk execution"); k > 1 a queue of k rows.
+EXECUTED_STEPS=${EXECUTED_STEPS:-1}
 mkdir -p "$W/logs" "$W/eval" "$W/ckpt" "$W/ds"
 export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1 PYTORCH_CUDA_ALLOC_CONF=expandable_segments:True
 stamp() { echo "$(date -u +%H:%M:%S) $*" >> "$W/progress.log"; }
@@ -44,7 +48,7 @@ train() {  # name (dataset_camera_seed)
   local dataset camera seed
   IFS=_ read -r dataset camera seed <<< "$1"
   python3 -m tavis_baseline.train --dataset "$W/ds/$dataset" --camera "$camera" --seed "$seed" --out "$W/ckpt/$1" \
-     --steps "$STEPS" --time-budget-s 900 --device cuda --val-episodes 10 --threads 1 > "$W/logs/train_$1.log" 2>&1
+     --steps "$STEPS" --executed-steps "$EXECUTED_STEPS" --time-budget-s 900 --device cuda --val-episodes 10 --threads 1 > "$W/logs/train_$1.log" 2>&1
   stamp "train $1 rc=$?"
 }
 train_wave() {  # names...; waits for these runs only (cells of the other wave go on)
@@ -57,6 +61,8 @@ evaluate() {  # checkpoint split port
   local name=$1 split=$2 port=$3
   local dataset camera
   IFS=_ read -r dataset camera _ <<< "$name"
+  # No --executed-steps: each checkpoint is served with its own setting (summary.json's
+  # server_metadata records executed_steps, chunk_execution and action_queue).
   nice -n 5 python3 -m tavis_baseline.serve "$W/ckpt/$name" --port "$port" --device cuda \
      > "$W/logs/serve_${name}_$split.log" 2>&1 &
   local server=$!

@@ -80,13 +80,14 @@ def save(policy, folder, extra=None, staged=()):
             os.replace(temporary, final)
 
 
-def load(folder, device="cpu"):
-    """The policy saved in `folder`, in eval mode on `device`."""
+def load(folder, device="cpu", notes=None):
+    """The policy saved in `folder`, in eval mode on `device`. notes: a list that gets a line for each
+    setting the checkpoint predates (it gets the documented default)."""
     folder = Path(folder)
     for name in ("config.json", "stats.json", "model.pt"):
         if not (folder / name).is_file():
             raise ValueError(f"{folder} is not a tavis_baseline checkpoint: {name} is missing")
-    config = BaselineConfig.from_json((folder / "config.json").read_text())
+    config = BaselineConfig.from_json((folder / "config.json").read_text(), where=folder / "config.json", notes=notes)
     stats = json.loads((folder / "stats.json").read_text())
     policy = BaselinePolicy(config, stats["state_mean"], stats["state_std"], stats["action_mean"], stats["action_std"])
     policy.load_state_dict(torch.load(folder / "model.pt", map_location="cpu"))

@@ -2,7 +2,8 @@
 L1-trained chunk of future actions (docs/baselines.md says why this model).
 
 It exposes LeRobot's policy interface, so tavis_server serves it like a LeRobot policy:
-reset(), select_action(batch) (one action per call from a queue of n_action_steps),
+reset(), select_action(batch) (one action per call from a queue of n_action_steps, LeRobot's name
+for config.executed_steps),
 predict_action_chunk(batch) and config.n_obs_steps. Batches are LeRobot's: images float in [0, 1]
 as (B, n_obs_steps, 3, H, W) (or (B, 3, H, W) for one step) under the dataset keys,
 observation.state (B, n_obs_steps, D), the n_obs_steps consecutive policy steps up to now; the
@@ -71,7 +72,8 @@ class BaselinePolicy(nn.Module):
         c = self.config
         return {"policy_class": self.name, "camera": c.camera, "image_size_hw": list(c.image_size),
                 "history_frames": c.history_frames, "history_stride": c.history_stride,
-                "chunk_size": c.chunk_size, "client_replan_steps": 1}
+                "chunk_size": c.chunk_size, "executed_steps": c.executed_steps, "chunk_execution": c.chunk_execution,
+                "client_replan_steps": 1}
 
     # -- the network -----------------------------------------------------------------------------
     def normalized_chunk(self, images, state):

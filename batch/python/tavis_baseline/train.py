@@ -21,7 +21,7 @@ import torch
 
 from . import checkpoint, train_output
 from .augment import random_shift
-from .config import BaselineConfig
+from .config import EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, BaselineConfig
 from .dataset import ACTION, STATE, DemoDataset
 from .normalization import QUATERNION_ACTION_DIMS, mean_std
 from .policy import BaselinePolicy
@@ -56,7 +56,10 @@ def arguments(argv):
     parser.add_argument("--history-frames", type=int, default=2, help="frames the network sees (1: no history)")
     parser.add_argument("--history-stride", type=int, default=10, help="frames between them (10 at 20 fps: 0.5 s)")
     parser.add_argument("--chunk-size", type=int, default=20)
-    parser.add_argument("--n-action-steps", type=int, default=10)
+    parser.add_argument("--executed-steps", "--n-action-steps", dest="executed_steps", type=int,
+                        default=EXECUTED_STEPS_DEFAULT, metavar="K",
+                        help="rows of each chunk executed per forward pass when served, stored in config.json "
+                             f"(1: re-plan every step, the default: {EXECUTION_DEFAULT_WHY}; k > 1: a queue of k rows)".replace("%", "%%"))
     parser.add_argument("--shift-px", type=int, default=4)
     parser.add_argument("--episodes", type=int, default=None, help="use only the first N episodes")
     parser.add_argument("--val-episodes", type=int, default=0, help="hold out the last K episodes and report their L1")
@@ -66,11 +69,13 @@ def arguments(argv):
     parser.add_argument("--save-every", type=int, default=2000)
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads")
     args = parser.parse_args(argv)
-    for name in ("steps", "batch_size", "history_frames", "history_stride", "chunk_size", "n_action_steps", "log_every", "save_every"):
+    for name in ("steps", "batch_size", "history_frames", "history_stride", "chunk_size", "executed_steps", "log_every", "save_every"):
         if getattr(args, name) < 1:
             parser.error(f"--{name.replace('_', '-')} must be >= 1, got {getattr(args, name)}")
     if args.time_budget_s is not None and args.time_budget_s <= 0:
         parser.error(f"--time-budget-s must be > 0, got {args.time_budget_s}")
+    if args.executed_steps > args.chunk_size:
+        parser.error(f"--executed-steps {args.executed_steps} exceeds --chunk-size {args.chunk_size}")
     if args.val_episodes < 0:
         parser.error(f"--val-episodes must be >= 0, got {args.val_episodes}")
     return args
@@ -81,7 +86,7 @@ def build_policy(data, args):
     config = BaselineConfig(camera=args.camera, image_size=list(data.image_size), state_dim=state_dim,
                             action_dim=action_dim, history_frames=args.history_frames,
                             history_stride=args.history_stride, chunk_size=args.chunk_size,
-                            n_action_steps=args.n_action_steps, shift_px=args.shift_px)
+                            executed_steps=args.executed_steps, shift_px=args.shift_px)
     quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
     state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std, where=data.stats_path)
     action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions, where=data.stats_path)
@@ -155,7 +160,7 @@ def train(args):
     policy = build_policy(data, args).to(device).train()
     parameters = sum(p.numel() for p in policy.parameters())
     print(f"policy: {parameters / 1e6:.2f} M parameters, camera {args.camera}, history {policy.config.obs_offsets} frames, "
-          f"chunk {policy.config.chunk_size} (execute {policy.config.n_action_steps}), device {device}", flush=True)
+          f"chunk {policy.config.chunk_size} (served: {policy.config.chunk_execution}), device {device}", flush=True)
     optimizer = torch.optim.AdamW(policy.parameters(), lr=args.lr, weight_decay=args.weight_decay)
     generator = torch.Generator().manual_seed(args.seed)
     log = train_output.TrainLog(args.out)  # train_log.jsonl.tmp until the first save
