@@ -240,12 +240,16 @@ class DemoDataset:
     def sample(self, rows, obs_offsets, action_offsets):
         """The LeRobot-style item of each row in `rows` (int64 tensor (B,)), stacked:
         images uint8 (B, n_obs, 3, H, W) per camera key, observation.state (B, n_obs, D),
-        action (B, chunk, A), and observation.state_is_pad / <camera>_is_pad / action_is_pad."""
+        action (B, chunk, A), and observation.state_is_pad / <camera>_is_pad / action_is_pad.
+        obs_offsets, action_offsets: lists of ints, or int64 tensors on the rows' device."""
         self._tensors()
         rows = rows.to(self._start_t.device)
         start, end = self._start_t[rows], self._end_t[rows]
-        obs, obs_pad = window_indices(rows, start, end, list(obs_offsets))
-        act, act_pad = window_indices(rows, start, end, list(action_offsets))
+        # Offsets given as tensors on the rows' device are used as they are (no host copy: the
+        # CUDA-graph step samples this way); lists and ranges are converted.
+        obs, obs_pad = window_indices(rows, start, end, obs_offsets if torch.is_tensor(obs_offsets) else list(obs_offsets))
+        act, act_pad = window_indices(rows, start, end,
+                                      action_offsets if torch.is_tensor(action_offsets) else list(action_offsets))
         batch = {STATE: self._state_t[obs], f"{STATE}_is_pad": obs_pad,
                  ACTION: self._action_t[act], f"{ACTION}_is_pad": act_pad}
         for key, frames in self.images.items():

@@ -20,11 +20,11 @@ import numpy as np
 import torch
 
 from . import checkpoint, train_output
-from .augment import random_shift
 from .config import EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, BaselineConfig
 from .dataset import ACTION, STATE, DemoDataset
 from .normalization import QUATERNION_ACTION_DIMS, mean_std
 from .policy import BaselinePolicy
+from .train_step import EagerStep, GraphedStep, autocast, batch_loss, can_compile
 
 
 def parse_size(text):
@@ -68,6 +68,8 @@ def arguments(argv):
     parser.add_argument("--log-every", type=int, default=100)
     parser.add_argument("--save-every", type=int, default=2000)
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads")
+    parser.add_argument("--no-compile", action="store_true",
+                        help="on CUDA, train eagerly instead of torch.compile + one CUDA graph per step (for comparison)")
     args = parser.parse_args(argv)
     for name in ("steps", "batch_size", "history_frames", "history_stride", "chunk_size", "executed_steps", "log_every", "save_every"):
         if getattr(args, name) < 1:
@@ -100,16 +102,6 @@ def learning_rate(step, args):
     return args.lr * (0.1 + 0.9 * 0.5 * (1 + math.cos(math.pi * min(1.0, progress))))
 
 
-def batch_loss(policy, data, rows, generator, augment):
-    config = policy.config
-    batch = data.sample(rows, config.obs_offsets, config.action_offsets)
-    images = []
-    for key in config.image_keys:
-        frames = batch[key].float().div_(255)
-        images.append(random_shift(frames, config.shift_px, generator) if augment else frames)
-    return policy.loss(images, batch[STATE], batch[ACTION], batch[f"{ACTION}_is_pad"])
-
-
 @torch.no_grad()
 def validation_loss(policy, data, rows, device, batch_size):
     policy.eval()
@@ -121,12 +113,6 @@ def validation_loss(policy, data, rows, device, batch_size):
         count += len(chunk)
     policy.train()
     return total / max(count, 1)
-
-
-def autocast(device):
-    if device.type == "cuda":
-        return torch.autocast("cuda", dtype=torch.bfloat16)
-    return torch.autocast("cpu", enabled=False)
 
 
 def train(args):
@@ -161,16 +147,25 @@ def train(args):
     parameters = sum(p.numel() for p in policy.parameters())
     print(f"policy: {parameters / 1e6:.2f} M parameters, camera {args.camera}, history {policy.config.obs_offsets} frames, "
           f"chunk {policy.config.chunk_size} (served: {policy.config.chunk_execution}), device {device}", flush=True)
-    optimizer = torch.optim.AdamW(policy.parameters(), lr=args.lr, weight_decay=args.weight_decay)
     generator = torch.Generator().manual_seed(args.seed)
+    lr_at = lambda step: learning_rate(step, args)  # noqa: E731
+    if can_compile(device) and not args.no_compile:
+        print("compiling the model and capturing the training step as one CUDA graph ...", flush=True)
+        stepper = GraphedStep(policy, data, train_rows, args.batch_size, lr_at, args.weight_decay, args.seed, device)
+        print(f"ready in {stepper.prepare_s:.1f} s", flush=True)
+    else:
+        stepper = EagerStep(policy, data, train_rows, args.batch_size, lr_at, args.weight_decay, generator, device)
     log = train_output.TrainLog(args.out)  # train_log.jsonl.tmp until the first save
     summary = {"dataset": str(args.dataset), "seed": args.seed, "steps_requested": args.steps, "parameters": parameters,
                "frames": len(data), "episodes": len(episodes_loaded), "validation_episodes": sorted(val_set),
-               "load_s": round(load_s, 2), "device": str(device)}
+               "load_s": round(load_s, 2), "device": str(device), "batch_size": args.batch_size,
+               "step_mode": stepper.mode, "prepare_s": round(stepper.prepare_s, 2)}
 
     def save(step, loss, stopped):
+        loop_s = time.monotonic() - loop_start
         extra = dict(summary, steps_done=step, last_loss=None if math.isnan(loss) else loss, stopped=stopped,
-                     wall_s=round(time.monotonic() - started, 2))
+                     wall_s=round(time.monotonic() - started, 2), steps_per_s=round(step / max(loop_s, 1e-9), 2),
+                     samples_per_s=round(step * args.batch_size / max(loop_s, 1e-9), 1))
         if len(val_rows):
             extra["validation_l1"] = validation_loss(policy, data, val_rows.to(device), device, args.batch_size)
         checkpoint.save(policy, args.out, extra, staged=log.staged())
@@ -178,45 +173,39 @@ def train(args):
         return extra
 
     loop_start = time.monotonic()
-    window_start, window_loss, window_steps = loop_start, 0.0, 0
+    window_start, window_steps = loop_start, 0
     step, loss_value, stopped = 0, float("nan"), "steps"
     while step < args.steps:
         if deadline is not None and time.monotonic() >= deadline:
             stopped = "time_budget"
             break
-        for group in optimizer.param_groups:
-            group["lr"] = learning_rate(step, args)
-        rows = train_rows[torch.randint(len(train_rows), (args.batch_size,), generator=generator)].to(device)
-        with autocast(device):
-            loss = batch_loss(policy, data, rows, generator, augment=True)
-        optimizer.zero_grad(set_to_none=True)
-        loss.backward()
-        torch.nn.utils.clip_grad_norm_(policy.parameters(), 1.0)
-        optimizer.step()
+        stepper.run(step)
         step += 1
-        window_loss += loss.detach()
         window_steps += 1
         if step % args.log_every == 0 or step == args.steps:
-            loss_value = float(window_loss) / window_steps
+            loss_value = stepper.window_loss()  # waits for the GPU: the rate below is of finished steps
             now = time.monotonic()
             rate = window_steps / max(now - window_start, 1e-9)
             eta = (args.steps - step) / rate
             if deadline is not None:
                 eta = min(eta, max(0.0, deadline - now))
-            print(f"step {step}/{args.steps} loss {loss_value:.4f} {rate:.1f} steps/s ETA {eta:.0f} s", flush=True)
-            log.write({"step": step, "loss": loss_value, "steps_per_s": rate, "lr": learning_rate(step - 1, args)})
-            window_start, window_loss, window_steps = now, 0.0, 0
+            print(f"step {step}/{args.steps} loss {loss_value:.4f} {rate:.1f} steps/s ({rate * args.batch_size:.0f} "
+                  f"samples/s) ETA {eta:.0f} s", flush=True)
+            log.write({"step": step, "loss": loss_value, "steps_per_s": rate, "samples_per_s": rate * args.batch_size,
+                       "lr": learning_rate(step - 1, args)})
+            window_start, window_steps = now, 0
         if step % args.save_every == 0 and step < args.steps:
             save(step, loss_value, "running")
     if window_steps:
-        loss_value = float(window_loss) / window_steps
+        loss_value = stepper.window_loss()
     extra = save(step, loss_value, stopped)
     log.close()
-    rate = step / max(time.monotonic() - loop_start, 1e-9)
+    rate = extra["steps_per_s"]
     validation = f", validation L1 {extra['validation_l1']:.4f}" if "validation_l1" in extra else ""
     if step == 0:
         print("no training step ran: --time-budget-s ran out while loading", file=sys.stderr)
-    print(f"saved {args.out} after {step} steps ({stopped}; {rate:.1f} steps/s, {extra['wall_s']:.0f} s in all), "
+    print(f"saved {args.out} after {step} steps ({stopped}; {stepper.mode}, {rate:.1f} steps/s = {extra['samples_per_s']:.0f} samples/s, "
+          f"{extra['wall_s']:.0f} s in all), "
           f"last loss {loss_value:.4f}{validation}", flush=True)
     return extra
 

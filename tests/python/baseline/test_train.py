@@ -132,3 +132,42 @@ def test_overwrite_replaces_only_a_checkpoint(demo_dataset, tmp_path, capsys):
     error = capsys.readouterr().err
     assert "notes.txt" in error and "plots" in error and "did not write" in error
     assert (out / "notes.txt").read_text() == "mine" and (folder_bytes(out / "plots"), (out / "model.pt").read_bytes()) == before
+
+
+def test_the_rate_is_logged_and_summarised(demo_dataset, tmp_path):
+    out = tmp_path / "rate"
+    assert run(demo_dataset, out, "--steps", "20", "--no-compile") == 0
+    summary = json.loads((out / "training.json").read_text())
+    assert summary["step_mode"] == "eager"  # the CPU path, whatever the flag
+    assert summary["steps_per_s"] > 0 and summary["samples_per_s"] == pytest.approx(16 * summary["steps_per_s"], rel=0.01)
+    for line in (out / "train_log.jsonl").read_text().splitlines():
+        entry = json.loads(line)
+        assert entry["samples_per_s"] == pytest.approx(16 * entry["steps_per_s"])
+
+
+def test_device_side_sampling_draws_what_the_eager_step_draws(demo_dataset):
+    # The CUDA-graph step samples on the GPU: offsets as device tensors, shifts drawn there. Here on
+    # the CPU: the windows equal the list-offset ones, and the shifts are the same distribution.
+    from tavis_baseline.augment import random_shift, random_shift_on_device, shift_by
+    from tavis_baseline.dataset import DemoDataset
+    from tavis_baseline.train_step import batch_loss
+
+    images = torch.rand(5, 2, 3, 12, 16)
+    assert torch.equal(shift_by(images, 4, torch.full((5,), 4), torch.full((5,), 4)), images)
+    torch.manual_seed(0)
+    ramp = torch.arange(16.0).expand(4000, 1, 1, 12, 16)  # column index: the shift is readable
+    device_dx = random_shift_on_device(ramp, 4)[:, 0, 0, 6, 8] - 4  # = dx (column 8 + dx of the padded ramp)
+    eager_dx = random_shift(ramp, 4, torch.Generator().manual_seed(1))[:, 0, 0, 6, 8] - 4
+    for drawn in (device_dx, eager_dx):
+        counts = torch.bincount(drawn.long(), minlength=9)
+        assert counts.numel() == 9 and counts.min() > 4000 / 9 * 0.8, counts
+
+    data = DemoDataset(demo_dataset, ["observation.images.OBS_HEAD", "observation.images.OBS_WRIST_LEFT",
+                                      "observation.images.OBS_WRIST_RIGHT"], image_size=(24, 32), episodes=[0])
+    from tavis_baseline.train import arguments, build_policy
+    policy = build_policy(data, arguments(["--dataset", "x", "--out", "y", *FAST]))
+    rows = torch.tensor([0, 3, len(data) - 1])
+    offsets = (torch.tensor(policy.config.obs_offsets), torch.tensor(policy.config.action_offsets))
+    with torch.no_grad():
+        assert torch.equal(batch_loss(policy, data, rows, None, augment=False),
+                           batch_loss(policy, data, rows, None, augment=False, offsets=offsets))
