@@ -108,15 +108,25 @@ def build_served_policy(options):
                                n_action_steps=options.n_action_steps)
 
 
+def _integer_in(text, low, high, what):
+    """An int from low to high (inclusive) parsed from `text`, else argparse's error naming it."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = None
+    if value is None or not low <= value <= high:
+        raise argparse.ArgumentTypeError(f"{text!r} is not {what}")
+    return value
+
+
 def _port(text):
     """argparse type: a TCP port, 0 (a free one) to 65535."""
-    try:
-        port = int(text)
-    except ValueError:
-        port = -1
-    if not 0 <= port <= 65535:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a port number from 0 to 65535")
-    return port
+    return _integer_in(text, 0, 65535, "a port number from 0 to 65535")
+
+
+def _seed(text):
+    """argparse type: what numpy's global generator takes."""
+    return _integer_in(text, 0, 2 ** 32 - 1, "a seed from 0 to 2**32 - 1")
 
 
 def _positive(text):
@@ -128,17 +138,6 @@ def _positive(text):
     if not 0 < value < float("inf"):
         raise argparse.ArgumentTypeError(f"{text!r} is not a positive number")
     return value
-
-
-def _seed(text):
-    """argparse type: what numpy's global generator takes, 0 to 2**32 - 1."""
-    try:
-        seed = int(text)
-    except ValueError:
-        seed = -1
-    if not 0 <= seed < 2 ** 32:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a seed from 0 to 2**32 - 1")
-    return seed
 
 
 def parser():
