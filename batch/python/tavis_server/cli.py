@@ -7,6 +7,8 @@
         (numbers, true/false, lists), else as a string.
   --action-queue auto|on|off, --n-action-steps N   LeRobot-interface policies: execute N rows of each
         chunk one per step from a server-side queue (auto: when n_obs_steps > 1; docs/serving.md)
+  --max-request-mb M, --idle-timeout S   a longer frame is refused (close 1009); a connection that
+        sends no request for S seconds is closed (defaults in server.py)
 Prints one line "tavis_server: serving POLICY on ws://HOST:PORT" once it listens (--port 0 picks a
 free port, printed there); SIGTERM or SIGINT stops it (the stateful stand-in's record is final)."""
 
@@ -21,7 +23,7 @@ import sys
 from .actions import NEUTRAL_ACTION, parse_action_row
 from .lerobot_policy import ACTION_QUEUE_MODES, LeRobotServedPolicy
 from .policy_batch import import_torch
-from .server import PolicyServer
+from .server import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_REQUEST_MB, PolicyServer
 from .standins import EchoPolicy, SleepPolicy, StatefulCheckPolicy
 
 STAND_INS = ("echo", "sleep", "stateful")
@@ -31,8 +33,10 @@ def _policy_args(pairs):
     args = {}
     for pair in pairs:
         key, separator, value = pair.partition("=")
-        if not separator or not key:
+        if not separator or not key.strip():
             raise ValueError(f"--policy-arg {pair!r} is not KEY=VALUE")
+        if key in args:
+            raise ValueError(f"--policy-arg {pair!r}: {key} is given twice")
         try:
             args[key] = json.loads(value)
         except json.JSONDecodeError:
@@ -67,6 +71,9 @@ def _no_queue_options(options, what):
 
 def build_served_policy(options):
     """The object PolicyServer serves, from the parsed command line."""
+    if options.policy in STAND_INS and options.policy_arg:
+        raise ValueError(f"--policy-arg {options.policy_arg[0]!r}: the {options.policy} stand-in takes no "
+                         f"--policy-arg (its options are --chunk, --sleep-ms, --action-row, --history, --record)")
     row = parse_action_row(options.action_row) if options.action_row else NEUTRAL_ACTION
     if options.policy in ("echo", "stateful") or (options.policy == "sleep" and not options.device):
         _no_queue_options(options, f"the {options.policy} stand-in served directly")
@@ -101,12 +108,51 @@ def build_served_policy(options):
                                n_action_steps=options.n_action_steps)
 
 
+def _integer_in(text, low, high, what):
+    """An int from low to high (inclusive) parsed from `text`, else argparse's error naming it."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = None
+    if value is None or not low <= value <= high:
+        raise argparse.ArgumentTypeError(f"{text!r} is not {what}")
+    return value
+
+
+def _port(text):
+    """argparse type: a TCP port, 0 (a free one) to 65535."""
+    return _integer_in(text, 0, 65535, "a port number from 0 to 65535")
+
+
+def _seed(text):
+    """argparse type: what numpy's global generator takes."""
+    return _integer_in(text, 0, 2 ** 32 - 1, "a seed from 0 to 2**32 - 1")
+
+
+def _positive(text):
+    """argparse type: a finite number above 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive number")
+    return value
+
+
 def parser():
     result = argparse.ArgumentParser(prog="python3 -m tavis_server", description=__doc__.splitlines()[0])
     result.add_argument("--policy", required=True, help="echo, sleep, stateful, or MODULE:FACTORY")
     result.add_argument("--policy-arg", action="append", default=[], metavar="K=V", help="FACTORY keyword argument")
     result.add_argument("--host", default="127.0.0.1")
-    result.add_argument("--port", type=int, default=8000, help="0: a free port (printed)")
+    result.add_argument("--port", type=_port, default=8000, help="0: a free port (printed)")
+    result.add_argument("--max-request-mb", type=_positive, default=DEFAULT_MAX_REQUEST_MB, metavar="MB",
+                        help="the longest request frame read, in MiB; a longer one closes its connection with 1009 "
+                             f"(default {DEFAULT_MAX_REQUEST_MB}: twice a batched request of 96 envs with three "
+                             "320x240 cameras)")
+    result.add_argument("--idle-timeout", type=_positive, default=DEFAULT_IDLE_TIMEOUT_S, metavar="S",
+                        help="seconds a connection may wait between requests before it is closed (its per-env "
+                             f"state goes with it; default {DEFAULT_IDLE_TIMEOUT_S:g})")
     result.add_argument("--device", default=None,
                         help="torch device of the policy and its inputs: cpu (default), cuda, cuda:1; the sleep "
                              "stand-in builds no inputs unless given one")
@@ -117,7 +163,7 @@ def parser():
     result.add_argument("--n-action-steps", type=int, default=None, metavar="N",
                         help="LeRobot-interface policies: rows executed per chunk (sets config.n_action_steps; "
                              "default the policy's)")
-    result.add_argument("--seed", type=int, default=None, help="seeds torch's and numpy's global generators")
+    result.add_argument("--seed", type=_seed, default=None, help="seeds torch's and numpy's global generators")
     result.add_argument("--chunk", type=int, default=None, help="stand-ins: rows per reply (echo, stateful 1; sleep 10)")
     result.add_argument("--sleep-ms", type=float, default=30.0, help="sleep stand-in: milliseconds per forward pass")
     result.add_argument("--action-row", default="", metavar="CSV",
@@ -150,7 +196,8 @@ def main(argv=None):
             if options.policy not in STAND_INS and import_torch() is not None:
                 import_torch().manual_seed(options.seed)
         served = build_served_policy(options)
-        server = PolicyServer(served, host=options.host, port=options.port)
+        server = PolicyServer(served, host=options.host, port=options.port, max_request_mb=options.max_request_mb,
+                              idle_timeout_s=options.idle_timeout)
     except (ValueError, ImportError) as error:
         print(f"tavis_server: {error}", file=sys.stderr)
         return 2

@@ -1,5 +1,7 @@
-"""Which episode each env slot is in and which step it asked last: the server's check that
-requests arrive as the protocol promises, before any policy state is touched."""
+"""Which episode each env slot (connection, env_index) is in and which step it asked last: the
+server's check that requests arrive as the protocol promises, before any policy state is touched."""
+
+from .slots import drop_connection
 
 
 class EpisodeTracker:
@@ -10,7 +12,7 @@ class EpisodeTracker:
 
     def __init__(self, consecutive_steps):
         self.consecutive_steps = consecutive_steps
-        self._slots = {}
+        self._slots = {}  # (connection, env_index) -> (episode_index, last step)
 
     def check(self, observations):
         """Raises ValueError naming env, episode and steps if any observation is out of order;
@@ -23,7 +25,7 @@ class EpisodeTracker:
             if observation.is_first:
                 starts.append(True)
                 continue
-            current = self._slots.get(observation.env_index)
+            current = self._slots.get(observation.slot)
             if current is None or current[0] != observation.episode_index:
                 started = "no episode" if current is None else f"episode {current[0]}"
                 raise ValueError(f"{where}: the episode's first observation (step 0, is_first) never came; "
@@ -37,5 +39,9 @@ class EpisodeTracker:
                                  f"--replan-steps 1, or serve a policy with n_obs_steps 1 and --action-queue off)")
             starts.append(False)
         for observation in observations:
-            self._slots[observation.env_index] = (observation.episode_index, observation.step)
+            self._slots[observation.slot] = (observation.episode_index, observation.step)
         return starts
+
+    def forget(self, connection):
+        """Drops a closed connection's env slots."""
+        drop_connection(self._slots, connection)

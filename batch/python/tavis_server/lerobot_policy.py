@@ -3,6 +3,9 @@ on LeRobot >= 0.3 policies, predict_action_chunk(batch) -> (B, H, D); config.n_o
 observation history, default 1); optional preprocess(batch) -> batch and postprocess(actions) ->
 actions callables (LeRobot >= 0.4 keeps normalisation in make_pre_post_processors).
 
+Every piece of per-env state below is kept per env slot: (connection, env_index), observation.slot,
+since each client numbers its envs from 0; forget(connection) drops a closed connection's.
+
 Fast path (predict_action_chunk): the server keeps each env slot's last n_obs_steps observations
 (filled with copies of the first at an episode's start, as LeRobot's queues are) and answers all
 envs of a request with ONE forward pass over the stacked histories. The first n_action_steps rows
@@ -26,6 +29,7 @@ import numpy as np
 from .action_queue import ActionQueues
 from .actions import ACTION_DIM
 from .policy_batch import stack_histories, to_numpy, to_policy_batch
+from .slots import drop_connection
 
 
 # auto: queue when the policy keeps an observation history (n_obs_steps > 1). Such a policy needs
@@ -97,10 +101,10 @@ class LeRobotServedPolicy:
     def _infer_chunks(self, observations, starts):
         for observation, start in zip(observations, starts):
             if start:
-                self._histories[observation.env_index] = collections.deque(
+                self._histories[observation.slot] = collections.deque(
                     [observation.arrays] * self.n_obs_steps, maxlen=self.n_obs_steps)
             else:
-                self._histories[observation.env_index].append(observation.arrays)
+                self._histories[observation.slot].append(observation.arrays)
         if self.queues_actions:
             return self._infer_queued(observations, starts)
         return self._forward(observations)
@@ -119,7 +123,7 @@ class LeRobotServedPolicy:
 
     def _forward(self, observations):
         """One forward pass over these envs' histories: (N, H, 19), H at most n_action_steps."""
-        histories = [self._histories[observation.env_index] for observation in observations]
+        histories = [self._histories[observation.slot] for observation in observations]
         stacked = stack_histories(histories, lambda env: f"env {observations[env].env_index}")
         batch = self.preprocess(to_policy_batch(stacked, [o.task for o in observations], self.device, self.torch))
         with self._no_grad():
@@ -135,9 +139,9 @@ class LeRobotServedPolicy:
         return actions
 
     def _select_one(self, observation, start):
-        policy = self._copies.get(observation.env_index)
+        policy = self._copies.get(observation.slot)
         if policy is None:
-            policy = self._copies[observation.env_index] = copy.deepcopy(self.policy)
+            policy = self._copies[observation.slot] = copy.deepcopy(self.policy)
         if start:
             policy.reset()
         stacked = stack_histories([[observation.arrays]], lambda env: f"env {observation.env_index}")
@@ -155,6 +159,12 @@ class LeRobotServedPolicy:
         if self.torch is None:
             return contextlib.nullcontext()
         return self.torch.inference_mode()
+
+    def forget(self, connection):
+        """Drops the histories, queued chunks and policy copies of a closed connection's env slots."""
+        drop_connection(self._histories, connection)
+        drop_connection(self._copies, connection)
+        self._queues.forget(connection)
 
     def close(self):
         pass

@@ -1,5 +1,9 @@
 """The two request forms of serving protocol v1 (per-env and batched), split into one
-EnvObservation per env so that everything downstream handles both alike."""
+EnvObservation per env so that everything downstream handles both alike.
+
+Each observation carries the connection it came on: env slots are numbered per client (every
+`tavis eval` cell, and every cell of a sweep running side by side, counts its envs from 0), so
+per-episode state is keyed by the slot (connection, env_index), never by env_index alone."""
 
 import dataclasses
 
@@ -18,6 +22,12 @@ class EnvObservation:
     task: str  # the request's "task", else its "prompt", else ""
     arrays: dict  # every other key: ndarray of this env alone (images H x W x 3 uint8, state (D,))
     text: dict = dataclasses.field(default_factory=dict)  # "prompt"/"task" as sent
+    connection: int = 0  # the server's number of the connection the request came on
+
+    @property
+    def slot(self):
+        """The key of this env's per-episode state: (connection, env_index)."""
+        return (self.connection, self.env_index)
 
 
 def _integer(value, key, where):
@@ -32,7 +42,7 @@ def _flag(value, key, where):
     return bool(value)
 
 
-def _one(request, where):
+def _one(request, where, connection):
     missing = [key for key in ID_KEYS if key not in request]
     if missing:
         raise ValueError(f"{where}: missing {', '.join(missing)} (serving protocol v1 needs {', '.join(ID_KEYS)})")
@@ -51,17 +61,18 @@ def _one(request, where):
                           episode_index=_integer(request["episode_index"], "episode_index", where),
                           step=_integer(request["step"], "step", where),
                           is_first=_flag(request["is_first"], "is_first", where),
-                          task=text.get("task", text.get("prompt", "")), arrays=arrays, text=text)
+                          task=text.get("task", text.get("prompt", "")), arrays=arrays, text=text,
+                          connection=connection)
 
 
-def split_request(request):
+def split_request(request, connection=0):
     """Returns (observations, batched): a per-env request gives one observation, a batched one
-    (it carries "batch_size") one per env in the request's order. Raises ValueError naming the key
-    when the request breaks the protocol."""
+    (it carries "batch_size") one per env in the request's order, each marked with `connection`.
+    Raises ValueError naming the key when the request breaks the protocol."""
     if not isinstance(request, dict):
         raise ValueError(f"a request must be a map, got {type(request).__name__}")
     if "batch_size" not in request:
-        return [_one(request, "request")], False
+        return [_one(request, "request", connection)], False
     size = request["batch_size"]
     size = _integer(size, "batch_size", "batched request")
     if size < 1:
@@ -83,7 +94,7 @@ def split_request(request):
         for key, value in columns.items():
             item = value[row]
             single[key] = item.item() if key in ID_KEYS and isinstance(item, np.generic) else item
-        observations.append(_one(single, f"batched request row {row}"))
+        observations.append(_one(single, f"batched request row {row}", connection))
     envs = [observation.env_index for observation in observations]
     if len(set(envs)) != len(envs):
         raise ValueError(f"batched request: env_index {envs} names an env twice")

@@ -13,8 +13,13 @@ sleep    sleeps sleep_ms per forward pass whatever the batch size and answers a 
          (NEUTRAL_ACTION or a CSV row) repeated `chunk` times. Served directly it costs nothing but
          the sleep; it also has LeRobot's interface, so that LeRobotServedPolicy can serve it like a
          checkpoint, input tensors built on a device included (the CLI does so under --device).
-stateful (served directly) records per (env, episode) the steps and is_first flags it received,
-         answers them in each reply ("received") and rewrites a JSON file after every request."""
+stateful (served directly) records per (connection, env, episode) the steps and is_first flags it
+         received, answers them in each reply ("received") and rewrites a JSON file after every
+         request. Its record is its output, so unlike a policy's state it is kept after a
+         connection closes.
+
+Their arrays come through the server's decoder (msgpack_numpy.py), which admits only numeric and
+bool arrays whose bytes fill their shape, so a stand-in reads nothing a policy could not."""
 
 import json
 import os
@@ -116,27 +121,31 @@ class StatefulCheckPolicy:
         self.record_path = record_path
         self.row = np.asarray(action_row, dtype=np.float32)
         self.metadata = {"action_horizon": chunk, "history": history}
-        self.episodes = {}  # (env_index, episode_index) -> {"steps": [...], "is_first": [...]}
+        self.episodes = {}  # (connection, env_index, episode_index) -> {"steps": [...], "is_first": [...]}
         self.requests = []  # per request: the env indices it held, in order
 
     def infer(self, observations, starts):
         self.requests.append([observation.env_index for observation in observations])
         for observation in observations:
-            record = self.episodes.setdefault((observation.env_index, observation.episode_index),
-                                              {"steps": [], "is_first": []})
+            record = self.episodes.setdefault(self._key(observation), {"steps": [], "is_first": []})
             record["steps"].append(observation.step)
             record["is_first"].append(observation.is_first)
         if self.record_path:
             self._write()
         return np.tile(self.row, (len(observations), self.chunk, 1))
 
+    @staticmethod
+    def _key(observation):
+        return (observation.connection, observation.env_index, observation.episode_index)
+
     def received(self, observation):
-        record = self.episodes[(observation.env_index, observation.episode_index)]
-        return {"env_index": observation.env_index, "episode_index": observation.episode_index, **record}
+        record = self.episodes[self._key(observation)]
+        return {"connection": observation.connection, "env_index": observation.env_index,
+                "episode_index": observation.episode_index, **record}
 
     def report(self):
-        return {"episodes": [{"env_index": env, "episode_index": episode, **record}
-                             for (env, episode), record in sorted(self.episodes.items())],
+        return {"episodes": [{"connection": connection, "env_index": env, "episode_index": episode, **record}
+                             for (connection, env, episode), record in sorted(self.episodes.items())],
                 "requests": self.requests}
 
     def _write(self):

@@ -56,10 +56,10 @@ def batched(requests):
 
 
 class RunningServer:
-    """A PolicyServer on a free port in a thread with its own event loop."""
+    """A PolicyServer (options: its keyword arguments) on a free port in a thread with its own event loop."""
 
-    def __init__(self, served):
-        self.server = PolicyServer(served, host="127.0.0.1", port=0)
+    def __init__(self, served, **options):
+        self.server = PolicyServer(served, host="127.0.0.1", port=0, **options)
         self.port = None
         self._ready = threading.Event()
         self._loop = asyncio.new_event_loop()
@@ -90,11 +90,11 @@ class RunningServer:
 
 @pytest.fixture
 def serve():
-    """serve(served) -> RunningServer; every server is stopped at the test's end."""
+    """serve(served, **options) -> RunningServer; every server is stopped at the test's end."""
     servers = []
 
-    def start(served):
-        servers.append(RunningServer(served))
+    def start(served, **options):
+        servers.append(RunningServer(served, **options))
         return servers[-1]
 
     yield start

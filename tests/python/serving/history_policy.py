@@ -5,7 +5,8 @@ Chunk row t, for each env of the batch:
   a[0] = state[oldest][0] * 1e-3 (the oldest history entry's step: the tests put the step in state[0])
   a[1] = state[newest][0] * 1e-3
   a[2] = state[newest][1] * 1e-3 (the episode)
-  a[7] = mean of the newest OBS_HEAD image as the policy saw it (float CHW in [0, 1])
+  a[7] = mean of the newest OBS_HEAD image (OBS_FIXED when the client sends the fixed camera in its
+         place, as under --camera fixed) as the policy saw it (float CHW in [0, 1])
   a[8] = the newest OBS_HEAD image's pixel (channel 2, row 1, column 3), as the policy saw it
   a[9] = UTF-8 length of the task * 1e-3
   a[14] = t * 1e-3
@@ -40,7 +41,7 @@ class HistoryPolicy(torch.nn.Module):
 
     def _features(self, batch):
         state = batch["observation.state"]
-        head = batch["observation.images.OBS_HEAD"]
+        head = batch.get("observation.images.OBS_HEAD", batch.get("observation.images.OBS_FIXED"))
         if self.config.n_obs_steps == 1:
             state, head = state[:, None], head[:, None]
         return state, head

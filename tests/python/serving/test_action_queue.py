@@ -114,17 +114,18 @@ def test_is_first_resets_the_queue_and_the_history(serve):
 def test_a_skipped_step_is_an_error_and_leaves_the_queue_as_it_was(serve):
     policy = DiffusionLikePolicy()
     server = serve(served(policy))
-
-    async def session():
-        traceback, code = await expect_error(server.url, [observation(0, 4, 0), observation(0, 4, 1),
-                                                          observation(0, 4, 3)])
-        async with connect(server.url) as client:  # env 0 still expects step 2, row 3 of its chunk
-            return traceback, code, await client.ask(observation(0, 4, 2))
-
-    traceback, code, reply = run(session())
+    traceback, code = run(expect_error(server.url, [observation(0, 4, 0), observation(0, 4, 1), observation(0, 4, 3)]))
     assert "env 0 episode 4 step 3: skips from step 1" in traceback and "--replan-steps 1" in traceback
     assert code == 1011
-    assert decode(reply["actions"][0]) == (0, 0, 4, 3, 1) and policy.batch_sizes == [1]
+    # The error closed that connection and its state went with it; on one connection (the server's
+    # own entry point, connection 9) the rejected request changes nothing: step 2 is row 3 of the
+    # chunk of that connection's pass (the server's second forward pass).
+    for step in (0, 1):
+        server.server.answer(observation(0, 4, step), connection=9)
+    with pytest.raises(ValueError, match="skips from step 1"):
+        server.server.answer(observation(0, 4, 3), connection=9)
+    reply = server.server.answer(observation(0, 4, 2), connection=9)
+    assert decode(reply["actions"][0]) == (0, 0, 4, 3, 2) and policy.batch_sizes == [1, 1]
 
 
 def test_queue_off_replans_at_every_step_with_the_whole_chunk(serve):

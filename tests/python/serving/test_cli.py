@@ -82,18 +82,18 @@ def test_stateful_check_records_steps_per_env_and_episode(cli_server, tmp_path):
                 observation(0, 2, 0), observation(1, 1, 5)]
     metadata, replies = ask_all(server.url, requests)
     assert metadata["policy"] == "stateful"
-    assert replies[1]["received"] == [{"env_index": 0, "episode_index": 0, "steps": [0, 1], "is_first": [True, False]},
-                                      {"env_index": 1, "episode_index": 1, "steps": [0, 1], "is_first": [True, False]}]
-    assert replies[3]["received"] == {"env_index": 1, "episode_index": 1, "steps": [0, 1, 5],
+    assert replies[1]["received"] == [{"connection": 0, "env_index": 0, "episode_index": 0, "steps": [0, 1], "is_first": [True, False]},
+                                      {"connection": 0, "env_index": 1, "episode_index": 1, "steps": [0, 1], "is_first": [True, False]}]
+    assert replies[3]["received"] == {"connection": 0, "env_index": 1, "episode_index": 1, "steps": [0, 1, 5],
                                       "is_first": [True, False, False]}
     assert replies[3]["actions"].shape == (2, 19)
     assert_valid_actions(replies[3]["actions"])
     assert server.stop() == 0
     written = json.loads(record.read_text())
     assert written["episodes"] == [
-        {"env_index": 0, "episode_index": 0, "steps": [0, 1], "is_first": [True, False]},
-        {"env_index": 0, "episode_index": 2, "steps": [0], "is_first": [True]},
-        {"env_index": 1, "episode_index": 1, "steps": [0, 1, 5], "is_first": [True, False, False]}]
+        {"connection": 0, "env_index": 0, "episode_index": 0, "steps": [0, 1], "is_first": [True, False]},
+        {"connection": 0, "env_index": 0, "episode_index": 2, "steps": [0], "is_first": [True]},
+        {"connection": 0, "env_index": 1, "episode_index": 1, "steps": [0, 1, 5], "is_first": [True, False, False]}]
     assert written["requests"] == [[0, 1], [0, 1], [0], [1]]
 
 
