@@ -6,8 +6,9 @@ inline code. Each is checked against the program and the repository:
 - `tavis SUBCOMMAND` (as `build/tavis`, `tavis` on PATH, a bundle's `bin/tavis` or inside `bench/ab.sh
   "..."` and `sbatch --wrap "..."`): the subcommand exists and every flag named is in its `--help`;
   a command with concrete values is parsed by the program itself (`--help` appended: CLI11 converts
-  and validates every value given before it prints the help), and each choice of a synopsis's
-  `--flag a|b` likewise.
+  every value and runs its validator, a number's range or a camera protocol, before it prints the
+  help; a value the command checks later, such as `--video-format`, is checked only when run), and
+  each choice of a synopsis's `--flag a|b` likewise.
 - `python3 -m MODULE`: MODULE imports from the repository root with the PYTHONPATH the doc gives
   (none: none), and every flag named is in its source; a script (`bench/x.py`) exists.
 - A repository script (`.ci/build`, `tools/...`, `bench/ab.sh`) is tracked and executable, and every
@@ -94,8 +95,9 @@ def check(condition, message):
     return condition
 
 
-def tracked(*patterns):
-    out = subprocess.check_output(["git", "ls-files", "-s", "--", *patterns], cwd=SOURCE, text=True)
+def tracked():
+    """{path: git mode} of every tracked file."""
+    out = subprocess.check_output(["git", "ls-files", "-s"], cwd=SOURCE, text=True)
     files = {}
     for line in out.splitlines():
         mode, _, _, path = line.split(None, 3)
