@@ -25,7 +25,7 @@ class BaselineConfig:
     action_dim: int = 19
     # Observation history: the network sees `history_frames` frames, `history_stride` frames apart
     # (the newest is the current one): with 2 frames 0.5 s apart it can tell a pause that has just
-    # begun from one that is ending, which one frame cannot (docs/baselines.md).
+    # begun from one that is ending, which one frame cannot (docs/baselines.md, "Why history").
     history_frames: int = 2
     history_stride: int = 10
     chunk_size: int = 20              # actions predicted per observation
