@@ -1,6 +1,7 @@
 #include "configs/yaml_reader.h"
 
 #include <yaml-cpp/yaml.h>
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -59,6 +60,40 @@ bool IsOutOfRangeNumber(const std::string& text) {
   errno = 0;
   std::strtod(text.c_str(), &end);
   return !text.empty() && end != text.c_str() && *end == '\0' && errno == ERANGE;
+}
+
+// Edits (insertions, deletions, substitutions) that turn `a` into `b`.
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean 'robots'?); known keys: ..." for an unknown key, from the keys the reader asked
+// for: a typo is shown its fix.
+std::string KnownKeysHint(const std::string& key, const std::set<std::string>& known) {
+  if (known.empty()) return "";
+  std::string nearest;
+  std::size_t distance = 3;  // more than 2 edits is another word, not a typo
+  std::string names;
+  for (const std::string& name : known) {
+    names += (names.empty() ? "" : ", ") + name;
+    const std::size_t edits = EditDistance(key, name);
+    if (edits < distance && edits < name.size()) {
+      distance = edits;
+      nearest = name;
+    }
+  }
+  return (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") + std::string("; known keys: ") + names;
 }
 
 }  // namespace
@@ -128,7 +163,8 @@ void YamlValue::ExpectNoOtherKeys() const {
   for (const auto& entry : *node_) {
     const std::string key = entry.first.as<std::string>();
     if (consumed_keys_->count(key) == 0) {
-      YamlValue(entry.second, file_, JoinPath(key_path_, key)).Fail("unknown key '" + key + "'");
+      YamlValue(entry.second, file_, JoinPath(key_path_, key))
+          .Fail("unknown key '" + key + "'" + KnownKeysHint(key, *consumed_keys_));
     }
   }
 }

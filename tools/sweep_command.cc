@@ -58,7 +58,10 @@ void RunSweepCommand(const SweepOptions& options) {
   run.config_dir = options.config_dir;
   const batch::sweep::SweepSpec spec =
       batch::sweep::ParseSweepSpec(run.spec_yaml, options.spec_file, options.config_dir);
-  RunNamingFlags([&] { run.shard = batch::sweep::ParseShard(options.shard); });
+  RunNamingFlags([&] {
+    run.shard = batch::sweep::ParseShard(options.shard);
+    batch::sweep::RequireShardHoldsCells(run.shard, batch::sweep::ExpandCells(spec, options.config_dir).size());
+  });
   run.out_dir =
       options.out.empty() ? "results/" + std::filesystem::path(options.spec_file).stem().string() : options.out;
   run.threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
@@ -121,7 +124,8 @@ void RegisterSweepCommand(CLI::App& app) {
   AddConfigDirOption(*merge, merge_options->config_dir);
   merge->callback([merge_options] {
     batch::sweep::MergeSweeps(merge_options->shards, merge_options->out, merge_options->config_dir);
-    std::cout << "merged " << merge_options->shards.size() << " shards into " << merge_options->out
+    const std::size_t shards = merge_options->shards.size();
+    std::cout << "merged " << shards << (shards == 1 ? " shard" : " shards") << " into " << merge_options->out
               << " (summary.json, tables/, report.html)\n";
   });
 

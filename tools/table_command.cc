@@ -55,7 +55,7 @@ std::vector<batch::report::CellCounts> CellsOfOneLabel(const std::vector<batch::
   }
   std::string labels;
   for (const auto& [label, n] : counts)
-    labels += (labels.empty() ? "" : ", ") + label + " (" + std::to_string(n) + " cells)";
+    labels += (labels.empty() ? "" : ", ") + label + " (" + std::to_string(n) + (n == 1 ? " cell)" : " cells)");
   if (!options.label.empty() && kept.empty()) {
     throw std::invalid_argument("--label " + options.label + ": no cell has this label (labels: " + labels + ")");
   }

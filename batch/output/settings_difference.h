@@ -8,9 +8,12 @@
 
 namespace tavis::batch::output {
 
-// "seed 0 -> 9, fps 60 -> 20" for every key of `now` whose value differs in `was` (or is missing
-// there: "unset"); empty when they agree. Objects on both sides are compared key by key and named
-// by their path ("robot_config.arm.velocity_limit \"5.0\" -> \"4.0\"").
+// "seed 0 -> 9, fps 60 -> 20" for every key whose value differs between `was` and `now`, in key
+// order; a key only one side has is "unset" on the other ("perturbations [...] -> unset": a resume
+// that leaves a setting out differs as much as one that changes it); empty when they agree.
+// Objects on both sides are compared key by key and named by their path
+// ("robot_config.arm.velocity_limit \"5.0\" -> \"4.0\""). A setting recorded only when it is not
+// at its default must be written the same way by both runs, so that absent means default on both.
 std::string SettingsDifference(const nlohmann::json& was, const nlohmann::json& now);
 
 }  // namespace tavis::batch::output

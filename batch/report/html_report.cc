@@ -167,9 +167,11 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
          "td,th{border:1px solid #ccc;padding:2px 6px;font-size:12px;text-align:right}td:first-child{text-align:left}"
          "figure{margin:1em 0}figcaption{font-weight:bold;font-size:13px}.note{font-size:12px;color:#555}"
          "pre{background:#f6f6f6;padding:0.5em;font-size:11px;overflow:auto}\n</style></head><body>\n"
-      << "<h1>TAVIS sweep report</h1>\n<p>" << summary["cells"].size() << " cells of " << summary["labels"].size()
-      << " policies, " << summary["spec"]["episodes"] << " episodes per cell; program "
-      << Escape(manifest.value("version", "")) << ". Cells of different policies are never pooled.</p>\n"
+      << "<h1>TAVIS sweep report</h1>\n<p>" << summary["cells"].size()
+      << (summary["cells"].size() == 1 ? " cell" : " cells") << " of " << summary["labels"].size()
+      << (summary["labels"].size() == 1 ? " policy, " : " policies, ") << summary["spec"]["episodes"]
+      << " episodes per cell; program " << Escape(manifest.value("version", ""))
+      << ". Cells of different policies are never pooled.</p>\n"
       << PolicyList(summary) << "<h2>Success rates</h2>\n";
   const std::vector<std::string> robots = Robots(summary);
   for (const Json& suite : summary["success"]) {

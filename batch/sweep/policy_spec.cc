@@ -25,6 +25,7 @@ bool Allows(const std::vector<T>& allowed, const T& value) {
 }
 
 void ReadCellFilter(const YamlValue& cells, const std::vector<std::string>& known_robots, PolicySpec& policy) {
+  RejectUnknownKeys(cells, {"suites", "tasks", "robots", "splits", "cameras"});
   policy.tasks = ReadTasks(cells.Optional("suites"), cells.Optional("tasks"));
   if (const auto robots = cells.Optional("robots")) policy.robots = ReadRobots(*robots, known_robots);
   if (const auto splits = cells.Optional("splits")) policy.splits = ReadSplits(*splits);
@@ -123,7 +124,13 @@ bool IsValidLabel(const std::string& label) {
 PolicySpec ReadPolicySpec(const YamlValue& node, bool label_required, const std::vector<std::string>& known_robots,
                           const std::string& config_dir, PolicyFiles files) {
   PolicySpec policy;
-  node.Required(SpecKey("policy"));  // every entry names its policy
+  std::vector<std::string> known_keys;
+  for (const cell::CellSetting& setting : cell::CellSettings()) {
+    if (setting.spec_key != nullptr) known_keys.push_back(setting.spec_key);
+  }
+  known_keys.insert(known_keys.end(), {"label", "seed_group", "cells"});
+  RejectUnknownKeys(node, known_keys);  // before a typo'd "nmae" reads as a missing name
+  node.Required(SpecKey("policy"));     // every entry names its policy
   for (const cell::CellSetting& setting : cell::CellSettings()) {
     if (setting.spec_key == nullptr) continue;
     if (const auto value = node.Optional(setting.spec_key)) ReadSpecSetting(*value, setting, policy.settings);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 #include "batch/cell/cell_settings.h"
 
@@ -37,6 +38,11 @@ std::vector<std::string> ReadNames(const YamlValue& list, Check check) {
 }
 
 }  // namespace
+
+void RejectUnknownKeys(const YamlValue& mapping, const std::vector<std::string>& known) {
+  for (const std::string& key : known) mapping.Optional(key);  // each known key asked for (given or not),
+  mapping.ExpectNoOtherKeys();                                 // so any other is named, with its nearest
+}
 
 int ReadCount(const YamlValue& value, int low, int high) {
   int count = 0;

@@ -11,6 +11,11 @@
 
 namespace tavis::batch::sweep {
 
+// Refuses any key of `mapping` not in `known`, before a key is read: a typo ("robot:") is named
+// as an unknown key with the nearest known one and the list (configs::YamlValue), not reported
+// as the key it meant being missing.
+void RejectUnknownKeys(const configs::YamlValue& mapping, const std::vector<std::string>& known);
+
 // An integer in [low, high]; the error names the range and the value.
 int ReadCount(const configs::YamlValue& value, int low, int high);
 // An integer in the range the cell setting `key` allows (cell::CellSettings(): episodes, envs).

@@ -29,9 +29,11 @@ std::optional<nlohmann::json> ReadJson(const fs::path& path) {
 
 }  // namespace
 
+std::optional<nlohmann::json> ReadCellSettings(const fs::path& dir) { return ReadJson(dir / "cell.json"); }
+
 std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path& dir, const nlohmann::json& cell_json,
                                                                  int64_t episodes) {
-  const std::optional<nlohmann::json> settings = ReadJson(dir / "cell.json");
+  const std::optional<nlohmann::json> settings = ReadCellSettings(dir);
   const std::optional<nlohmann::json> summary = ReadJson(dir / "summary.json");
   if (!settings || !summary || *settings != cell_json) return std::nullopt;
   std::ifstream in(dir / "episodes.jsonl", std::ios::binary);

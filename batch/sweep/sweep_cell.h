@@ -17,6 +17,9 @@
 
 namespace tavis::batch::sweep {
 
+// DIR/cell.json, the settings the cell was run with; nullopt when it is absent or not JSON.
+std::optional<nlohmann::json> ReadCellSettings(const std::filesystem::path& dir);
+
 // The cell's records when DIR holds it complete: cell.json equal to `cell_json` (what the cell
 // records: cell::CellSettingsJson of its plan), summary.json, and episodes.jsonl with exactly
 // episodes 0 .. `episodes` - 1 whose successes match the summary's count. nullopt otherwise

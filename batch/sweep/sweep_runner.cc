@@ -119,6 +119,7 @@ std::exception_ptr RunCells(const std::vector<const PlannedCell*>& to_run, int j
 void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   const fs::path out = options.out_dir;
   const std::vector<SweepCell> all = ExpandCells(spec, options.config_dir);
+  RequireShardHoldsCells(options.shard, all.size());
   // Each cell of the shard planned once, here: bad settings fail before any work, and the cell
   // runs that plan (its files read once).
   std::vector<PlannedCell> mine;

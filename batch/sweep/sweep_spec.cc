@@ -4,6 +4,7 @@
 #include <cctype>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "batch/output/setting_error.h"
@@ -28,6 +29,83 @@ uint64_t ReadSeed(const YamlValue& value) {
   return std::stoull(text);
 }
 
+std::string Join(const std::vector<std::string>& names, const std::string& separator) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : separator) + name;
+  return text;
+}
+
+const std::string& NameOf(const std::string& name) { return name; }
+std::string NameOf(scenarios::Split split) { return scenarios::ToString(split); }
+std::string NameOf(CameraProtocol camera) { return ToString(camera); }
+
+// A policy's cells: filter must allow some of the sweep's values of each list it names: one that
+// allows none would leave the policy out of the sweep without a word.
+template <typename T>
+void RequireSomeAllowed(const YamlValue& policy, const char* what, const std::vector<T>& allowed,
+                        const std::vector<T>& sweep) {
+  if (allowed.empty()) return;
+  std::vector<std::string> allowed_names, sweep_names;
+  for (const T& value : allowed) {
+    if (std::find(sweep.begin(), sweep.end(), value) != sweep.end()) return;
+    allowed_names.push_back(NameOf(value));
+  }
+  for (const T& value : sweep) sweep_names.push_back(NameOf(value));
+  policy.Required("cells").Fail(std::string("selects no cell of the sweep: none of its ") + what + " (" +
+                                Join(allowed_names, ", ") + ") is among the sweep's (" + Join(sweep_names, ", ") + ")");
+}
+
+void RequireFilterSelectsCells(const YamlValue& node, const PolicySpec& policy, const SweepSpec& spec) {
+  RequireSomeAllowed(node, "tasks", policy.tasks, spec.tasks);
+  RequireSomeAllowed(node, "robots", policy.robots, spec.robots);
+  RequireSomeAllowed(node, "splits", policy.splits, spec.splits);
+  RequireSomeAllowed(node, "cameras", policy.cameras, spec.cameras);
+}
+
+// The spec's policy entries, in the order of SweepSpec::policies.
+std::vector<YamlValue> PolicyNodes(const YamlValue& root) {
+  if (const auto single = root.Optional("policy")) return {*single};
+  return root.Required("policies").Elements();
+}
+
+// Every cell label (a policy's label or seed group, followed by its perturbation's suffix) names
+// one policy under one perturbation: a policy labelled "expert.runtime.move" beside policy expert
+// perturbed by runtime:move would give two cells one id, and the sweep could never finish.
+void RequireDistinctCellLabels(const YamlValue& root, const SweepSpec& spec) {
+  struct Use {
+    std::size_t policy;
+    std::size_t perturbation;
+    bool group;
+  };
+  const auto describe = [&spec](const Use& use) {
+    const PolicySpec& policy = spec.policies[use.policy];
+    std::string text = use.group ? "the seed group '" + policy.seed_group + "' of policy '" + policy.label + "'"
+                                 : "policy '" + policy.label + "'";
+    const std::vector<std::string>& choices = spec.perturbations[use.perturbation];
+    return choices.empty() ? text : text + " under " + Join(choices, "+");
+  };
+  const std::vector<YamlValue> nodes = PolicyNodes(root);
+  std::map<std::string, Use> uses;
+  for (std::size_t p = 0; p < spec.policies.size(); ++p) {
+    for (std::size_t k = 0; k < spec.perturbations.size(); ++k) {
+      for (const bool group : {false, true}) {
+        const std::string& base = group ? spec.policies[p].seed_group : spec.policies[p].label;
+        if (base.empty()) continue;
+        const Use use{p, k, group};
+        const std::string name = base + PerturbationLabelSuffix(spec.perturbations[k]);
+        const auto [earlier, first] = uses.emplace(name, use);
+        const Use& other = earlier->second;
+        // A seed group is shared by its checkpoints; a policy's own label and group are ReadPolicies' concern.
+        if (first || (other.perturbation == k && (other.policy == p || (other.group && group)))) continue;
+        const auto key = nodes[p].Optional(group ? "seed_group" : "label");
+        (key ? *key : nodes[p])
+            .Fail("'" + name + "' names both " + describe(other) + " and " + describe(use) +
+                  ": their cells would share one id and the sweep could never finish; rename one");
+      }
+    }
+  }
+}
+
 void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_robots, const std::string& config_dir,
                   PolicyFiles files, SweepSpec& spec) {
   const auto single = root.Optional("policy");
@@ -35,12 +113,14 @@ void ReadPolicies(const YamlValue& root, const std::vector<std::string>& known_r
   if (single.has_value() == several.has_value()) root.Fail("needs exactly one of policy: {...} and policies: [...]");
   if (single) {
     spec.policies.push_back(ReadPolicySpec(*single, false, known_robots, config_dir, files));
+    RequireFilterSelectsCells(*single, spec.policies.back(), spec);
     return;
   }
   const std::vector<YamlValue> entries = several->Elements();
   if (entries.empty()) several->Fail("must name at least one policy, got []");
   for (const YamlValue& entry : entries) {
     PolicySpec policy = ReadPolicySpec(entry, true, known_robots, config_dir, files);
+    RequireFilterSelectsCells(entry, policy, spec);
     for (const PolicySpec& other : spec.policies) {
       if (other.label == policy.label) entry.Required("label").Fail("'" + policy.label + "' is used twice");
       if (other.label == policy.seed_group || other.seed_group == policy.label) {
@@ -91,6 +171,8 @@ void ReadFigures(const YamlValue& figures, SweepSpec& spec) {
     value.Fail("no policy has the label or seed group '" + name + "' (labels: " + labels + ")");
     return name;
   };
+  RejectUnknownKeys(figures, {"policy", "head_vs_fixed", "splits", "galt", "galt_reference", "single_vs_multi",
+                              "ablation", "galt_reference_datasets", "galt_window_s"});
   nlohmann::ordered_json json = nlohmann::ordered_json::object();
   for (const char* key : {"policy", "head_vs_fixed", "splits", "galt", "galt_reference"}) {
     if (const auto value = figures.Optional(key)) json[key] = known(*value);
@@ -141,6 +223,7 @@ std::vector<std::vector<std::string>> ReadPerturbations(const YamlValue& list, c
   if (!list.IsSequence() || list.Elements().empty())
     list.Fail("must be a non-empty list (none, AXIS:LEVEL or AXIS:LEVEL+AXIS:LEVEL), got " + list.Text());
   std::vector<std::vector<std::string>> sets;
+  std::vector<std::string> texts;  // each set as written, for messages
   for (const YamlValue& entry : list.Elements()) {
     std::vector<std::string> choices;
     try {
@@ -151,11 +234,21 @@ std::vector<std::vector<std::string>> ReadPerturbations(const YamlValue& list, c
     } catch (const configs::ConfigError& error) {
       entry.Fail(error.what());
     }
-    for (const std::vector<std::string>& earlier : sets) {
-      if (PerturbationLabelSuffix(earlier) == PerturbationLabelSuffix(choices))
+    for (std::size_t i = 0; i < sets.size(); ++i) {
+      if (PerturbationLabelSuffix(sets[i]) == PerturbationLabelSuffix(choices))
         entry.Fail(entry.Text() + " is listed twice");
+      // The same levels in another order are the same scene: they would run as a second label.
+      std::vector<std::string> earlier = sets[i];
+      std::vector<std::string> these = choices;
+      std::sort(earlier.begin(), earlier.end());
+      std::sort(these.begin(), these.end());
+      if (earlier == these) {
+        entry.Fail(entry.Text() + " is " + texts[i] + " (perturbations[" + std::to_string(i) +
+                   "]) in another order; list each combination once");
+      }
     }
     sets.push_back(std::move(choices));
+    texts.push_back(entry.Text());
   }
   return sets;
 }
@@ -163,6 +256,8 @@ std::vector<std::vector<std::string>> ReadPerturbations(const YamlValue& list, c
 SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::string& config_dir, PolicyFiles files) {
   SweepSpec spec;
   spec.source = source;
+  RejectUnknownKeys(root, {"suites", "tasks", "robots", "splits", "cameras", "seeds", "episodes", "envs", "videos",
+                           "policy", "policies", "perturbations", "figures"});
   const auto suites = root.Optional("suites");
   const auto tasks = root.Optional("tasks");
   if (!suites && !tasks) root.Fail("needs suites: [...] or tasks: [...] (or both)");
@@ -185,6 +280,7 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   ReadPolicies(root, known_robots, config_dir, files, spec);
   if (const auto perturbations = root.Optional("perturbations"))
     spec.perturbations = ReadPerturbations(*perturbations, config_dir);
+  RequireDistinctCellLabels(root, spec);
   if (const auto figures = root.Optional("figures")) ReadFigures(*figures, spec);
   root.ExpectNoOtherKeys();
   return spec;
@@ -277,7 +373,7 @@ std::vector<std::string> SplitPerturbationSet(const std::string& text) {
 Shard ParseShard(const std::string& text) {
   const std::size_t slash = text.find('/');
   const auto number = [&text](const std::string& part) {
-    if (part.empty() || part.size() > 6 ||
+    if (part.empty() || part.size() > 9 ||
         !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c) != 0; })) {
       throw output::SettingError("shard", "must be I/N with 0 <= I < N (e.g. 0/3), got '" + text + "'");
     }
@@ -289,6 +385,15 @@ Shard ParseShard(const std::string& text) {
     throw output::SettingError("shard", "must be I/N with 0 <= I < N (e.g. 0/3), got '" + text + "'");
   }
   return shard;
+}
+
+void RequireShardHoldsCells(const Shard& shard, std::size_t cells) {
+  if (static_cast<std::size_t>(shard.count) <= cells) return;
+  const std::string text = std::to_string(shard.index) + "/" + std::to_string(shard.count);
+  throw output::SettingError("shard", "'" + text + "' splits the sweep's " + std::to_string(cells) + " cell" +
+                                          (cells == 1 ? "" : "s") + " into " + std::to_string(shard.count) +
+                                          " shards: N must be 1 to " + std::to_string(cells) +
+                                          ", so that every shard runs a cell");
 }
 
 bool InShard(std::size_t cell_position, const Shard& shard) {

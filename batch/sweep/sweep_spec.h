@@ -70,6 +70,8 @@ struct Shard {
 
 // "I/N" with 0 <= I < N; throws output::SettingError (key "shard") naming the text.
 Shard ParseShard(const std::string& text);
+// Throws output::SettingError (key "shard") unless each of the N shards gets a cell: N <= `cells`.
+void RequireShardHoldsCells(const Shard& shard, std::size_t cells);
 // Shard I of N holds the cells whose position in ExpandCells() is I mod N.
 bool InShard(std::size_t cell_position, const Shard& shard);
 

@@ -96,5 +96,32 @@ TEST_F(DemosCommand, UnwritableOutFailsNamingIt) {
   EXPECT_NE(run.err.find("/proc/tavis-demos-test"), std::string::npos) << run.err;
 }
 
+// A resume that leaves out the recording's --perturb is another recording: refused naming the
+// level, and nothing is written (it once finished a runtime:move recording unperturbed, its
+// tavis_demos.json saying "perturbations": []).
+TEST_F(DemosCommand, ResumeThatLeavesOutThePerturbationIsRefusedNamingIt) {
+  const fs::path out = root_ / "dataset";
+  const std::string args = Demos("--episodes 8") + " --threads 1 --out " + Quote(out.string());
+  ASSERT_TRUE(KillWhenLinesAppear(args + " --perturb runtime:move",
+                                  out / ".tavis_spool" / "episode_000000" / "episode.json", 1, SIGKILL))
+      << "the recording finished before it could be interrupted";
+  // What the recording holds: the lock file keeps the killed run's holder note until the next run takes it.
+  const auto recorded = [&out] {
+    std::map<std::string, std::string> files = Snapshot(out);
+    files.erase((out / ".tavis_lock").string());
+    return files;
+  };
+  const auto before = recorded();
+  const RunResult resumed = Run(args + " --resume");
+  EXPECT_EQ(resumed.exit_code, 1);
+  EXPECT_NE(resumed.err.find("--resume with other settings than the interrupted recording: perturbations "
+                             "[{\"axis\":\"runtime\",\"level\":\"move\""),
+            std::string::npos)
+      << resumed.err;
+  EXPECT_NE(resumed.err.find("}] -> unset"), std::string::npos) << resumed.err;
+  EXPECT_EQ(recorded(), before) << "a refused resume wrote into the dataset";
+  EXPECT_FALSE(fs::exists(out / "tavis_demos.json"));
+}
+
 }  // namespace
 }  // namespace tavis::tools

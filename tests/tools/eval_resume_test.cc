@@ -90,5 +90,44 @@ TEST_F(EvalResume, OverwriteReplacesAnotherRunsResults) {
   EXPECT_TRUE(fs::exists(out / "summary.json"));
 }
 
+// A resume that leaves out a setting the cell was started with (here --perturb, recorded only when
+// given) is another run: refused naming the setting, and nothing is written (it once finished a
+// runtime:move cell with unperturbed episodes while cell.json still named the level).
+TEST_F(EvalResume, ResumeThatLeavesOutThePerturbationIsRefusedNamingIt) {
+  const fs::path out = root_ / "cell";
+  const std::string cell = "eval --task clutter-pick-cube --episodes 2 --envs 2 --quiet --out " + Quote(out.string());
+  ASSERT_EQ(Run(cell + " --perturb runtime:move").exit_code, 0);
+  fs::remove(out / "summary.json");  // as an interrupted cell has none
+  const auto before = Snapshot(out);
+  const RunResult resumed = Run(cell + " --resume");
+  EXPECT_EQ(resumed.exit_code, 1);
+  EXPECT_NE(resumed.err.find("with other settings: perturbations [{\"axis\":\"runtime\",\"level\":\"move\""),
+            std::string::npos)
+      << resumed.err;
+  EXPECT_NE(resumed.err.find("}] -> unset"), std::string::npos) << resumed.err;
+  EXPECT_EQ(Snapshot(out), before) << "a refused resume wrote into the cell";
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+}
+
+// The same for --episode I (recorded as episode_start when not 0): a resume without it once filled
+// an `--episode 7` cell with episode 0.
+TEST_F(EvalResume, ResumeThatLeavesOutTheEpisodeIsRefusedNamingIt) {
+  const fs::path out = root_ / "cell";
+  const std::string cell = "eval --task clutter-pick-cube --envs 1 --quiet --out " + Quote(out.string());
+  ASSERT_EQ(Run(cell + " --episode 7").exit_code, 0);
+  fs::remove(out / "summary.json");
+  std::ofstream(out / "episodes.jsonl", std::ios::trunc).close();  // interrupted before its one episode
+  const auto before = Snapshot(out);
+  const RunResult resumed = Run(cell + " --episodes 1 --resume");
+  EXPECT_EQ(resumed.exit_code, 1);
+  EXPECT_NE(resumed.err.find("with other settings: episode_start 7 -> unset"), std::string::npos) << resumed.err;
+  EXPECT_EQ(Snapshot(out), before) << "a refused resume wrote into the cell";
+  // With the episode it resumes, and the record is episode 7's.
+  const RunResult same = Run(cell + " --episode 7 --resume");
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_NE(ReadText(out / "episodes.jsonl").find("\"episode\":7,"), std::string::npos)
+      << ReadText(out / "episodes.jsonl");
+}
+
 }  // namespace
 }  // namespace tavis::tools

@@ -21,5 +21,23 @@ TEST(SettingsDifference, NamesTheNestedKeyThatChangedNotTheWholeObject) {
   EXPECT_EQ(SettingsDifference(was, now), "identity.robot_config.actuators.arm.velocity_limit \"5.0\" -> \"4.0\"");
 }
 
+// A resume that leaves a setting out (no --perturb, no --episode) differs from the run it resumes
+// as much as one that changes it: the keys only the old run has are named too.
+TEST(SettingsDifference, NamesKeysOnlyTheOldRunHas) {
+  EXPECT_EQ(SettingsDifference({{"seed", 0}, {"perturbations", {"runtime:move"}}}, {{"seed", 0}}),
+            "perturbations [\"runtime:move\"] -> unset");
+  EXPECT_EQ(SettingsDifference({{"episode_start", 7}, {"episodes", 1}}, {{"episodes", 1}}), "episode_start 7 -> unset");
+  EXPECT_EQ(SettingsDifference({{"identity", {{"a", 1}, {"b", 2}}}}, {{"identity", {{"a", 1}}}}),
+            "identity.b 2 -> unset");
+  // Both directions at once, in key order.
+  EXPECT_EQ(SettingsDifference({{"a", 1}, {"c", 3}}, {{"b", 2}, {"c", 3}}), "a 1 -> unset, b unset -> 2");
+}
+
+// A damaged record that is not an object has none of the settings.
+TEST(SettingsDifference, ARecordThatIsNotAnObjectHasNoneOfTheSettings) {
+  EXPECT_EQ(SettingsDifference(nlohmann::json::array(), {{"seed", 0}}), "seed unset -> 0");
+  EXPECT_EQ(SettingsDifference({{"seed", 0}}, nlohmann::json()), "seed 0 -> unset");
+}
+
 }  // namespace
 }  // namespace tavis::batch::output

@@ -285,5 +285,92 @@ INSTANTIATE_TEST_SUITE_P(
                 "'/nonexistent/d' is not a LeRobot dataset: /nonexistent/d/meta/info.json: no such file"}),
     [](const ::testing::TestParamInfo<BadSpec>& case_info) { return std::string(case_info.param.name); });
 
+// A typo'd key is named as unknown, with the key it was probably meant to be and the known keys,
+// wherever it is; it was once reported as the key it meant being missing ("missing key 'robots'").
+TEST(SweepSpec, ATypoedKeyIsNamedWithTheNearestKnownKey) {
+  const std::string root = ErrorOf(Replace(kValid, "robots:", "robot:"));
+  EXPECT_NE(root.find("specs/bad.yaml: robot: unknown key 'robot' (did you mean 'robots'?); known keys: "),
+            std::string::npos)
+      << root;
+  EXPECT_NE(root.find("cameras, envs, episodes, figures"), std::string::npos) << root;
+  EXPECT_EQ(root.find("missing"), std::string::npos) << root;
+  const std::string policy = ErrorOf(Replace(kValid, "  name: expert", "  nmae: expert"));
+  EXPECT_NE(policy.find("policy.nmae: unknown key 'nmae' (did you mean 'name'?)"), std::string::npos) << policy;
+  const std::string filter = ErrorOf(Replace(kLabelled, "cells: {robots:", "cells: {robts:"));
+  EXPECT_NE(filter.find("policies[2].cells.robts: unknown key 'robts' (did you mean 'robots'?)"), std::string::npos)
+      << filter;
+  const std::string figures = ErrorOf(Replace(kLabelled, "galt_window_s:", "galt_windows:"));
+  EXPECT_NE(figures.find("figures.galt_windows: unknown key 'galt_windows' (did you mean 'galt_window_s'?)"),
+            std::string::npos)
+      << figures;
+  // A key like none of them is named without a guess.
+  EXPECT_NE(ErrorOf(std::string(kValid) + "colour: red\n").find("colour: unknown key 'colour'; known keys: "),
+            std::string::npos);
+}
+
+// A label equal to another policy's perturbed label ("expert" under runtime:move is
+// "expert.runtime.move") gives two cells one id: such a sweep could never finish.
+TEST(SweepSpec, ALabelEqualToAPerturbedLabelIsRefusedNamingBoth) {
+  const auto relabelled = [](const std::string& label) {
+    return Replace(Replace(kLabelled, "label: still", "label: " + label), "[still, recipe]", "[expert-b, recipe]");
+  };
+  const std::string perturbed = "perturbations: [none, runtime:move]\n";
+  const std::string error = ErrorOf(relabelled("expert-a.runtime.move") + perturbed);
+  EXPECT_NE(error.find("policies[2].label: 'expert-a.runtime.move' names both policy 'expert-a' under runtime:move "
+                       "and policy 'expert-a.runtime.move'"),
+            std::string::npos)
+      << error;
+  const std::string group = ErrorOf(relabelled("recipe.runtime.move") + perturbed);
+  EXPECT_NE(group.find("names both the seed group 'recipe' of policy 'expert-a' under runtime:move"), std::string::npos)
+      << group;
+  // Without the perturbation the same labels are distinct.
+  EXPECT_EQ(Parse(relabelled("expert-a.runtime.move")).policies.size(), 3U);
+}
+
+// One combination of levels written in two orders is one scene: listed twice, it would run twice.
+TEST(SweepSpec, ACombinationInAnotherOrderIsRefused) {
+  const std::string error = ErrorOf(std::string(kValid) +
+                                    "perturbations: [none, camera:fov-wide+sensor:noise-low, "
+                                    "sensor:noise-low+camera:fov-wide]\n");
+  EXPECT_NE(error.find("perturbations[2]: sensor:noise-low+camera:fov-wide is camera:fov-wide+sensor:noise-low "
+                       "(perturbations[1]) in another order"),
+            std::string::npos)
+      << error;
+}
+
+// A cells: filter that allows none of the sweep's cells would leave its policy out without a word.
+TEST(SweepSpec, ACellFilterThatSelectsNothingIsRefused) {
+  const std::string robots = ErrorOf(Replace(kLabelled, "robots: [gr1t2, reachy2]", "robots: [gr1t2]"));
+  EXPECT_NE(robots.find("policies[2].cells: selects no cell of the sweep: none of its robots (reachy2) is among the "
+                        "sweep's (gr1t2)"),
+            std::string::npos)
+      << robots;
+  const std::string tasks = ErrorOf(Replace(kLabelled, "cells: {robots: [reachy2],", "cells: {tasks: [peeking-box],"));
+  EXPECT_NE(tasks.find("none of its tasks (peeking-box) is among the sweep's (clutter-pick-cube, wait-then-act)"),
+            std::string::npos)
+      << tasks;
+  const std::string single =
+      ErrorOf(Replace(kValid, "  name: expert", "  name: expert\n  cells: {cameras: [head-only]}"));
+  EXPECT_NE(single.find("policy.cells: selects no cell of the sweep: none of its cameras (head-only)"),
+            std::string::npos)
+      << single;
+}
+
+// Every shard must get a cell: N is at most the sweep's cells.
+TEST(SweepSpec, AShardCountAboveTheCellsIsRefused) {
+  EXPECT_NO_THROW(RequireShardHoldsCells(ParseShard("3/4"), 4));
+  for (const char* text : {"0/1000000", "0/5"}) {
+    try {
+      RequireShardHoldsCells(ParseShard(text), 4);
+      ADD_FAILURE() << text << " was accepted for 4 cells";
+    } catch (const output::SettingError& error) {
+      EXPECT_EQ(error.key(), "shard");
+      EXPECT_NE(error.problem().find(std::string("'") + text + "' splits the sweep's 4 cells into"), std::string::npos)
+          << error.what();
+      EXPECT_NE(error.problem().find("N must be 1 to 4"), std::string::npos) << error.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tavis::batch::sweep
