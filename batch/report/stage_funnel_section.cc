@@ -122,7 +122,8 @@ std::vector<TextTable> StageFunnelTables(const Json& rows) {
     }
   }
   funnel.note =
-      "CAMERA %: of that camera's episodes, those that reached the stage and every earlier stage that applies; "
+      "head %, fixed %, ...: of that camera's episodes, those that reached the stage and every earlier stage that "
+      "applies; "
       "alone: those that reached it whatever came before, comparable across cameras stage by stage. n/a: the stage "
       "does not apply to the camera (a fixed view zeroes the neck, so it has no gaze stage and its later stages are "
       "counted without it); -: no cells of that camera, or a summary written before the count existed.";
