@@ -277,15 +277,10 @@ TEST_F(SweepRuns, HtmlReportInHeadlessChromiumShowsTheJsonNumbers) {
 // beside fixed, and every table of the report and of `tavis table`, read value by value under
 // its heading, holds summary.json's numbers.
 TEST_F(SweepCommand, HeadAndFixedFunnelsOfTheCueTasksSitSideBySide) {
-  std::ofstream(root_ / "cue.yaml") << "tasks: [conditional-pick, wait-then-act]\n"
-                                       "robots: [gr1t2]\n"
-                                       "splits: [id]\n"
-                                       "cameras: [head, fixed]\n"
-                                       "seeds: [0]\n"
-                                       "episodes: 3\n"
-                                       "envs: 3\n"
-                                       "policy:\n"
-                                       "  name: expert\n";
+  // One YAML flow mapping: the two cue tasks, head and fixed, 3 expert episodes a cell.
+  std::ofstream(root_ / "cue.yaml") << "{tasks: [conditional-pick, wait-then-act], robots: [gr1t2], splits: [id], "
+                                       "cameras: [head, fixed], seeds: [0], episodes: 3, envs: 3, "
+                                       "policy: {name: expert}}\n";
   const fs::path out = root_ / "out";
   const RunResult sweep =
       Run("sweep " + Quote((root_ / "cue.yaml").string()) + " --out " + Quote(out.string()) + " --quiet");
