@@ -119,12 +119,10 @@ TEST(CellReport, AFixedCameraExpertsFunnelShowsTheStagesItReached) {
     const nlohmann::json stages = Summary(result).at("stages");
     ASSERT_EQ(stages.size(), 4u);
     EXPECT_EQ(stages[0].at("stage"), "cue_fixated");
-    EXPECT_FALSE(stages[0].at("applies"));
+    for (std::size_t s = 1; s < stages.size(); ++s) EXPECT_EQ(stages[s].at("reached"), 3) << stages[s];
+    EXPECT_EQ(stages[0].value("applies", true), false) << "a zeroed neck cannot fixate the cue";
     EXPECT_TRUE(stages[0].at("reached").is_null());
-    for (std::size_t s = 1; s < stages.size(); ++s) {
-      EXPECT_EQ(stages[s].at("reached"), 3) << stages[s];
-      EXPECT_EQ(stages[s].at("reached_alone"), 3) << stages[s];
-    }
+    for (std::size_t s = 1; s < stages.size(); ++s) EXPECT_EQ(stages[s].value("reached_alone", -1), 3) << stages[s];
   }
 }
 
