@@ -128,7 +128,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
       {"simulator_faults",
        std::count_if(result.episodes.begin(), result.episodes.end(),
                      [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kPhysicsBlowUp; })},
-      {"stages", StageFunnelJson(StageNames(config.task), result.episodes)},
+      {"stages", FunnelJson(StageFunnel(FunnelStages(config.task, config.camera), result.episodes))},
       {"wall_s", result.wall_s},
       {"envs", result.envs},
       {"threads", info.threads},

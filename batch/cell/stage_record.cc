@@ -68,25 +68,42 @@ std::vector<std::string> StageNames(const std::string& task) {
   return names;
 }
 
-std::vector<FunnelStep> StageFunnel(const std::vector<std::string>& stages,
+std::vector<FunnelStage> FunnelStages(const std::string& task, CameraProtocol camera) {
+  std::vector<FunnelStage> stages;
+  for (const scenarios::StageDef& stage : scenarios::FindScenario(task).stages) {
+    const bool needs_head = stage.kind == scenarios::StageDef::Kind::kCueFixated;
+    stages.push_back({stage.name, !(needs_head && UsesFixedView(camera))});
+  }
+  return stages;
+}
+
+std::vector<FunnelStep> StageFunnel(const std::vector<FunnelStage>& stages,
                                     const std::vector<EpisodeRecord>& episodes) {
   std::vector<FunnelStep> funnel;
-  for (const std::string& stage : stages) funnel.push_back({stage, 0});
+  for (const FunnelStage& stage : stages) funnel.push_back({stage.name, stage.applies, 0, 0});
   for (const EpisodeRecord& record : episodes) {
+    bool every_earlier = true;
     for (FunnelStep& step : funnel) {
-      if (!Reached(record, step.stage)) break;
-      ++step.reached;
+      if (!step.applies) continue;
+      const bool reached = Reached(record, step.stage);
+      every_earlier = every_earlier && reached;
+      step.reached += every_earlier ? 1 : 0;
+      step.reached_alone += reached ? 1 : 0;
     }
   }
   return funnel;
 }
 
-nlohmann::json StageFunnelJson(const std::vector<std::string>& stages, const std::vector<EpisodeRecord>& episodes) {
-  nlohmann::json funnel = nlohmann::json::array();
-  for (const FunnelStep& step : StageFunnel(stages, episodes)) {
-    funnel.push_back({{"stage", step.stage}, {"reached", step.reached}});
+nlohmann::json FunnelJson(const std::vector<FunnelStep>& funnel) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const FunnelStep& step : funnel) {
+    const auto count = [&](int64_t value) { return step.applies ? nlohmann::json(value) : nlohmann::json(); };
+    steps.push_back({{"stage", step.stage},
+                     {"applies", step.applies},
+                     {"reached", count(step.reached)},
+                     {"reached_alone", count(step.reached_alone)}});
   }
-  return funnel;
+  return steps;
 }
 
 }  // namespace tavis::batch::cell

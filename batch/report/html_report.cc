@@ -93,7 +93,7 @@ std::vector<std::string> Robots(const Json& summary) {
 
 std::string HtmlTable(const TextTable& table) {
   std::ostringstream html;
-  html << "<h3>" << Escape(table.title) << "</h3>\n<table><tr>";
+  html << "<h3>" << Escape(table.title) << "</h3>\n<table id=\"" << Escape(table.name) << "\"><tr>";
   for (const std::string& name : table.header) html << "<th>" << Escape(name) << "</th>";
   html << "</tr>\n";
   for (const std::vector<std::string>& row : table.rows) {
@@ -116,10 +116,11 @@ std::string Field(const std::string& cell, const std::string& field, const std::
 }
 
 // Every cell with its own numbers (percent with one decimal, seconds with two), for reading and
-// for checking against summary.json.
+// for checking against summary.json: a heading for every column of its rows.
 std::string CellTable(const Json& summary) {
   std::ostringstream html;
-  html << "<h3>Cells</h3>\n<table id=\"cells\"><tr><th>cell</th><th>episodes</th><th>successful</th><th>success %</th>"
+  html << "<h3>Cells</h3>\n<table "
+          "id=\"cells\"><tr><th>cell</th><th>policy</th><th>episodes</th><th>successful</th><th>success %</th>"
           "<th>ci low %</th><th>ci high %</th><th>successful length mean s</th><th>GALT mean s</th></tr>\n";
   for (const Json& cell : summary["cells"]) {
     const std::string id = cell["id"];

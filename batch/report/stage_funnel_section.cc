@@ -1,9 +1,11 @@
 #include "batch/report/stage_funnel_section.h"
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <tuple>
 
+#include "batch/camera_protocol.h"
 #include "batch/cell/stage_record.h"
 #include "scenarios/split.h"
 
@@ -12,12 +14,11 @@ namespace tavis::batch::report {
 using Json = nlohmann::ordered_json;
 
 Json StageFunnelRows(const std::vector<CellEpisodes>& cells) {
-  using Key = std::tuple<std::string, std::string, std::string, std::string>;
+  using Key = std::tuple<std::string, std::string, std::string, CameraProtocol>;
   std::vector<Key> order;
   std::map<Key, std::vector<cell::EpisodeRecord>> episodes;
   for (const CellEpisodes& cell : cells) {
-    const Key key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split),
-                  ToString(cell.config.camera)};
+    const Key key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split), cell.config.camera};
     if (!episodes.count(key)) order.push_back(key);
     std::vector<cell::EpisodeRecord>& pooled = episodes[key];
     pooled.insert(pooled.end(), cell.episodes.begin(), cell.episodes.end());
@@ -32,13 +33,16 @@ Json StageFunnelRows(const std::vector<CellEpisodes>& cells) {
       faults += record.end == engine::EpisodeEnd::kPhysicsBlowUp ? 1 : 0;
     }
     Json stages = Json::array();
-    for (const cell::FunnelStep& step : cell::StageFunnel(cell::StageNames(task), records)) {
-      stages.push_back({{"stage", step.stage}, {"reached", step.reached}});
+    for (const nlohmann::json& step : cell::FunnelJson(cell::StageFunnel(cell::FunnelStages(task, camera), records))) {
+      stages.push_back({{"stage", step["stage"]},
+                        {"applies", step["applies"]},
+                        {"reached", step["reached"]},
+                        {"reached_alone", step["reached_alone"]}});
     }
     rows.push_back({{"task", task},
                     {"robot", robot},
                     {"split", split},
-                    {"camera", camera},
+                    {"camera", ToString(camera)},
                     {"episodes", static_cast<int64_t>(records.size())},
                     {"successes", successes},
                     {"simulator_faults", faults},
@@ -47,31 +51,98 @@ Json StageFunnelRows(const std::vector<CellEpisodes>& cells) {
   return rows;
 }
 
-TextTable StageFunnelTable(const Json& summary) {
-  TextTable table{"stage_funnel",
-                  "Stage funnel: episodes (%) that reached each stage and every stage before it",
-                  {"policy", "task", "robot", "split", "camera", "episodes", "stages", "success %", "simulator faults"},
-                  {},
-                  ""};
-  for (const Json& row : summary["stages"]) {
-    const double episodes = static_cast<double>(row["episodes"].get<int64_t>());
-    const auto share = [&](int64_t count) {
-      return episodes > 0 ? Percent(static_cast<double>(count) / episodes) : "-";
-    };
-    std::string stages;
-    for (const Json& step : row["stages"]) {
-      stages +=
-          (stages.empty() ? "" : ", ") + step["stage"].get<std::string>() + " " + share(step["reached"].get<int64_t>());
-    }
-    table.rows.push_back({row["label"], row["task"], row["robot"], row["split"], row["camera"],
-                          std::to_string(row["episodes"].get<int64_t>()), stages,
-                          share(row["successes"].get<int64_t>()),
-                          std::to_string(row["simulator_faults"].get<int64_t>())});
+namespace {
+
+// A count as a percent of `episodes`: "-" when either is unknown (a summary written before a
+// count existed, or no episodes).
+std::string Share(const Json& count, int64_t episodes) {
+  if (count.is_null() || episodes <= 0) return "-";
+  return Percent(static_cast<double>(count.get<int64_t>()) / static_cast<double>(episodes));
+}
+
+// The text of a camera's row at one stage: "n/a" where the stage does not apply to the camera.
+std::string StageShare(const Json& row, const std::string& stage, const char* count) {
+  for (const Json& step : row["stages"]) {
+    if (step["stage"] != stage) continue;
+    if (step.contains("applies") && !step["applies"].get<bool>()) return "n/a";
+    return Share(step.contains(count) ? step[count] : Json(), row["episodes"].get<int64_t>());
   }
-  table.note =
+  return "-";
+}
+
+}  // namespace
+
+std::vector<TextTable> StageFunnelTables(const Json& rows) {
+  // The cameras the rows have, in the protocols' order (head beside fixed), then any other name.
+  std::vector<std::string> cameras;
+  for (const std::string& camera : CameraProtocolNames()) {
+    if (std::any_of(rows.begin(), rows.end(), [&](const Json& row) { return row["camera"] == camera; }))
+      cameras.push_back(camera);
+  }
+  for (const Json& row : rows) {
+    if (std::find(cameras.begin(), cameras.end(), row["camera"]) == cameras.end()) cameras.push_back(row["camera"]);
+  }
+  TextTable funnel{"stage_funnel",
+                   "Stage funnel, the cameras side by side: episodes (%) that reached each stage and every earlier "
+                   "stage that applies, and that reached it alone",
+                   {"policy", "task", "robot", "split", "stage"},
+                   {},
+                   ""};
+  for (const std::string& camera : cameras) {
+    funnel.header.push_back(camera + " %");
+    funnel.header.push_back(camera + " alone %");
+  }
+  // A group: one label, task, robot and split; its rows are its cameras.
+  using Group = std::tuple<std::string, std::string, std::string, std::string>;
+  std::vector<Group> order;
+  std::map<Group, std::vector<const Json*>> groups;
+  for (const Json& row : rows) {
+    const Group group{row["label"], row["task"], row["robot"], row["split"]};
+    if (!groups.count(group)) order.push_back(group);
+    groups[group].push_back(&row);
+  }
+  for (const Group& group : order) {
+    const auto& [label, task, robot, split] = group;
+    // The task's stages, from the group's first row that has them (one written before stages
+    // existed has none).
+    std::vector<std::string> stages;
+    for (const Json* row : groups[group]) {
+      if (!stages.empty()) break;
+      for (const Json& step : (*row)["stages"]) stages.push_back(step["stage"]);
+    }
+    for (const std::string& stage : stages) {
+      std::vector<std::string> cells{label, task, robot, split, stage};
+      for (const std::string& camera : cameras) {
+        const auto found = std::find_if(groups[group].begin(), groups[group].end(),
+                                        [&](const Json* row) { return (*row)["camera"] == camera; });
+        cells.push_back(found == groups[group].end() ? "-" : StageShare(**found, stage, "reached"));
+        cells.push_back(found == groups[group].end() ? "-" : StageShare(**found, stage, "reached_alone"));
+      }
+      funnel.rows.push_back(cells);
+    }
+  }
+  funnel.note =
+      "head %, fixed %, ...: of that camera's episodes, those that reached the stage and every earlier stage that "
+      "applies; "
+      "alone: those that reached it whatever came before, comparable across cameras stage by stage. n/a: the stage "
+      "does not apply to the camera (a fixed view zeroes the neck, so it has no gaze stage and its later stages are "
+      "counted without it); -: no cells of that camera, or a summary written before the count existed.";
+
+  TextTable episodes{"stage_funnel_episodes",
+                     "Stage funnel: episodes, success rate and simulator faults per camera",
+                     {"policy", "task", "robot", "split", "camera", "episodes", "success %", "simulator faults"},
+                     {},
+                     ""};
+  for (const Json& row : rows) {
+    const int64_t count = row["episodes"].get<int64_t>();
+    episodes.rows.push_back({row["label"], row["task"], row["robot"], row["split"], row["camera"],
+                             std::to_string(count), Share(row["successes"], count),
+                             std::to_string(row["simulator_faults"].get<int64_t>())});
+  }
+  episodes.note =
       "Simulator faults are episodes whose physics blew up (physics_blow_up): every success rate counts them as "
       "failures; they are the simulator's, not the policy's.";
-  return table;
+  return {funnel, episodes};
 }
 
 }  // namespace tavis::batch::report

@@ -1,19 +1,57 @@
 #include "batch/report/stage_funnel_table.h"
 
-#include <cstdio>
+#include <algorithm>
 #include <fstream>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
+#include "batch/report/stage_funnel_section.h"
+#include "batch/report/sweep_tables.h"
+
 namespace tavis::batch::report {
 namespace {
 
-std::string Percent(int64_t count, int64_t total) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.1f",
-                total > 0 ? 100.0 * static_cast<double>(count) / static_cast<double>(total) : 0.0);
-  return text;
+using Json = nlohmann::ordered_json;
+
+std::optional<int64_t> Count(const nlohmann::json& step, const char* key) {
+  if (!step.contains(key) || step.at(key).is_null()) return std::nullopt;
+  return step.at(key).get<int64_t>();
+}
+
+// Cells of one column and task pooled: counts add up; a count one of them lacks is unknown; a
+// stage applies unless a cell says it does not.
+std::vector<FunnelCount> PoolFunnels(const std::vector<CellFunnel>& funnels) {
+  // Cells of one task share its stages; one written before stages existed has none (and counts as
+  // reaching none).
+  std::vector<FunnelCount> pooled;
+  for (const CellFunnel& funnel : funnels) {
+    if (pooled.empty()) pooled = funnel.stages;
+  }
+  for (FunnelCount& step : pooled) {
+    step.reached = step.reached_alone = 0;
+    for (const CellFunnel& funnel : funnels) {
+      const auto other = std::find_if(funnel.stages.begin(), funnel.stages.end(),
+                                      [&](const FunnelCount& count) { return count.stage == step.stage; });
+      if (other == funnel.stages.end()) continue;
+      step.applies = step.applies && other->applies;
+      for (auto [mine, theirs] :
+           {std::pair{&step.reached, &other->reached}, std::pair{&step.reached_alone, &other->reached_alone}}) {
+        *mine = *mine && *theirs ? std::optional<int64_t>(**mine + **theirs) : std::nullopt;
+      }
+    }
+  }
+  return pooled;
+}
+
+std::string Labels(const std::vector<CellCounts>& cells) {
+  std::vector<std::string> labels;
+  for (const CellCounts& cell : cells) {
+    if (std::find(labels.begin(), labels.end(), cell.label) == labels.end()) labels.push_back(cell.label);
+  }
+  std::string joined;
+  for (const std::string& label : labels) joined += (joined.empty() ? "" : "+") + label;
+  return joined;
 }
 
 }  // namespace
@@ -26,7 +64,10 @@ CellFunnel ReadCellFunnel(const std::string& summary_path) {
   try {
     if (summary.contains("stages")) {
       for (const nlohmann::json& step : summary.at("stages")) {
-        funnel.stages.push_back({step.at("stage").get<std::string>(), step.at("reached").get<int64_t>()});
+        FunnelCount count{step.at("stage").get<std::string>(), step.value("applies", true), Count(step, "reached"),
+                          Count(step, "reached_alone")};
+        if (count.applies && !count.reached) throw std::runtime_error(step.dump() + " has no reached count");
+        funnel.stages.push_back(count);
       }
     }
     if (summary.contains("simulator_faults")) {
@@ -34,18 +75,16 @@ CellFunnel ReadCellFunnel(const std::string& summary_path) {
     } else if (summary.contains("ends") && summary.at("ends").contains("physics_blow_up")) {
       funnel.simulator_faults = summary.at("ends").at("physics_blow_up").get<int64_t>();
     }
-  } catch (const nlohmann::json::exception& error) {
+  } catch (const std::exception& error) {
     throw std::runtime_error(summary_path + ": stages or simulator_faults: " + error.what());
   }
   return funnel;
 }
 
 std::string FormatFunnelMarkdown(const ResultsTable& table, const std::vector<CellCounts>& cells) {
-  std::string text =
-      "\n## Stage funnel\n\n"
-      "| task | column | episodes | stages reached (%, each with every stage before it) | success % | simulator faults "
-      "|\n"
-      "|---|---|---|---|---|---|\n";
+  // The rows the sweep's summary.json would hold for these cells, pooled per task and column.
+  Json rows = Json::array();
+  const std::string label = Labels(cells);
   for (const std::string& task : table.tasks) {
     for (const TableColumn& column : table.columns) {
       int64_t episodes = 0, successes = 0, faults = 0;
@@ -59,33 +98,28 @@ std::string FormatFunnelMarkdown(const ResultsTable& table, const std::vector<Ce
         successes += cell.n_successful;
         faults += funnels.back().simulator_faults;
       }
-      // Cells of one task share its stages; one written before stages existed has none (and
-      // counts as reaching none).
-      std::vector<FunnelCount> stages;
-      for (const CellFunnel& funnel : funnels) {
-        if (stages.empty()) stages = funnel.stages;
-      }
-      for (FunnelCount& step : stages) {
-        step.reached = 0;
-        for (const CellFunnel& funnel : funnels) {
-          for (const FunnelCount& other : funnel.stages) {
-            if (other.stage == step.stage) step.reached += other.reached;
-          }
-        }
-      }
       if (episodes == 0) continue;
-      std::string reached;
-      for (const FunnelCount& step : stages) {
-        reached += (reached.empty() ? "" : " → ") + step.stage + " " + Percent(step.reached, episodes);
+      Json stages = Json::array();
+      for (const FunnelCount& step : PoolFunnels(funnels)) {
+        const auto json = [](const std::optional<int64_t>& count) { return count ? Json(*count) : Json(); };
+        stages.push_back({{"stage", step.stage},
+                          {"applies", step.applies},
+                          {"reached", json(step.reached)},
+                          {"reached_alone", json(step.reached_alone)}});
       }
-      text += "| " + task + " | " + column.label() + " | " + std::to_string(episodes) + " | " +
-              (reached.empty() ? "-" : reached) + " | " + Percent(successes, episodes) + " | " +
-              std::to_string(faults) + " |\n";
+      rows.push_back({{"label", label},
+                      {"task", task},
+                      {"robot", column.robot},
+                      {"split", column.split},
+                      {"camera", column.camera},
+                      {"episodes", episodes},
+                      {"successes", successes},
+                      {"simulator_faults", faults},
+                      {"stages", stages}});
     }
   }
-  text +=
-      "\nSimulator faults are episodes whose physics blew up (end `physics_blow_up`): the success rates above count "
-      "them as failures; they are the simulator's, not the policy's.\n";
+  std::string text = "\n## Stage funnel\n";
+  for (const TextTable& funnel : StageFunnelTables(rows)) text += "\n" + ToMarkdown(funnel);
   return text;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 #include "batch/report/camera_set_pairs.h"
 #include "batch/report/perturbation_pairs.h"
@@ -236,7 +237,7 @@ std::vector<TextTable> SweepTables(const Json& summary) {
   tables.push_back(PairedTable(summary));
   tables.push_back(LengthTable(summary));
   tables.push_back(GaltTable(summary));
-  tables.push_back(StageFunnelTable(summary));
+  for (TextTable& table : StageFunnelTables(summary["stages"])) tables.push_back(std::move(table));
   if (!summary["paired_camera_sets"].empty()) tables.push_back(CameraSetPairTable(summary));
   if (summary.contains("paired_perturbations")) tables.push_back(PerturbationPairTable(summary));
   if (!summary["seed_groups"].empty()) tables.push_back(SeedGroupTable(summary));

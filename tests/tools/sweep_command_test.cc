@@ -272,5 +272,50 @@ TEST_F(SweepRuns, HtmlReportInHeadlessChromiumShowsTheJsonNumbers) {
   EXPECT_NE(report.find("report ok: 4 cells"), std::string::npos) << report;
 }
 
+// The expert on the two cue tasks under head and fixed: the fixed funnels show the stages the
+// expert reached (the gaze stage does not apply to a zeroed neck), the report's funnel puts head
+// beside fixed, and every table of the report and of `tavis table`, read value by value under
+// its heading, holds summary.json's numbers.
+TEST_F(SweepCommand, HeadAndFixedFunnelsOfTheCueTasksSitSideBySide) {
+  // One YAML flow mapping: the two cue tasks, head and fixed, 3 expert episodes a cell.
+  std::ofstream(root_ / "cue.yaml") << "{tasks: [conditional-pick, wait-then-act], robots: [gr1t2], splits: [id], "
+                                       "cameras: [head, fixed], seeds: [0], episodes: 3, envs: 3, "
+                                       "policy: {name: expert}}\n";
+  const fs::path out = root_ / "out";
+  const RunResult sweep =
+      Run("sweep " + Quote((root_ / "cue.yaml").string()) + " --out " + Quote(out.string()) + " --quiet");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(out / "summary.json"));
+  ASSERT_EQ(summary["stages"].size(), 4U);
+  for (const nlohmann::json& row : summary["stages"]) {
+    SCOPED_TRACE(row.dump());
+    const bool fixed = row["camera"] == "fixed";
+    EXPECT_EQ(row["stages"][0]["stage"], "cue_fixated");
+    EXPECT_EQ(row["stages"][0]["applies"].get<bool>(), !fixed);
+    for (std::size_t s = fixed ? 1 : 0; s < row["stages"].size(); ++s) EXPECT_EQ(row["stages"][s]["reached"], 3);
+  }
+  const std::string funnel = ReadText(out / "tables" / "stage_funnel.md");
+  EXPECT_NE(funnel.find("| policy | task | robot | split | stage | head % | head alone % | fixed % | fixed alone % |"),
+            std::string::npos)
+      << funnel;
+  EXPECT_NE(funnel.find("| expert | wait-then-act | gr1t2 | id | cue_fixated | 100.0 | 100.0 | n/a | n/a |"),
+            std::string::npos)
+      << funnel;
+  EXPECT_NE(funnel.find("| expert | conditional-pick | gr1t2 | id | target_lifted | 100.0 | 100.0 | 100.0 | 100.0 |"),
+            std::string::npos)
+      << funnel;
+  const RunResult table = Run("table --in " + Quote((out / "cells").string()) + " --suite tavis-head --out " +
+                              Quote((root_ / "head_table").string()));
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  fs::create_directories(root_ / "chromium");
+  testing::ChildProcess check(testing::kDebianPython,
+                              {TAVIS_TEST_DATA_DIR "/sweep/check_report_in_chromium.py", out.string(),
+                               (root_ / "chromium").string(), "--table", (root_ / "head_table.md").string(), "expert"},
+                              "needs Debian's chromium and python3-av (.ci/install-deps)");
+  const std::string report = check.ReadAllOutput(std::chrono::seconds(180));
+  EXPECT_NE(report.find("report ok: 4 cells"), std::string::npos) << report;
+  EXPECT_NE(report.find("tavis table's"), std::string::npos) << report;
+}
+
 }  // namespace
 }  // namespace tavis::tools

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/cell/evaluation_cell.h"
 #include "tests/batch/cell/example_cells.h"
 
 namespace tavis::batch::cell {
@@ -39,8 +40,8 @@ CellResult OneEpisode(const EvaluationCellConfig& config) {
   return result;
 }
 
-// summary.json as written, with its keys sorted and no spaces.
-std::string WrittenSummary(const CellResult& result) {
+// summary.json as written.
+nlohmann::json Summary(const CellResult& result) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("tavis_cell_report_test_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
@@ -48,8 +49,11 @@ std::string WrittenSummary(const CellResult& result) {
   nlohmann::json summary;
   std::ifstream(dir / "summary.json") >> summary;
   std::filesystem::remove_all(dir);
-  return summary.dump();
+  return summary;
 }
+
+// The same with its keys sorted and no spaces.
+std::string WrittenSummary(const CellResult& result) { return Summary(result).dump(); }
 
 TEST(CellReport, ABuiltInPolicysSummaryIsWhatEarlierVersionsWrote) {
   EXPECT_EQ(WrittenSummary(OneEpisode(HoldCellOnReachy())),
@@ -59,8 +63,11 @@ TEST(CellReport, ABuiltInPolicysSummaryIsWhatEarlierVersionsWrote) {
             R"("n_valid":0,"reasons":{},"std_s":null},"n_episodes":1,"n_successful":1,"policy":"hold",)"
             R"("render":{"cameras":["head"],"height":30,"images":5,"width":40},"resumed_episodes":1,)"
             R"("robot":"reachy2","seed":18446744073709551615,"simulator_faults":0,"split":"ood-init-pose",)"
-            R"("stages":[{"reached":0,"stage":"cue_fixated"},{"reached":0,"stage":"target_approached"},)"
-            R"({"reached":0,"stage":"target_grasped"},{"reached":0,"stage":"target_lifted"}],"success_rate":1.0,)"
+            // Under the fixed camera the neck is zeroed: the gaze stage does not apply.
+            R"("stages":[{"applies":false,"reached":null,"reached_alone":null,"stage":"cue_fixated"},)"
+            R"({"applies":true,"reached":0,"reached_alone":0,"stage":"target_approached"},)"
+            R"({"applies":true,"reached":0,"reached_alone":0,"stage":"target_grasped"},)"
+            R"({"applies":true,"reached":0,"reached_alone":0,"stage":"target_lifted"}],"success_rate":1.0,)"
             R"("task":"wait-then-act","threads":3,"wall_s":1.5})");
 }
 
@@ -87,9 +94,36 @@ TEST(CellReport, AServedPolicysSummaryIsWhatEarlierVersionsWrote) {
             R"("mean_ms":1.5,"median_ms":1.0,"p95_ms":2.0},"server_infer":null,"wait_s":0.0},)"
             R"("resumed_episodes":1,"robot":"gr1t2","seed":0,"server_metadata":[],)"
             R"("servers":["ws://a:1","ws://b:2"],"serving":"batched","simulator_faults":0,"split":"id",)"
-            R"("stages":[{"reached":0,"stage":"target_approached"},{"reached":0,"stage":"target_grasped"},)"
-            R"({"reached":0,"stage":"target_lifted"}],"success_rate":1.0,"task":"clutter-pick-cube","threads":3,)"
+            R"("stages":[{"applies":true,"reached":0,"reached_alone":0,"stage":"target_approached"},)"
+            R"({"applies":true,"reached":0,"reached_alone":0,"stage":"target_grasped"},)"
+            R"({"applies":true,"reached":0,"reached_alone":0,"stage":"target_lifted"}],"success_rate":1.0,)"
+            R"("task":"clutter-pick-cube","threads":3,)"
             R"("wall_s":1.5})");
+}
+
+// The scripted expert succeeds under the fixed camera too; its funnel must say how far it got, not
+// stop at a gaze stage a zeroed neck cannot make.
+TEST(CellReport, AFixedCameraExpertsFunnelShowsTheStagesItReached) {
+  for (const char* task : {"conditional-pick", "wait-then-act"}) {
+    SCOPED_TRACE(task);
+    EvaluationCellConfig config;
+    config.task = task;
+    config.robot = "gr1t2";
+    config.camera = CameraProtocol::kFixed;
+    config.policy = "expert";
+    config.episodes = 3;
+    config.envs = 3;
+    config.config_dir = TAVIS_CONFIG_DIR;
+    const CellResult result = RunEvaluationCell(config);
+    ASSERT_EQ(result.successes, 3);
+    const nlohmann::json stages = Summary(result).at("stages");
+    ASSERT_EQ(stages.size(), 4u);
+    EXPECT_EQ(stages[0].at("stage"), "cue_fixated");
+    for (std::size_t s = 1; s < stages.size(); ++s) EXPECT_EQ(stages[s].at("reached"), 3) << stages[s];
+    EXPECT_EQ(stages[0].value("applies", true), false) << "a zeroed neck cannot fixate the cue";
+    EXPECT_TRUE(stages[0].at("reached").is_null());
+    for (std::size_t s = 1; s < stages.size(); ++s) EXPECT_EQ(stages[s].value("reached_alone", -1), 3) << stages[s];
+  }
 }
 
 }  // namespace

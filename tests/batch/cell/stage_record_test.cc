@@ -146,7 +146,7 @@ TEST(StageMetrics, TheHoldPolicyNeverGrasps) {
     EXPECT_FALSE(Stage(record, "target_grasped").reached());
     EXPECT_FALSE(Stage(record, "target_lifted").reached());
   }
-  EXPECT_EQ(StageFunnel(StageNames("clutter-pick-cube"), run.records)[1].reached, 0);
+  EXPECT_EQ(StageFunnel(FunnelStages("clutter-pick-cube", CameraProtocol::kHead), run.records)[1].reached, 0);
 }
 
 TEST(StageMetrics, APolicyThatPicksTheWrongSideFailsAtTheCorrectTarget) {
@@ -170,7 +170,8 @@ TEST(StageMetrics, APolicyThatPicksTheWrongSideFailsAtTheCorrectTarget) {
     }
   }
   EXPECT_EQ(lifted_the_other, 3) << "one wrong object lifted per episode";
-  const std::vector<FunnelStep> funnel = StageFunnel(StageNames("conditional-pick"), run.records);
+  const std::vector<FunnelStep> funnel =
+      StageFunnel(FunnelStages("conditional-pick", CameraProtocol::kHead), run.records);
   EXPECT_EQ(funnel[0].reached, 3);
   EXPECT_EQ(funnel[1].reached, 0);
 }
@@ -218,11 +219,59 @@ TEST(StageMetrics, TheFunnelCountsEpisodesThatReachedAStageAndEveryOneBefore) {
   const std::vector<EpisodeRecord> episodes = {record(10, 20, 30), record(10, -1, 40), record(-1, -1, -1),
                                                record(5, 9, -1)};
   const std::vector<FunnelStep> funnel =
-      StageFunnel({"target_approached", "target_grasped", "target_lifted"}, episodes);
+      StageFunnel({{"target_approached"}, {"target_grasped"}, {"target_lifted"}}, episodes);
   ASSERT_EQ(funnel.size(), 3u);
   EXPECT_EQ(funnel[0].reached, 3);
   EXPECT_EQ(funnel[1].reached, 2);
   EXPECT_EQ(funnel[2].reached, 1) << "the second episode's lift without a grasp does not count";
+  EXPECT_EQ(funnel[2].reached_alone, 2) << "on its own it does";
+}
+
+// Episodes of a cue task as a fixed camera sees them: never the cue (the neck is zeroed), then
+// approached, grasped, lifted as given.
+std::vector<EpisodeRecord> FixedCameraEpisodes() {
+  auto record = [](int approached, int grasped, int lifted) {
+    EpisodeRecord r;
+    r.stages = {
+        {"cue_fixated", -1}, {"target_approached", approached}, {"target_grasped", grasped}, {"target_lifted", lifted}};
+    return r;
+  };
+  return {record(10, 20, 30), record(10, 20, 30), record(10, -1, -1), record(-1, -1, -1)};
+}
+
+TEST(StageMetrics, UnderAFixedViewTheGazeStageDoesNotApplyAndTheLaterStagesCountWithoutIt) {
+  for (const char* task : {"conditional-pick", "wait-then-act"}) {
+    SCOPED_TRACE(task);
+    for (const CameraProtocol camera : {CameraProtocol::kFixed, CameraProtocol::kFixedOnly}) {
+      const std::vector<FunnelStage> stages = FunnelStages(task, camera);
+      ASSERT_EQ(stages.size(), 4u);
+      EXPECT_EQ(stages[0].name, "cue_fixated");
+      EXPECT_FALSE(stages[0].applies) << ToString(camera);
+      for (std::size_t s = 1; s < stages.size(); ++s) EXPECT_TRUE(stages[s].applies) << stages[s].name;
+    }
+    for (const CameraProtocol camera : {CameraProtocol::kHead, CameraProtocol::kHeadOnly, CameraProtocol::kWristsOnly})
+      EXPECT_TRUE(FunnelStages(task, camera)[0].applies) << ToString(camera) << ": the head moves";
+  }
+  const std::vector<FunnelStep> fixed =
+      StageFunnel(FunnelStages("conditional-pick", CameraProtocol::kFixed), FixedCameraEpisodes());
+  ASSERT_EQ(fixed.size(), 4u);
+  EXPECT_FALSE(fixed[0].applies);
+  EXPECT_EQ(fixed[1].reached, 3) << "approached, counted without the gaze it could not make";
+  EXPECT_EQ(fixed[2].reached, 2);
+  EXPECT_EQ(fixed[3].reached, 2);
+  EXPECT_EQ(fixed[3].reached_alone, 2);
+  const nlohmann::json json = FunnelJson(fixed);
+  EXPECT_EQ(
+      json[0],
+      nlohmann::json({{"stage", "cue_fixated"}, {"applies", false}, {"reached", nullptr}, {"reached_alone", nullptr}}));
+  EXPECT_EQ(json[1],
+            nlohmann::json({{"stage", "target_approached"}, {"applies", true}, {"reached", 3}, {"reached_alone", 3}}));
+  // The same episodes under head: the gaze applies and, never reached, stops the chain; each stage
+  // on its own counts as under fixed.
+  const std::vector<FunnelStep> head =
+      StageFunnel(FunnelStages("conditional-pick", CameraProtocol::kHead), FixedCameraEpisodes());
+  EXPECT_EQ(head[1].reached, 0);
+  EXPECT_EQ(head[1].reached_alone, 3);
 }
 
 }  // namespace

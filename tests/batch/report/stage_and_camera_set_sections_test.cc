@@ -60,13 +60,76 @@ TEST(StageFunnelSection, CountsEachStageWithEveryStageBeforeItAndTheFaultsApart)
   EXPECT_EQ(row["stages"][1]["reached"], 2);
   EXPECT_EQ(row["stages"][2]["reached"], 1);
 
+  EXPECT_EQ(row["stages"][2]["reached_alone"], 1);
+
   TextTable table;
   Table(SweepTables(summary), "stage_funnel", &table);
   ASSERT_EQ(table.name, "stage_funnel");
-  ASSERT_EQ(table.rows.size(), 1U);
-  EXPECT_EQ(table.rows[0][6], "target_approached 60.0, target_grasped 40.0, target_lifted 20.0");
-  EXPECT_EQ(table.rows[0][7], "20.0");
-  EXPECT_EQ(table.rows[0][8], "1");
+  EXPECT_EQ(table.header,
+            (std::vector<std::string>{"policy", "task", "robot", "split", "stage", "head %", "head alone %"}));
+  ASSERT_EQ(table.rows.size(), 3U);
+  EXPECT_EQ(table.rows[0], (std::vector<std::string>{"expert", "clutter-pick-cube", "gr1t2", "id", "target_approached",
+                                                     "60.0", "60.0"}));
+  EXPECT_EQ(table.rows[2][5], "20.0");
+  TextTable episodes;
+  Table(SweepTables(summary), "stage_funnel_episodes", &episodes);
+  ASSERT_EQ(episodes.rows.size(), 1U);
+  EXPECT_EQ(episodes.rows[0],
+            (std::vector<std::string>{"expert", "clutter-pick-cube", "gr1t2", "id", "head", "5", "20.0", "1"}));
+  for (const TextTable& any : SweepTables(summary)) {
+    for (const std::vector<std::string>& row_cells : any.rows)
+      EXPECT_EQ(row_cells.size(), any.header.size()) << any.name;
+  }
+}
+
+// A cue task's episodes as both protocols see them: the head fixates the cue in episodes 0 and 1,
+// the fixed camera never can; both approach, grasp and lift in episodes 0 to 2.
+CellEpisodes CueCell(CameraProtocol camera) {
+  CellEpisodes cell;
+  cell.id = ToString(camera);
+  cell.label = "expert";
+  cell.config.task = "conditional-pick";
+  cell.config.robot = "gr1t2";
+  cell.config.split = scenarios::Split::kId;
+  cell.config.camera = camera;
+  for (int i = 0; i < 4; ++i) {
+    cell::EpisodeRecord record;
+    record.episode = i;
+    record.success = i < 3;
+    record.end = record.success ? engine::EpisodeEnd::kSuccess : engine::EpisodeEnd::kTimeOut;
+    record.length_steps = 100;
+    const bool fixated = camera == CameraProtocol::kHead && i < 2;
+    record.stages = {{"cue_fixated", fixated ? 5 : -1},
+                     {"target_approached", i < 3 ? 10 : -1},
+                     {"target_grasped", i < 3 ? 20 : -1},
+                     {"target_lifted", i < 3 ? 30 : -1}};
+    cell.episodes.push_back(record);
+  }
+  return cell;
+}
+
+TEST(StageFunnelSection, AFixedCellSkipsTheGazeStageAndSitsBesideItsHeadCell) {
+  const nlohmann::ordered_json summary =
+      SweepSummaryJson({{"episodes", 4}}, {CueCell(CameraProtocol::kHead), CueCell(CameraProtocol::kFixed)});
+  ASSERT_EQ(summary["stages"].size(), 2U);
+  const auto& fixed = summary["stages"][1];
+  EXPECT_EQ(fixed["camera"], "fixed");
+  EXPECT_FALSE(fixed["stages"][0]["applies"].get<bool>());
+  EXPECT_TRUE(fixed["stages"][0]["reached"].is_null());
+  EXPECT_EQ(fixed["stages"][1]["reached"], 3) << "approached without the gaze it could not make";
+  EXPECT_EQ(fixed["stages"][3]["reached"], 3);
+
+  TextTable table;
+  Table(SweepTables(summary), "stage_funnel", &table);
+  EXPECT_EQ(table.header, (std::vector<std::string>{"policy", "task", "robot", "split", "stage", "head %",
+                                                    "head alone %", "fixed %", "fixed alone %"}));
+  ASSERT_EQ(table.rows.size(), 4U) << "one row per stage, the cameras side by side";
+  EXPECT_EQ(table.rows[0], (std::vector<std::string>{"expert", "conditional-pick", "gr1t2", "id", "cue_fixated", "50.0",
+                                                     "50.0", "n/a", "n/a"}));
+  EXPECT_EQ(table.rows[1], (std::vector<std::string>{"expert", "conditional-pick", "gr1t2", "id", "target_approached",
+                                                     "50.0", "75.0", "75.0", "75.0"}));
+  EXPECT_EQ(table.rows[3][4], "target_lifted");
+  EXPECT_EQ(table.rows[3][7], "75.0");
 }
 
 TEST(CameraSetPairs, PairEachSetWithHeadEpisodeByEpisode) {
