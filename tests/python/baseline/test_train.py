@@ -91,7 +91,7 @@ def folder_bytes(folder):
 
 def test_overwrite_keeps_the_old_checkpoint_whole_until_the_new_one_is_saved(demo_dataset, tmp_path, monkeypatch):
     out = tmp_path / "ckpt"
-    assert run(demo_dataset, out, "--steps", "20", "--seed", "1") == 0
+    assert run(demo_dataset, out, "--steps", "2", "--seed", "1", "--log-every", "1") == 0
     before = folder_bytes(out)
     assert sorted(before) == sorted(CHECKPOINT_FILES) and len(log_losses(out)) == 2
 
@@ -101,7 +101,7 @@ def test_overwrite_keeps_the_old_checkpoint_whole_until_the_new_one_is_saved(dem
 
     monkeypatch.setattr(checkpoint, "save", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        run(demo_dataset, out, "--steps", "20", "--seed", "2", "--overwrite")
+        run(demo_dataset, out, "--steps", "1", "--seed", "2", "--overwrite")
     monkeypatch.undo()
     after = folder_bytes(out)
     assert {name: after[name] for name in CHECKPOINT_FILES} == before
@@ -109,14 +109,14 @@ def test_overwrite_keeps_the_old_checkpoint_whole_until_the_new_one_is_saved(dem
     # Interrupted inside the save, after some new files were written: still nothing replaced.
     monkeypatch.setattr(torch, "save", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        run(demo_dataset, out, "--steps", "20", "--seed", "2", "--overwrite")
+        run(demo_dataset, out, "--steps", "1", "--seed", "2", "--overwrite")
     monkeypatch.undo()
     after = folder_bytes(out)
     assert {name: after[name] for name in CHECKPOINT_FILES} == before
 
     # The leftovers of those runs are the trainer's own: the next --overwrite replaces them, and the
     # checkpoint it saves holds the new run's log alone.
-    assert run(demo_dataset, out, "--steps", "10", "--seed", "2", "--overwrite") == 0
+    assert run(demo_dataset, out, "--steps", "1", "--seed", "2", "--overwrite") == 0
     assert sorted(path.name for path in out.iterdir()) == sorted(CHECKPOINT_FILES)
     assert len(log_losses(out)) == 1
     assert (out / "model.pt").read_bytes() != before["model.pt"]
@@ -136,7 +136,7 @@ def test_overwrite_replaces_only_a_checkpoint(demo_dataset, tmp_path, capsys):
 
 def test_the_rate_is_logged_and_summarised(demo_dataset, tmp_path):
     out = tmp_path / "rate"
-    assert run(demo_dataset, out, "--steps", "20", "--no-compile") == 0
+    assert run(demo_dataset, out, "--steps", "4", "--log-every", "2", "--no-compile") == 0
     summary = json.loads((out / "training.json").read_text())
     assert summary["step_mode"] == "eager"  # the CPU path, whatever the flag
     assert summary["steps_per_s"] > 0 and summary["samples_per_s"] == pytest.approx(16 * summary["steps_per_s"], rel=0.01)
