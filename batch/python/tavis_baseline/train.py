@@ -164,7 +164,7 @@ def train(args):
     def save(step, loss, stopped):
         loop_s = time.monotonic() - loop_start
         extra = dict(summary, steps_done=step, last_loss=None if math.isnan(loss) else loss, stopped=stopped,
-                     wall_s=round(time.monotonic() - started, 2), steps_per_s=round(step / max(loop_s, 1e-9), 2),
+                     wall_s=round(time.monotonic() - started, 2), steps_per_s=round(step / max(loop_s, 1e-9), 3),
                      samples_per_s=round(step * args.batch_size / max(loop_s, 1e-9), 1))
         if len(val_rows):
             extra["validation_l1"] = validation_loss(policy, data, val_rows.to(device), device, args.batch_size)

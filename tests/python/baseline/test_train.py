@@ -139,7 +139,7 @@ def test_the_rate_is_logged_and_summarised(demo_dataset, tmp_path):
     assert run(demo_dataset, out, "--steps", "4", "--log-every", "2", "--no-compile") == 0
     summary = json.loads((out / "training.json").read_text())
     assert summary["step_mode"] == "eager"  # the CPU path, whatever the flag
-    assert summary["steps_per_s"] > 0 and summary["samples_per_s"] == pytest.approx(16 * summary["steps_per_s"], rel=0.01)
+    assert summary["steps_per_s"] > 0 and summary["samples_per_s"] == pytest.approx(16 * summary["steps_per_s"], rel=0.01, abs=0.1)
     for line in (out / "train_log.jsonl").read_text().splitlines():
         entry = json.loads(line)
         assert entry["samples_per_s"] == pytest.approx(16 * entry["steps_per_s"])
@@ -171,3 +171,19 @@ def test_device_side_sampling_draws_what_the_eager_step_draws(demo_dataset):
     with torch.no_grad():
         assert torch.equal(batch_loss(policy, data, rows, None, augment=False),
                            batch_loss(policy, data, rows, None, augment=False, offsets=offsets))
+
+
+def test_the_graphed_step_survives_saves_and_validation_between_steps(demo_dataset, tmp_path, monkeypatch):
+    # The compiled CUDA run's step (train_step.GraphedStep: rows and shifts drawn on the device, its
+    # own optimizer loop), with saves and validation between steps, as far as the CPU allows: here
+    # it runs uncaptured. On CUDA the captured step crashed at the first save with validation, when
+    # tensors the graph read had been freed and the validation's allocations reused them.
+    monkeypatch.setattr(train, "can_compile", lambda device: True)
+    out = tmp_path / "graphed"
+    assert run(demo_dataset, out, "--steps", "6", "--save-every", "2", "--log-every", "2", "--val-episodes", "1") == 0
+    summary = json.loads((out / "training.json").read_text())
+    assert summary["step_mode"] == "device-sampled, uncaptured" and summary["steps_done"] == 6
+    assert np.isfinite(summary["validation_l1"])
+    losses = log_losses(out)
+    assert len(losses) == 3 and np.all(np.isfinite(losses))
+    checkpoint.load(out)
