@@ -44,7 +44,9 @@ def batch_loss(policy, data, rows, generator, augment, loss=None, offsets=None):
             frames = (random_shift(frames, config.shift_px, generator) if generator is not None
                       else random_shift_on_device(frames, config.shift_px))
         images.append(frames)
-    return (loss or policy.loss)(images, batch[STATE], batch[ACTION], batch[f"{ACTION}_is_pad"])
+    draws = policy.training_draws(len(rows), rows.device, generator) if augment else \
+        policy.training_draws(len(rows), rows.device, torch.Generator().manual_seed(0))
+    return (loss or policy.loss)(images, batch[STATE], batch[ACTION], batch[f"{ACTION}_is_pad"], *draws)
 
 
 def can_compile(device):

@@ -95,24 +95,18 @@ def test_overwrite_keeps_the_old_checkpoint_whole_until_the_new_one_is_saved(dem
     before = folder_bytes(out)
     assert sorted(before) == sorted(CHECKPOINT_FILES) and len(log_losses(out)) == 2
 
-    # Interrupted before its first save (Ctrl-C at the save): the old checkpoint, log included, is as it was.
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(checkpoint, "save", interrupted)
-    with pytest.raises(KeyboardInterrupt):
-        run(demo_dataset, out, "--steps", "1", "--seed", "2", "--overwrite")
-    monkeypatch.undo()
-    after = folder_bytes(out)
-    assert {name: after[name] for name in CHECKPOINT_FILES} == before
-
-    # Interrupted inside the save, after some new files were written: still nothing replaced.
-    monkeypatch.setattr(torch, "save", interrupted)
-    with pytest.raises(KeyboardInterrupt):
-        run(demo_dataset, out, "--steps", "1", "--seed", "2", "--overwrite")
-    monkeypatch.undo()
-    after = folder_bytes(out)
-    assert {name: after[name] for name in CHECKPOINT_FILES} == before
+    # Interrupted before its first save (Ctrl-C at the save), then inside the save after some new
+    # files were written: either way the old checkpoint, log included, is as it was.
+    for module, name in ((checkpoint, "save"), (torch, "save")):
+        monkeypatch.setattr(module, name, interrupted)
+        with pytest.raises(KeyboardInterrupt):
+            run(demo_dataset, out, "--steps", "1", "--seed", "2", "--overwrite")
+        monkeypatch.undo()
+        after = folder_bytes(out)
+        assert {name: after[name] for name in CHECKPOINT_FILES} == before, name
 
     # The leftovers of those runs are the trainer's own: the next --overwrite replaces them, and the
     # checkpoint it saves holds the new run's log alone.
