@@ -64,6 +64,7 @@ def arguments(argv):
     parser.add_argument("--head", choices=HEADS, default="l1",
                         help="action head: l1 (regression, the control) or flow (flow matching over the chunk)")
     parser.add_argument("--flow-steps", type=int, default=10, help="flow head: Euler steps when served (1..100)")
+    parser.add_argument("--flow-width", type=int, default=256, help="flow head: channels of its temporal convs")
     parser.add_argument("--episodes", type=int, default=None, help="use only the first N episodes")
     parser.add_argument("--val-episodes", type=int, default=0, help="hold out the last K episodes and report their L1")
     parser.add_argument("--time-budget-s", type=float, default=None,
@@ -92,7 +93,7 @@ def build_policy(data, args):
                             action_dim=action_dim, history_frames=args.history_frames,
                             history_stride=args.history_stride, chunk_size=args.chunk_size,
                             executed_steps=args.executed_steps, shift_px=args.shift_px, head=args.head,
-                            flow_steps=args.flow_steps, noise_seed=args.seed)
+                            flow_steps=args.flow_steps, flow_width=args.flow_width, noise_seed=args.seed)
     quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
     state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std, where=data.stats_path)
     action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions, where=data.stats_path)

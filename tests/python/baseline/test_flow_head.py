@@ -15,7 +15,8 @@ from tavis_baseline import checkpoint
 
 def test_flow_loss_falls_in_100_steps(demo_dataset, tmp_path):
     out = tmp_path / "flow"
-    assert run(demo_dataset, out, "--head", "flow", "--steps", "100", "--seed", "1", "--lr", "1e-3") == 0
+    assert run(demo_dataset, out, "--head", "flow", "--flow-width", "64", "--steps", "100", "--seed", "1",
+               "--lr", "1e-3") == 0
     losses = log_losses(out)
     assert len(losses) == 10 and np.mean(losses[-2:]) < 0.7 * losses[0], losses
     assert json.loads((out / "config.json").read_text())["head"] == "flow"
