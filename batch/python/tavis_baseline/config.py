@@ -11,6 +11,7 @@ IMAGE_PREFIX = "observation.images."
 NECK_STATE_DIMS = {34: [11, 16, 21], 19: [14, 15, 16]}
 NECK_ACTION_DIMS = [14, 15, 16]
 EXECUTED_STEPS_DEFAULT = 1
+HEADS = ("l1", "flow")
 EXECUTION_DEFAULT_WHY = (
     "measured (docs/baselines.md, 'Chunk execution'): the same 30,000-step wait-then-act checkpoint "
     "succeeded in 29.2 % of 96 episodes re-planning every step against 10.4 % with a queue of 10 rows "
@@ -36,6 +37,13 @@ class BaselineConfig:
     # The row of the first target action relative to the observation's row: 1, because a dataset
     # row holds the observation *after* its action (frame t = o_{t+1} with a_t).
     action_offset: int = 1
+    # The action head: "l1" (an MLP regressing the chunk with L1, the control) or "flow" (flow
+    # matching over the chunk, flow_head.py), sampled in flow_steps Euler steps when served, its
+    # noise derived from (noise_seed, the observation) so that served records repeat run to run.
+    head: str = "l1"
+    flow_steps: int = 10
+    flow_width: int = 256
+    noise_seed: int = 0
     cnn_widths: List[int] = field(default_factory=lambda: [32, 64, 96, 128])
     feature_dim: int = 128
     hidden_dim: int = 512
@@ -53,6 +61,11 @@ class BaselineConfig:
                 or not 1 <= self.executed_steps <= self.chunk_size):
             raise ValueError(f"executed_steps {self.executed_steps!r} must be a whole number in 1..chunk_size "
                              f"({self.chunk_size})")
+        if self.head not in HEADS:
+            raise ValueError(f"head must be one of {', '.join(HEADS)}, got {self.head!r}")
+        if not 1 <= self.flow_steps <= 100 or self.flow_width < 8 or self.flow_width % 8:
+            raise ValueError(f"flow_steps {self.flow_steps} must be in 1..100 and flow_width {self.flow_width} "
+                             f"a multiple of 8")
         if len(self.image_size) != 2 or min(self.image_size) < 16:
             raise ValueError(f"image_size {self.image_size} must be (height, width), each >= 16")
         if self.camera == "fixed" and not self.neck_state_dims:

@@ -11,13 +11,16 @@ network looks at every history_stride-th of them (config.history_positions). Ima
 size are resized to config.image_size.
 """
 
+import hashlib
 from collections import deque
 
+import numpy as np
 import torch
 import torch.nn.functional as F
 from torch import nn
 
 from .config import BaselineConfig
+from .flow_head import FlowHead
 
 STATE = "observation.state"
 ACTION = "action"
@@ -60,10 +63,13 @@ class BaselinePolicy(nn.Module):
                                       for _ in config.image_keys)
         self.state_encoder = nn.Sequential(nn.Linear(config.state_dim, config.feature_dim), nn.LayerNorm(config.feature_dim))
         tokens = (len(config.image_keys) + 1) * config.history_frames
-        self.head = nn.Sequential(
-            nn.Linear(tokens * config.feature_dim, config.hidden_dim), nn.SiLU(),
-            nn.Linear(config.hidden_dim, config.hidden_dim), nn.SiLU(),
-            nn.Linear(config.hidden_dim, config.chunk_size * config.action_dim))
+        if config.head == "l1":
+            self.head = nn.Sequential(
+                nn.Linear(tokens * config.feature_dim, config.hidden_dim), nn.SiLU(),
+                nn.Linear(config.hidden_dim, config.hidden_dim), nn.SiLU(),
+                nn.Linear(config.hidden_dim, config.chunk_size * config.action_dim))
+        else:
+            self.flow = FlowHead(tokens * config.feature_dim, config.chunk_size, config.action_dim, config.flow_width)
         self._queue = deque()
 
     @property
@@ -72,19 +78,28 @@ class BaselinePolicy(nn.Module):
         c = self.config
         return {"policy_class": self.name, "camera": c.camera, "image_size_hw": list(c.image_size),
                 "history_frames": c.history_frames, "history_stride": c.history_stride,
-                "chunk_size": c.chunk_size, "executed_steps": c.executed_steps, "chunk_execution": c.chunk_execution,
+                "chunk_size": c.chunk_size, "head": c.head,
+                **({"flow_steps": c.flow_steps, "noise": "from (noise_seed, the observation)"} if c.head == "flow" else {}),
+                "executed_steps": c.executed_steps, "chunk_execution": c.chunk_execution,
                 "client_replan_steps": 1}
 
     # -- the network -----------------------------------------------------------------------------
-    def normalized_chunk(self, images, state):
+    def features(self, images, state):
         """images: list of (B, T, 3, H, W) float in [0, 1], one per config.image_keys; state: (B, T, D).
-        Returns the normalised action chunk (B, chunk_size, action_dim)."""
+        Returns the observation's features (B, T * (cameras + 1) * feature_dim)."""
         batch, steps = state.shape[:2]
         features = [encoder(frames.flatten(0, 1)).view(batch, steps, -1) for encoder, frames in zip(self.encoders, images)]
         state = (state * self.state_keep - self.state_mean) / self.state_std
         features.append(self.state_encoder(state))
-        out = self.head(torch.cat(features, dim=-1).flatten(1))
-        return out.view(batch, self.config.chunk_size, self.config.action_dim)
+        return torch.cat(features, dim=-1).flatten(1)
+
+    def normalized_chunk(self, images, state, noise=None):
+        """The normalised action chunk (B, chunk_size, action_dim): the L1 head's regression, or the
+        flow head's sample from `noise` (B, chunk_size, action_dim)."""
+        features = self.features(images, state)
+        if self.config.head == "flow":
+            return self.flow.sample(features, noise, self.config.flow_steps)
+        return self.head(features).view(features.shape[0], self.config.chunk_size, self.config.action_dim)
 
     def normalize_action(self, action):
         if self.config.camera == "fixed":  # the env zeroes the neck actions: learn to output zero
@@ -92,8 +107,22 @@ class BaselinePolicy(nn.Module):
             action[..., self.config.neck_action_dims] = 0
         return (action - self.action_mean) / self.action_std
 
-    def loss(self, images, state, action, action_is_pad):
-        """Mean L1 between the predicted and target normalised chunks over the non-padded targets."""
+    def training_draws(self, batch, device, generator=None):
+        """The flow head's training noise and times for a batch of `batch` ((noise, t), drawn from the
+        CPU `generator`, or on `device` when None); () for the L1 head, which draws nothing."""
+        if self.config.head != "flow":
+            return ()
+        shape = (batch, self.config.chunk_size, self.config.action_dim)
+        if generator is None:
+            return torch.randn(shape, device=device), torch.rand(batch, device=device)
+        return torch.randn(shape, generator=generator).to(device), torch.rand(batch, generator=generator).to(device)
+
+    def loss(self, images, state, action, action_is_pad, *draws):
+        """The L1 head: mean L1 between the predicted and target normalised chunks over the
+        non-padded targets. The flow head: its velocity loss, with draws = training_draws(...)."""
+        if self.config.head == "flow":
+            noise, t = draws
+            return self.flow.loss(self.features(images, state), self.normalize_action(action), ~action_is_pad, noise, t)
         error = (self.normalized_chunk(images, state).float() - self.normalize_action(action)).abs()
         valid = (~action_is_pad).unsqueeze(-1).to(error.dtype)
         return (error * valid).sum() / (valid.sum() * error.shape[-1]).clamp(min=1)
@@ -136,11 +165,28 @@ class BaselinePolicy(nn.Module):
         was_training = self.training
         self.eval()
         images, state = self._inputs(batch)
-        chunk = self.normalized_chunk(images, state).float() * self.action_std + self.action_mean
+        noise = self.serving_noise(images, state) if self.config.head == "flow" else None
+        chunk = self.normalized_chunk(images, state, noise).float() * self.action_std + self.action_mean
         if self.config.camera == "fixed":
             chunk[..., self.config.neck_action_dims] = 0
         self.train(was_training)
         return chunk[:, :self.config.n_action_steps]
+
+    def serving_noise(self, images, state):
+        """The flow's starting noise for each env, a function of (config.noise_seed, the env's newest
+        observation: its state and its frames as uint8): the same observation gets the same chunk,
+        whichever envs share its batch, so a served episode repeats run after run."""
+        newest = [torch.round(frames[:, -1] * 255).to(torch.uint8).cpu().numpy() for frames in images]
+        states = state[:, -1].float().cpu().numpy()
+        noises = []
+        for env in range(state.shape[0]):
+            digest = hashlib.blake2b(np.int64(self.config.noise_seed).tobytes(), digest_size=8)
+            digest.update(states[env].tobytes())
+            for frames in newest:
+                digest.update(frames[env].tobytes())
+            generator = torch.Generator().manual_seed(int.from_bytes(digest.digest(), "little") & (2 ** 63 - 1))
+            noises.append(torch.randn((self.config.chunk_size, self.config.action_dim), generator=generator))
+        return torch.stack(noises).to(state.device)
 
     @torch.no_grad()
     def select_action(self, batch):

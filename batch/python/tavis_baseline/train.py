@@ -20,7 +20,7 @@ import numpy as np
 import torch
 
 from . import checkpoint, train_output
-from .config import EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, BaselineConfig
+from .config import EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, HEADS, BaselineConfig
 from .dataset import ACTION, STATE, DemoDataset
 from .normalization import QUATERNION_ACTION_DIMS, mean_std
 from .policy import BaselinePolicy
@@ -61,6 +61,10 @@ def arguments(argv):
                         help="rows of each chunk executed per forward pass when served, stored in config.json "
                              f"(1: re-plan every step, the default: {EXECUTION_DEFAULT_WHY}; k > 1: a queue of k rows)".replace("%", "%%"))
     parser.add_argument("--shift-px", type=int, default=4)
+    parser.add_argument("--head", choices=HEADS, default="l1",
+                        help="action head: l1 (regression, the control) or flow (flow matching over the chunk)")
+    parser.add_argument("--flow-steps", type=int, default=10, help="flow head: Euler steps when served (1..100)")
+    parser.add_argument("--flow-width", type=int, default=256, help="flow head: channels of its temporal convs")
     parser.add_argument("--episodes", type=int, default=None, help="use only the first N episodes")
     parser.add_argument("--val-episodes", type=int, default=0, help="hold out the last K episodes and report their L1")
     parser.add_argument("--time-budget-s", type=float, default=None,
@@ -88,7 +92,8 @@ def build_policy(data, args):
     config = BaselineConfig(camera=args.camera, image_size=list(data.image_size), state_dim=state_dim,
                             action_dim=action_dim, history_frames=args.history_frames,
                             history_stride=args.history_stride, chunk_size=args.chunk_size,
-                            executed_steps=args.executed_steps, shift_px=args.shift_px)
+                            executed_steps=args.executed_steps, shift_px=args.shift_px, head=args.head,
+                            flow_steps=args.flow_steps, flow_width=args.flow_width, noise_seed=args.seed)
     quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
     state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std, where=data.stats_path)
     action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions, where=data.stats_path)
@@ -164,7 +169,7 @@ def train(args):
     def save(step, loss, stopped):
         loop_s = time.monotonic() - loop_start
         extra = dict(summary, steps_done=step, last_loss=None if math.isnan(loss) else loss, stopped=stopped,
-                     wall_s=round(time.monotonic() - started, 2), steps_per_s=round(step / max(loop_s, 1e-9), 2),
+                     wall_s=round(time.monotonic() - started, 2), steps_per_s=round(step / max(loop_s, 1e-9), 3),
                      samples_per_s=round(step * args.batch_size / max(loop_s, 1e-9), 1))
         if len(val_rows):
             extra["validation_l1"] = validation_loss(policy, data, val_rows.to(device), device, args.batch_size)

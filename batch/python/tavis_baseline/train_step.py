@@ -44,11 +44,13 @@ def batch_loss(policy, data, rows, generator, augment, loss=None, offsets=None):
             frames = (random_shift(frames, config.shift_px, generator) if generator is not None
                       else random_shift_on_device(frames, config.shift_px))
         images.append(frames)
-    return (loss or policy.loss)(images, batch[STATE], batch[ACTION], batch[f"{ACTION}_is_pad"])
+    draws = policy.training_draws(len(rows), rows.device, generator) if augment else \
+        policy.training_draws(len(rows), rows.device, torch.Generator().manual_seed(0))
+    return (loss or policy.loss)(images, batch[STATE], batch[ACTION], batch[f"{ACTION}_is_pad"], *draws)
 
 
 def can_compile(device):
-    """Whether GraphedStep can run here: CUDA and a PyTorch with torch.compile (2.x)."""
+    """Whether GraphedStep compiles and captures here: CUDA and a PyTorch with torch.compile (2.x)."""
     return device.type == "cuda" and hasattr(torch, "compile")
 
 
@@ -82,50 +84,59 @@ class EagerStep:
 
 
 class GraphedStep:
-    mode = "compiled + CUDA graph"
+    """On CUDA: the compiled step captured as one CUDA graph. A graph replays reads and writes at
+    the addresses it was captured with, so every tensor the step touches is an attribute of this
+    object (rows, offsets, lr, loss_sum, the policy's parameters, the optimizer's state) and lives
+    as long as it: a tensor the step read that was freed would be reused by the next eager
+    allocation (the validation at a save) and the replay would read garbage indices.
+
+    Elsewhere (the CPU tests: no CUDA graphs, no torch.compile on 1.13) the same _body runs
+    uncaptured at every step, with the same device-side sampling, so the step's logic and its
+    interplay with saves and validation are exercised where CUDA is not."""
+
     WARMUP = 3  # eager-stream runs before capture: compile, autotune, allocate the optimizer state
 
     def __init__(self, policy, data, train_rows, batch_size, lr_at, weight_decay, seed, device):
         started = time.monotonic()
-        self.policy, self.lr_at, self.device = policy, lr_at, device
+        self.policy, self.data, self.batch_size, self.lr_at, self.device = policy, data, batch_size, lr_at, device
+        self.captured = device.type == "cuda"
+        self.mode = "compiled + CUDA graph" if self.captured else "device-sampled, uncaptured"
         config = policy.config
-        # Everything the graph reads lives on the GPU before capture: the offsets of the windows
-        # (a Python list would be copied to the device inside the step) and the training rows.
-        offsets = (torch.tensor(config.obs_offsets, dtype=torch.int64, device=device),
-                   torch.tensor(config.action_offsets, dtype=torch.int64, device=device))
-        rows = train_rows.to(device)
-        self.lr = torch.tensor(lr_at(0), dtype=torch.float32, device=device)
-        self.optimizer = torch.optim.AdamW(policy.parameters(), lr=self.lr, weight_decay=weight_decay, fused=True,
-                                           capturable=True)
+        # Everything the step reads lives on the device before capture: the training rows and the
+        # offsets of the windows (a Python list would be copied to the device inside the step).
+        self.rows = train_rows.to(device)
+        self.offsets = (torch.tensor(config.obs_offsets, dtype=torch.int64, device=device),
+                        torch.tensor(config.action_offsets, dtype=torch.int64, device=device))
+        self.parameters = list(policy.parameters())
         self.loss_sum = torch.zeros((), dtype=torch.float32, device=device)
-        compiled_loss = torch.compile(policy.loss)
-        parameters = list(policy.parameters())
-
-        def body():
-            picked = rows[torch.randint(len(rows), (batch_size,), device=device)]
-            with autocast(device, cache_enabled=False):
-                loss = batch_loss(policy, data, picked, None, augment=True, loss=compiled_loss, offsets=offsets)
-            loss.backward()
-            torch.nn.utils.clip_grad_norm_(parameters, 1.0)
-            self.optimizer.step()
-            self.loss_sum.add_(loss.detach())
+        self._steps = 0
+        if not self.captured:
+            self.lr = None
+            self.optimizer = torch.optim.AdamW(self.parameters, lr=lr_at(0), weight_decay=weight_decay)
+            self.loss_function = policy.loss
+            self.prepare_s = time.monotonic() - started
+            return
+        self.lr = torch.tensor(lr_at(0), dtype=torch.float32, device=device)
+        self.optimizer = torch.optim.AdamW(self.parameters, lr=self.lr, weight_decay=weight_decay, fused=True,
+                                           capturable=True)
+        self.loss_function = torch.compile(policy.loss)
 
         # The warm-up steps change the weights and the optimizer's moments: keep the initial weights
         # and put them back after capture (capturing runs nothing), so the first replay is step 0.
-        initial = [p.detach().clone() for p in parameters]
+        initial = [p.detach().clone() for p in self.parameters]
         side = torch.cuda.Stream(device)
         side.wait_stream(torch.cuda.current_stream(device))
         with torch.cuda.stream(side):
             for _ in range(self.WARMUP):
                 self.optimizer.zero_grad(set_to_none=True)
-                body()
+                self._body()
         torch.cuda.current_stream(device).wait_stream(side)
         self.optimizer.zero_grad(set_to_none=True)  # backward in the graph then writes, not adds, the grads
         self.graph = torch.cuda.CUDAGraph()
         with torch.cuda.graph(self.graph):
-            body()
+            self._body()
         with torch.no_grad():
-            for parameter, value in zip(parameters, initial):
+            for parameter, value in zip(self.parameters, initial):
                 parameter.copy_(value)
             for state in self.optimizer.state.values():
                 for value in state.values():
@@ -134,12 +145,29 @@ class GraphedStep:
             self.loss_sum.zero_()
         torch.cuda.manual_seed(seed)  # the graph reads the generator's seed and offset at each replay
         torch.cuda.synchronize(device)
-        self._steps = 0
         self.prepare_s = time.monotonic() - started
 
+    def _body(self):
+        """The step, reading and writing only this object's tensors (see the class's note)."""
+        picked = self.rows[torch.randint(len(self.rows), (self.batch_size,), device=self.device)]
+        with autocast(self.device, cache_enabled=False):
+            loss = batch_loss(self.policy, self.data, picked, None, augment=True, loss=self.loss_function,
+                              offsets=self.offsets)
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(self.parameters, 1.0)
+        self.optimizer.step()
+        with torch.no_grad():
+            self.loss_sum.add_(loss.detach())
+
     def run(self, step):
-        self.lr.fill_(self.lr_at(step))
-        self.graph.replay()
+        if self.captured:
+            self.lr.fill_(self.lr_at(step))
+            self.graph.replay()
+        else:
+            for group in self.optimizer.param_groups:
+                group["lr"] = self.lr_at(step)
+            self.optimizer.zero_grad(set_to_none=True)
+            self._body()
         self._steps += 1
 
     def window_loss(self):
