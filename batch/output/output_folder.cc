@@ -253,7 +253,7 @@ void RefuseLink(const fs::path& path) {
 void MakeOwnFolder(const fs::path& dir) {
   RefuseLink(dir);
   std::error_code error;
-  fs::create_directory(dir, error);
+  fs::create_directories(dir, error);
   if (error) throw std::runtime_error("cannot create " + dir.string() + ": " + error.message());
   if (!fs::is_directory(fs::symlink_status(dir, error)))
     throw std::invalid_argument(dir.string() + " is not a folder: tavis writes its files into a folder there");

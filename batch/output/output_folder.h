@@ -86,7 +86,7 @@ std::vector<std::filesystem::path> RemoveStaleStagingCopies(const std::filesyste
 void RefuseLink(const std::filesystem::path& path);
 
 // DIR as a folder of tavis's own inside an output (a cell's actions/ or videos/): created when
-// absent (its parent must exist), refused when it is a symbolic link or not a folder.
+// absent (with its parents), refused when it is a symbolic link or not a folder.
 void MakeOwnFolder(const std::filesystem::path& dir);
 
 // True when INNER is OUTER or inside it (both resolved as far as they exist).
