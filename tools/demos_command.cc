@@ -21,6 +21,7 @@
 #include "scenarios/registry.h"
 #include "tools/commands.h"
 #include "tools/error_text.h"
+#include "tools/interrupt_notice.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
 
@@ -75,6 +76,21 @@ batch::output::OutputLock PrepareOutput(const std::string& out, bool overwrite, 
   batch::output::WriteOutputMarker(*replacement ? (*replacement)->staging() : fs::path(out),
                                    batch::output::OutputKind::kDataset);
   return lock;
+}
+
+// What an interrupted recording into `out` kept, and the command that finishes it (Ctrl-C's line):
+// the episodes saved in its spool (batch/dataset/episode_spool.h), which --resume keeps.
+std::string InterruptedDatasetLine(const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::exists(batch::output::StagingFolderOf(out), error)) {
+    return "interrupted: the new dataset was not finished and " + out.string() +
+           " is as it was; run the command again to replace it";
+  }
+  int64_t kept = 0;
+  fs::directory_iterator entry(out / ".tavis_spool", error), end;
+  for (; !error && entry != end; entry.increment(error)) kept += fs::exists(entry->path() / "episode.json") ? 1 : 0;
+  return KeptLine(kept, out, "the dataset", CommandLineWith({"--overwrite", "--resume"}, {}, "--resume"));
 }
 
 nlohmann::ordered_json ReportJson(const batch::dataset::DemoReport& report, const DemosOptions& options) {
@@ -146,6 +162,7 @@ void RunDemos(DemosOptions options) {
   const batch::output::OutputLock lock = PrepareOutput(config.out, options.overwrite, config.resume, &replacement);
   const std::string out = config.out;
   if (replacement) config.out = replacement->staging().string();
+  SetInterruptNotice([out] { return InterruptedDatasetLine(out); });
   batch::dataset::video::ShowOnlyVideoErrors();
   // Until the dataset is finished the folder says so: its files are still FILE.partial and it has
   // no meta/info.json, so no loader takes it for a dataset.

@@ -33,6 +33,7 @@
 #include "tools/cell_options.h"
 #include "tools/commands.h"
 #include "tools/error_text.h"
+#include "tools/interrupt_notice.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
 
@@ -64,10 +65,16 @@ struct EvalOptions {
 
 // --record DIR: a new or empty folder, locked for this run and marked as a dataset tavis writes.
 batch::output::OutputLock PrepareRolloutDataset(const std::string& root, const std::string& cell_out) {
-  namespace fs = std::filesystem;
   batch::output::RequireUsableOutputPath(root);
-  if (fs::exists(root) && fs::exists(cell_out) && fs::equivalent(root, cell_out)) {
-    throw std::invalid_argument("--record " + root + " is the cell's --out: give the dataset a folder of its own");
+  // Neither may hold the other: the dataset would be a foreign file in the cell (blocking its
+  // --resume and --overwrite), or the cell one in the dataset.
+  if (batch::output::IsSameOrInside(root, cell_out)) {
+    throw std::invalid_argument("--record " + root + " is inside the cell's --out " + cell_out +
+                                ": give the dataset a folder of its own, outside the cell");
+  }
+  if (batch::output::IsSameOrInside(cell_out, root)) {
+    throw std::invalid_argument("--out " + cell_out + " is inside --record " + root +
+                                ": give the cell a folder of its own, outside the dataset");
   }
   if (!batch::output::HoldsNoResults(root))
     throw std::invalid_argument("--record " + root + " already holds files: give a new or empty folder");
@@ -111,6 +118,9 @@ class EvalRollouts {
     attached.on_record = [this](const batch::cell::EpisodeRecord& episode) {
       videos_->RecordFinished(episode);
       if (recording_) recording_->RecordFinished(episode);
+    };
+    attached.records_kept = [this](const std::vector<batch::cell::EpisodeRecord>& resumed) {
+      return videos_->RecordsKept(resumed);
     };
     return attached;
   }
@@ -156,10 +166,25 @@ class EvalRollouts {
   std::unique_ptr<batch::rollout::CellRecording> recording_;
 };
 
+// What an interrupted cell in `out` kept, and the command that finishes it (Ctrl-C's line).
+std::string InterruptedCellLine(const std::filesystem::path& out, const std::string& resume_command) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::exists(batch::output::StagingFolderOf(out), error)) {
+    return "interrupted before the new cell recorded an episode: " + out.string() +
+           " is as it was; run the command again to replace it";
+  }
+  if (!fs::exists(out / "cell.json", error)) {
+    return "interrupted before " + out.string() + " held a cell: nothing was kept; run the command again";
+  }
+  return KeptLine(CompleteLines(out / "episodes.jsonl"), out, "the cell", resume_command);
+}
+
 // One cell into `out` (batch/cell/cell_folder.h): its records streamed as episodes end (an
-// interrupted cell keeps them and --resume continues after them), the summary written last.
+// interrupted cell keeps them and --resume continues after them, which `resume_command` does: Ctrl-C
+// says so), the summary written last.
 batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
-                                const std::string& out) {
+                                const std::string& out, const std::string& resume_command) {
   batch::output::RequireUsableOutputPath(out);
   batch::cell::CellPlan plan = PlanCellNamingFlags(cell);  // a bad setting must not touch what --out holds
   std::optional<batch::output::OutputLock> record_lock;
@@ -178,6 +203,7 @@ batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, c
     folder.progress = [&reporter](int64_t done, int64_t total) { reporter.Update("", done, total); };
   }
   EvalRollouts rollouts(options);
+  SetInterruptNotice([out, resume_command] { return InterruptedCellLine(out, resume_command); });
   return batch::cell::RunCellInFolder(
       std::move(plan), folder,
       [&rollouts, &out](const batch::cell::CellPlan& planned, const std::function<std::filesystem::path()>& where) {
@@ -202,8 +228,12 @@ void RunSuite(batch::cell::EvaluationCellConfig cell, const EvalOptions& options
   for (const std::string& task : tasks) {
     cell.task = task;
     try {
-      const batch::cell::CellResult result =
-          RunCell(cell, options, threads, base + "/" + DefaultCellDirName(cell, false));
+      const std::string cell_out = base + "/" + DefaultCellDirName(cell, false);
+      // A suite does not resume as a whole: the interrupted cell does, as a cell of its own.
+      const std::string resume =
+          CommandLineWith({"--overwrite", "--resume"}, {"--suite", "--out"},
+                          "--task " + ShellWord(task) + " --out " + ShellWord(cell_out) + " --resume");
+      const batch::cell::CellResult result = RunCell(cell, options, threads, cell_out, resume);
       rate_sum += static_cast<double>(result.successes) / static_cast<double>(result.episodes.size());
       successes += result.successes;
       episodes += static_cast<int>(result.episodes.size());
@@ -243,7 +273,8 @@ void RunEval(const EvalOptions& options) {
   }
   scenarios::FindScenario(cell.task);  // fail fast on an unknown task, before any work
   RunCell(cell, options, threads,
-          options.out.empty() ? "results/" + DefaultCellDirName(cell, options.one_episode) : options.out);
+          options.out.empty() ? "results/" + DefaultCellDirName(cell, options.one_episode) : options.out,
+          CommandLineWith({"--overwrite", "--resume"}, {}, "--resume"));
 }
 
 // --videos and --record: what the cell's rollouts leave beside its records.

@@ -6,6 +6,7 @@
 
 #include "tools/build_version.h"
 #include "tools/commands.h"
+#include "tools/interrupt_notice.h"
 
 namespace {
 
@@ -25,6 +26,8 @@ std::string SubcommandNames(const CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First: every thread started later inherits the blocked signals, which only the watcher takes.
+  tavis::tools::WatchForInterrupts(argc, argv);
   CLI::App app{"tavis: batched CPU simulator and evaluation harness for the TAVIS benchmark"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tavis ") + tavis::tools::BuildVersion());

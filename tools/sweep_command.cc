@@ -20,6 +20,7 @@
 #include "configs/input_file.h"
 #include "tools/commands.h"
 #include "tools/error_text.h"
+#include "tools/interrupt_notice.h"
 #include "tools/option_parsing.h"
 
 namespace tavis::tools {
@@ -52,6 +53,17 @@ std::string ReadSpecText(const std::string& path) {
   return text.str();
 }
 
+// What an interrupted sweep in `out` kept (its cells' complete episodes) and the command that
+// finishes it: the same one (Ctrl-C's line).
+std::string InterruptedSweepLine(const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  int64_t kept = 0;
+  std::error_code error;
+  fs::directory_iterator cell(out / "cells", error), end;
+  for (; !error && cell != end; cell.increment(error)) kept += CompleteLines(cell->path() / "episodes.jsonl");
+  return KeptLine(kept, out, "the sweep, run the same command", CommandLineWith({}, {}, ""));
+}
+
 void RunSweepCommand(const SweepOptions& options) {
   batch::sweep::SweepRunOptions run;
   run.spec_yaml = ReadSpecText(options.spec_file);
@@ -69,6 +81,7 @@ void RunSweepCommand(const SweepOptions& options) {
   // A status line rewritten in place only makes sense on a terminal; a log gets the cell lines.
   run.quiet = options.quiet || isatty(STDERR_FILENO) == 0;
   run.videos = options.videos;
+  SetInterruptNotice([out = std::filesystem::path(run.out_dir)] { return InterruptedSweepLine(out); });
   batch::sweep::RunSweep(spec, run);
   std::cout << (run.shard.count == 1 ? "sweep complete: " : "shard " + options.shard + " complete: ") << run.out_dir
             << (run.shard.count == 1 ? " (summary.json, tables/, report.html)"

@@ -1,5 +1,6 @@
 #include "batch/cell/cell_folder.h"
 
+#include <iostream>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -82,12 +83,23 @@ void PrependResumed(const CellRecordStream& stream, CellResult& result) {
 CellResult RunCellInFolder(CellPlan plan, const CellFolderOptions& options, const AttachToCell& attach) {
   LockedCellFolder folder(options);
   const std::unique_ptr<CellRecordStream> stream = OpenStream(folder, plan, options.resume);
+  const std::function<fs::path()> where = [&folder] { return folder.current(); };
   plan.ContinueFrom(stream->next_episode());
-  const CellAttachments attached = attach ? attach(plan, [&folder] { return folder.current(); }) : CellAttachments{};
+  CellAttachments attached = attach ? attach(plan, where) : CellAttachments{};
+  if (attached.records_kept && !stream->resumed().empty()) {
+    const std::size_t kept = attached.records_kept(stream->resumed());
+    if (kept < stream->resumed().size()) {
+      std::cerr << "note: episode " << stream->resumed()[kept].episode << " of " << options.out.string()
+                << " has no finished video: the cell resumes from it\n";
+      stream->KeepResumed(kept);
+      plan.ContinueFrom(stream->next_episode());
+      attached = attach(plan, where);
+    }
+  }
   const RecordCallback record = [&stream, &folder, &attached](const EpisodeRecord& episode) {
+    if (attached.on_record) attached.on_record(episode);
     stream->Write(episode);
     folder.SwapIn(*stream);
-    if (attached.on_record) attached.on_record(episode);
   };
   CellResult result;
   try {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "batch/cell/cell_plan.h"
 #include "batch/cell/episode_recorder.h"
@@ -33,10 +34,17 @@ struct CellFolderOptions {
 
 // What a caller plugs in beside the cell's records (episode videos, a rollout dataset).
 struct CellAttachments {
-  CellSinks sinks;                                      // beside the cell's recorder
-  std::function<void(const EpisodeRecord&)> on_record;  // each record, once it is written
+  CellSinks sinks;  // beside the cell's recorder
+  // Each record, just before it is written: what is finished with it (an episode's video) is on
+  // disk before the record says the episode is done, so a kill between them costs a rerun, not a
+  // video.
+  std::function<void(const EpisodeRecord&)> on_record;
   // Once summary.json is written, while the folder is still locked (what is written beside it).
   std::function<void(const CellResult&)> finish;
+  // For a resumed cell: how many of its records stand, those before the first whose attachment
+  // is missing (a filmed episode without its finished video); the rest run again, giving the same
+  // records. Absent: all stand.
+  std::function<std::size_t(const std::vector<EpisodeRecord>& resumed)> records_kept;
 };
 // Makes the attachments once the folder holds the cell's settings and the plan its first episode
 // still to run; `folder` says where the cell is at each moment (an --overwrite's new cell lies

@@ -1,5 +1,8 @@
 #include "batch/cell/cell_record_stream.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -95,11 +98,16 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
   const fs::path cell_json = fs::path(dir_) / "cell.json";
   const nlohmann::json settings = CellSettingsJson(plan);
   const fs::path episodes_path = fs::path(dir_) / "episodes.jsonl";
+  std::uintmax_t kept_bytes = 0;
   if (resume) {
     if (!fs::exists(cell_json))
       throw Advice(output::SettingKey("resume") + ": " + dir_ + " holds no cell (no cell.json)");
     if (fs::exists(fs::path(dir_) / "summary.json"))
       throw Advice(output::SettingKey("resume") + ": " + dir_ + " is complete (it has summary.json)");
+    // What a resume reads, cuts and appends to is the cell's own: a planted link is refused before
+    // anything is read or written (so a file elsewhere is never truncated nor filled).
+    for (const char* name : {"cell.json", "episodes.jsonl", "actions", "videos"})
+      output::RefuseLink(fs::path(dir_) / name);
     nlohmann::json was;
     try {
       std::ifstream(cell_json) >> was;
@@ -113,7 +121,6 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
     // The complete lines, in order; what follows the last one (a line cut by the interruption) goes.
     std::ifstream in(episodes_path, std::ios::binary);
     std::string line;
-    std::uintmax_t kept_bytes = 0;
     while (std::getline(in, line) && !in.eof()) {
       EpisodeRecord record;
       try {
@@ -124,8 +131,8 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
       if (record.episode != next_episode()) break;
       resumed_.push_back(std::move(record));
       kept_bytes += line.size() + 1;
+      resumed_ends_.push_back(kept_bytes);
     }
-    if (fs::exists(episodes_path)) fs::resize_file(episodes_path, kept_bytes);
   } else {
     if (!output::HoldsNoResults(dir_)) {
       throw Advice(dir_ + " already holds results; give " + output::SettingKey("overwrite") + " to replace them or " +
@@ -135,9 +142,29 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
     output::WriteOutputMarker(dir_, output::OutputKind::kEvalCell);
     output::WriteFileAtomically(cell_json, settings.dump(2) + "\n");
   }
-  episodes_ = std::fopen(episodes_path.c_str(), resume ? "ab" : "wb");
-  if (episodes_ == nullptr)
-    throw std::runtime_error("cannot write " + episodes_path.string() + ": " + std::strerror(errno));
+  OpenEpisodes(episodes_path, resume, kept_bytes);
+}
+
+void CellRecordStream::OpenEpisodes(const std::string& path, bool resume, std::uintmax_t kept_bytes) {
+  // O_NOFOLLOW: the records go into the cell's own file, never through a link to another.
+  const int fd =
+      open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (resume ? 0 : O_TRUNC), 0644);
+  if (fd < 0) {
+    const int reason = errno;
+    if (reason == ELOOP) output::RefuseLink(path);
+    throw std::runtime_error("cannot write " + path + ": " + std::strerror(reason));
+  }
+  if (resume && ftruncate(fd, static_cast<off_t>(kept_bytes)) != 0) {
+    const int reason = errno;
+    close(fd);
+    throw std::runtime_error("cannot cut the torn last line of " + path + ": " + std::strerror(reason));
+  }
+  episodes_ = fdopen(fd, "ab");
+  if (episodes_ == nullptr) {
+    const int reason = errno;
+    close(fd);
+    throw std::runtime_error("cannot write " + path + ": " + std::strerror(reason));
+  }
 }
 
 CellRecordStream::~CellRecordStream() {
@@ -145,6 +172,17 @@ CellRecordStream::~CellRecordStream() {
 }
 
 void CellRecordStream::MovedTo(std::string dir) { dir_ = std::move(dir); }
+
+void CellRecordStream::KeepResumed(std::size_t count) {
+  if (count >= resumed_.size() || written_ > 0) return;
+  const std::string path = dir_ + "/episodes.jsonl";
+  if (std::fflush(episodes_) != 0 ||
+      ftruncate(fileno(episodes_), static_cast<off_t>(count == 0 ? 0 : resumed_ends_[count - 1])) != 0)
+    throw std::runtime_error("cannot cut " + path + " to its first " + std::to_string(count) +
+                             " records: " + std::strerror(errno));
+  resumed_.resize(count);
+  resumed_ends_.resize(count);
+}
 
 void CellRecordStream::Write(const EpisodeRecord& record) {
   if (!record.replay_actions.empty()) WriteReplayCsv(record, dir_);

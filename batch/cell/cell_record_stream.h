@@ -3,7 +3,8 @@
 // appended to DIR/episodes.jsonl and flushed as soon as it and every earlier episode have ended
 // (with the episode's DIR/actions/episode_<i>.csv when its actions are kept for replay), so an interrupted cell keeps
 // its complete episodes; summary.json comes last (WriteCellSummary) and marks the cell complete. A resumed cell keeps
-// the complete lines and continues after them.
+// the complete lines and continues after them. No file of the cell is written through a symbolic
+// link: a link planted at one is refused, naming it.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,9 @@ class CellRecordStream {
   // The first episode still to run.
   int64_t next_episode() const { return episode_start_ + static_cast<int64_t>(resumed_.size()); }
 
+  // Keeps only the first `count` resumed records (before anything is written): the others run
+  // again, e.g. a filmed episode whose video was never finished.
+  void KeepResumed(std::size_t count);
   // Appends the record (the next episode) and flushes it.
   void Write(const EpisodeRecord& record);
   // The folder was renamed to DIR (an --overwrite swapping its new cell in); the open
@@ -44,10 +48,14 @@ class CellRecordStream {
   int64_t written() const { return written_; }
 
  private:
+  // Opens DIR/episodes.jsonl to append (a resumed one cut to its `kept_bytes` of complete lines).
+  void OpenEpisodes(const std::string& path, bool resume, std::uintmax_t kept_bytes);
+
   std::string dir_;
   uint64_t seed_;
   int64_t episode_start_;
   std::vector<EpisodeRecord> resumed_;
+  std::vector<std::uintmax_t> resumed_ends_;  // [i]: the bytes of episodes.jsonl up to resumed_[i]'s line
   std::FILE* episodes_ = nullptr;
   int64_t written_ = 0;
 };

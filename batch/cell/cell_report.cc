@@ -16,6 +16,7 @@
 #include "batch/cell/stage_record.h"
 #include "batch/cell/statistics.h"
 #include "batch/output/atomic_file.h"
+#include "batch/output/output_folder.h"
 #include "batch/remote/value_json.h"
 
 namespace tavis::batch::cell {
@@ -92,10 +93,10 @@ std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
 
 void WriteReplayCsv(const EpisodeRecord& record, const std::filesystem::path& out_dir) {
   const std::filesystem::path dir = out_dir / "actions";
-  std::filesystem::create_directories(dir);
+  output::MakeOwnFolder(dir);  // never a link to elsewhere
   const std::filesystem::path path = dir / ("episode_" + std::to_string(record.episode) + ".csv");
-  WriteActionCsv(path.string() + ".partial", record.replay_actions);
-  std::filesystem::rename(path.string() + ".partial", path);
+  WriteActionCsv(output::FreshPartialPath(path), record.replay_actions);
+  output::RenamePartialIntoPlace(path);
 }
 
 void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir) {

@@ -1,25 +1,60 @@
 #include "batch/output/atomic_file.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
-#include <system_error>
 
 namespace tavis::batch::output {
+namespace {
+
+std::string PartialOf(const std::filesystem::path& path) { return path.string() + ".partial"; }
+
+std::runtime_error WriteError(const std::string& file, int reason) {
+  return std::runtime_error("cannot write " + file + ": " + std::strerror(reason));
+}
+
+}  // namespace
+
+std::filesystem::path FreshPartialPath(const std::filesystem::path& path) {
+  const std::string temporary = PartialOf(path);
+  if (::unlink(temporary.c_str()) != 0 && errno != ENOENT) throw WriteError(temporary, errno);
+  return temporary;
+}
+
+void RenamePartialIntoPlace(const std::filesystem::path& path) {
+  const std::string temporary = PartialOf(path);
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    throw std::runtime_error("cannot rename " + temporary + " to " + path.string() + ": " + std::strerror(errno));
+  }
+}
 
 void WriteFileAtomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path temporary = path.string() + ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    if (!out) throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
-    out << text;
-    if (!out.flush()) throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
+  const std::string temporary = FreshPartialPath(path).string();
+  // O_EXCL: a file (or link) that appeared at the name meanwhile is refused, not written through.
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) throw WriteError(temporary, errno);
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t wrote = ::write(fd, text.data() + done, text.size() - done);
+    if (wrote < 0 && errno == EINTR) continue;
+    if (wrote <= 0) {
+      const int reason = wrote < 0 ? errno : ENOSPC;
+      ::close(fd);
+      ::unlink(temporary.c_str());
+      throw WriteError(temporary, reason);
+    }
+    done += static_cast<std::size_t>(wrote);
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error)
-    throw std::runtime_error("cannot rename " + temporary.string() + " to " + path.string() + ": " + error.message());
+  if (::close(fd) != 0) {
+    const int reason = errno;
+    ::unlink(temporary.c_str());
+    throw WriteError(temporary, reason);
+  }
+  RenamePartialIntoPlace(path);
 }
 
 }  // namespace tavis::batch::output

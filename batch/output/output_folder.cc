@@ -1,6 +1,8 @@
 #include "batch/output/output_folder.h"
 
 #include <fcntl.h>
+#include <fnmatch.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -12,7 +14,7 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
-#include <set>
+#include <iostream>
 #include <stdexcept>
 #include <system_error>
 
@@ -29,14 +31,37 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// What tavis writes at the top of each kind of folder. FILE.partial is an atomic write cut short.
-const std::set<std::string>& OwnEntries(OutputKind kind) {
-  static const std::set<std::string> cell = {"cell.json",    "episodes.jsonl", "summary.json",
-                                             "profile.json", "actions",        "videos"};
-  static const std::set<std::string> dataset = {"meta",         "data",       "videos",
-                                                ".tavis_spool", "INCOMPLETE", "tavis_demos.json"};
-  static const std::set<std::string> sweep = {"manifest.json", "cells",   "summary.json",
-                                              "tables",        "figures", "report.html"};
+// What tavis writes in each kind of folder, at every depth, as fnmatch patterns of the path
+// inside it (a folder's with a trailing '/'). A name's ".partial" is an atomic write cut short (a
+// file, or a video's frame folder being filled), matched as the name it was to become.
+const std::vector<std::string>& OwnPaths(OutputKind kind) {
+  // An evaluation cell's files, under `prefix` (a sweep's cells/NAME/).
+  const auto cell_paths = [](const std::string& prefix) {
+    return std::vector<std::string>{prefix + "cell.json",         prefix + "episodes.jsonl",
+                                    prefix + "summary.json",      prefix + "profile.json",
+                                    prefix + "actions/",          prefix + "actions/episode_*.csv",
+                                    prefix + "videos/",           prefix + "videos/episode_*.mp4",
+                                    prefix + "videos/episode_*/", prefix + "videos/episode_*/frame_*.png"};
+  };
+  static const std::vector<std::string> cell = cell_paths("");
+  static const std::vector<std::string> dataset = {
+      "tavis_demos.json", "tavis_rollouts.jsonl", "INCOMPLETE",
+      // LeRobot v3.0 and v2.1
+      "meta/", "meta/info.json", "meta/stats.json", "meta/tasks.parquet", "meta/tasks.jsonl", "meta/episodes.jsonl",
+      "meta/episodes_stats.jsonl", "meta/episodes/", "meta/episodes/chunk-*/", "meta/episodes/chunk-*/file-*.parquet",
+      "data/", "data/chunk-*/", "data/chunk-*/file-*.parquet", "data/chunk-*/episode_*.parquet", "videos/", "videos/*/",
+      "videos/*/chunk-*/", "videos/*/chunk-*/file-*.mp4", "videos/chunk-*/*/episode_*.mp4",
+      // the episodes recorded so far (batch/dataset/episode_spool.h)
+      ".tavis_spool/", ".tavis_spool/episode_*/", ".tavis_spool/episode_*/data.parquet",
+      ".tavis_spool/episode_*/*.packets", ".tavis_spool/episode_*/episode.json"};
+  static const std::vector<std::string> sweep = [&cell_paths] {
+    std::vector<std::string> paths = {"manifest.json",      "summary.json",  "report.html",  "tables/",
+                                      "tables/*.md",        "tables/*.csv",  "tables/*.tex", "figures/",
+                                      "figures/*.svg",      "figures/*.png", "cells/",       "cells/*/",
+                                      "cells/*/policy.json"};
+    for (const std::string& path : cell_paths("cells/*/")) paths.push_back(path);
+    return paths;
+  }();
   switch (kind) {
     case OutputKind::kEvalCell: return cell;
     case OutputKind::kDataset: return dataset;
@@ -59,6 +84,29 @@ bool IsBookkeeping(const std::string& name) { return name == kOutputMarkerFile |
 
 bool EndsWith(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// "videos/episode_3.partial/frame_00000.png" as "videos/episode_3/frame_00000.png": what an
+// interrupted write would have become.
+std::string WithoutPartial(const fs::path& relative) {
+  std::string text;
+  for (const fs::path& part : relative) {
+    std::string name = part.string();
+    if (EndsWith(name, ".partial")) name.resize(name.size() - std::strlen(".partial"));
+    text += (text.empty() ? "" : "/") + name;
+  }
+  return text;
+}
+
+// True when tavis writes `relative` (a folder when `folder`) in an output of `kind`. Its marker
+// and lock are kept in every folder it writes (a sweep's cells too).
+bool IsOwnPath(const fs::path& relative, bool folder, OutputKind kind) {
+  if (!folder && IsBookkeeping(relative.filename().string())) return true;
+  const std::string path = WithoutPartial(relative) + (folder ? "/" : "");
+  for (const std::string& pattern : OwnPaths(kind)) {
+    if (fnmatch(pattern.c_str(), path.c_str(), FNM_PATHNAME | FNM_PERIOD) == 0) return true;
+  }
+  return false;
 }
 
 std::string MarkerKind(const fs::path& dir) {
@@ -151,12 +199,18 @@ std::vector<std::string> ForeignEntries(const fs::path& dir, OutputKind kind) {
   std::vector<std::string> foreign;
   std::error_code error;
   if (!fs::is_directory(dir, error)) return foreign;
-  const std::set<std::string>& own = OwnEntries(kind);
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (IsBookkeeping(name) || own.count(name) > 0 || EndsWith(name, ".partial")) continue;
-    foreign.push_back(name);
+  // Links are never followed (nor written by tavis): one is foreign wherever it points.
+  fs::recursive_directory_iterator entry(dir, fs::directory_options::none, error), end;
+  for (; !error && entry != end; entry.increment(error)) {
+    const fs::path relative = entry->path().lexically_relative(dir);
+    const bool link = entry->is_symlink(error);
+    const bool folder = !link && entry->is_directory(error);
+    if (!link && IsOwnPath(relative, folder, kind)) continue;
+    foreign.push_back(relative.string() + (folder ? "/" : ""));
+    if (folder) entry.disable_recursion_pending();  // one name says what is in the way
   }
+  // A folder that cannot be read through cannot be vouched for.
+  if (error) foreign.push_back("(unreadable: " + error.message() + ")");
   std::sort(foreign.begin(), foreign.end());
   return foreign;
 }
@@ -189,13 +243,43 @@ void WriteOutputMarker(const fs::path& dir, OutputKind kind) {
   WriteFileAtomically(dir / kOutputMarkerFile, marker.dump() + "\n");
 }
 
+void RefuseLink(const fs::path& path) {
+  std::error_code error;
+  if (!fs::is_symlink(fs::symlink_status(path, error))) return;
+  throw std::invalid_argument(path.string() + " is a symbolic link (to " + fs::read_symlink(path, error).string() +
+                              "); tavis writes its own files and follows no link in its folders: remove the link");
+}
+
+void MakeOwnFolder(const fs::path& dir) {
+  RefuseLink(dir);
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error) throw std::runtime_error("cannot create " + dir.string() + ": " + error.message());
+  if (!fs::is_directory(fs::symlink_status(dir, error)))
+    throw std::invalid_argument(dir.string() + " is not a folder: tavis writes its files into a folder there");
+}
+
+bool IsSameOrInside(const fs::path& inner, const fs::path& outer) {
+  const fs::path resolved_inner = Resolved(inner);
+  const fs::path resolved_outer = Resolved(outer);
+  for (fs::path above = resolved_inner;; above = above.parent_path()) {
+    if (above == resolved_outer) return true;
+    if (above == above.parent_path()) return false;
+  }
+}
+
 OutputLock::OutputLock(const fs::path& dir, const std::string& command) {
   const fs::path path = dir / kOutputLockFile;
   // The file the lock is taken on may be removed by its holder meanwhile (a replaced or failed
   // output): then the lock is taken again on the file the path names now.
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) throw std::runtime_error("cannot create the lock file " + path.string() + ": " + std::strerror(errno));
+    // Not through a link: the holder's note would truncate and fill the file it points to.
+    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0) {
+      const int reason = errno;
+      if (reason == ELOOP) RefuseLink(path);
+      throw std::runtime_error("cannot create the lock file " + path.string() + ": " + std::strerror(reason));
+    }
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int reason = errno;
       const std::string holder = ReadHolder(fd);
@@ -246,17 +330,54 @@ void OutputLock::Release() {
   fd_ = -1;
 }
 
+std::vector<fs::path> RemoveStaleStagingCopies(const fs::path& dir) {
+  std::vector<fs::path> removed;
+  const fs::path resolved = Resolved(dir);
+  const std::string prefix = "." + resolved.filename().string() + ".tavis-new-";
+  std::error_code error;
+  fs::directory_iterator entry(resolved.parent_path(), error), end;
+  for (; !error && entry != end; entry.increment(error)) {
+    const std::string name = entry->path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string pid_text = name.substr(prefix.size());
+    if (pid_text.find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9) continue;
+    std::error_code ignored;
+    if (!fs::is_directory(fs::symlink_status(entry->path(), ignored))) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(pid_text));
+    // Its maker is gone: no process of that number, and nobody holds the copy's lock.
+    if (pid == getpid() || kill(pid, 0) == 0 || errno != ESRCH) continue;
+    const int lock = open((entry->path() / kOutputLockFile).c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    const bool held = lock >= 0 && flock(lock, LOCK_EX | LOCK_NB) != 0;
+    if (lock >= 0) close(lock);
+    if (held) continue;
+    removed.push_back(entry->path());
+  }
+  for (const fs::path& stale : removed) fs::remove_all(stale, error);
+  return removed;
+}
+
 OutputLock CreateAndLockOutput(const fs::path& dir, const std::string& command) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw std::runtime_error("cannot create " + dir.string() + ": " + error.message());
-  return OutputLock(dir, command);
+  OutputLock lock(dir, command);
+  // Whoever replaced DIR held this lock: a copy it left is stale once it is ours.
+  for (const fs::path& stale : RemoveStaleStagingCopies(dir)) {
+    std::cerr << "note: removed " << stale.string() << ", the unfinished copy an interrupted --overwrite of "
+              << dir.string() << " left\n";
+  }
+  return lock;
+}
+
+fs::path StagingFolderOf(const fs::path& dir) {
+  const fs::path resolved = Resolved(dir);
+  return resolved.parent_path() / ("." + resolved.filename().string() + ".tavis-new-" + std::to_string(getpid()));
 }
 
 OutputReplacement::OutputReplacement(const fs::path& dir, const std::string& command) : dir_(Resolved(dir)) {
   const fs::path name = dir_.filename();
   const fs::path parent = dir_.parent_path();
-  staging_ = parent / ("." + name.string() + ".tavis-new-" + std::to_string(getpid()));
+  staging_ = StagingFolderOf(dir_);
   old_ = parent / ("." + name.string() + ".tavis-old-" + std::to_string(getpid()));
   std::error_code error;
   fs::remove_all(staging_, error);  // one left by an earlier run of this pid number: never a result

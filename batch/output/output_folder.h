@@ -5,7 +5,9 @@
 // A folder is tavis's own when it holds a marker (DIR/.tavis_output, naming the kind) or, for
 // folders written before the marker existed, the kind's signature file (cell.json, manifest.json,
 // tavis_demos.json or INCOMPLETE), AND nothing but the files and folders tavis writes for that
-// kind. Anything else in it (a user's file) makes it foreign: never replaced, never written into.
+// kind, at every depth (a cell's videos/episode_<i>.mp4, a dataset's data/chunk-*/file-*.parquet).
+// Anything else in it (a user's file, a symbolic link) makes it foreign: never replaced, never
+// written into.
 #pragma once
 
 #include <filesystem>
@@ -31,8 +33,9 @@ void RequireUsableOutputPath(const std::filesystem::path& out, const std::string
 // True when DIR is absent, or a folder holding nothing but tavis's marker and lock files.
 bool HoldsNoResults(const std::filesystem::path& dir);
 
-// The entries at the top of DIR that tavis does not write for `kind`, sorted (empty when DIR
-// holds only tavis's files of that kind).
+// The entries in DIR, at any depth, that tavis does not write for `kind`, as paths inside DIR
+// (a folder's with a trailing '/', and nothing listed inside it), sorted; empty when DIR holds
+// only tavis's files of that kind. A symbolic link is always foreign.
 std::vector<std::string> ForeignEntries(const std::filesystem::path& dir, OutputKind kind);
 
 // True when DIR is a folder tavis wrote as `kind` (marker or signature file) and holds nothing else.
@@ -69,8 +72,28 @@ class OutputLock {
   int fd_ = -1;
 };
 
-// Creates DIR (and its parents) if absent, then locks it.
+// Creates DIR (and its parents) if absent, then locks it; a staging copy beside it that an
+// interrupted --overwrite left (RemoveStaleStagingCopies) is removed, and said so on stderr.
 OutputLock CreateAndLockOutput(const std::filesystem::path& dir, const std::string& command);
+
+// Removes the ".NAME.tavis-new-PID" folders beside DIR whose process is gone (no process PID
+// here, and their lock is free): what a killed --overwrite was building, never a result. Returns
+// them. A ".NAME.tavis-old-PID" is kept: it may be the only copy of a result whose swap failed.
+std::vector<std::filesystem::path> RemoveStaleStagingCopies(const std::filesystem::path& dir);
+
+// Throws std::invalid_argument naming PATH and where it points when it is a symbolic link: a
+// file tavis writes or appends to in its folder must not send its bytes elsewhere.
+void RefuseLink(const std::filesystem::path& path);
+
+// DIR as a folder of tavis's own inside an output (a cell's actions/ or videos/): created when
+// absent (with its parents), refused when it is a symbolic link or not a folder.
+void MakeOwnFolder(const std::filesystem::path& dir);
+
+// True when INNER is OUTER or inside it (both resolved as far as they exist).
+bool IsSameOrInside(const std::filesystem::path& inner, const std::filesystem::path& outer);
+
+// Where this process's OutputReplacement of DIR builds the new result: ".NAME.tavis-new-PID" beside it.
+std::filesystem::path StagingFolderOf(const std::filesystem::path& dir);
 
 // Replaces a folder tavis wrote (--overwrite) by building the new result beside it: staging() is
 // a fresh, locked folder next to DIR (".NAME.tavis-new-PID"); SwapIn() moves the old folder aside,

@@ -27,4 +27,13 @@ void CellVideos::RecordFinished(const cell::EpisodeRecord& record) {
   if (recorder_) recorder_->RecordFinished(record);
 }
 
+std::size_t CellVideos::RecordsKept(const std::vector<cell::EpisodeRecord>& resumed) const {
+  for (std::size_t i = 0; i < resumed.size(); ++i) {
+    const int64_t episode = resumed[i].episode;
+    const bool filmed = episode >= cell_start_ && episode - cell_start_ < settings_.episodes;
+    if (filmed && !HasFinishedVideo(folder_(), episode, settings_.format)) return i;
+  }
+  return resumed.size();
+}
+
 }  // namespace tavis::batch::rollout

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "batch/cell/evaluation_cell.h"
 #include "batch/rollout/episode_videos.h"
@@ -24,8 +25,11 @@ class CellVideos {
   // For cell::RunEvaluationCell: no sink when no episode is filmed, or when none of the episodes
   // still to run (a resumed cell) is among the filmed ones.
   cell::CellSinks Sinks();
-  // Call with every record the cell writes.
+  // Call with every record the cell writes, before it is written.
   void RecordFinished(const cell::EpisodeRecord& record);
+  // For a resumed cell (cell::CellAttachments::records_kept): how many of its records come
+  // before the first filmed episode without its finished video in folder().
+  std::size_t RecordsKept(const std::vector<cell::EpisodeRecord>& resumed) const;
   int64_t videos_written() const { return recorder_ ? recorder_->videos_written() : 0; }
 
  private:

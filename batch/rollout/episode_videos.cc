@@ -7,6 +7,8 @@
 #include <tbb/parallel_for.h>
 
 #include "batch/dataset/video/video_writer.h"
+#include "batch/output/atomic_file.h"
+#include "batch/output/output_folder.h"
 #include "batch/output/setting_error.h"
 #include "batch/rollout/observed_cameras.h"
 #include "batch/rollout/video_frame.h"
@@ -101,6 +103,12 @@ std::string EpisodeVideoName(int64_t episode, VideoFormat format) {
   return "episode_" + std::to_string(episode) + (format == VideoFormat::kMp4 ? ".mp4" : "");
 }
 
+bool HasFinishedVideo(const fs::path& videos, int64_t episode, VideoFormat format) {
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(videos / EpisodeVideoName(episode, format), error);
+  return format == VideoFormat::kMp4 ? fs::is_regular_file(status) : fs::is_directory(status);
+}
+
 EpisodeVideoRecorder::EpisodeVideoRecorder(const VecEnv& vec_env, EpisodeVideoSettings settings,
                                            std::vector<std::string> cameras, int64_t cell_start,
                                            std::function<fs::path()> folder)
@@ -151,9 +159,11 @@ void EpisodeVideoRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   if (settings_.format == VideoFormat::kMp4) {
     film->encoder.emplace(video_, EpisodeVideoName(episode, settings_.format));
   } else {
-    const fs::path frames = folder_() / EpisodeVideoName(episode, settings_.format);
-    fs::remove_all(frames);  // a resumed cell films a rerun episode from its start
-    fs::create_directories(frames);
+    // The frames fill FOLDER.partial, renamed to FOLDER once the last is written (RecordFinished).
+    output::MakeOwnFolder(folder_());
+    const fs::path frames = folder_() / (EpisodeVideoName(episode, settings_.format) + ".partial");
+    fs::remove_all(frames);  // a film cut short, or a link: a rerun episode is filmed from its start
+    fs::create_directory(frames);
   }
 }
 
@@ -173,7 +183,8 @@ void EpisodeVideoRecorder::Write(Film& film, const render::RgbImage& frame) {
   } else {
     char name[32];
     std::snprintf(name, sizeof(name), "frame_%05lld.png", static_cast<long long>(film.frames));
-    render::WritePng((folder_() / EpisodeVideoName(film.episode, settings_.format) / name).string(), frame);
+    render::WritePng((folder_() / (EpisodeVideoName(film.episode, settings_.format) + ".partial") / name).string(),
+                     frame);
   }
   ++film.frames;
 }
@@ -238,16 +249,20 @@ void EpisodeVideoRecorder::RecordFinished(const cell::EpisodeRecord& record) {
       ComposeVideoFrame(views, {StepCaption(film.episode, record.length_control_ticks, ticks_per_frame_, control_hz_) +
                                     StageCaption(record.stages),
                                 OutcomeCaption(record)});
-  const fs::path folder = folder_();
+  // The video takes its name only once whole (a resume films again an episode without it).
+  const fs::path video = folder_() / EpisodeVideoName(film.episode, settings_.format);
   if (film.encoder) {
     for (int hold = 0; hold < kOutcomeFrames; ++hold) Write(film, frame);
     const dataset::video::EncodedEpisode encoded = film.encoder->Finish();
-    fs::create_directories(folder);
-    dataset::video::Mp4VideoWriter writer((folder / EpisodeVideoName(film.episode, settings_.format)).string(), video_);
+    output::MakeOwnFolder(video.parent_path());
+    output::FreshPartialPath(video);  // the writer's VIDEO.partial: a link planted there goes, unfollowed
+    dataset::video::Mp4VideoWriter writer(video.string(), video_);
     writer.AppendEpisode(encoded);
-    writer.Close();
+    writer.Close();  // renames VIDEO.partial to VIDEO
   } else {
     Write(film, frame);
+    fs::remove_all(video);  // an older film of it, rerun
+    output::RenamePartialIntoPlace(video);
   }
   ended_.erase(found);
   ++videos_written_;

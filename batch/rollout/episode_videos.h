@@ -55,8 +55,12 @@ std::vector<std::string> VideoCameras(const EpisodeVideoSettings& settings,
 // in the order it is done), e.g. "   stage 3/4 target_grasped"; empty for a task without stages.
 std::string StageCaption(const std::vector<cell::StageReached>& stages);
 
-// The file name of episode i's video (mp4) or frame folder (png) inside the videos folder.
+// The file name of episode i's video (mp4) or frame folder (png) inside the videos folder. It is
+// written as NAME.partial and renamed to NAME once finished: a video under its name is complete.
 std::string EpisodeVideoName(int64_t episode, VideoFormat format);
+
+// True when VIDEOS holds episode i's finished video (or frame folder).
+bool HasFinishedVideo(const std::filesystem::path& videos, int64_t episode, VideoFormat format);
 
 class EpisodeVideoRecorder : public EpisodeSink {
  public:

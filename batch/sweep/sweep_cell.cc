@@ -76,8 +76,8 @@ cell::CellResult RunCellInto(const cell::CellPlan& plan, const fs::path& dir, in
         output::WriteFileAtomically(
             dir / "policy.json", nlohmann::ordered_json({{"label", label}, {"seed_group", seed_group}}).dump(2) + "\n");
         films = std::make_unique<rollout::CellVideos>(videos, planned.config, [&dir] { return dir / "videos"; });
-        return {films->Sinks(), [&films](const cell::EpisodeRecord& record) { films->RecordFinished(record); },
-                nullptr};
+        return {films->Sinks(), [&films](const cell::EpisodeRecord& record) { films->RecordFinished(record); }, nullptr,
+                [&films](const std::vector<cell::EpisodeRecord>& resumed) { return films->RecordsKept(resumed); }};
       });
 }
 

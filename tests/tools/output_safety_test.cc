@@ -287,5 +287,53 @@ TEST_F(OutputSafety, ResumeWithAChangedRobotFileIsRefusedNamingTheChange) {
   EXPECT_EQ(ReadText(cell / "episodes.jsonl"), kept);
 }
 
+// #46 item 7: --overwrite deleted a user's files inside tavis's own sub-folders: a cell's videos/,
+// a dataset's meta/. Each is refused naming the file, and nothing is deleted.
+TEST_F(OutputSafety, OverwriteRefusesAUsersFileInsideTavissOwnSubFolders) {
+  const fs::path cell = root_ / "cell";
+  ASSERT_EQ(Run(kCell + " --videos 1 --video-size 64x48 --out " + Quote(cell.string())).exit_code, 0);
+  ASSERT_TRUE(fs::exists(cell / "videos" / "episode_0.mp4"));
+  std::ofstream(cell / "videos" / "talk.mp4") << "a user's video";
+  const fs::path dataset = root_ / "dataset";
+  ASSERT_EQ(Run(kDemos + " --out " + Quote(dataset.string())).exit_code, 0);
+  std::ofstream(dataset / "meta" / "README.md") << "a user's notes";
+  const auto files = Snapshot(root_);
+  const auto paths = Paths();
+  ExpectRefusedKeepingEverything(Run(kCell + " --seed 1 --overwrite --out " + Quote(cell.string())), "videos/talk.mp4",
+                                 files, paths, "eval");
+  ExpectRefusedKeepingEverything(Run(kDemos + " --seed 1 --overwrite --out " + Quote(dataset.string())),
+                                 "meta/README.md", files, paths, "demos");
+}
+
+// #46 item 11: a killed --overwrite left its hidden ".NAME.tavis-new-PID" copy forever. The next
+// run of the same --out removes it (only that pattern, of a process that is gone) and says so.
+TEST_F(OutputSafety, AKilledOverwritesStagingCopyIsRemovedByTheNextRun) {
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);  // a process number nobody has now
+  const fs::path stale = root_ / (".cell.tavis-new-" + std::to_string(child));
+  fs::create_directories(stale);
+  std::ofstream(stale / "cell.json") << "{}";
+  const RunResult run = Run(kCell + " --out " + Quote((root_ / "cell").string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_NE(run.err.find("removed " + stale.string()), std::string::npos) << run.err;
+}
+
+// #46 item 11: `--record` inside `--out` left a folder that blocked the cell and the --overwrite it
+// suggested. Either inside the other is refused naming both, before anything is written.
+TEST_F(OutputSafety, RecordInsideOutOrOutInsideRecordIsRefusedBeforeAnythingIsWritten) {
+  const auto files = Snapshot(root_);
+  const auto paths = Paths();
+  const std::string cell = (root_ / "cell").string();
+  const RunResult inside = Run(kCell + " --out " + Quote(cell) + " --record " + Quote(cell + "/rollouts"));
+  ExpectRefusedKeepingEverything(inside, "--record " + cell + "/rollouts is inside the cell's --out " + cell, files,
+                                 paths, "--record inside --out");
+  const std::string dataset = (root_ / "rollouts").string();
+  const RunResult around = Run(kCell + " --out " + Quote(dataset + "/cell") + " --record " + Quote(dataset));
+  ExpectRefusedKeepingEverything(around, "--out " + dataset + "/cell is inside --record " + dataset, files, paths,
+                                 "--out inside --record");
+}
+
 }  // namespace
 }  // namespace tavis::tools

@@ -1,10 +1,12 @@
 // Which folders tavis may replace or write into, the lock on them, and replacing one without
 // losing it: the rules `tavis eval`, `demos`, `sweep` and `sweep merge` share.
 #include "batch/output/output_folder.h"
+#include "batch/output/atomic_file.h"
 #include "tests/support/test_folder.h"
 #include "tests/support/thrown_message.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -128,6 +130,108 @@ TEST_F(OutputFolder, ReplacementKeepsTheOldFolderUntilSwappedAndLeavesNothingWhe
   }
   EXPECT_EQ(testing::ReadTextFile(dir / "cell.json"), "new");
   EXPECT_EQ(std::distance(fs::directory_iterator(root_), fs::directory_iterator()), 1) << "old folder left behind";
+}
+
+// #46 item 7: --overwrite deleted a user's files inside tavis's own sub-folders (videos/,
+// actions/, a dataset's meta/ and data/): only the top level was looked at.
+TEST_F(OutputFolder, AForeignFileAtAnyDepthMakesTheFolderForeign) {
+  const fs::path cell = root_ / "cell";
+  for (const char* name : {"cell.json", "episodes.jsonl", "actions/episode_0.csv", "actions/episode_1.csv.partial",
+                           "videos/episode_0.mp4", "videos/episode_1.mp4.partial", "videos/episode_2/frame_00000.png",
+                           "videos/episode_3.partial/frame_00001.png", ".tavis_output"})
+    testing::WriteTextFile(cell / name, "x");
+  EXPECT_EQ(ForeignEntries(cell, OutputKind::kEvalCell), std::vector<std::string>{});
+  testing::WriteTextFile(cell / "videos" / "talk.mp4", "a user's");
+  testing::WriteTextFile(cell / "actions" / "mine" / "plan.txt", "a user's");
+  EXPECT_EQ(ForeignEntries(cell, OutputKind::kEvalCell),
+            (std::vector<std::string>{"actions/mine/", "videos/talk.mp4"}));
+  EXPECT_FALSE(IsOwnOutput(cell, OutputKind::kEvalCell));
+  const std::string refusal = Refusal([&] { RequireEmptyOrOwn(cell, OutputKind::kEvalCell, "move it"); });
+  EXPECT_NE(refusal.find("videos/talk.mp4"), std::string::npos) << refusal;
+
+  const fs::path dataset = root_ / "dataset";
+  for (const char* name : {"tavis_demos.json", "meta/info.json", "meta/stats.json", "meta/tasks.parquet",
+                           "meta/episodes/chunk-000/file-000.parquet", "data/chunk-000/file-000.parquet",
+                           "videos/observation.images.head/chunk-000/file-000.mp4",
+                           ".tavis_spool/episode_000000/episode.json", ".tavis_spool/episode_000000/head.packets"})
+    testing::WriteTextFile(dataset / name, "x");
+  EXPECT_TRUE(IsOwnOutput(dataset, OutputKind::kDataset));
+  testing::WriteTextFile(dataset / "meta" / "README.md", "a user's");
+  testing::WriteTextFile(dataset / "data" / "chunk-000" / "notes.csv", "a user's");
+  EXPECT_EQ(ForeignEntries(dataset, OutputKind::kDataset),
+            (std::vector<std::string>{"data/chunk-000/notes.csv", "meta/README.md"}));
+
+  const fs::path sweep = root_ / "sweep";
+  for (const char* name : {"manifest.json", "cells/a/cell.json", "cells/a/policy.json", "cells/a/videos/episode_0.mp4",
+                           "cells/a/.tavis_lock", "tables/success.md", "figures/funnel.svg", "report.html"})
+    testing::WriteTextFile(sweep / name, "x");
+  EXPECT_TRUE(IsOwnOutput(sweep, OutputKind::kSweep));
+  testing::WriteTextFile(sweep / "cells" / "a" / "videos" / "notes.txt", "a user's");
+  EXPECT_EQ(ForeignEntries(sweep, OutputKind::kSweep), std::vector<std::string>{"cells/a/videos/notes.txt"});
+}
+
+// A link is never tavis's, wherever it points: --overwrite refuses it instead of removing it.
+TEST_F(OutputFolder, ALinkInsideIsForeign) {
+  const fs::path cell = root_ / "cell";
+  testing::WriteTextFile(cell / "cell.json", "x");
+  fs::create_directories(root_ / "elsewhere");
+  fs::create_directory_symlink(root_ / "elsewhere", cell / "videos");
+  EXPECT_EQ(ForeignEntries(cell, OutputKind::kEvalCell), std::vector<std::string>{"videos"});
+}
+
+// #46 item 3: a planted link at a file tavis writes sent its bytes to the file it points to.
+TEST_F(OutputFolder, NoFileIsWrittenThroughALinkPlantedAtItsName) {
+  const fs::path outside = root_ / "outside.txt";
+  testing::WriteTextFile(outside, "precious");
+  const fs::path dir = root_ / "cell";
+  fs::create_directories(dir);
+  fs::create_symlink(outside, dir / "summary.json.partial");
+  WriteFileAtomically(dir / "summary.json", "new");
+  EXPECT_EQ(testing::ReadTextFile(outside), "precious");
+  EXPECT_EQ(testing::ReadTextFile(dir / "summary.json"), "new");
+  EXPECT_FALSE(fs::is_symlink(dir / "summary.json"));
+
+  fs::create_symlink(outside, dir / kOutputLockFile);
+  const std::string refusal = Refusal([&] { OutputLock lock(dir, "eval"); });
+  EXPECT_NE(refusal.find((dir / kOutputLockFile).string() + " is a symbolic link"), std::string::npos) << refusal;
+  EXPECT_EQ(testing::ReadTextFile(outside), "precious") << "the lock's note went through the link";
+
+  fs::create_directory_symlink(root_, dir / "actions");
+  EXPECT_NE(Refusal([&] { MakeOwnFolder(dir / "actions"); }).find("is a symbolic link"), std::string::npos);
+  MakeOwnFolder(dir / "videos");
+  EXPECT_TRUE(fs::is_directory(dir / "videos"));
+}
+
+// A write that fails names the file and the system's reason.
+TEST_F(OutputFolder, AFailedWriteNamesTheFileAndTheReason) {
+  const fs::path missing = root_ / "no" / "summary.json";
+  EXPECT_EQ(testing::ThrownMessage<std::runtime_error>([&] { WriteFileAtomically(missing, "x"); }),
+            "cannot write " + missing.string() + ".partial: No such file or directory");
+}
+
+// #46 item 11: a killed --overwrite left its ".NAME.tavis-new-PID" copy forever.
+TEST_F(OutputFolder, StagingCopiesOfDeadProcessesAreRemovedOnTheNextRun) {
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);  // a process number nobody has now
+  const fs::path dead = root_ / (".cell.tavis-new-" + std::to_string(child));
+  const fs::path alive = root_ / (".cell.tavis-new-" + std::to_string(getppid()));
+  const fs::path old = root_ / (".cell.tavis-old-" + std::to_string(child));
+  const fs::path other = root_ / (".cellar.tavis-new-" + std::to_string(child));
+  const fs::path users = root_ / ".cell.tavis-new-mine";
+  for (const fs::path& dir : {dead, alive, old, other, users}) testing::WriteTextFile(dir / "cell.json", "x");
+  testing::WriteTextFile(root_ / "cell" / "cell.json", "x");
+  const OutputLock lock = CreateAndLockOutput(root_ / "cell", "eval");
+  EXPECT_FALSE(fs::exists(dead));
+  for (const fs::path& kept : {alive, old, other, users}) EXPECT_TRUE(fs::exists(kept)) << kept;
+}
+
+TEST_F(OutputFolder, InsideIsTheSameFolderOrBelowIt) {
+  EXPECT_TRUE(IsSameOrInside(root_ / "a" / "b", root_ / "a"));
+  EXPECT_TRUE(IsSameOrInside(root_ / "a" / "", root_ / "a"));
+  EXPECT_TRUE(IsSameOrInside(root_ / "a" / "b" / ".." / "c", root_ / "a"));
+  EXPECT_FALSE(IsSameOrInside(root_ / "a", root_ / "a" / "b"));
+  EXPECT_FALSE(IsSameOrInside(root_ / "ab", root_ / "a"));
 }
 
 }  // namespace
