@@ -3,11 +3,11 @@
     python3 -m tavis_baseline.serve CKPT_DIR --port 8000 [--device cuda] [--host 127.0.0.1] [--executed-steps K]
 
 runs tavis_server with the chunk execution the checkpoint's config.json holds (executed_steps,
-default 1, docs/baselines.md "Chunk execution"):
+default 10, docs/baselines.md "Chunk execution"):
 
-    executed_steps 1 (re-plan every step): python3 -m tavis_server --policy tavis_baseline.serve:make_policy \\
-        --policy-arg checkpoint_dir=CKPT_DIR --action-queue off --n-action-steps 1 --port 8000
-    executed_steps k > 1 (a queue of k rows): ... --action-queue on --n-action-steps k
+    executed_steps k > 1 (a queue of k rows): python3 -m tavis_server --policy tavis_baseline.serve:make_policy \\
+        --policy-arg checkpoint_dir=CKPT_DIR --action-queue on --n-action-steps k --port 8000
+    executed_steps 1 (re-plan every step): ... --action-queue off --n-action-steps 1
 
 --executed-steps K serves the checkpoint with K instead (the metadata the server sends, which
 `tavis eval` copies into summary.json's server_metadata, says which: executed_steps,

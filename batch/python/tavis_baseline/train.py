@@ -57,9 +57,10 @@ def arguments(argv):
     parser.add_argument("--history-stride", type=int, default=10, help="frames between them (10 at 20 fps: 0.5 s)")
     parser.add_argument("--chunk-size", type=int, default=20)
     parser.add_argument("--executed-steps", "--n-action-steps", dest="executed_steps", type=int,
-                        default=EXECUTED_STEPS_DEFAULT, metavar="K",
+                        default=None, metavar="K",
                         help="rows of each chunk executed per forward pass when served, stored in config.json "
-                             f"(1: re-plan every step, the default: {EXECUTION_DEFAULT_WHY}; k > 1: a queue of k rows)".replace("%", "%%"))
+                             f"(default {EXECUTED_STEPS_DEFAULT}, a queue of that many rows, or the whole chunk when it is "
+                             f"shorter: {EXECUTION_DEFAULT_WHY}; 1: re-plan every step)".replace("%", "%%"))
     parser.add_argument("--shift-px", type=int, default=4)
     parser.add_argument("--head", choices=HEADS, default="l1",
                         help="action head: l1 (regression, the control) or flow (flow matching over the chunk)")
@@ -75,6 +76,8 @@ def arguments(argv):
     parser.add_argument("--no-compile", action="store_true",
                         help="on CUDA, train eagerly instead of torch.compile + one CUDA graph per step (for comparison)")
     args = parser.parse_args(argv)
+    if args.executed_steps is None:
+        args.executed_steps = min(EXECUTED_STEPS_DEFAULT, args.chunk_size)
     for name in ("steps", "batch_size", "history_frames", "history_stride", "chunk_size", "executed_steps", "log_every", "save_every"):
         if getattr(args, name) < 1:
             parser.error(f"--{name.replace('_', '-')} must be >= 1, got {getattr(args, name)}")

@@ -1,5 +1,5 @@
-"""tavis_baseline.serve: a checkpoint is served with the chunk execution its config holds (re-plan
-every step by default, or a queue of k rows), over the real websocket server, and the metadata it
+"""tavis_baseline.serve: a checkpoint is served with the chunk execution its config holds (a queue
+of 10 rows by default, a queue of k rows, or re-planning every step), over the real websocket server, and the metadata it
 sends (what `tavis eval` copies into summary.json) says which. Each reply is compared with the
 policy's own forward pass over the same observation history, computed here."""
 
@@ -33,7 +33,7 @@ STEPS = 8
 def checkpoints(demo_dataset, tmp_path_factory):
     folder = tmp_path_factory.mktemp("served")
     made = {}
-    for name, extra in (("default", []), ("queue4", ["--executed-steps", "4"])):
+    for name, extra in (("default", []), ("queue4", ["--executed-steps", "4"]), ("replan", ["--executed-steps", "1"])):
         made[name] = folder / name
         assert train.main(["--dataset", str(demo_dataset), "--out", str(made[name]), *TINY, *extra]) == 0
     return made
@@ -112,13 +112,24 @@ def own_chunks(ckpt, requests):
     return chunks
 
 
-def test_default_checkpoint_replans_every_step(checkpoints):
-    assert json.loads((checkpoints["default"] / "config.json").read_text())["executed_steps"] == 1
+def test_the_default_checkpoint_queues_its_whole_chunk_when_shorter_than_10_rows(checkpoints):
+    # The default is a queue of 10 rows (config.EXECUTION_DEFAULT_WHY), cut to these tiny chunks' 8.
+    assert json.loads((checkpoints["default"] / "config.json").read_text())["executed_steps"] == 8
     requests, metadata, replies, _ = serve_steps(checkpoints["default"])
+    assert metadata["executed_steps"] == 8 and metadata["action_queue"] is True and metadata["n_action_steps"] == 8
+    assert metadata["chunk_execution"].startswith("queue of 8 rows")
+    chunks = own_chunks(checkpoints["default"], requests)
+    for step, reply in enumerate(replies):
+        np.testing.assert_allclose(reply[0], chunks[0][step], atol=1e-5, err_msg=f"step {step}")
+
+
+def test_a_replanning_checkpoint_replans_every_step(checkpoints):
+    assert json.loads((checkpoints["replan"] / "config.json").read_text())["executed_steps"] == 1
+    requests, metadata, replies, _ = serve_steps(checkpoints["replan"])
     assert metadata["executed_steps"] == 1 and metadata["action_queue"] is False
     assert metadata["n_action_steps"] == 1 and metadata["action_horizon"] == 1
     assert metadata["chunk_execution"].startswith("re-plan every step")
-    chunks = own_chunks(checkpoints["default"], requests)
+    chunks = own_chunks(checkpoints["replan"], requests)
     # One forward pass per step asked: every reply is one row, the first of that step's own chunk.
     for step, reply in enumerate(replies):
         assert reply.shape == (1, 19)
@@ -138,7 +149,7 @@ def test_a_queue_of_4_rows_runs_one_forward_pass_every_4_steps(checkpoints, name
         np.testing.assert_allclose(reply[0], chunks[planned][step - planned], atol=1e-5, err_msg=f"step {step}")
 
 
-def test_an_old_checkpoint_is_served_replanning_and_says_so(checkpoints, tmp_path):
+def test_an_old_checkpoint_is_served_with_its_queue_as_before_and_says_so(checkpoints, tmp_path):
     old = tmp_path / "old"
     old.mkdir()
     for path in checkpoints["queue4"].iterdir():
@@ -147,8 +158,8 @@ def test_an_old_checkpoint_is_served_replanning_and_says_so(checkpoints, tmp_pat
     config["n_action_steps"] = config.pop("executed_steps")  # as written before the setting
     (old / "config.json").write_text(json.dumps(config))
     _, metadata, _, stderr = serve_steps(old)
-    assert metadata["executed_steps"] == 1 and metadata["action_queue"] is False
-    assert "predates the executed_steps setting" in stderr and "--executed-steps 4" in stderr
+    assert metadata["executed_steps"] == 4 and metadata["action_queue"] is True and metadata["n_action_steps"] == 4
+    assert "predates the executed_steps setting" in stderr and "n_action_steps 4 rows" in stderr
 
 
 def test_bad_executed_steps_are_refused(checkpoints):
@@ -159,7 +170,7 @@ def test_bad_executed_steps_are_refused(checkpoints):
 
 
 def test_tavis_eval_records_how_the_chunks_ran(checkpoints, tmp_path):
-    server = Server(checkpoints["default"])
+    server = Server(checkpoints["replan"])
     try:
         run_tavis("eval", "--task", "clutter-pick-cube", "--robot", "gr1t2", "--seed", "3", "--episodes", "2",
                   "--envs", "2", "--policy", "openpi", "--server", server.url, "--replan-steps", "1",
