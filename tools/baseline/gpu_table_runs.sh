@@ -25,9 +25,9 @@ T=$1
 W=$2
 STEPS=${STEPS:-1800}
 # Rows of each predicted chunk executed per forward pass, stored in each checkpoint's config.json
-# and served as stored (tavis_baseline.serve reads it): 1 re-plans every step (the measured
-# default, docs/baselines.md "Chunk execution"); k > 1 a queue of k rows.
-EXECUTED_STEPS=${EXECUTED_STEPS:-1}
+# and served as stored (tavis_baseline.serve reads it): a queue of 10 rows (the measured default,
+# docs/baselines.md "Chunk execution"); 1 re-plans every step.
+EXECUTED_STEPS=${EXECUTED_STEPS:-10}
 mkdir -p "$W/logs" "$W/eval" "$W/ckpt" "$W/ds"
 export PYTHONUNBUFFERED=1 OMP_NUM_THREADS=1 PYTORCH_CUDA_ALLOC_CONF=expandable_segments:True
 stamp() { echo "$(date -u +%H:%M:%S) $*" >> "$W/progress.log"; }
