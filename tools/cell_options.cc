@@ -39,7 +39,7 @@ CLI::Option* AddCellOption(CLI::App& command, const CellSetting& setting, batch:
             if (ranged)
               option->check(
                   IntegerIn(static_cast<int64_t>(setting.range->low), static_cast<int64_t>(setting.range->high)));
-            if (chosen) option->check(IntegerOneOf(setting.range->choices));
+            if (chosen) option->check(IntegerNamingChoices(setting.range->choices));
           } else if constexpr (std::is_floating_point_v<T>) {
             if (ranged) option->check(NumberIn(setting.range->low, setting.range->high));
           }

@@ -1,6 +1,5 @@
 #include "tools/option_parsing.h"
 
-#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -148,17 +147,14 @@ CLI::Validator NumberIn(double low, double high) {
       range);
 }
 
-CLI::Validator IntegerOneOf(const std::vector<double>& choices) {
+CLI::Validator IntegerNamingChoices(const std::vector<double>& choices) {
   std::string allowed;
   for (std::size_t i = 0; i < choices.size(); ++i) {
     allowed += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::to_string(std::llround(choices[i]));
   }
   return CLI::Validator(
-      [choices, allowed](std::string& text) -> std::string {
-        const std::optional<long long> value = WholeInteger(text);
-        if (!value || std::find(choices.begin(), choices.end(), static_cast<double>(*value)) == choices.end())
-          return "must be " + allowed + ", got '" + text + "'";
-        return "";
+      [allowed](std::string& text) -> std::string {
+        return WholeInteger(text) ? "" : "must be " + allowed + ", got '" + text + "'";
       },
       allowed);
 }
