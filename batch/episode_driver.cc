@@ -50,6 +50,10 @@ void EpisodeDriver::Run() {
                                 std::to_string(ticks_per_policy_step) + "), where its images are rendered");
   }
   const Schedule chosen = schedule();
+  // The run starts now: a progress rate counts from here, not from the first episode to end (the
+  // slots of a lock-step run end their first episodes together, and a rate timed from the first
+  // of them divides a batch by microseconds).
+  if (progress_) progress_(finished_, total_);
   LoopObserver* observer = slots_.observer();
   if (observer != nullptr) observer->RunStarting(vec_env_, policy_, chosen == Schedule::kPerSlot);
   if (chosen == Schedule::kPerSlot) {

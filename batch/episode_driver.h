@@ -37,7 +37,7 @@
 
 namespace tavis::batch {
 
-// Called after each finished episode with (finished, total).
+// Called with (finished, total) when a run starts (0 finished) and after each finished episode.
 using ProgressCallback = std::function<void(int64_t, int64_t)>;
 
 class EpisodeDriver {
@@ -49,7 +49,7 @@ class EpisodeDriver {
   EpisodeDriver(VecEnv& vec_env, Policy& policy, int64_t episodes, int64_t first_episode = 0);
 
   void AddSink(EpisodeSink& sink) { slots_.AddSink(sink); }
-  // Called after each finished episode (one call at a time, on any thread).
+  // Called as Run starts and after each finished episode (one call at a time, on any thread).
   void SetProgress(ProgressCallback progress) { progress_ = std::move(progress); }
   // The camera protocol's action rule, applied to every action before sinks see it and the world
   // steps with it (head by default: actions pass unchanged).

@@ -33,11 +33,13 @@ CLI::Option* AddCellOption(CLI::App& command, const CellSetting& setting, batch:
               ->default_str(batch::cell::SettingText<T>::Write(value));
         } else {
           CLI::Option* option = command.add_option(setting.flag, value, setting.help);
-          const bool ranged = setting.range && setting.range->choices.empty();  // choices: PlanCell says which
+          const bool ranged = setting.range && setting.range->choices.empty();
+          const bool chosen = setting.range && !setting.range->choices.empty();
           if constexpr (std::is_integral_v<T>) {
             if (ranged)
               option->check(
                   IntegerIn(static_cast<int64_t>(setting.range->low), static_cast<int64_t>(setting.range->high)));
+            if (chosen) option->check(IntegerNamingChoices(setting.range->choices));
           } else if constexpr (std::is_floating_point_v<T>) {
             if (ranged) option->check(NumberIn(setting.range->low, setting.range->high));
           }

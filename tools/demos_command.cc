@@ -231,6 +231,7 @@ void RegisterDemosCommand(CLI::App& app) {
       ->capture_default_str();
   AddSeedOption(*demos, options->config.seed, "Seed: episode i draws its randomness from (seed, i)");
   demos->add_option("--fps", options->config.fps, "Frame rate: 60 (the reference's datasets) or 20 (the policy rate)")
+      ->check(IntegerNamingChoices({60, 20}))  // the rates GenerateDemos takes
       ->capture_default_str();
   demos
       ->add_option("--expert-hz", options->config.expert_hz,

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -100,19 +101,27 @@ std::string DefaultConfigDir() {
   return TAVIS_DEFAULT_CONFIG_DIR;
 }
 
+namespace {
+
+// `text` as a whole decimal integer (nothing after it), or nullopt.
+std::optional<long long> WholeInteger(const std::string& text) {
+  std::size_t used = 0;
+  try {
+    const long long value = std::stoll(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 CLI::Validator IntegerIn(int64_t low, int64_t high) {
   const std::string range = "an integer from " + std::to_string(low) + " to " + std::to_string(high);
   return CLI::Validator(
       [low, high, range](std::string& text) -> std::string {
-        std::size_t used = 0;
-        long long value = 0;
-        try {
-          value = std::stoll(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used != text.size() || text.empty() || value < low || value > high)
-          return "must be " + range + ", got '" + text + "'";
+        const std::optional<long long> value = WholeInteger(text);
+        if (!value || *value < low || *value > high) return "must be " + range + ", got '" + text + "'";
         return "";
       },
       range);
@@ -136,6 +145,18 @@ CLI::Validator NumberIn(double low, double high) {
         return "";
       },
       range);
+}
+
+CLI::Validator IntegerNamingChoices(const std::vector<double>& choices) {
+  std::string allowed;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    allowed += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::to_string(std::llround(choices[i]));
+  }
+  return CLI::Validator(
+      [allowed](std::string& text) -> std::string {
+        return WholeInteger(text) ? "" : "must be " + allowed + ", got '" + text + "'";
+      },
+      allowed);
 }
 
 }  // namespace tavis::tools

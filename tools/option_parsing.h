@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -30,6 +31,10 @@ double ParseNumberInRange(const std::string& option, const std::string& text, do
 CLI::Validator IntegerIn(int64_t low, int64_t high);
 // The same for a number (seconds, rates): finite, within [low, high].
 CLI::Validator NumberIn(double low, double high);
+// For an integer that must be one of `choices`: text that is no integer at all reads "must be 60
+// or 20, got 'sixty'" rather than CLI11's "Could not convert: --fps = sixty", which names no value
+// allowed. Which integer is allowed stays the setting's own check, which names it the same way.
+CLI::Validator IntegerNamingChoices(const std::vector<double>& choices);
 
 // The library names a bad setting by its key; a command names the flag the user typed:
 // std::invalid_argument("FLAG PROBLEM").

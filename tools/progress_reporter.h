@@ -28,7 +28,11 @@ class ProgressReporter {
   ProgressReporter(std::FILE* out, Style style, Clock clock = std::chrono::steady_clock::now);
 
   // `done` of `total` episodes have ended; `label` (e.g. a task) names what is counted, and a new
-  // label starts a new count (its own rate and ETA). Not thread-safe: call from one thread.
+  // label starts a new count (its own rate and ETA). A count's first call starts its clock, so it
+  // comes as the work starts (the episode driver's at the start of its run, demos' at the start
+  // of a task), not when the first episode ends: lock-step slots end their first episodes
+  // together, and a rate timed from the first of them is the batch over microseconds.
+  // Not thread-safe: call from one thread.
   void Update(const std::string& label, int64_t done, int64_t total);
 
  private:

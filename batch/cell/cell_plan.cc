@@ -8,6 +8,8 @@
 
 #include "batch/camera_protocol.h"
 #include "batch/output/config_identity.h"
+#include "batch/output/setting_error.h"
+#include "batch/remote/websocket_url.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -31,6 +33,14 @@ void CheckSettings(const EvaluationCellConfig& config, PolicyKind policy) {
   CheckSettingValues(config);
   if (policy == PolicyKind::kOpenpi && config.servers.empty()) {
     throw output::SettingError("servers", "must name a policy server (ws://HOST:PORT) for policy 'openpi'");
+  }
+  // Each server's URL, before any folder is touched or any server is asked.
+  for (const std::string& server : config.servers) {
+    try {
+      remote::ParseWebSocketUrl(server);
+    } catch (const std::invalid_argument& error) {
+      throw output::SettingsAdvice<std::invalid_argument>(output::SettingKey("servers") + ": " + error.what());
+    }
   }
   if (policy == PolicyKind::kReplay && config.actions_file.empty()) {
     throw output::SettingError("actions_file",

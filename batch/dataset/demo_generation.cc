@@ -191,6 +191,8 @@ void RecordTask(DemoSession& session, const kinematics::RobotModel& robot, std::
     ++task.written;
     if (session.progress) session.progress(task.task, task.written, config.episodes);
   };
+  // The task's count starts now, with what a resume kept (a progress rate counts from here).
+  if (session.progress) session.progress(task.task, task.written, config.episodes);
   while (task.written < config.episodes && task.attempts < cap) {
     const int64_t round = std::min<int64_t>(config.episodes - task.written, cap - task.attempts);
     DemoRecorder recorder(vec_env, recording, task.attempts, keep);

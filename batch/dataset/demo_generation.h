@@ -70,7 +70,8 @@ struct DemoReport {
   double render_s = 0, encode_s = 0, capture_s = 0, write_s = 0, simulate_s = 0;
 };
 
-// Called with (task, written, wanted) after each kept episode.
+// Called with (task, written, wanted) as a task starts (written: what a resume kept) and after each
+// kept episode.
 using DemoProgress = std::function<void(const std::string&, int64_t, int64_t)>;
 
 // Throws std::invalid_argument naming the first bad setting of `config` (tasks, counts, fps,

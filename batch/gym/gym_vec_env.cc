@@ -10,6 +10,7 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/cell/cell_report.h"
+#include "batch/gym/results_folder.h"
 #include "batch/policy_kinds.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
@@ -161,6 +162,12 @@ void GymVecEnv::Reset(const std::vector<uint8_t>& mask, const std::vector<int64_
   }
   if (std::none_of(mask.begin(), mask.end(), [](uint8_t m) { return m != 0; })) {
     throw std::invalid_argument("reset_mask selects no env");
+  }
+  for (std::size_t env = 0; env < n; ++env) {
+    if (episodes[env] > kMaxEpisode) {
+      throw std::invalid_argument("the episode of env " + std::to_string(env) + " must be an index from 0 to " +
+                                  std::to_string(kMaxEpisode) + ", got " + std::to_string(episodes[env]));
+    }
   }
   const auto start = std::chrono::steady_clock::now();
   std::fill(rewards_.begin(), rewards_.end(), 0.0F);
@@ -317,8 +324,8 @@ void GymVecEnv::ActInto(Policy& policy, double* actions) {
   }
 }
 
-void GymVecEnv::WriteResults(const std::string& out_dir, const std::string& policy, int64_t first,
-                             int64_t count) const {
+void GymVecEnv::WriteResults(const std::string& out_dir, const std::string& policy, int64_t first, int64_t count,
+                             bool overwrite) const {
   if (first < 0 || count < 1) {
     throw std::invalid_argument("episodes to write: first >= 0 and count >= 1, got first " + std::to_string(first) +
                                 ", count " + std::to_string(count));
@@ -357,7 +364,7 @@ void GymVecEnv::WriteResults(const std::string& out_dir, const std::string& poli
   result.rendered_images = vec_env_.rendered_images();
   cell::RunInfo info;
   info.threads = arena_.max_concurrency();
-  cell::WriteCellReport(result, info, out_dir);
+  WriteResultsFolder(result, info, out_dir, overwrite);
 }
 
 }  // namespace tavis::batch::gym

@@ -30,6 +30,9 @@ namespace tavis::batch::gym {
 
 // The most envs one GymVecEnv runs, as the cell setting envs allows.
 constexpr int kMaxGymEnvs = 4096;
+// The largest episode index a reset may start: far from int64's end, so that the episodes dealt
+// after it (autoreset counts on from it) never overflow.
+constexpr int64_t kMaxEpisode = (int64_t{1} << 62) - 1;
 
 struct GymVecEnvConfig {
   std::string task;
@@ -95,7 +98,8 @@ class GymVecEnv {
   const std::vector<std::string>& camera_names() const { return cameras_; }  // as rendered (protocol applied)
 
   // Starts episodes in the envs with mask[env] != 0: episodes[env] when it is >= 0, else the next
-  // episode index not dealt yet (in env order). Throws std::invalid_argument for wrong sizes.
+  // episode index not dealt yet (in env order). Throws std::invalid_argument for wrong sizes or an
+  // episode above kMaxEpisode.
   void Reset(const std::vector<uint8_t>& mask, const std::vector<int64_t>& episodes);
   // One step: actions (num_envs x 19, row-major) held for control_ticks_per_step() ticks by the
   // running envs (other rows are ignored). Throws std::invalid_argument, before anything moves,
@@ -139,8 +143,11 @@ class GymVecEnv {
   // The records of the episodes that have ended, by episode index (a restarted episode's latest).
   const std::map<int64_t, cell::EpisodeRecord>& records() const { return records_; }
   // Writes episodes first .. first + count - 1 as `tavis eval` writes a cell (episodes.jsonl,
-  // summary.json) for `policy`. Throws std::invalid_argument naming an episode not ended yet.
-  void WriteResults(const std::string& out_dir, const std::string& policy, int64_t first, int64_t count) const;
+  // summary.json) for `policy`, under the rules of tavis's output folders (WriteResultsFolder:
+  // locked, and a folder holding results replaced only with `overwrite`). Throws
+  // std::invalid_argument naming an episode not ended yet, or the folder and why it is refused.
+  void WriteResults(const std::string& out_dir, const std::string& policy, int64_t first, int64_t count,
+                    bool overwrite) const;
 
  private:
   // Starts `starts_` (the loop resets the policies and tells the recorder), then renders and

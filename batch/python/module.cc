@@ -15,6 +15,7 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/cell/cell_report.h"
+#include "batch/cell/cell_settings.h"
 #include "batch/gym/gym_vec_env.h"
 #include "batch/scene_render.h"
 #include "configs/yaml_reader.h"
@@ -124,6 +125,9 @@ void RegisterExceptionTranslator() {
 void BindModuleFunctions(py::module_& m) {
   m.attr("ACTION_SIZE") = kActionSize;
   m.attr("MAX_ENVS") = gym::kMaxGymEnvs;
+  m.attr("MAX_EPISODE") = gym::kMaxEpisode;
+  // The most episodes one cell holds, as `tavis eval --episodes` allows (write_results' count).
+  m.attr("MAX_CELL_EPISODES") = static_cast<int64_t>(cell::FindCellSetting("episodes")->range->high);
   m.attr("DEFAULT_CONFIG_DIR") = TAVIS_DEFAULT_CONFIG_DIR;
   m.def("camera_names", &SceneCameraNames, "The cameras: head, fixed, left_wrist, right_wrist");
   m.def("known_tasks", &scenarios::KnownTasks, "The tasks, comma-separated");
@@ -294,12 +298,12 @@ void BindResults(py::class_<gym::GymVecEnv>& core) {
       .def(
           "write_results",
           [](const gym::GymVecEnv& env, const std::string& out_dir, const std::string& policy, int64_t first,
-             int64_t count) {
+             int64_t count, bool overwrite) {
             const Exclusive use(env, "write_results");
             py::gil_scoped_release release;
-            env.WriteResults(out_dir, policy, first, count);
+            env.WriteResults(out_dir, policy, first, count, overwrite);
           },
-          py::arg("out_dir"), py::arg("policy"), py::arg("first"), py::arg("count"));
+          py::arg("out_dir"), py::arg("policy"), py::arg("first"), py::arg("count"), py::arg("overwrite"));
 }
 
 }  // namespace

@@ -15,7 +15,8 @@ struct WebSocketUrl {
 };
 
 // Throws std::invalid_argument naming the URL when the scheme is not ws:// (wss:// needs TLS,
-// which this client does not do), the host is empty, or the port is not 1-65535.
+// which this client does not do), it holds more than one URL, the host is empty or holds a
+// character no host name has (an IPv6 address must be in brackets), or the port is not 1-65535.
 WebSocketUrl ParseWebSocketUrl(const std::string& url);
 
 }  // namespace tavis::batch::remote

@@ -95,7 +95,9 @@ TEST(EpisodeDriver, RunsEveryEpisodeOnceDealingThemInIndexOrder) {
   for (const Event& event : log.events) (event.kind == 'S' ? started : ended).push_back(event.episode);
   EXPECT_EQ(started, (std::vector<int64_t>{0, 1, 2, 3, 4, 5, 6}));
   ASSERT_EQ(ended.size(), 7u);
-  EXPECT_EQ(progress, (std::vector<int64_t>{1, 2, 3, 4, 5, 6, 7}));
+  // 0 as the run starts (a progress rate counts from there, not from the first episode to end),
+  // then one call per finished episode.
+  EXPECT_EQ(progress, (std::vector<int64_t>{0, 1, 2, 3, 4, 5, 6, 7}));
   for (int slot = 0; slot < 3; ++slot) EXPECT_EQ(log.events[static_cast<std::size_t>(slot)].slot, slot);
   // 0.25 s at 60 Hz: every hold episode times out after 15 ticks, and each tick's actions were seen.
   for (const Event& event : log.events) {
@@ -547,7 +549,7 @@ TEST(EpisodeDriver, PerSlotScheduleRunsEveryEpisodeOnceAndStopsThoseASinkIsDoneW
   });
   ASSERT_EQ(driver.schedule(), EpisodeDriver::Schedule::kPerSlot);
   driver.Run();
-  EXPECT_EQ(progress, (std::vector<int64_t>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(progress, (std::vector<int64_t>{0, 1, 2, 3, 4, 5, 6, 7}));
   std::vector<int64_t> episodes;
   for (const Event& event : log.ended) {
     episodes.push_back(event.episode);

@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "tests/batch/remote/policy_server_process.h"
 #include "tool_runner.h"
 
 namespace tavis::tools {
@@ -121,6 +124,34 @@ TEST_F(ProgressInLogs, EvalWritesPlainProgressLinesWithRateAndEta) {
   ASSERT_FALSE(lines.empty());
   EXPECT_NE(lines.back().find("4/4 episodes, "), std::string::npos) << run.err;
   EXPECT_NE(lines.back().find(" episodes/s, ETA 0s"), std::string::npos) << run.err;
+}
+
+// The rate of the last progress line ("4/4 episodes, R episodes/s, ETA 0s").
+double LastRate(const std::string& err) {
+  const std::vector<std::string> lines = Lines(err);
+  if (lines.empty()) return -1.0;
+  const std::string& last = lines.back();
+  const std::size_t comma = last.find("episodes, ");
+  return comma == std::string::npos ? -1.0 : std::stod(last.substr(comma + 10));
+}
+
+// A served cell runs its slots lock-step, so its episodes end together: a rate timed from the
+// first of them to end divided the batch by microseconds ("1671.6 episodes/s" for a cell of
+// 0.6 episodes/s). Timed from the run's start it is at most what the cell's wall time says.
+TEST_F(ProgressInLogs, AServedCellsRateCountsFromTheStartOfTheRun) {
+  batch::remote::testing::PolicyServerProcess server(
+      {"--horizon", "10", "--action-dim", "19", "--action-scale", "0.001"});
+  const fs::path dir = root_ / "served";
+  const RunResult run = Run("eval --episodes 4 --envs 4 --seed 6 --image-size 32x24 --policy openpi --server " +
+                            server.address() + " --out " + Quote(dir.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir / "summary.json"));
+  const double wall_rate = 4.0 / summary.at("wall_s").get<double>();
+  const double shown = LastRate(run.err);
+  // The run starts after the cell has made its env and asked the server for its metadata, so the
+  // rate shown is a little above the cell's own; many times it is the burst.
+  EXPECT_GT(shown, 0.0) << run.err;
+  EXPECT_LT(shown, 1.5 * wall_rate) << run.err << "\nthe cell's rate: " << wall_rate;
 }
 
 TEST_F(ProgressInLogs, DemosWritesPlainProgressLinesPerTask) {

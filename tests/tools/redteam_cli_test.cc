@@ -165,6 +165,22 @@ TEST_F(RedTeamCliTest, SettingsTheLibraryRefusesAreNamedByTheirFlags) {
   ExpectRefused("eval --episodes 1 --policy replay --out out", "--actions must name a CSV of actions");
 }
 
+// A word where a choice is due names the values allowed; two servers in one --server are named
+// before anything is written or asked. Before: "Could not convert: --fps = sixty", and "port ''
+// is not a number" or a server "[a:1,b]:2" that could not be resolved.
+TEST_F(RedTeamCliTest, AWordForAChoiceAndTwoServersInOneValueAreNamed) {
+  ExpectRefused("demos --episodes 1 --fps sixty --out out", "--fps: must be 60 or 20, got 'sixty'");
+  ExpectRefused("eval --episodes 1 --expert-hz sixty --out out", "--expert-hz: must be 60 or 20, got 'sixty'");
+  const std::string served = "eval --episodes 1 --policy openpi --server-timeout 0.001 --out out --server ";
+  ExpectRefused(served + "ws://127.0.0.1:1,ws://127.0.0.1:2",
+                "--server: policy server URL 'ws://127.0.0.1:1,ws://127.0.0.1:2': holds more than one URL (one "
+                "server per URL)");
+  ExpectRefused(served + "ws://127.0.0.1:1ws://127.0.0.1:2", "holds more than one URL");
+  ExpectRefused(served + "ws://127.0.0.1:1,127.0.0.1:2",
+                "--server: policy server URL 'ws://127.0.0.1:1,127.0.0.1:2': host '127.0.0.1:1,127.0.0.1' holds ',', "
+                "which no host name has (one server per URL)");
+}
+
 // A device, a FIFO or a folder given as an input file is named as such. Before: /dev/zero was read
 // without end (memory growing until "read error"), a folder as a spec gave yaml-cpp's "bad file".
 TEST_F(RedTeamCliTest, InputsThatAreNotRegularFilesAreNamedNotRead) {

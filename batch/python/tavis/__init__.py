@@ -4,10 +4,11 @@ from . import _tavis
 from .vector_env import PIXEL_KEYS, BuiltinPolicy, TavisVectorEnv
 
 __all__ = ["make_vec", "TavisVectorEnv", "BuiltinPolicy", "PIXEL_KEYS", "camera_names", "known_tasks",
-           "builtin_policy_names", "ACTION_SIZE", "MAX_ENVS"]
+           "builtin_policy_names", "ACTION_SIZE", "MAX_ENVS", "MAX_EPISODE"]
 
 ACTION_SIZE = _tavis.ACTION_SIZE
 MAX_ENVS = _tavis.MAX_ENVS
+MAX_EPISODE = _tavis.MAX_EPISODE  # the largest episode index a reset may start
 
 
 def make_vec(task, robot="gr1t2", split="id", num_envs=1, seed=0, camera="head",

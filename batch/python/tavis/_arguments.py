@@ -7,6 +7,9 @@ import os
 import numpy as np
 
 MAX_SEED = 2**64 - 1
+# The largest value a C++ int takes (counts and sizes): beyond it pybind11 would refuse the
+# argument with its dump of the signature.
+MAX_C_INT = 2**31 - 1
 
 
 def _shown(value):
@@ -24,6 +27,13 @@ def require_int(name, value, minimum=None, maximum=None):
         high = "" if maximum is None else f" to {maximum}"
         raise ValueError(f"{name} must be an int{low}{high}, got {value}")
     return value
+
+
+def require_bool(name, value):
+    """A bool (or numpy bool): not a truthy int or string, which would be a guess."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a bool, got {type(value).__name__} {_shown(value)}")
+    return bool(value)
 
 
 def require_str(name, value):

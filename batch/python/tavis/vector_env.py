@@ -45,6 +45,10 @@ PIXEL_KEYS = {
 }
 
 
+def _is_int(value):
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
 def _autoreset_mode(autoreset):
     name = "SAME_STEP" if autoreset else "DISABLED"
     return getattr(_AutoresetMode, name) if _AutoresetMode is not None else name.lower()
@@ -83,16 +87,18 @@ class TavisVectorEnv(_VectorEnvBase):
             raise ValueError(f"cameras must be a list of camera names, got the string {cameras!r}")
         task, robot, split, camera = (_arguments.require_str(name, value) for name, value in
                                       (("task", task), ("robot", robot), ("split", split), ("camera", camera)))
-        num_envs = _arguments.require_int("num_envs", num_envs)
+        num_envs = _arguments.require_int("num_envs", num_envs, 1, _tavis.MAX_ENVS)
         seed = _arguments.require_int("seed", seed, 0, _arguments.MAX_SEED)
-        threads = _arguments.require_int("threads", threads)
-        control_ticks_per_step = _arguments.require_int("control_ticks_per_step", control_ticks_per_step)
+        threads = _arguments.require_int("threads", threads, 0, _arguments.MAX_C_INT)
+        control_ticks_per_step = _arguments.require_int("control_ticks_per_step", control_ticks_per_step, 0,
+                                                        _arguments.MAX_C_INT)
         cameras = _arguments.require_str_list("cameras", cameras)
         if config_dir is not None:
             config_dir = _arguments.require_path("config_dir", config_dir)
         if not isinstance(image_size, (list, tuple, np.ndarray)) or len(tuple(image_size)) != 2:
             raise ValueError(f"image_size must be (height, width), got {image_size!r}")
-        image_size = tuple(_arguments.require_int(f"image_size[{i}]", v) for i, v in enumerate(image_size))
+        image_size = tuple(_arguments.require_int(f"image_size[{i}]", v, 1, _arguments.MAX_C_INT)
+                           for i, v in enumerate(image_size))
         if render_mode not in self.RENDER_MODES:
             raise ValueError(f"render_mode must be one of {self.RENDER_MODES}, got {render_mode!r}")
         if render_mode == "rgb_array" and len(cameras) == 0:
@@ -137,6 +143,8 @@ class TavisVectorEnv(_VectorEnvBase):
     # Gymnasium's API
 
     def reset(self, *, seed=None, options=None):
+        if options is not None and not isinstance(options, dict):
+            raise TypeError(f"options must be None or a dict, got {type(options).__name__} {options!r}")
         mask = np.ones(self.num_envs, dtype=bool)
         if options and options.get("reset_mask") is not None:
             mask = np.asarray(options["reset_mask"])
@@ -198,33 +206,47 @@ class TavisVectorEnv(_VectorEnvBase):
         """The ended episodes' records, as `tavis eval` writes them in episodes.jsonl."""
         return [json.loads(line) for line in self._core.episode_json_lines()]
 
-    def write_results(self, out_dir, policy, episodes, first_episode=0):
+    def write_results(self, out_dir, policy, episodes, first_episode=0, overwrite=False):
         """Writes episodes first_episode .. +episodes-1 as `tavis eval` does: OUT/episodes.jsonl and
-        OUT/summary.json. ``policy`` names what acted (the summary's "policy")."""
+        OUT/summary.json. ``policy`` names what acted (the summary's "policy"). As `tavis eval`'s
+        folder: ValueError naming OUT while another process (a running `tavis eval`) writes it, or
+        when it already holds results, unless ``overwrite`` (which replaces only a cell tavis
+        wrote, the old one kept until the new one is in place)."""
         out_dir = _arguments.require_path("out_dir", out_dir)
         policy = _arguments.require_str("policy", policy)
-        episodes = _arguments.require_int("episodes", episodes)
-        first_episode = _arguments.require_int("first_episode", first_episode)
-        self._core.write_results(out_dir, policy, first_episode, episodes)
+        episodes = _arguments.require_int("episodes", episodes, 1, _tavis.MAX_CELL_EPISODES)
+        first_episode = _arguments.require_int("first_episode", first_episode, 0, _tavis.MAX_EPISODE)
+        overwrite = _arguments.require_bool("overwrite", overwrite)
+        self._core.write_results(out_dir, policy, first_episode, episodes, overwrite)
 
     # Helpers
 
     def _episode_indices(self, seed):
+        """The episode each env starts (-1: the next one not dealt yet); every index within
+        0 .. MAX_EPISODE, checked here so that a bad one is named rather than refused by pybind11."""
         if seed is None:
             return [-1] * self.num_envs
-        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-            seeds = [int(seed) + i for i in range(self.num_envs)]
-        else:
-            if not isinstance(seed, (list, tuple, np.ndarray)):
-                raise TypeError(f"seed must be None, an int or a list of {self.num_envs} ints, "
-                                f"got {type(seed).__name__} {seed!r}")
-            seeds = list(seed)
-            if len(seeds) != self.num_envs:
-                raise ValueError(f"seed must be an int or {self.num_envs} ints, got {len(seeds)} values")
-        for s in seeds:
-            valid = s is None or (isinstance(s, (int, np.integer)) and not isinstance(s, bool) and s >= 0)
-            if not valid:
-                raise ValueError(f"a seed is an episode index >= 0 (or None: the next one), got {s!r}")
+        if _is_int(seed):
+            last_first = _tavis.MAX_EPISODE - (self.num_envs - 1)
+            if not 0 <= seed <= last_first:
+                raise ValueError(f"seed must be an episode index from 0 to {last_first} (reset(seed=s) starts "
+                                 f"episodes s .. s+{self.num_envs - 1}), got {int(seed)}")
+            return [int(seed) + i for i in range(self.num_envs)]
+        if not isinstance(seed, (list, tuple, np.ndarray)):
+            raise TypeError(f"seed must be None, an int or a list of {self.num_envs} ints, "
+                            f"got {type(seed).__name__} {seed!r}")
+        seeds = list(seed)
+        if len(seeds) != self.num_envs:
+            raise ValueError(f"seed must be an int or {self.num_envs} ints, got {len(seeds)} values")
+        for env, s in enumerate(seeds):
+            if s is None:
+                continue
+            if not _is_int(s):
+                raise TypeError(f"seed[{env}] must be an episode index (an int) or None (the next one), "
+                                f"got {type(s).__name__} {s!r}")
+            if not 0 <= s <= _tavis.MAX_EPISODE:
+                raise ValueError(f"seed[{env}] must be an episode index from 0 to {_tavis.MAX_EPISODE} "
+                                 f"(or None: the next one), got {int(s)}")
         return [-1 if s is None else int(s) for s in seeds]
 
     def _observation(self):

@@ -194,5 +194,38 @@ TEST(WebSocketUrl, ParsesHostPortAndPath) {
   EXPECT_THROW(ParseWebSocketUrl("ws://:80"), std::invalid_argument);
 }
 
+// Two servers pasted into one value are named, not read as a host "a:1,ws" with an empty port,
+// or as one server "a:1,b" on port 2. Several servers are several URLs (--server repeated).
+TEST(WebSocketUrl, RefusesTwoUrlsInOneAndHostsNoHostNameHas) {
+  const auto message = [](const std::string& url) {
+    try {
+      ParseWebSocketUrl(url);
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("ws://a:1,ws://b:2"),
+            "policy server URL 'ws://a:1,ws://b:2': holds more than one URL (one server per URL)");
+  EXPECT_EQ(message("ws://a:1ws://b:2"),
+            "policy server URL 'ws://a:1ws://b:2': holds more than one URL (one server per URL)");
+  EXPECT_EQ(message("ws://a:1 ws://b:2/x"),
+            "policy server URL 'ws://a:1 ws://b:2/x': holds more than one URL (one server per URL)");
+  EXPECT_EQ(message("ws://a:1,b:2"),
+            "policy server URL 'ws://a:1,b:2': host 'a:1,b' holds ',', which no host name has (one server per URL)");
+  EXPECT_EQ(message("ws://fe80::1:80"),
+            "policy server URL 'ws://fe80::1:80': host 'fe80::1' holds ':', which no host "
+            "name has (an IPv6 address goes in brackets: ws://[::1]:8000)");
+  EXPECT_EQ(message("ws://a,b:2"),
+            "policy server URL 'ws://a,b:2': host 'a,b' holds ',', which no host name has (one "
+            "server per URL)");
+  EXPECT_EQ(message("ws://::1"),
+            "policy server URL 'ws://::1': host ':' holds ':', which no host name has (an IPv6 "
+            "address goes in brackets: ws://[::1]:8000)");
+  EXPECT_EQ(message("ws://a b:2"), "policy server URL 'ws://a b:2': host 'a b' holds ' ', which no host name has");
+  EXPECT_EQ(ParseWebSocketUrl("ws://gpu_box-1.local:8000/a://b").path, "/a://b") << "a path may hold anything";
+  EXPECT_EQ(ParseWebSocketUrl("ws://10.0.0.7:8000").host, "10.0.0.7");
+}
+
 }  // namespace
 }  // namespace tavis::batch::remote
