@@ -18,7 +18,7 @@ from pathlib import Path
 
 from .table import DATASET_TASKS, Cell, rate
 
-CELL_NAME = re.compile(r"^(?P<dataset>[a-z]+)_(?P<recipe>[a-z0-9]+)_(?P<demos>\d+)$")
+CELL_NAME = re.compile(r"^(?P<dataset>[a-z]+)_(?P<recipe>[a-z0-9]+)_(?P<demos>\d+)(?P<variant>_[a-z0-9]+)?$")
 VISIONS = {"rn18": "ResNet-18 + spatial softmax"}  # recipe prefix -> encoder; none: the CNN
 HEADS = {"l1": "L1 (deterministic)", "flow": "flow matching", "act": "ACT CVAE"}
 
@@ -32,7 +32,7 @@ def recipe_parts(recipe):
 
 
 def load(root):
-    """{(dataset, recipe, demos): (Cell, training dict or None)} and {task: expert Cell}."""
+    """{(dataset, recipe, demos, variant): (Cell, training dict or None)} and {(task, split): expert Cell}."""
     runs, experts = {}, {}
     for folder in sorted(Path(root).iterdir()):
         if not (folder / "summary.json").is_file() or not (folder / "episodes.jsonl").is_file():
@@ -45,13 +45,21 @@ def load(root):
         if match:
             training = folder / "training.json"
             info = json.loads(training.read_text()) if training.is_file() else None
-            runs[(match["dataset"], match["recipe"], int(match["demos"]))] = (Cell(folder), info)
+            key = (match["dataset"], match["recipe"], int(match["demos"]), match["variant"] or "")
+            runs[key] = (Cell(folder), info)
     return runs, experts
 
 
 def funnel(cell):
     stages = cell.summary.get("stages") or []
     return ", ".join(f"{s['stage'].replace('target_', '')} {s['reached']}" for s in stages) or "-"
+
+
+def execution(cell):
+    """How the server executed each chunk (its metadata frame, as `tavis eval` recorded it)."""
+    metadata = cell.summary.get("server_metadata") or [{}]
+    text = metadata[0].get("chunk_execution", "-") if metadata else "-"
+    return text.split(":")[0]
 
 
 def cost(info):
@@ -65,35 +73,35 @@ def cost(info):
 
 def selection_table(dataset, runs, experts):
     task = DATASET_TASKS.get(dataset, dataset)
-    lines = [f"| {task}: vision | head | demos | steps | train min | val L1 | success, 96 id episodes "
+    lines = [f"| {task}: vision | head | demos | served | steps | train min | val L1 | success, 96 id episodes "
              "| stages reached | ends |",
-             "|---|---|---:|---:|---:|---:|---|---|---|"]
-    keys = sorted((k for k in runs if k[0] == dataset), key=lambda k: (recipe_parts(k[1]), k[2]))
+             "|---|---|---:|---|---:|---:|---:|---|---|---|"]
+    keys = sorted((k for k in runs if k[0] == dataset), key=lambda k: (recipe_parts(k[1]), k[2], k[3]))
     for key in keys:
         cell, info = runs[key]
         vision, head = recipe_parts(key[1])
         steps, minutes, validation = cost(info)
         ends = ", ".join(f"{name} {n}" for name, n in sorted(cell.summary.get("ends", {}).items()))
-        lines.append(f"| {vision} | {head} | {key[2]:,} | {steps} | {minutes} | {validation} | {rate(cell)} "
+        lines.append(f"| {vision} | {head} | {key[2]:,} | {execution(cell)} | {steps} | {minutes} | {validation} | {rate(cell)} "
                      f"| {funnel(cell)} | {ends} |")
     expert = experts.get((task, "id"))
     if expert is not None:
-        lines.append(f"| expert | | | | | | {rate(expert)} | {funnel(expert)} | |")
+        lines.append(f"| expert | | | | | | | {rate(expert)} | {funnel(expert)} | |")
     return "\n".join(lines)
 
 
 def demos_curve(dataset, runs):
     """Success against the number of demonstrations, one line per recipe seen at two sizes or more."""
     task = DATASET_TASKS.get(dataset, dataset)
-    recipes = sorted({k[1] for k in runs if k[0] == dataset})
+    recipes = sorted({k[1] for k in runs if k[0] == dataset and not k[3]})
     lines = []
     for recipe in recipes:
-        sizes = sorted(k[2] for k in runs if k[0] == dataset and k[1] == recipe)
+        sizes = sorted(k[2] for k in runs if k[0] == dataset and k[1] == recipe and not k[3])
         if len(sizes) < 2:
             continue
         vision, head = recipe_parts(recipe)
-        points = "; ".join(f"{n:,}: {100 * runs[(dataset, recipe, n)][0].successes / runs[(dataset, recipe, n)][0].n:.1f} %"
-                           for n in sizes)
+        cells = [runs[(dataset, recipe, n, "")][0] for n in sizes]
+        points = "; ".join(f"{n:,}: {100 * c.successes / c.n:.1f} %" for n, c in zip(sizes, cells))
         lines.append(f"- {task}, {vision}, {head}: {points}")
     return "\n".join(lines)
 
