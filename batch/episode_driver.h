@@ -26,8 +26,6 @@
 #include <vector>
 
 #include "batch/camera_protocol.h"
-#include "batch/cell_profile.h"
-#include "batch/cell_profiler.h"
 #include "batch/episode_sink.h"
 #include "batch/episode_slots.h"
 #include "batch/lock_step_ticker.h"
@@ -72,14 +70,9 @@ class EpisodeDriver {
   // Env control ticks simulated (for throughput).
   int64_t control_ticks() const { return ticker_.control_ticks() + per_slot_ticks_; }
 
-  // Tells `observer` what the run does (LoopObserver); it must outlive Run. Call before Run.
+  // Tells `observer` what the run does (LoopObserver; a cell's profiler, batch/cell/cell_profiler.h,
+  // for `tavis eval --profile`); it must outlive Run. Call before Run.
   void SetObserver(LoopObserver& observer) { slots_.SetObserver(&observer); }
-  // Collects profile() during Run (a CellProfiler as the observer, in place of any other): switches
-  // the env's stage timing on (and a PerEnvPolicy's per-env timing) and times the driver's parts.
-  // Call before Run. Under ood-init-pose the warm-up's ticks count in both "reset" and the tick
-  // stages.
-  void EnableProfile() { SetObserver(profiler_); }
-  const CellProfile& profile() const { return profiler_.profile(); }
 
  private:
   void RunLockStep();
@@ -105,7 +98,6 @@ class EpisodeDriver {
   Policy& policy_;
   EpisodeSlots slots_;
   LockStepTicker ticker_;
-  CellProfiler profiler_;
   int64_t total_ = 0;         // episodes to run
   int64_t end_episode_ = 0;   // one past the last episode index
   int64_t next_episode_ = 0;  // the next episode index to deal

@@ -2,7 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "batch/cell_profile.h"
+#include "kinematics/cpu_clock.h"
 
 namespace tavis::batch {
 
@@ -12,9 +12,9 @@ void PerEnvPolicy::Timed(int env, Body&& body) {
     body();
     return;
   }
-  const int64_t start = ThreadCpuNanoseconds();
+  const int64_t start = kinematics::ThreadCpuNanoseconds();
   body();
-  env_nanoseconds_[env] += ThreadCpuNanoseconds() - start;
+  env_nanoseconds_[env] += kinematics::ThreadCpuNanoseconds() - start;
 }
 
 void PerEnvPolicy::Reset(const Observation& observation, const std::vector<uint8_t>& started) {

@@ -6,7 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "batch/perturbed_view.h"
+#include "batch/perturb/perturbed_view.h"
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/gripper_geometry.h"
 #include "render/batch_renderer.h"
@@ -97,14 +97,14 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
 
   // The ground plane z = 0 (reference 2.1).
   add(render::MakePlane(), "floor", render::kBackgroundObjectId,
-      {Source::kStatic, -1, 0.0, RigidTransform::Identity(), TexturedSurface::kFloor});
+      {Source::kStatic, -1, 0.0, RigidTransform::Identity(), perturb::TexturedSurface::kFloor});
   for (const engine::StaticPart& part : model.static_parts) {
     add(part.shape, part.appearance, render::kBackgroundObjectId,
-        {Source::kStatic, -1, 0.0, part.X_WS, SurfaceOfStaticPart(part)});
+        {Source::kStatic, -1, 0.0, part.X_WS, perturb::SurfaceOfStaticPart(part)});
   }
   for (int object = 0; object < model.num_objects(); ++object) {
     const engine::ObjectSpec& spec = model.objects[static_cast<std::size_t>(object)];
-    add(spec.shape, spec.appearance, object, {Source::kObject, object, 0.0, {}, SurfaceOfObject(spec)});
+    add(spec.shape, spec.appearance, object, {Source::kObject, object, 0.0, {}, perturb::SurfaceOfObject(spec)});
   }
   // Every link shape is drawn, the neck's too (physics leaves the kinematic head out).
   for (const kinematics::LinkShape& shape : robot.shapes) {
@@ -134,14 +134,14 @@ render::SceneLayout SceneRender::BuildScene(const engine::WorldModel& model, con
 
   for (const std::string& name : settings.cameras) {
     int mount = -1;
-    layout.cameras.push_back(
-        PerturbedCameraSpec(SpecOf(name, robot, settings.width, settings.height, &mount), model.view_perturbation));
+    layout.cameras.push_back(perturb::PerturbedCameraSpec(SpecOf(name, robot, settings.width, settings.height, &mount),
+                                                          model.view_perturbation));
     camera_mount->push_back(mount);
   }
   // The task's shadow light (multi-shelf-scan has its own); the dome light is shared.
   layout.lighting.distant_direction = model.lighting.distant_direction.cast<float>();
   layout.lighting.distant_intensity = static_cast<float>(model.lighting.distant_intensity);
-  PerturbLighting(model.view_perturbation, &layout.lighting);
+  perturb::PerturbLighting(model.view_perturbation, &layout.lighting);
   return layout;
 }
 
@@ -171,10 +171,11 @@ SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const Ca
   X_WC_.assign(envs * settings_.cameras.size(), RigidTransform::Identity());
   enabled_.assign(envs * settings_.cameras.size(), 1);
   tick_enabled_.assign(envs * settings_.cameras.size(), 0);
-  for (const std::string& name : settings_.cameras) camera_offset_.push_back(CameraMountOffset(name, perturbation_));
-  std::vector<TexturedSurface> surfaces;
+  for (const std::string& name : settings_.cameras)
+    camera_offset_.push_back(perturb::CameraMountOffset(name, perturbation_));
+  std::vector<perturb::TexturedSurface> surfaces;
   for (const InstanceSource& source : sources_) surfaces.push_back(source.surface);
-  appearance_ = AppearanceTextures(perturbation_, std::move(surfaces), num_envs_);
+  appearance_ = perturb::AppearanceTextures(perturbation_, std::move(surfaces), num_envs_);
   // Static parts and the fixed camera never move: their poses are written once.
   for (std::size_t env = 0; env < envs; ++env) {
     for (std::size_t i = 0; i < instances; ++i) {
@@ -183,7 +184,8 @@ SceneRender::SceneRender(const engine::WorldModel& model, int num_envs, const Ca
     }
     for (int c = 0; c < num_cameras(); ++c) {
       if (camera_mount_[static_cast<std::size_t>(c)] < 0)
-        X_WC_[Index(static_cast<int>(env), c)] = PerturbedFixedCameraPose(render::FixedCameraPose(), perturbation_);
+        X_WC_[Index(static_cast<int>(env), c)] =
+            perturb::PerturbedFixedCameraPose(render::FixedCameraPose(), perturbation_);
     }
   }
 }
@@ -264,14 +266,14 @@ void SceneRender::Render(const engine::BatchState& state, const uint8_t* render_
     if (rendered) FillEnv(state, env);
   });
   renderer_->Render(Inputs(), images_.get());
-  ApplySensorPerturbation(perturbation_, state, settings_.cameras, tick_enabled_, images_.get());
+  perturb::ApplySensorPerturbation(perturbation_, state, settings_.cameras, tick_enabled_, images_.get());
 }
 
 render::RenderStats SceneRender::RenderEnv(const engine::BatchState& state, int env) {
   for (int c = 0; c < num_cameras(); ++c) tick_enabled_[Index(env, c)] = enabled_[Index(env, c)];
   FillEnv(state, env);
   const render::RenderStats stats = renderer_->RenderEnv(env, Inputs(), images_.get());
-  ApplySensorPerturbationToEnv(perturbation_, state, settings_.cameras, tick_enabled_, env, images_.get());
+  perturb::ApplySensorPerturbationToEnv(perturbation_, state, settings_.cameras, tick_enabled_, env, images_.get());
   return stats;
 }
 

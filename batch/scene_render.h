@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "batch/perturbed_appearance.h"
+#include "batch/perturb/perturbed_appearance.h"
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
 #include "kinematics/gripper_geometry.h"
@@ -91,7 +91,7 @@ class SceneRender {
     // kStatic: the world pose; kRobotShape: the pose in the link; kFingerJaw: the pose in the IK
     // link with the jaws closed on the centre line (the gap is added along the closing axis).
     RigidTransform X_local = RigidTransform::Identity();
-    TexturedSurface surface = TexturedSurface::kNone;  // what the appearance axis may texture
+    perturb::TexturedSurface surface = perturb::TexturedSurface::kNone;  // what the appearance axis may texture
   };
 
   std::size_t Index(int env, int camera) const {
@@ -122,7 +122,7 @@ class SceneRender {
   std::vector<uint8_t> tick_enabled_;          // [env][camera] enabled and rendered this call
   engine::RenderPerturbation perturbation_;    // the model's camera, lighting and sensor perturbations
   std::vector<RigidTransform> camera_offset_;  // [camera] its perturbed mount in its own frame
-  AppearanceTextures appearance_;              // the model's appearance perturbation (textures)
+  perturb::AppearanceTextures appearance_;     // the model's appearance perturbation (textures)
 };
 
 }  // namespace tavis::batch

@@ -10,13 +10,13 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "batch/cell_profile.h"
-#include "batch/distractor_placement.h"
 #include "batch/init_pose_warmup.h"
-#include "batch/prompt_paraphrase.h"
-#include "batch/target_move.h"
+#include "batch/perturb/distractor_placement.h"
+#include "batch/perturb/prompt_paraphrase.h"
+#include "batch/perturb/target_move.h"
 #include "batch/usable_threads.h"
 #include "kinematics/action_check.h"
+#include "kinematics/cpu_clock.h"
 #include "kinematics/inverse_kinematics.h"
 #include "kinematics/robot_buffers.h"
 
@@ -101,9 +101,9 @@ void VecEnv::Timed(Stage stage, Body&& body) {
   // A control tick's stages run on one thread: their CPU time. Reset starts parallel work: its
   // wall time (render calls are timed by TimedRender).
   if (stage != Stage::kReset) {
-    const int64_t start = ThreadCpuNanoseconds();
+    const int64_t start = kinematics::ThreadCpuNanoseconds();
     body();
-    stage_nanoseconds_[static_cast<int>(stage)] += ThreadCpuNanoseconds() - start;
+    stage_nanoseconds_[static_cast<int>(stage)] += kinematics::ThreadCpuNanoseconds() - start;
     return;
   }
   const auto start = std::chrono::steady_clock::now();
@@ -121,7 +121,7 @@ void VecEnv::TimedRender(int env, Body&& body) {
   const bool batch = env < 0;
   // The wall interval encloses the CPU one, so that the CPU time never exceeds the time held.
   const auto start = std::chrono::steady_clock::now();
-  const int64_t cpu_start = batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds();
+  const int64_t cpu_start = batch ? kinematics::ProcessCpuNanoseconds() : kinematics::ThreadCpuNanoseconds();
   // A single env's call returns the CPU that idle threads spent on its tiles, off this thread's
   // clock; they were held for it too. A whole batch's call is on the process's clock.
   int64_t helpers = 0;
@@ -130,7 +130,8 @@ void VecEnv::TimedRender(int env, Body&& body) {
   } else {
     helpers = body();
   }
-  const int64_t cpu = (batch ? ProcessCpuNanoseconds() : ThreadCpuNanoseconds()) - cpu_start + helpers;
+  const int64_t cpu =
+      (batch ? kinematics::ProcessCpuNanoseconds() : kinematics::ThreadCpuNanoseconds()) - cpu_start + helpers;
   const int64_t wall =
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
   stage_nanoseconds_[static_cast<int>(Stage::kRender)] += wall + helpers;
@@ -175,9 +176,9 @@ void VecEnv::ResetEnv(int env, int64_t episode) {
 }
 
 void VecEnv::TimedResetOne(const EpisodeStart& start) {
-  const int64_t begin = stage_timing_ ? ThreadCpuNanoseconds() : 0;
+  const int64_t begin = stage_timing_ ? kinematics::ThreadCpuNanoseconds() : 0;
   ResetOne(start);
-  if (stage_timing_) env_nanoseconds_[start.env] += ThreadCpuNanoseconds() - begin;
+  if (stage_timing_) env_nanoseconds_[start.env] += kinematics::ThreadCpuNanoseconds() - begin;
 }
 
 void VecEnv::ResetOne(const EpisodeStart& start) {
@@ -199,8 +200,8 @@ void VecEnv::ResetOne(const EpisodeStart& start) {
   state_.task[env] = engine::TaskVars();
   std::fill_n(state_.object_rgb_row(env, 0), 3 * model_.num_objects(), -1.0f);
   scenario_.reset(model_, split_, state_, env);
-  PlaceDistractors(model_, scenario_, state_, env);
-  prompts_[env] = EpisodePrompt(model_, scenario_, state_, env);
+  perturb::PlaceDistractors(model_, scenario_, state_, env);
+  prompts_[env] = perturb::EpisodePrompt(model_, scenario_, state_, env);
 
   engine::PhysicsWorld& world = *worlds_[env];
   world.ResetRobot(state_.q_row(env));
@@ -254,9 +255,9 @@ void VecEnv::TimedControlTick(int env, const std::vector<kinematics::Action>& ac
     ControlTick({env, env + 1}, actions);
     return;
   }
-  const int64_t start = ThreadCpuNanoseconds();
+  const int64_t start = kinematics::ThreadCpuNanoseconds();
   ControlTick({env, env + 1}, actions);
-  env_nanoseconds_[env] += ThreadCpuNanoseconds() - start;
+  env_nanoseconds_[env] += kinematics::ThreadCpuNanoseconds() - start;
 }
 
 void VecEnv::ControlTick(EnvRange envs, const std::vector<kinematics::Action>& actions) {
@@ -337,7 +338,7 @@ void VecEnv::UpdateTask(EnvRange envs) {
     if (!state_.running(env)) continue;
     state_.control_step[env] += 1;
     if (scenario_.update != nullptr) scenario_.update(model_, state_, env);
-    MoveTargetNearHand(model_, scenario_, state_, env, *worlds_[env]);
+    perturb::MoveTargetNearHand(model_, scenario_, state_, env, *worlds_[env]);
     state_.images_current[env] = 0;
   }
 }

@@ -16,13 +16,13 @@
 #include <tbb/info.h>
 
 #include "batch/cell/cell_folder.h"
+#include "batch/cell/cell_profile.h"
 #include "batch/cell/cell_report.h"
 #include "batch/cell/evaluation_cell.h"
-#include "batch/cell_profile.h"
 #include "batch/dataset/video/video_log.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/output_folder.h"
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
@@ -93,7 +93,7 @@ std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, bo
   // Nor may a perturbed cell take the place of its base cell.
   std::string perturbed;
   for (const std::string& choice : cell.perturbations) {
-    const batch::PerturbationChoice parsed = batch::ParsePerturbationChoice(choice);
+    const batch::perturb::PerturbationChoice parsed = batch::perturb::ParsePerturbationChoice(choice);
     perturbed += "_p-" + parsed.axis + "-" + parsed.level;
   }
   return cell.task + "_" + cell.robot + "_" + scenarios::ToString(cell.split) + "_" + batch::ToString(cell.camera) +
@@ -140,8 +140,8 @@ class EvalRollouts {
                 << " -> " << (fs::path(out) / "videos").string() << "\n";
     }
     if (result.profile) {
-      std::cout << batch::FormatCellProfile(*result.profile);
-      batch::output::WriteFileAtomically(out + "/profile.json", batch::CellProfileJson(*result.profile));
+      std::cout << batch::cell::FormatCellProfile(*result.profile);
+      batch::output::WriteFileAtomically(out + "/profile.json", batch::cell::CellProfileJson(*result.profile));
     }
   }
 

@@ -8,7 +8,7 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
@@ -118,7 +118,7 @@ void RunRender(const RenderCommandOptions& options) {
       configs::LoadRobotModel(configs::RobotConfigPath(options.config_dir, options.robot));
 
   engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
-  batch::ApplyPerturbations(options.config_dir, options.perturbations, options.seed, &model);
+  batch::perturb::ApplyPerturbations(options.config_dir, options.perturbations, options.seed, &model);
   batch::VecEnv vec_env(std::move(model), scenario, split, 1, options.seed);
   batch::CameraSettings settings;
   settings.cameras = batch::SceneCameraNames();

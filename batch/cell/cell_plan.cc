@@ -185,8 +185,8 @@ CellPlan PlanCell(const EvaluationCellConfig& config) {
   files.robot_path = configs::RobotConfigPath(config.config_dir, config.robot);
   files.robot_yaml = configs::YamlValue::ReadFileText(files.robot_path);
   plan.model = BuildWorldModel(configs::ParseRobotModel(files.robot_yaml, files.robot_path), *plan.scenario);
-  plan.perturbations = ResolvePerturbations(config.config_dir, config.perturbations);
-  ApplyPerturbationLevels(plan.perturbations, config.seed, &plan.model);
+  plan.perturbations = perturb::ResolvePerturbations(config.config_dir, config.perturbations);
+  perturb::ApplyPerturbationLevels(plan.perturbations, config.seed, &plan.model);
   const bool served = plan.policy == PolicyKind::kOpenpi;
   if (served) {
     PlanServedLayout(plan, files);

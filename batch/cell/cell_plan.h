@@ -15,7 +15,7 @@
 
 #include "batch/cell/cell_settings.h"
 #include "batch/cell/episode_recorder.h"
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "engine/world_model.h"
@@ -29,7 +29,7 @@ struct CellPlan {
   // The robot (its file read once) in the task's scene, the perturbation levels applied.
   engine::WorldModel model;
   PolicyKind policy = PolicyKind::kExpert;
-  std::vector<PerturbationLevel> perturbations;  // the levels chosen, as their files say
+  std::vector<perturb::PerturbationLevel> perturbations;  // the levels chosen, as their files say
   // What cell.json records of the files behind the settings (output::ConfigIdentityJson), from
   // the bytes the plan read.
   nlohmann::json identity;

@@ -18,7 +18,7 @@
 #include "batch/output/output_folder.h"
 #include "batch/output/setting_error.h"
 #include "batch/output/settings_difference.h"
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 
 namespace tavis::batch::cell {
@@ -49,13 +49,13 @@ double ParseActionValue(const nlohmann::json& value) {
   return 0.0;
 }
 
-nlohmann::json SettingsJson(const EvaluationCellConfig& config, const std::vector<PerturbationLevel>& levels,
+nlohmann::json SettingsJson(const EvaluationCellConfig& config, const std::vector<perturb::PerturbationLevel>& levels,
                             const nlohmann::json& identity) {
   nlohmann::json settings =
       RecordedSettingsJson(config, CellRecord::kCellJson, IsPolicy(config.policy, PolicyKind::kOpenpi));
   // Only a perturbed cell names its perturbations, each level with its settings as read (so an
   // edited level file is a different setting): a base cell's cell.json is as it was.
-  if (settings.contains("perturbations")) settings["perturbations"] = PerturbationsJson(levels);
+  if (settings.contains("perturbations")) settings["perturbations"] = perturb::PerturbationsJson(levels);
   settings["identity"] = identity;
   return settings;
 }
@@ -67,7 +67,8 @@ nlohmann::json CellSettingsJson(const CellPlan& plan) {
 }
 
 nlohmann::json CellSettingsJson(const EvaluationCellConfig& config) {
-  return SettingsJson(config, ResolvePerturbations(config.config_dir, config.perturbations), CellIdentityJson(config));
+  return SettingsJson(config, perturb::ResolvePerturbations(config.config_dir, config.perturbations),
+                      CellIdentityJson(config));
 }
 
 EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {

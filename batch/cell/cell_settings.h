@@ -74,7 +74,7 @@ struct EvaluationCellConfig {
   bool keep_actions = false;
   // Time every stage and episode (CellResult::profile; `tavis eval --profile`).
   bool profile = false;
-  // Perturbation levels, "AXIS:LEVEL" each, at most one per axis (batch/perturbation_catalog.h,
+  // Perturbation levels, "AXIS:LEVEL" each, at most one per axis (batch/perturb/perturbation_catalog.h,
   // docs/perturbations.md); empty: the base scene. Episode i keeps its base scene under every one.
   std::vector<std::string> perturbations;
 };

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "batch/builtin_policies.h"
+#include "batch/cell/cell_profiler.h"
 #include "batch/policy_kinds.h"
 #include "batch/vec_env.h"
 #include "kinematics/invariant.h"
@@ -105,11 +106,12 @@ CellResult RunEvaluationCell(const CellPlan& plan, const ProgressCallback& progr
     driver.AddSink(recorder);
     driver.SetProgress(progress);
     driver.SetCameraProtocol(config.camera);
-    if (config.profile) driver.EnableProfile();
+    CellProfiler profiler;
+    if (config.profile) driver.SetObserver(profiler);
     result.per_slot = driver.schedule() == EpisodeDriver::Schedule::kPerSlot;
     driver.Run();
     result.control_ticks = driver.control_ticks();
-    if (config.profile) result.profile = driver.profile();
+    if (config.profile) result.profile = profiler.profile();
   }
   result.rendered_images = vec_env.rendered_images();
   if (const auto* served = dynamic_cast<const remote::RemotePolicy*>(policy.get())) {

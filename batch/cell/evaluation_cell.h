@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "batch/cell/cell_plan.h"
+#include "batch/cell/cell_profile.h"
 #include "batch/cell/cell_settings.h"
 #include "batch/cell/episode_recorder.h"
-#include "batch/cell_profile.h"
 #include "batch/episode_driver.h"
 #include "batch/remote/remote_policy.h"
 

@@ -17,7 +17,7 @@
 #include "batch/output/config_identity.h"
 #include "batch/output/setting_error.h"
 #include "batch/output/settings_difference.h"
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -66,8 +66,8 @@ nlohmann::json Fingerprint(const DemoConfig& config) {
                                 {"identity", batch::output::ConfigIdentityJson(config.config_dir, config.robot)}};
   // Only a perturbed recording names its perturbations, so an unperturbed spool resumes as before.
   if (!config.perturbations.empty()) {
-    fingerprint["perturbations"] =
-        batch::PerturbationsJson(batch::ResolvePerturbations(config.config_dir, config.perturbations));
+    fingerprint["perturbations"] = batch::perturb::PerturbationsJson(
+        batch::perturb::ResolvePerturbations(config.config_dir, config.perturbations));
   }
   return fingerprint;
 }
@@ -164,7 +164,7 @@ void RecordTask(DemoSession& session, const kinematics::RobotModel& robot, std::
   const int cap = config.max_attempts > 0 ? config.max_attempts : 2 * config.episodes + 20;
   const int slots = std::min(config.envs, config.episodes);
   engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
-  batch::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
+  batch::perturb::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
   batch::VecEnv vec_env(std::move(model), scenario, config.split, slots, config.seed);
   const int control_hz = static_cast<int>(vec_env.model().physics.control_hz + 0.5);
   const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, vec_env.model(), slots, config.expert_mode,
@@ -244,7 +244,7 @@ void ValidateDemoConfig(const DemoConfig& config) {
   cameras.height = config.video.height;
   batch::ValidateCameraSettings(cameras);
   for (const std::string& camera : config.cameras) CameraVideoKey(camera);
-  for (const std::string& choice : config.perturbations) batch::ParsePerturbationChoice(choice);
+  for (const std::string& choice : config.perturbations) batch::perturb::ParsePerturbationChoice(choice);
   video::VideoSettings video = config.video;
   video.fps = config.fps;
   video::ValidateVideoSettings(video, "video");

@@ -41,7 +41,7 @@ struct DemoConfig {
   video::VideoSettings video;  // size and codec; fps is set from `fps`
   DatasetVersion version = DatasetVersion::kV30;
   std::string config_dir;  // holds robots/*.yaml
-  // Perturbation levels, "AXIS:LEVEL" each (batch/perturbation_catalog.h): every episode is
+  // Perturbation levels, "AXIS:LEVEL" each (batch/perturb/perturbation_catalog.h): every episode is
   // recorded under them, so a dataset can be randomised along an axis. Empty: the base scene.
   std::vector<std::string> perturbations;
   std::string out;

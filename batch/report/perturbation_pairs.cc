@@ -4,7 +4,7 @@
 #include <string>
 #include <tuple>
 
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/report/paired_statistics.h"
 #include "scenarios/split.h"
 
@@ -29,7 +29,7 @@ Json PerturbationPairRows(const std::vector<CellEpisodes>& cells) {
   std::vector<std::pair<RowKey, std::string>> order;  // perturbed rows in cell order
   for (const CellEpisodes& cell : cells) {
     const std::string label = cell.label.empty() ? cell.config.policy : cell.label;
-    const std::string suffix = PerturbationLabelSuffix(cell.config.perturbations);
+    const std::string suffix = perturb::PerturbationLabelSuffix(cell.config.perturbations);
     // A sweep's perturbed label is the base label and the suffix; an eval cell's is its policy.
     const bool suffixed = !suffix.empty() && label.size() > suffix.size() &&
                           label.compare(label.size() - suffix.size(), suffix.size(), suffix) == 0;

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "batch/output/setting_error.h"
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/sweep/spec_lists.h"
 #include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
@@ -92,7 +92,7 @@ void RequireDistinctCellLabels(const YamlValue& root, const SweepSpec& spec) {
         const std::string& base = group ? spec.policies[p].seed_group : spec.policies[p].label;
         if (base.empty()) continue;
         const Use use{p, k, group};
-        const std::string name = base + PerturbationLabelSuffix(spec.perturbations[k]);
+        const std::string name = base + perturb::PerturbationLabelSuffix(spec.perturbations[k]);
         const auto [earlier, first] = uses.emplace(name, use);
         const Use& other = earlier->second;
         // A seed group is shared by its checkpoints; a policy's own label and group are ReadPolicies' concern.
@@ -228,14 +228,14 @@ std::vector<std::vector<std::string>> ReadPerturbations(const YamlValue& list, c
     std::vector<std::string> choices;
     try {
       choices = SplitPerturbationSet(entry.AsString());
-      ResolvePerturbations(config_dir, choices);
+      perturb::ResolvePerturbations(config_dir, choices);
     } catch (const std::invalid_argument& error) {
       entry.Fail(error.what());
     } catch (const configs::ConfigError& error) {
       entry.Fail(error.what());
     }
     for (std::size_t i = 0; i < sets.size(); ++i) {
-      if (PerturbationLabelSuffix(sets[i]) == PerturbationLabelSuffix(choices))
+      if (perturb::PerturbationLabelSuffix(sets[i]) == perturb::PerturbationLabelSuffix(choices))
         entry.Fail(entry.Text() + " is listed twice");
       // The same levels in another order are the same scene: they would run as a second label.
       std::vector<std::string> earlier = sets[i];
@@ -339,7 +339,7 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
                 config.perturbations = perturbations;
                 if (!policy.Serves(config)) continue;
                 policy.ApplyTo(config);
-                const std::string suffix = PerturbationLabelSuffix(perturbations);
+                const std::string suffix = perturb::PerturbationLabelSuffix(perturbations);
                 cell.label = policy.label + suffix;
                 cell.seed_group = policy.seed_group.empty() ? "" : policy.seed_group + suffix;
                 cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" +
@@ -362,7 +362,7 @@ std::vector<std::string> SplitPerturbationSet(const std::string& text) {
   while (true) {
     const std::size_t plus = text.find('+', start);
     const std::string choice = text.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
-    ParsePerturbationChoice(choice);
+    perturb::ParsePerturbationChoice(choice);
     choices.push_back(choice);
     if (plus == std::string::npos) break;
     start = plus + 1;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "batch/builtin_policies.h"
+#include "batch/cell/cell_profiler.h"
 #include "batch/cell/episode_recorder.h"
 #include "scenarios/registry.h"
 #include "tests/support/altered_hold_policy.h"
@@ -428,7 +429,7 @@ struct RenderedRun {
   std::map<int64_t, std::vector<uint64_t>> images;
   int64_t lit_pixels = 0;
   int64_t rendered_images = 0;
-  CellProfile profile;
+  cell::CellProfile profile;
 };
 
 // The expert on clutter-pick-cube with the head and left wrist cameras rendered at every policy
@@ -450,12 +451,14 @@ RenderedRun RenderedExpert(bool lock_step, std::size_t threads, int slots) {
   driver.AddSink(collected.recorder);
   if (lock_step) driver.RequireLockStep();
   EXPECT_EQ(driver.schedule(), lock_step ? EpisodeDriver::Schedule::kLockStep : EpisodeDriver::Schedule::kPerSlot);
-  driver.EnableProfile();
+  cell::CellProfiler profiler;
+  driver.SetObserver(profiler);
   driver.Run();
-  return {collected.records, images.by_episode, images.lit_pixels.load(), vec_env.rendered_images(), driver.profile()};
+  return {collected.records, images.by_episode, images.lit_pixels.load(), vec_env.rendered_images(),
+          profiler.profile()};
 }
 
-double Stage(const CellProfile& profile, const std::string& name) {
+double Stage(const cell::CellProfile& profile, const std::string& name) {
   for (const auto& [stage, seconds] : profile.stages) {
     if (stage == name) return seconds;
   }
@@ -471,7 +474,7 @@ TEST(EpisodeDriver, TheProfileReportsRenderCpuAndIdleTimeOnEitherScheduleAndThre
   for (const std::size_t threads : {std::size_t{1}, std::size_t{2}}) {
     for (const bool lock_step : {false, true}) {
       const RenderedRun run = RenderedExpert(lock_step, threads, 3);
-      const CellProfile& profile = run.profile;
+      const cell::CellProfile& profile = run.profile;
       const std::string label = std::string(lock_step ? "lock-step" : "per slot") + " on " + std::to_string(threads);
       const int usable = std::min(static_cast<int>(threads), tbb::this_task_arena::max_concurrency());
       EXPECT_EQ(profile.threads, usable) << label;
@@ -490,7 +493,7 @@ TEST(EpisodeDriver, TheProfileReportsRenderCpuAndIdleTimeOnEitherScheduleAndThre
         EXPECT_EQ(profile.render_seconds, 0.0) << "per slot, renders are in the episodes' costs";
         for (const auto& stage : profile.stages) EXPECT_NE(stage.first, "render_idle") << "preemption is no work";
         double episode_costs = 0.0;
-        for (const EpisodeCost& cost : profile.episodes) episode_costs += cost.seconds;
+        for (const cell::EpisodeCost& cost : profile.episodes) episode_costs += cost.seconds;
         EXPECT_GT(episode_costs, profile.render_cpu_seconds);
         EXPECT_NEAR(profile.render_cpu_seconds + profile.render_idle_seconds, profile.render_wall_seconds,
                     1e-3 * profile.render_wall_seconds);

@@ -15,7 +15,10 @@ every place that breaks one. Run by CTest (`layout_rules`), so CI checks it.
    program and compiles every .cc file of the folder; an internal/ folder is compiled by its
    parent's target.
 3. Dependencies point one way (the table DEPENDENCIES): a module includes only the modules it may
-   use, and the runtime in batch/'s root includes nothing of batch's subfolders, which build on it.
+   use, and the runtime in batch/'s root includes nothing of batch's subfolders, which build on it,
+   but those below it (BELOW_RUNTIME: batch/perturb/), which include nothing of batch/ but their own.
+4. The batch/ root is the runtime alone (RUNTIME_UNITS: the env, the episode loop, policies, the
+   observation): any other file there fails, so a feature lands in a folder of its own.
 """
 import pathlib
 import re
@@ -37,6 +40,21 @@ DEPENDENCIES = {
     "batch": {"batch", "scenarios", "render", "engine", "kinematics", "configs"},
     "tools": {"tools", "batch", "scenarios", "render", "engine", "kinematics", "configs"},
 }
+# The batch/ root holds the runtime and nothing else (docs/architecture.md, Design 1): these units
+# (NAME.h and/or NAME.cc) and its CMakeLists.txt.
+RUNTIME_UNITS = {
+    # the env and its control tick, the scene's rendering
+    "vec_env", "scene_render", "init_pose_warmup",
+    # the episode loop: its schedules, its sinks and its observer
+    "episode_driver", "lock_step_ticker", "episode_slots", "episode_sink", "loop_observer", "usable_threads",
+    # policies
+    "policy", "builtin_policies", "policy_kinds", "action_csv",
+    # the observation
+    "proprioception", "observation_contract", "camera_protocol",
+}
+# batch/ subfolders below the runtime: the runtime uses them and they include nothing of batch/
+# but their own folder (the perturbation axes, which the env and the renderer apply).
+BELOW_RUNTIME = {"batch/perturb"}
 # Folders whose code is compiled by another folder's target.
 TARGETLESS = re.compile(r"(^|/)internal$")
 TARGET_CALL = re.compile(r"^\s*(add_library|add_executable|pybind11_add_module)\s*\(\s*([\w-]+)", re.M)
@@ -137,8 +155,31 @@ def check_dependencies(root, files, problems):
             line = text.count("\n", 0, match.start()) + 1
             if target.parts[0] not in DEPENDENCIES[module]:
                 problems.append(f"{path}:{line}: {module}/ may not include {target}.h")
-            elif module == "batch" and len(path.parts) == 2 and len(target.parts) > 2 and target.parts[0] == "batch":
-                problems.append(f"{path}:{line}: the runtime in batch/ may not include {target}.h (subfolders build on the runtime)")
+            elif module == "batch" and target.parts[0] == "batch":
+                source_below = below_runtime(path)
+                target_below = below_runtime(target)
+                if source_below and target_below != source_below:
+                    problems.append(f"{path}:{line}: {source_below}/ is below the runtime and may include only "
+                                    f"its own folder of batch/, not {target}.h")
+                elif len(path.parts) == 2 and len(target.parts) > 2 and not target_below:
+                    problems.append(f"{path}:{line}: the runtime in batch/ may not include {target}.h "
+                                    "(subfolders build on the runtime)")
+
+
+def below_runtime(path):
+    """The BELOW_RUNTIME folder `path` lies in, or None."""
+    return next((folder for folder in BELOW_RUNTIME if str(path).startswith(folder + "/")), None)
+
+
+def check_batch_root(files, problems):
+    for path in files:
+        if len(path.parts) != 2 or path.parts[0] != "batch" or path.name == "CMakeLists.txt":
+            continue
+        if path.suffix in (".h", ".cc") and path.stem in RUNTIME_UNITS:
+            continue
+        problems.append(f"{path}: the batch/ root holds only the runtime (the env, the episode loop, policies, the "
+                        "observation: RUNTIME_UNITS in tools/dev/check_layout.py); put this in a folder, target and "
+                        "namespace of its own under batch/ (docs/architecture.md, Design 1)")
 
 
 def main():
@@ -148,6 +189,7 @@ def main():
     check_namespaces(root, files, problems)
     check_targets(root, files, problems)
     check_dependencies(root, files, problems)
+    check_batch_root(files, problems)
     for problem in problems:
         print(problem)
     print(f"check_layout: {len(problems)} problem(s) in {len(files)} files")

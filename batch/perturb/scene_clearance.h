@@ -8,7 +8,7 @@
 #include "scenarios/expert/grasp_clearance.h"
 #include "scenarios/support_zone.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // The collision box (as the physics collides it, scenarios::expert::ObjectBox) of `shape` standing
 // upright on a surface of height surface_z at horizontal (x, y), turned `yaw`.
@@ -38,4 +38,4 @@ bool ClearOfRobot(const engine::WorldModel& model, const engine::BatchState& sta
 // it, the screen, the cabinet's panels); the support it rests on does not count.
 bool ClearOfStaticParts(const engine::WorldModel& model, const scenarios::expert::OrientedBox& box);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -8,7 +8,7 @@
 #include "engine/world_model.h"
 #include "scenarios/scenario.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // The instruction of env's episode, right after its reset. Under a language level: one of the
 // level's paraphrases for the task, drawn from the episode's own stream (seed,
@@ -17,4 +17,4 @@ namespace tavis::batch {
 std::string EpisodePrompt(const engine::WorldModel& model, const scenarios::ScenarioDef& scenario,
                           const engine::BatchState& state, int env);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

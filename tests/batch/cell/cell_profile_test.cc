@@ -1,5 +1,5 @@
 // CellProfile's critical path and thread-count estimates on hand-made costs, and its JSON.
-#include "batch/cell_profile.h"
+#include "batch/cell/cell_profile.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-namespace tavis::batch {
+namespace tavis::batch::cell {
 namespace {
 
 // Two ticks on four envs: in the first, one env costs 3 s and three cost 1 s; in the second,
@@ -107,4 +107,4 @@ TEST(CellProfile, TextNamesTheRunsThreads) {
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::cell

@@ -1,4 +1,4 @@
-#include "batch/scene_clearance.h"
+#include "batch/perturb/scene_clearance.h"
 
 #include <cmath>
 
@@ -6,7 +6,7 @@
 #include "kinematics/robot_buffers.h"
 #include "scenarios/expert/arm_clearance.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 // Resting contact is not overlap: a box's bottom is lifted this far before it is compared with
@@ -119,4 +119,4 @@ bool ClearOfStaticParts(const engine::WorldModel& model, const scenarios::expert
   return true;
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,10 +1,10 @@
-#include "batch/surface_texture_yaml.h"
+#include "batch/perturb/surface_texture_yaml.h"
 
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 using configs::Range;
@@ -98,4 +98,4 @@ SurfaceTextureEntry ReadSurfaceTexture(const YamlValue& value) {
   return entry;
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

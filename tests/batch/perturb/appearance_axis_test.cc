@@ -1,10 +1,10 @@
-// The appearance perturbation axis (configs/perturbations/appearance.yaml, batch/
-// surface_texture_yaml.h, batch/perturbed_appearance.h): the shipped levels load and record their
-// settings; a bad surface is refused naming the file, the key and the value; a table or floor
-// texture changes exactly the pixels that see the table or the floor (found from the depth image,
-// not from the textures); a distractor texture changes only distractors and nothing without them;
-// random colours are a function of (seed, episode), not of the slot; and the scripted expert's
-// episodes under every level are the base cell's.
+// The appearance perturbation axis (configs/perturbations/appearance.yaml,
+// batch/perturb/surface_texture_yaml.h, batch/perturb/perturbed_appearance.h): the shipped levels
+// load and record their settings; a bad surface is refused naming the file, the key and the value;
+// a table or floor texture changes exactly the pixels that see the table or the floor (found from
+// the depth image, not from the textures); a distractor texture changes only distractors and
+// nothing without them; random colours are a function of (seed, episode), not of the slot; and the
+// scripted expert's episodes under every level are the base cell's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "batch/cell/evaluation_cell.h"
-#include "batch/perturbation_catalog.h"
-#include "batch/perturbed_appearance.h"
+#include "batch/perturb/perturbation_catalog.h"
+#include "batch/perturb/perturbed_appearance.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/robot_config.h"
@@ -28,7 +28,7 @@
 #include "scenarios/registry.h"
 #include "tests/batch/rendered_expert_cell.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 namespace fs = std::filesystem;
@@ -320,4 +320,4 @@ TEST(AppearanceAxis, EveryLevelLeavesTheExpertsEpisodesExactlyAsInTheBaseCell) {
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -17,7 +17,7 @@
 #include "configs/yaml_reader.h"
 #include "engine/surface_texture.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 struct SurfaceTextureEntry {
   engine::SurfaceTexture texture;
@@ -26,4 +26,4 @@ struct SurfaceTextureEntry {
 
 SurfaceTextureEntry ReadSurfaceTexture(const configs::YamlValue& value);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,4 +1,4 @@
-#include "batch/perturbed_view.h"
+#include "batch/perturb/perturbed_view.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "engine/random.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
@@ -208,4 +208,4 @@ void ApplySensorPerturbation(const engine::RenderPerturbation& perturbation, con
   });
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

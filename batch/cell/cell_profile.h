@@ -1,7 +1,7 @@
 // Where a cell's time goes: the summed time of each stage (actions/IK, physics, neck, task,
 // end checks, reset, render, policy, recording, the driver's own serial work), every episode's
 // measured cost, and from those costs the cell's critical path: the time it would take with
-// unlimited threads. CellProfiler collects it (EpisodeDriver::EnableProfile); `tavis eval
+// unlimited threads. CellProfiler collects it (an episode loop observer); `tavis eval
 // --profile` prints it and writes DIR/profile.json.
 #pragma once
 
@@ -12,7 +12,7 @@
 
 #include "kinematics/cpu_clock.h"
 
-namespace tavis::batch {
+namespace tavis::batch::cell {
 
 using kinematics::ProcessCpuNanoseconds;
 using kinematics::ThreadCpuNanoseconds;
@@ -71,4 +71,4 @@ std::string FormatCellProfile(const CellProfile& profile);
 // The same as JSON, with every episode's cost.
 std::string CellProfileJson(const CellProfile& profile);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::cell

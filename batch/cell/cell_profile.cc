@@ -1,4 +1,4 @@
-#include "batch/cell_profile.h"
+#include "batch/cell/cell_profile.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace tavis::batch {
+namespace tavis::batch::cell {
 
 double CellProfile::work_seconds() const {
   double total = 0.0;
@@ -134,4 +134,4 @@ std::string CellProfileJson(const CellProfile& profile) {
   return json.dump(2) + "\n";
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::cell

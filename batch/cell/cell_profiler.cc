@@ -1,4 +1,4 @@
-#include "batch/cell_profiler.h"
+#include "batch/cell/cell_profiler.h"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include "batch/usable_threads.h"
 #include "batch/vec_env.h"
 
-namespace tavis::batch {
+namespace tavis::batch::cell {
 
 double CellProfiler::SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -134,4 +134,4 @@ void CellProfiler::RunEnded() {
       "driver", profile_.per_slot ? outside_parallel : std::max(0.0, outside_parallel - recording_seconds_));
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::cell

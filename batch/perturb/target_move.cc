@@ -1,15 +1,15 @@
-#include "batch/target_move.h"
+#include "batch/perturb/target_move.h"
 
 #include <array>
 #include <cmath>
 #include <optional>
 #include <vector>
 
-#include "batch/scene_clearance.h"
+#include "batch/perturb/scene_clearance.h"
 #include "kinematics/forward_kinematics.h"
 #include "kinematics/robot_buffers.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 constexpr int kHeadings = 12;  // tried in turn, 30 degrees apart
@@ -78,4 +78,4 @@ void MoveTargetNearHand(const engine::WorldModel& model, const scenarios::Scenar
   vars.target_move_tick = state.control_step[static_cast<std::size_t>(env)];
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

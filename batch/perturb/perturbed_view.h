@@ -16,7 +16,7 @@
 #include "render/image_batch.h"
 #include "render/scene_layout.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // The camera's spec with its field of view scaled (head and fixed cameras; wrists unchanged).
 // Throws std::invalid_argument naming the scale when the scaled angle is not in (0, 180) degrees.
@@ -49,4 +49,4 @@ void ApplySensorPerturbationToEnv(const engine::RenderPerturbation& perturbation
                                   const std::vector<std::string>& camera_names, const std::vector<uint8_t>& enabled,
                                   int env, render::ImageBatch* images);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -12,7 +12,7 @@
 #include "engine/world_model.h"
 #include "render/procedural_texture.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // Which of the axis's surfaces a scene instance is.
 enum class TexturedSurface : uint8_t { kNone, kFloor, kTable, kDistractor };
@@ -56,4 +56,4 @@ class AppearanceTextures {
   std::vector<render::ProceduralTexture> textures_;
 };
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,20 +1,23 @@
 // Where a cell's time goes, measured from outside the episode loop: the loop tells this observer
 // where its parts (parallel work, the policy, the sinks) and its episodes start and end, and the
 // profiler times them, switches the env's stage timing and a PerEnvPolicy's per-env timing on,
-// and at the end of the run puts them together into a CellProfile (batch/cell_profile.h).
-// EpisodeDriver::EnableProfile plugs one in; `tavis eval --profile` prints and writes its profile.
+// and at the end of the run puts them together into a CellProfile (batch/cell/cell_profile.h).
+// An evaluation cell with `profile` set plugs one into its EpisodeDriver (SetObserver); `tavis eval
+// --profile` prints and writes its profile.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
 #include <vector>
 
-#include "batch/cell_profile.h"
+#include "batch/cell/cell_profile.h"
 #include "batch/loop_observer.h"
 
 namespace tavis::batch {
-
 class PerEnvPolicy;
+}  // namespace tavis::batch
+
+namespace tavis::batch::cell {
 
 class CellProfiler : public LoopObserver {
  public:
@@ -57,4 +60,4 @@ class CellProfiler : public LoopObserver {
   std::vector<double> slot_recording_seconds_;
 };
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::cell

@@ -13,7 +13,7 @@
 #include "configs/yaml_reader.h"
 #include "engine/episode_perturbation.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // Reads one level of the axis: `file` is the whole file (its file-level keys, such as the
 // distractor objects every level draws from), `level` the level's mapping. Writes the level's
@@ -25,4 +25,4 @@ using EpisodeLevelReader = void (*)(const configs::YamlValue& file, const config
 // The reader of `axis`, or null when the axis changes only views.
 EpisodeLevelReader FindEpisodeLevelReader(const std::string& axis);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,8 +1,8 @@
-#include "batch/prompt_paraphrase.h"
+#include "batch/perturb/prompt_paraphrase.h"
 
 #include <vector>
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 std::string EpisodePrompt(const engine::WorldModel& model, const scenarios::ScenarioDef& scenario,
                           const engine::BatchState& state, int env) {
@@ -28,4 +28,4 @@ std::string EpisodePrompt(const engine::WorldModel& model, const scenarios::Scen
   return prompt;
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -18,7 +18,7 @@
 #include "engine/render_perturbation.h"
 #include "engine/world_model.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // The axes this program implements, in the order docs/perturbations.md lists them.
 const std::vector<std::string>& PerturbationAxisNames();
@@ -71,4 +71,4 @@ void ApplyPerturbations(const std::string& config_dir, const std::vector<std::st
 // The same for levels already resolved (a cell's plan resolves them once); none: unchanged.
 void ApplyPerturbationLevels(const std::vector<PerturbationLevel>& levels, uint64_t seed, engine::WorldModel* model);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,12 +1,12 @@
-#include "batch/distractor_placement.h"
+#include "batch/perturb/distractor_placement.h"
 
 #include <cmath>
 #include <vector>
 
-#include "batch/scene_clearance.h"
+#include "batch/perturb/scene_clearance.h"
 #include "scenarios/object_placement.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 constexpr const char* kAppearance = "distractor";
@@ -79,4 +79,4 @@ void PlaceDistractors(const engine::WorldModel& model, const scenarios::Scenario
   }
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,8 +1,8 @@
-// The perturbation axes (batch/perturbation_catalog.h, batch/perturbed_view.h): the shipped level
+// The perturbation axes (batch/perturb/perturbation_catalog.h, batch/perturb/perturbed_view.h): the shipped level
 // files load; a bad file is refused naming the file, the key and the value; every axis changes the
 // pixels it claims to and only those; the physics, the scene and the expert's motion are those of
 // the base scene; and the default (no perturbation) leaves every image untouched.
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 
 #include "batch/cell/cell_record_stream.h"
 #include "batch/cell/evaluation_cell.h"
-#include "batch/perturbed_view.h"
+#include "batch/perturb/perturbed_view.h"
 #include "batch/report/perturbation_pairs.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
@@ -26,7 +26,7 @@
 #include "scenarios/registry.h"
 #include "tests/batch/rendered_expert_cell.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 namespace fs = std::filesystem;
@@ -419,4 +419,4 @@ TEST(PerturbationPairs, PerturbedCellsPairWithTheirBaseCellEpisodeByEpisode) {
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -18,7 +18,7 @@
 
 #include "batch/cell/cell_record_stream.h"
 #include "batch/cell/evaluation_cell.h"
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
 #include "configs/yaml_reader.h"
@@ -28,7 +28,7 @@
 #include "scenarios/registry.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 using cell::CellResult;
@@ -448,4 +448,4 @@ TEST(RuntimeAxis, ACellRecordsTheMoveAndTheBaseCellHasNone) {
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,6 +1,6 @@
 // The profiler as the episode loop's observer: what each hook adds to the profile, and a profiled
 // run's profile on either schedule (every stage, every episode, every section).
-#include "batch/cell_profiler.h"
+#include "batch/cell/cell_profiler.h"
 
 #include <gtest/gtest.h>
 
@@ -24,7 +24,7 @@
 #include "tests/support/idle_policy.h"
 #include "tests/support/robot_loading.h"
 
-namespace tavis::batch {
+namespace tavis::batch::cell {
 namespace {
 
 constexpr double kNap = 0.005;  // seconds slept inside a part of the loop
@@ -105,9 +105,10 @@ CellProfile HoldRun(bool lock_step, std::size_t threads = 2) {
   std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
   EpisodeDriver driver(vec_env, *hold, 5);
   if (lock_step) driver.RequireLockStep();
-  driver.EnableProfile();
+  CellProfiler profiler;
+  driver.SetObserver(profiler);
   driver.Run();
-  return driver.profile();
+  return profiler.profile();
 }
 
 TEST(CellProfiler, AProfiledRunHasEveryStageEpisodeAndSectionOnEitherSchedule) {
@@ -153,4 +154,4 @@ TEST(CellProfiler, AProfileCountsTheThreadsTheLimitAllowsNotTheMachinesCores) {
 }
 
 }  // namespace
-}  // namespace tavis::batch
+}  // namespace tavis::batch::cell

@@ -1,11 +1,11 @@
-#include "batch/perturbed_appearance.h"
+#include "batch/perturb/perturbed_appearance.h"
 
 #include <limits>
 #include <utility>
 
 #include "engine/random.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 constexpr const char* kTablePartName = "table";
@@ -87,4 +87,4 @@ void AppearanceTextures::Fill(int env, const EpisodeTextures& episode_textures) 
   }
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,4 +1,4 @@
-#include "batch/episode_perturbation_levels.h"
+#include "batch/perturb/episode_perturbation_levels.h"
 
 #include <algorithm>
 #include <map>
@@ -8,7 +8,7 @@
 #include "engine/object_catalog.h"
 #include "scenarios/registry.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 using configs::Range;
@@ -168,4 +168,4 @@ EpisodeLevelReader FindEpisodeLevelReader(const std::string& axis) {
   return reader == readers.end() ? nullptr : reader->second;
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

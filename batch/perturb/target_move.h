@@ -6,7 +6,7 @@
 #include "engine/world_model.h"
 #include "scenarios/scenario.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // m: the least gap between the moved target and any other movable object (the tasks' own
 // placements keep their objects apart by more), and between it and a fixed object (a box's walls,
@@ -27,4 +27,4 @@ inline constexpr double kTargetMoveFixedClearance = 0.01;
 void MoveTargetNearHand(const engine::WorldModel& model, const scenarios::ScenarioDef& scenario,
                         engine::BatchState& state, int env, engine::PhysicsWorld& world);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -1,4 +1,4 @@
-#include "batch/perturbation_catalog.h"
+#include "batch/perturb/perturbation_catalog.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -6,15 +6,15 @@
 #include <map>
 #include <stdexcept>
 
-#include "batch/distractor_placement.h"
-#include "batch/episode_perturbation_levels.h"
-#include "batch/perturbed_view.h"
-#include "batch/surface_texture_yaml.h"
+#include "batch/perturb/distractor_placement.h"
+#include "batch/perturb/episode_perturbation_levels.h"
+#include "batch/perturb/perturbed_view.h"
+#include "batch/perturb/surface_texture_yaml.h"
 #include "configs/yaml_reader.h"
 #include "render/camera.h"
 #include "render/scene_layout.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 namespace {
 
 using configs::Range;
@@ -289,4 +289,4 @@ void ApplyPerturbationLevels(const std::vector<PerturbationLevel>& levels, uint6
   AddDistractorObjects(model);
 }
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb

@@ -6,7 +6,7 @@
 #include "engine/world_model.h"
 #include "scenarios/scenario.h"
 
-namespace tavis::batch {
+namespace tavis::batch::perturb {
 
 // m: the least gap between a distractor's footprint and any other object's, so that none stands
 // on, against or between the task's objects.
@@ -28,4 +28,4 @@ void AddDistractorObjects(engine::WorldModel* model);
 void PlaceDistractors(const engine::WorldModel& model, const scenarios::ScenarioDef& scenario,
                       engine::BatchState& state, int env);
 
-}  // namespace tavis::batch
+}  // namespace tavis::batch::perturb
