@@ -198,6 +198,7 @@ void VecEnv::ResetOne(const EpisodeStart& start) {
   // the command at the first tick, which must not see what the slot's previous episode left.
   std::fill_n(state_.gripper_command_row(env), engine::kGrippersPerEnv, -1.0);
   state_.task[env] = engine::TaskVars();
+  state_.task_state[env] = engine::TaskStateBlock();
   std::fill_n(state_.object_rgb_row(env, 0), 3 * model_.num_objects(), -1.0f);
   scenario_.reset(model_, split_, state_, env);
   perturb::PlaceDistractors(model_, scenario_, state_, env);

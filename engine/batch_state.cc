@@ -41,6 +41,7 @@ void BatchState::Allocate(int envs, int joints, int objects) {
   object_enabled.assign(n * objects, 0);
   object_rgb.assign(n * objects * 3, -1.0f);
   task.assign(n, TaskVars());
+  task_state.assign(n, TaskStateBlock());
   control_step.assign(n, 0);
   policy_start_tick.assign(n, 0);
   episode.assign(n, -1);

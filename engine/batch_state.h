@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -26,21 +27,27 @@ constexpr int kObjectPoseSize = 7;      // x, y, z, qw, qx, qy, qz (world)
 constexpr int kObjectVelocitySize = 6;  // linear xyz, angular xyz (world)
 constexpr int kGrippersPerEnv = 2;      // left, right (kinematics::Index(side))
 
-// The per-episode variables of a task, one struct for all tasks: each task sets the fields its
-// scenario declares and leaves the others at their defaults. Reset writes them from the
-// episode's random draws; the task's update hook may change them (wait-then-act's light).
+// The per-episode variables every task has and the runtime reads: its target, the phrasing of its
+// prompt, and what the runtime perturbation axis did to the target. A task's reset writes them
+// from the episode's random draws; its own variables live in its TaskStateBlock.
 struct TaskVars {
-  int target = -1;           // index of the object the episode is about (every task)
-  int prompt_variant = 0;    // which phrasing of the prompt (clutter-pick-lift, multi-shelf-scan)
-  bool card_is_red = false;  // conditional-pick: red -> the left object, green -> the right one
-  bool go = false;           // wait-then-act: the light has turned green
-  int go_policy_step = 0;    // wait-then-act: policy step (20 Hz) at which the light turns green
-  int open_side = 0;         // peeking-box: +1 the robot's left (+y) wall is missing, -1 the right
+  int target = -1;         // index of the object the episode is about (every task)
+  int prompt_variant = 0;  // which phrasing of the prompt (clutter-pick-lift, multi-shelf-scan)
   // The runtime perturbation axis (docs/perturbations.md): the control tick at which the target
   // was moved under the approaching hand, -1 while it has not been; and whether a hand has come
   // near it (moved or, with no free place, not: the axis is done with the episode either way).
   int target_move_tick = -1;
   bool target_move_tried = false;
+};
+
+// A task's own per-env variables (as MuJoCo's mjData::userdata): bytes the engine keeps and never
+// reads. The task declares their type and its hooks alone read and write them
+// (scenarios/task_state.h). One block per env, all in one array allocated with the batch, so a
+// step never allocates; a cache line each, so threads stepping neighbouring envs share none. A
+// reset zeroes the env's block before the task's reset hook starts its variables there.
+inline constexpr std::size_t kTaskStateBytes = 64;
+struct alignas(64) TaskStateBlock {
+  unsigned char bytes[kTaskStateBytes] = {};
 };
 
 // Why an episode ended invalid_action: the policy's action, or the reply it came in, was unusable.
@@ -65,8 +72,9 @@ struct BatchState {
   // (num_envs x num_objects x 3) linear RGB a task gives an object (the cue card's red or green,
   // the light turning green); negative: the object's palette colour.
   std::vector<float> object_rgb;
-  std::vector<TaskVars> task;     // (num_envs) the task's variables
-  std::vector<int> control_step;  // (num_envs) control ticks since the episode's reset
+  std::vector<TaskVars> task;              // (num_envs) the variables every task has
+  std::vector<TaskStateBlock> task_state;  // (num_envs) the task's own variables
+  std::vector<int> control_step;           // (num_envs) control ticks since the episode's reset
   // (num_envs) control_step at the policy's first observation: the ticks the reset's warm-up
   // held (ood-init-pose), 0 otherwise. A served request counts its `step` from here.
   std::vector<int> policy_start_tick;
@@ -101,6 +109,8 @@ struct BatchState {
   }
   float* object_rgb_row(int env, int object) { return &object_rgb[EnvObject(env, object) * 3]; }
   const float* object_rgb_row(int env, int object) const { return &object_rgb[EnvObject(env, object) * 3]; }
+  unsigned char* task_state_row(int env) { return task_state[Env(env)].bytes; }
+  const unsigned char* task_state_row(int env) const { return task_state[Env(env)].bytes; }
   uint8_t& object_enabled_at(int env, int object) { return object_enabled[EnvObject(env, object)]; }
   uint8_t object_enabled_at(int env, int object) const { return object_enabled[EnvObject(env, object)]; }
 

@@ -13,12 +13,12 @@
 namespace tavis::scenarios {
 namespace {
 
-constexpr int kRedCube = 5;  // index in the world's object list, after the five YCB objects
+constexpr const char* kRedCubeName = "red_cube";
 
 void Layout(engine::WorldModel& model) {
   for (const std::string& name : engine::TavisHeadObjectNames())
     model.objects.push_back(engine::MakeCatalogObject(name));
-  model.objects.push_back(engine::MakeCatalogObject("red_cube"));
+  model.objects.push_back(engine::MakeCatalogObject(kRedCubeName));
   model.static_parts.push_back(engine::MakeTable());
 }
 
@@ -59,7 +59,7 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
     PlaceUpright(state, env, object, placements[object].position, placements[object].yaw);
     state.object_enabled_at(env, object) = object != hidden;
   }
-  state.task[env].target = kRedCube;
+  state.task[env].target = model.ObjectIndex(kRedCubeName);
 }
 
 const char* Prompt(const engine::BatchState&, int) { return "Find the red cube and pick it up."; }
@@ -87,7 +87,7 @@ std::array<RigidTransform, 2> WristLookPoses(const engine::WorldModel& model, co
     X_W_ik.translation() = robot.CanonicalToBase(X_W_ik.translation()) + robot.root_world;
     poses[static_cast<std::size_t>(kinematics::Index(side))] = X_W_ik;
   }
-  const Vec3 cube = state.ObjectPosition(env, kRedCube);
+  const Vec3 cube = state.ObjectPosition(env, state.target(env));  // the red cube
   const kinematics::Side looking = cube.y() >= 0.0 ? kinematics::Side::kLeft : kinematics::Side::kRight;
   const double inward = looking == kinematics::Side::kLeft ? -1.0 : 1.0;  // the left hand looks toward -y
   for (const double turn : kInwardTurns) {
@@ -129,6 +129,15 @@ ScenarioDef ClutterPickCube() {
   def.stages = PickStages(def.success);
   def.distractor_zones = &ClutterDistractorZones;
   def.target_zones = &ClutterTargetZones;
+  // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml);
+  // blocked-clutter-pick-cube has the same.
+  def.paraphrases = {
+      {"paraphrase", {"Locate the red block among the objects and lift it up."}},
+      {"paraphrase-terse", {"Red cube: lift."}},
+      {"paraphrase-synonyms",
+       {"Somewhere on the table is a red block; lift it.", "Could you find the scarlet cube and hold it up?",
+        "Pick up the little red box from among the things on the table."}},
+  };
   return def;
 }
 

@@ -72,6 +72,14 @@ ScenarioDef ClutterPickLift() {
   def.stages = PickStages(def.success);
   def.distractor_zones = &ClutterDistractorZones;
   def.target_zones = &ClutterTargetZones;
+  // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).
+  def.paraphrases = {
+      {"paraphrase", {"Take hold of the {object} and raise it above the table."}},
+      {"paraphrase-terse", {"{object}: lift."}},
+      {"paraphrase-synonyms",
+       {"Could you pick the {object} up off the table?", "I need the {object}; lift it for me.",
+        "Raise the {object} into the air."}},
+  };
   return def;
 }
 

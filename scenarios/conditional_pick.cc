@@ -4,11 +4,11 @@
 #include "scenarios/expert/pick_expert.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
+#include "scenarios/task_state.h"
 
 namespace tavis::scenarios {
 namespace {
 
-constexpr int kCard = 5;  // after the five YCB objects
 constexpr const char* kCardName = "cue_card";
 constexpr double kCardZ = 1.002;
 
@@ -36,7 +36,7 @@ Zones ZonesFor(Split split) {
   return {{0.35, 0.45}, {0.15, 0.25}, {0.35, 0.45}, {-0.25, -0.15}, {0.35, 0.45}, {-0.05, 0.05}};
 }
 
-void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, int env) {
+void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
   const Zones zones = ZonesFor(split);
   const int num_ycb = static_cast<int>(engine::TavisHeadObjectNames().size());
@@ -55,13 +55,14 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
   }
   const double cx = rng.Uniform(zones.card_x.low, zones.card_x.high);
   const double cy = rng.Uniform(zones.card_y.low, zones.card_y.high);
-  PlaceUpright(state, env, kCard, Vec3(cx, cy, kCardZ), 0.0);
-  float* rgb = state.object_rgb_row(env, kCard);
+  const int card = model.ObjectIndex(kCardName);
+  PlaceUpright(state, env, card, Vec3(cx, cy, kCardZ), 0.0);
+  float* rgb = state.object_rgb_row(env, card);
   rgb[0] = card_is_red ? 1.0f : 0.0f;
   rgb[1] = card_is_red ? 0.0f : 1.0f;
   rgb[2] = 0.0f;
   state.task[env].target = card_is_red ? left : right;
-  state.task[env].card_is_red = card_is_red;
+  ResetTaskState<ConditionalPickVars>(state, env).card_is_red = card_is_red;
 }
 
 const char* Prompt(const engine::BatchState&, int) {
@@ -70,9 +71,7 @@ const char* Prompt(const engine::BatchState&, int) {
 
 // The card's rule names the target by its side: red the left object, green the right.
 TargetFacts Facts(const engine::BatchState& state, int env) {
-  TargetFacts facts;
-  facts.side = state.task[env].card_is_red ? "left" : "right";
-  return facts;
+  return {{"side", TaskState<ConditionalPickVars>(state, env).card_is_red ? "left" : "right"}};
 }
 
 // Distractors stand behind the objects and the card as the robot sees them: no reach passes
@@ -84,7 +83,7 @@ std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
 
 std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
   const Zones wide = ZonesFor(Split::kOodSpatial);
-  const bool left = state.task[env].card_is_red;
+  const bool left = TaskState<ConditionalPickVars>(state, env).card_is_red;
   const Range& x = left ? wide.left_x : wide.right_x;
   const Range& y = left ? wide.left_y : wide.right_y;
   return {AlignedZone(x.low, x.high, y.low, y.high, engine::kTableHeight)};
@@ -93,7 +92,7 @@ std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
   expert::PickExpertSettings settings;
   settings.mode = mode;
-  settings.cue_object = kCard;
+  settings.cue_object = model.ObjectIndex(kCardName);
   return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
@@ -117,6 +116,16 @@ ScenarioDef ConditionalPick() {
   def.target_facts = &Facts;
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;
+  // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).
+  def.paraphrases = {
+      {"paraphrase", {"Check the colour of the card: red means take the left object, green means take the right one."}},
+      {"paraphrase-terse", {"Card red: left object. Card green: right object. Lift it."}},
+      {"paraphrase-synonyms",
+       {"The card tells you which side: red for the item on your left, green for the one on your right. Lift that "
+        "item.",
+        "Read the card first. A red card means the left item, a green card the right item; pick it up.",
+        "Which item to lift depends on the card's colour: left if red, right if green."}},
+  };
   return def;
 }
 

@@ -6,6 +6,11 @@
 
 namespace tavis::scenarios {
 
+// The task's own variables of an episode (task_state.h).
+struct ConditionalPickVars {
+  bool card_is_red = false;  // red -> the left object, green -> the right one
+};
+
 ScenarioDef ConditionalPick();
 
 }  // namespace tavis::scenarios

@@ -111,11 +111,11 @@ int ShelfUnder(double z) {
 // The height of a shelf board's top face (the lowest board's for -1).
 double ShelfSurfaceZ(int shelf) { return kShelfZ[static_cast<std::size_t>(std::max(shelf, 0))] + 0.5 * kBoard; }
 
-// The shelf the target stands on.
+// The shelf the target stands on (none below every board, where a reset never puts it).
 TargetFacts Facts(const engine::BatchState& state, int env) {
-  TargetFacts facts;
-  facts.shelf = ShelfUnder(state.ObjectPosition(env, state.target(env)).z());
-  return facts;
+  const int shelf = ShelfUnder(state.ObjectPosition(env, state.target(env)).z());
+  if (shelf < 0) return {};
+  return {{"shelf", shelf}};
 }
 
 // A shelf board's area between the side panels, inset by `inset` from every edge.
@@ -184,6 +184,15 @@ ScenarioDef MultiShelfScan() {
   def.target_facts = &Facts;
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;
+  // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).
+  def.paraphrases = {
+      {"paraphrase", {"Search the shelves for the {object} and pull it out toward me."}},
+      {"paraphrase-terse", {"Shelves: fetch {object}."}},
+      {"paraphrase-synonyms",
+       {"Somewhere on these shelves is the {object}; please fetch it.",
+        "Could you find the {object} in the cabinet and take it out?",
+        "Check each shelf for the {object} and pull it out to me."}},
+  };
   return def;
 }
 

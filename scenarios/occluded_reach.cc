@@ -93,6 +93,14 @@ ScenarioDef OccludedReach() {
   def.stages = PickStages(def.success);
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;
+  // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).
+  def.paraphrases = {
+      {"paraphrase", {"The object is hidden behind the screen; reach around it and pick it up."}},
+      {"paraphrase-terse", {"Behind screen: pick up."}},
+      {"paraphrase-synonyms",
+       {"An item stands behind the monitor; get it.", "Reach behind the display and lift the item there.",
+        "Pick up the thing that the screen hides from view."}},
+  };
   return def;
 }
 

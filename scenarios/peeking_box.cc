@@ -7,11 +7,11 @@
 #include "scenarios/expert/pick_expert.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
+#include "scenarios/task_state.h"
 
 namespace tavis::scenarios {
 namespace {
 
-constexpr int kNumYcb = 5;
 constexpr double kObjectZ = 1.05;
 
 // Box walls in box-local coordinates (reference 4.6): the lid and the front and back panels span
@@ -22,17 +22,17 @@ struct Wall {
   Vec3 centre;  // box-local x, y; world z
 };
 constexpr double kT = 0.008;
+constexpr const char* kWallBackName = "box_wall_back";
+constexpr const char* kWallFrontName = "box_wall_front";
+constexpr const char* kWallPosYName = "box_wall_pos_y";
+constexpr const char* kWallNegYName = "box_wall_neg_y";
 const std::array<Wall, 5> kWalls = {{
-    {"box_wall_back", {kT, 0.156, 0.20}, {0.204, 0.0, 1.095}},
-    {"box_wall_front", {kT, 0.156, 0.20}, {-0.204, 0.0, 1.095}},
+    {kWallBackName, {kT, 0.156, 0.20}, {0.204, 0.0, 1.095}},
+    {kWallFrontName, {kT, 0.156, 0.20}, {-0.204, 0.0, 1.095}},
     {"box_wall_top", {0.416, 0.156, kT}, {0.0, 0.0, 1.199}},
-    {"box_wall_pos_y", {0.40, kT, 0.20}, {0.0, 0.074, 1.095}},
-    {"box_wall_neg_y", {0.40, kT, 0.20}, {0.0, -0.074, 1.095}},
+    {kWallPosYName, {0.40, kT, 0.20}, {0.0, 0.074, 1.095}},
+    {kWallNegYName, {0.40, kT, 0.20}, {0.0, -0.074, 1.095}},
 }};
-constexpr int kWallBack = kNumYcb;
-constexpr int kWallFront = kNumYcb + 1;
-constexpr int kWallPosY = kNumYcb + 3;
-constexpr int kWallNegY = kNumYcb + 4;
 constexpr double kHalfWidth = 0.074;  // box-local y of the side walls' centres
 
 void Layout(engine::WorldModel& model) {
@@ -50,7 +50,7 @@ void Layout(engine::WorldModel& model) {
   model.static_parts.push_back(engine::MakeTable());
 }
 
-void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, int env) {
+void Reset(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) {
   engine::RandomStream& rng = state.task_rng[env];
   const bool wide = split == Split::kOodSpatial;
   const Range box_x = wide ? Range{0.39, 0.47} : Range{0.41, 0.45};
@@ -63,39 +63,47 @@ void Reset(const engine::WorldModel&, Split split, engine::BatchState& state, in
   const double cy = rng.Uniform(box_y.low, box_y.high);
   const double yaw = rng.Uniform(-max_yaw, max_yaw);
   const bool open_pos_y = rng.UniformInt(2) == 0;
-  const int target = rng.UniformInt(kNumYcb);
+  const int num_ycb = static_cast<int>(engine::TavisHeadObjectNames().size());
+  const int target = rng.UniformInt(num_ycb);
   const Mat3 R = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
   const Vec3 centre(cx, cy, 0.0);
-  for (std::size_t w = 0; w < kWalls.size(); ++w) {
-    const Vec3 offset(kWalls[w].centre.x(), kWalls[w].centre.y(), 0.0);
-    const Vec3 p = centre + R * offset + Vec3(0.0, 0.0, kWalls[w].centre.z());
-    PlaceUpright(state, env, kNumYcb + static_cast<int>(w), p, yaw);
+  for (const Wall& wall : kWalls) {
+    const Vec3 offset(wall.centre.x(), wall.centre.y(), 0.0);
+    const Vec3 p = centre + R * offset + Vec3(0.0, 0.0, wall.centre.z());
+    PlaceUpright(state, env, model.ObjectIndex(wall.name), p, yaw);
   }
-  state.object_enabled_at(env, open_pos_y ? kWallPosY : kWallNegY) = 0;
+  state.object_enabled_at(env, model.ObjectIndex(open_pos_y ? kWallPosYName : kWallNegYName)) = 0;
   const double dx = rng.Uniform(object_dx.low, object_dx.high);
   const double dy = rng.Uniform(object_dy.low, object_dy.high);
   const double object_yaw = rng.Uniform(-M_PI, M_PI);
-  for (int object = 0; object < kNumYcb; ++object) state.object_enabled_at(env, object) = 0;
+  for (int object = 0; object < num_ycb; ++object) state.object_enabled_at(env, object) = 0;
   PlaceUpright(state, env, target, centre + R * Vec3(dx, dy, 0.0) + Vec3(0.0, 0.0, kObjectZ), object_yaw);
   state.task[env].target = target;
-  state.task[env].open_side = open_pos_y ? 1 : -1;
+  PeekingBoxVars& vars = ResetTaskState<PeekingBoxVars>(state, env);
+  vars.open_side = open_pos_y ? 1 : -1;
+  vars.wall_back = model.ObjectIndex(kWallBackName);
+  vars.wall_front = model.ObjectIndex(kWallFrontName);
 }
 
 const char* Prompt(const engine::BatchState&, int) { return "Retrieve the object from inside the box."; }
 
 TargetFacts Facts(const engine::BatchState& state, int env) {
-  TargetFacts facts;
-  facts.open_side = state.task[env].open_side > 0 ? "left" : "right";
-  return facts;
+  return {{"open_side", TaskState<PeekingBoxVars>(state, env).open_side > 0 ? "left" : "right"}};
 }
 
 double BoxYaw(const engine::BatchState& state, int env) {
-  const Mat3 R = state.ObjectOrientation(env, kWallBack).toRotationMatrix();
+  const Mat3 R = state.ObjectOrientation(env, TaskState<PeekingBoxVars>(state, env).wall_back).toRotationMatrix();
   return std::atan2(R(1, 0), R(0, 0));
 }
 
 // +1 when the robot's left (+y) side is open, -1 for the right.
-double OpenSide(const engine::BatchState& state, int env) { return state.task[env].open_side; }
+double OpenSide(const engine::BatchState& state, int env) { return TaskState<PeekingBoxVars>(state, env).open_side; }
+
+// The middle of the box, between its back and front walls.
+Vec3 BoxCentre(const engine::BatchState& state, int env) {
+  const PeekingBoxVars& vars = TaskState<PeekingBoxVars>(state, env);
+  return 0.5 * (state.ObjectPosition(env, vars.wall_back) + state.ObjectPosition(env, vars.wall_front));
+}
 
 // Heading of a level hand entering the box through the side `side` (+1: +y): across the box,
 // turned 0.7 rad toward the front as the arm on that side naturally reaches in.
@@ -114,7 +122,7 @@ std::vector<SupportZone> DistractorZones(const engine::BatchState&, int) {
 // 3 cm across it (the widest split places it within 4 cm either way; a target moved further
 // across, away from the open side the hand reaches through, is beyond the expert's reach).
 std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
-  const Vec3 centre = 0.5 * (state.ObjectPosition(env, kWallBack) + state.ObjectPosition(env, kWallFront));
+  const Vec3 centre = BoxCentre(state, env);
   return {{Vec3(centre.x(), centre.y(), engine::kTableHeight), BoxYaw(state, env), 0.08, 0.03}};
 }
 
@@ -123,7 +131,7 @@ std::vector<SupportZone> TargetZones(const engine::BatchState& state, int env) {
 std::array<RigidTransform, 2> PeekPoses(const engine::WorldModel& model, const engine::BatchState& state, int env) {
   constexpr double kPeekDistance = 0.16;
   constexpr double kPeekTilt = M_PI / 2 - 0.3;  // looking a little down into the opening
-  const Vec3 centre = 0.5 * (state.ObjectPosition(env, kWallBack) + state.ObjectPosition(env, kWallFront));
+  const Vec3 centre = BoxCentre(state, env);
   const Mat3 R_box = Eigen::AngleAxisd(BoxYaw(state, env), Vec3::UnitZ()).toRotationMatrix();
   std::array<RigidTransform, 2> poses;
   for (const kinematics::Side arm : kinematics::kSides) {
@@ -178,6 +186,14 @@ ScenarioDef PeekingBox() {
   def.target_facts = &Facts;
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;
+  // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).
+  def.paraphrases = {
+      {"paraphrase", {"There is an object hidden in the box; take it out."}},
+      {"paraphrase-terse", {"Box: take object out."}},
+      {"paraphrase-synonyms",
+       {"Something is inside the box. Get it out and lift it.", "Take whatever is in the box out of it.",
+        "Look into the box, find the item and lift it out."}},
+  };
   return def;
 }
 

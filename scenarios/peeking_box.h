@@ -7,6 +7,13 @@
 
 namespace tavis::scenarios {
 
+// The task's own variables of an episode (task_state.h).
+struct PeekingBoxVars {
+  int open_side = 0;   // +1 the robot's left (+y) wall is missing, -1 the right
+  int wall_back = -1;  // the box's back and front walls' object indices, found by name at reset
+  int wall_front = -1;
+};
+
 ScenarioDef PeekingBox();
 
 }  // namespace tavis::scenarios

@@ -1,12 +1,14 @@
 // A task, declared: its name and suite, the objects its information sits in, its success rule,
-// the cameras it blacks out, and the hooks that lay out, reset and advance its scene, phrase its
-// prompt and make its scripted expert. Everything outside scenarios/ learns a task's facts from
-// here, never from its name. Hooks act on one env; the VecEnv runs them over env ranges in
-// parallel, so they must only touch that env's rows of the BatchState.
+// the cameras it blacks out, its facts for the record and its prompt's paraphrases, and the hooks
+// that lay out, reset and advance its scene, phrase its prompt and make its scripted expert; its
+// own per-env variables are a struct of its own (task_state.h). Everything outside scenarios/
+// learns a task's facts from here, never from its name. Hooks act on one env; the VecEnv runs
+// them over env ranges in parallel, so they must only touch that env's rows of the BatchState.
 #pragma once
 
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "engine/batch_state.h"
@@ -48,7 +50,8 @@ struct SuccessRule {
   Kind kind = Kind::kLiftAbove;
   double threshold_m = 0.0;    // world z (kLiftAbove: above it) or x (kPullOutPast: below it)
   double max_speed_mps = 1.0;  // the target's linear speed must be below this
-  bool after_go = false;       // only once the task has said go (wait-then-act's green light)
+  // Optional: the task's go signal (wait-then-act's green light); success counts only once it is given.
+  bool (*after_go)(const engine::BatchState& state, int env) = nullptr;
 };
 
 SuccessRule LiftAbove(double height_m);
@@ -60,12 +63,24 @@ SuccessRule PullOutPast(double x_m);
 // target_approached, target_grasped, target_lifted or target_pulled.
 std::vector<StageDef> PickStages(const SuccessRule& success, const std::string& cue = "");
 
-// What an episode is about besides its target object, for its record; empty / -1 where the task
-// has no such variable.
-struct TargetFacts {
-  std::string side;       // where the target is, as the task's rule names it: "left" or "right"
-  int shelf = -1;         // the shelf the target stands on, 0 the lowest
-  std::string open_side;  // the side of the box whose wall is missing: "left" or "right"
+// One fact of an episode besides its target object, for its record: a key and its value, a text
+// or a whole number (conditional-pick's {"side", "left"}, multi-shelf-scan's {"shelf", 2}). The
+// record writes and reads them as they are, so a task's facts are its own; "object" and
+// "moved_tick" are the record's.
+struct TargetFact {
+  std::string key;
+  std::variant<std::string, int> value;
+
+  bool operator==(const TargetFact& other) const { return key == other.key && value == other.value; }
+};
+using TargetFacts = std::vector<TargetFact>;
+
+// A task's paraphrases of its prompt under one language perturbation level (docs/perturbations.md):
+// the level, by its name in configs/perturbations/language.yaml, falls back to them when it gives
+// the task none of its own. "{object}" stands for the episode's target.
+struct LevelParaphrases {
+  std::string level;
+  std::vector<std::string> texts;
 };
 
 struct ScenarioDef {
@@ -77,7 +92,8 @@ struct ScenarioDef {
   // Adds the task's objects and static parts to the world (once per batch).
   void (*layout)(engine::WorldModel& model) = nullptr;
   // Draws a new episode for `env` from its task stream (state.task_rng[env]): object poses,
-  // enabled flags and colours, the task variables (state.task[env], the target always).
+  // enabled flags and colours, the task variables (state.task[env], the target always) and the
+  // task's own (task_state.h).
   void (*reset)(const engine::WorldModel& model, Split split, engine::BatchState& state, int env) = nullptr;
   // Optional: advances the task's own clock once per control tick, after physics and before the
   // success check (wait-then-act's light turning green).
@@ -96,6 +112,9 @@ struct ScenarioDef {
   std::vector<StageDef> stages;
   // Optional: the task's facts of the env's episode (fixed at reset) besides its target.
   TargetFacts (*target_facts)(const engine::BatchState& state, int env) = nullptr;
+  // The task's paraphrases of its prompt, per language level (above); a level that gives none and
+  // finds none here is refused when its file is read.
+  std::vector<LevelParaphrases> paraphrases = {};
   // The scene perturbation axes (docs/perturbations.md), of the env's episode right after its
   // reset. distractor_zones: where extra objects may stand without blocking the task: areas of
   // its supports that no hand, held object or line of sight to a cue the task needs passes through.

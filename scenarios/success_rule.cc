@@ -17,7 +17,7 @@ SuccessRule PullOutPast(double x_m) {
 }
 
 bool ScenarioDef::Succeeded(const engine::BatchState& state, int env) const {
-  if (success.after_go && !state.task[env].go) return false;
+  if (success.after_go != nullptr && !success.after_go(state, env)) return false;
   const int target = state.target(env);
   const Vec3 position = state.ObjectPosition(env, target);
   const bool placed = success.kind == SuccessRule::Kind::kLiftAbove ? position.z() > success.threshold_m

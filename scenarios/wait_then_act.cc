@@ -4,16 +4,16 @@
 #include "scenarios/expert/pick_expert.h"
 #include "scenarios/object_placement.h"
 #include "scenarios/tabletop.h"
+#include "scenarios/task_state.h"
 
 namespace tavis::scenarios {
 namespace {
 
-constexpr int kLight = 5;  // after the five YCB objects
 constexpr const char* kLightName = "signal_light";
 constexpr double kLightZ = 1.03;
 
-void SetLightColour(engine::BatchState& state, int env, bool green) {
-  float* rgb = state.object_rgb_row(env, kLight);
+void SetLightColour(engine::BatchState& state, int env, int light, bool green) {
+  float* rgb = state.object_rgb_row(env, light);
   rgb[0] = green ? 0.0f : 1.0f;
   rgb[1] = green ? 1.0f : 0.0f;
   rgb[2] = 0.0f;
@@ -57,11 +57,11 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
   const double ly = rng.Uniform(light_y.low, light_y.high);
   for (int object = 0; object < num_ycb; ++object) state.object_enabled_at(env, object) = 0;
   PlaceUpright(state, env, target, Vec3(px, py, kObjectDropZ), yaw);
-  PlaceUpright(state, env, kLight, Vec3(lx, ly, kLightZ), 0.0);
-  SetLightColour(state, env, false);
-  engine::TaskVars& vars = state.task[env];
-  vars.target = target;
-  vars.go = false;
+  WaitThenActVars& vars = ResetTaskState<WaitThenActVars>(state, env);
+  vars.light = model.ObjectIndex(kLightName);
+  PlaceUpright(state, env, vars.light, Vec3(lx, ly, kLightZ), 0.0);
+  SetLightColour(state, env, vars.light, false);
+  state.task[env].target = target;
   // green_step = int(delay_s / step_dt) at the 20 Hz policy rate.
   vars.go_policy_step = static_cast<int>(std::floor(delay * model.physics.policy_hz));
 }
@@ -69,13 +69,15 @@ void Reset(const engine::WorldModel& model, Split split, engine::BatchState& sta
 // The reference flips the light inside its success term once the episode's policy-step count
 // reaches green_step; control ticks count three to a policy step.
 void Update(const engine::WorldModel& model, engine::BatchState& state, int env) {
-  engine::TaskVars& vars = state.task[env];
+  WaitThenActVars& vars = TaskState<WaitThenActVars>(state, env);
   if (vars.go) return;
   if (state.control_step[env] >= vars.go_policy_step * model.physics.controls_per_policy()) {
     vars.go = true;
-    SetLightColour(state, env, true);
+    SetLightColour(state, env, vars.light, true);
   }
 }
+
+bool LightIsGreen(const engine::BatchState& state, int env) { return TaskState<WaitThenActVars>(state, env).go; }
 
 // Distractors stand to either side of the light and behind it, out of the head's line of sight
 // to the light and beyond the object's reach; a moved target stays in the widest split's area.
@@ -97,8 +99,8 @@ const char* Prompt(const engine::BatchState&, int) {
 std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs, expert::ExpertMode mode) {
   expert::PickExpertSettings settings;
   settings.mode = mode;
-  settings.cue_object = kLight;
-  settings.wait_for_go = true;
+  settings.cue_object = model.ObjectIndex(kLightName);
+  settings.go_signal = &LightIsGreen;
   return std::make_unique<expert::PickExpert>(model, num_envs, settings);
 }
 
@@ -106,7 +108,7 @@ std::unique_ptr<Expert> MakeExpert(const engine::WorldModel& model, int num_envs
 
 ScenarioDef WaitThenAct() {
   SuccessRule success = LiftAbove(kHeadLiftSuccessZ);
-  success.after_go = true;  // lifted before the light turns green does not count
+  success.after_go = &LightIsGreen;  // lifted before the light turns green does not count
   ScenarioDef def{"wait-then-act",
                   "WaitThenActTask",
                   Suite::kTavisHead,
@@ -123,6 +125,15 @@ ScenarioDef WaitThenAct() {
   def.stages = PickStages(def.success, kLightName);
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;
+  // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).
+  def.paraphrases = {
+      {"paraphrase", {"Keep an eye on the red lamp and only pick up the object once it has turned green."}},
+      {"paraphrase-terse", {"Green light, then lift."}},
+      {"paraphrase-synonyms",
+       {"Don't move until the lamp goes from red to green, then lift the item.",
+        "Wait for the signal to show green; then pick the item up.",
+        "When the red light changes to green, grab the item and raise it."}},
+  };
   return def;
 }
 

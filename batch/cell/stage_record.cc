@@ -2,17 +2,26 @@
 
 #include <stdexcept>
 #include <string>
+#include <variant>
 
+#include "kinematics/invariant.h"
 #include "scenarios/registry.h"
 
 namespace tavis::batch::cell {
+namespace {
+
+// The target's keys the record itself writes; the others are the task's facts.
+bool IsRecordsTargetKey(const std::string& key) { return key == "object" || key == "moved_tick"; }
+
+}  // namespace
 
 void AddStagesJson(const EpisodeRecord& record, nlohmann::json& line) {
   line["prompt"] = record.prompt;
   nlohmann::json target = {{"object", record.target_object}};
-  if (!record.target.side.empty()) target["side"] = record.target.side;
-  if (record.target.shelf >= 0) target["shelf"] = record.target.shelf;
-  if (!record.target.open_side.empty()) target["open_side"] = record.target.open_side;
+  for (const scenarios::TargetFact& fact : record.target) {
+    TAVIS_INVARIANT(!IsRecordsTargetKey(fact.key), "a task's fact does not take a key of the record's");
+    std::visit([&](const auto& value) { target[fact.key] = value; }, fact.value);
+  }
   if (record.target_move_tick) {
     target["moved_tick"] = *record.target_move_tick >= 0 ? nlohmann::json(*record.target_move_tick) : nlohmann::json();
   }
@@ -32,9 +41,16 @@ void ParseStagesJson(const nlohmann::json& line, EpisodeRecord& record) {
   if (line.contains("target")) {
     const nlohmann::json& target = line.at("target");
     record.target_object = target.at("object").get<std::string>();
-    if (target.contains("side")) record.target.side = target.at("side").get<std::string>();
-    if (target.contains("shelf")) record.target.shelf = target.at("shelf").get<int>();
-    if (target.contains("open_side")) record.target.open_side = target.at("open_side").get<std::string>();
+    for (const auto& [key, value] : target.items()) {
+      if (IsRecordsTargetKey(key)) continue;
+      if (value.is_string()) {
+        record.target.push_back({key, value.get<std::string>()});
+      } else if (value.is_number_integer()) {
+        record.target.push_back({key, value.get<int>()});
+      } else {
+        throw std::invalid_argument("target." + key + " " + value.dump() + " is not a text or a whole number");
+      }
+    }
     if (target.contains("moved_tick")) {
       const nlohmann::json& tick = target.at("moved_tick");
       record.target_move_tick = tick.is_null() ? -1 : tick.get<int>();

@@ -1,8 +1,9 @@
 // The JSON of an episode's stages and targets (episodes.jsonl) and of a cell's stage funnel
 // (summary.json), and reading them back. Line keys (docs: README, "Episode records"):
-//   "prompt": the instruction;  "target": {"object": model name, "side" / "shelf" / "open_side"
-//   where the task has them, and under a runtime perturbation level "moved_tick": the control tick
-//   it was moved, null if never};  "stages": {stage: reached?};  "stage_ticks": {stage: first
+//   "prompt": the instruction;  "target": {"object": model name, the task's facts as their keys
+//   and values (scenarios::TargetFact: conditional-pick's "side", multi-shelf-scan's "shelf",
+//   peeking-box's "open_side"), and under a runtime perturbation level "moved_tick": the control
+//   tick it was moved, null if never};  "stages": {stage: reached?};  "stage_ticks": {stage: first
 //   control tick, null if never}.
 // Summary key "stages": the funnel, in the task's order: [{"stage": name, "applies": whether the
 // stage can be reached under the cell's camera protocol, "reached": episodes that reached it and

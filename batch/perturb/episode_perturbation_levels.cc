@@ -89,14 +89,22 @@ void ReadDistractorLevel(const YamlValue& file, const YamlValue& level, engine::
   (*settings)["objects"] = object_settings;
 }
 
-// A paraphrase is plain text, "{object}" its only placeholder.
-void CheckParaphrase(const YamlValue& value, const std::string& text) {
-  if (text.empty() || text.size() > 500) value.Fail("a paraphrase must be 1 to 500 characters, got " + value.Text());
+// A paraphrase is plain text, "{object}" its only placeholder: what is wrong with `text`, or "".
+std::string ParaphraseDefect(const std::string& text) {
+  if (text.empty() || text.size() > 500) return "a paraphrase must be 1 to 500 characters";
   std::string rest = text;
   for (std::size_t at = rest.find(kObjectPlaceholder); at != std::string::npos; at = rest.find(kObjectPlaceholder))
     rest.erase(at, std::string(kObjectPlaceholder).size());
-  if (rest.find_first_of("{}") != std::string::npos)
-    value.Fail("a paraphrase's only placeholder is {object}, got " + value.Text());
+  if (rest.find_first_of("{}") != std::string::npos) return "a paraphrase's only placeholder is {object}";
+  return "";
+}
+
+// The task's own paraphrases for the level named `level` (scenario.h), or null.
+const std::vector<std::string>* DeclaredParaphrases(const scenarios::ScenarioDef& scenario, const std::string& level) {
+  for (const scenarios::LevelParaphrases& declared : scenario.paraphrases) {
+    if (declared.level == level) return &declared.texts;
+  }
+  return nullptr;
 }
 
 // The names "{object}" stands for: every object a task can make its target must have one.
@@ -112,27 +120,49 @@ std::map<std::string, std::string> ReadObjectNames(const YamlValue& names, nlohm
   return read;
 }
 
-// language: per task (every task of the registry) its paraphrases; the level's object_names, or
-// else the file's, for "{object}".
+// language: per task (every task of the registry) its paraphrases: the level's `prompts` list for
+// the task, else the task's own for the level's name (ScenarioDef::paraphrases), so a task's
+// paraphrases live with the task; the level's object_names, or else the file's, for "{object}".
 void ReadLanguageLevel(const YamlValue& file, const YamlValue& level, engine::EpisodePerturbation* effect,
                        nlohmann::ordered_json* settings) {
   engine::LanguageSettings& language = effect->language;
-  const YamlValue prompts = level.Required("prompts");
+  const std::string level_name = level.String("name");
+  const std::optional<YamlValue> prompts = level.Optional("prompts");
   nlohmann::ordered_json prompt_settings;
-  std::optional<YamlValue> names_an_object;
+  std::optional<YamlValue> names_an_object;  // the level's first paraphrase that says {object}
+  std::string declared_names_an_object;      // else the first task whose own paraphrase does
   for (const scenarios::ScenarioDef& scenario : scenarios::AllScenarios()) {
-    const YamlValue list = prompts.Required(scenario.name);
-    if (!list.IsSequence() || list.Elements().empty())
-      list.Fail("must be a non-empty list of paraphrases, got " + list.Text());
     std::vector<std::string>& texts = language.paraphrases[scenario.name];
-    for (const YamlValue& item : list.Elements()) {
-      texts.push_back(item.AsString());
-      CheckParaphrase(item, texts.back());
-      if (texts.back().find(kObjectPlaceholder) != std::string::npos && !names_an_object) names_an_object = item;
+    const std::optional<YamlValue> list = prompts ? prompts->Optional(scenario.name) : std::nullopt;
+    if (list) {
+      if (!list->IsSequence() || list->Elements().empty())
+        list->Fail("must be a non-empty list of paraphrases, got " + list->Text());
+      for (const YamlValue& item : list->Elements()) {
+        texts.push_back(item.AsString());
+        const std::string defect = ParaphraseDefect(texts.back());
+        if (!defect.empty()) item.Fail(defect + ", got " + item.Text());
+        if (texts.back().find(kObjectPlaceholder) != std::string::npos && !names_an_object) names_an_object = item;
+      }
+    } else {
+      const std::vector<std::string>* declared = DeclaredParaphrases(scenario, level_name);
+      if (declared == nullptr || declared->empty()) {
+        level.Fail("gives task '" + scenario.name + "' no paraphrases (prompts." + scenario.name +
+                   "), and the task declares none for level '" + level_name + "'");
+      }
+      for (const std::string& text : *declared) {
+        const std::string defect = ParaphraseDefect(text);
+        if (!defect.empty()) {
+          level.Fail("task '" + scenario.name + "' declares for level '" + level_name + "' the paraphrase \"" + text +
+                     "\": " + defect);
+        }
+        if (text.find(kObjectPlaceholder) != std::string::npos && declared_names_an_object.empty())
+          declared_names_an_object = scenario.name;
+        texts.push_back(text);
+      }
     }
     prompt_settings[scenario.name] = texts;
   }
-  prompts.ExpectNoOtherKeys();
+  if (prompts) prompts->ExpectNoOtherKeys();
   (*settings)["prompts"] = prompt_settings;
   const std::optional<YamlValue> file_names = file.Optional("object_names");
   const std::optional<YamlValue> level_names = level.Optional("object_names");
@@ -143,6 +173,9 @@ void ReadLanguageLevel(const YamlValue& file, const YamlValue& level, engine::Ep
     (*settings)["object_names"] = name_settings;
   } else if (names_an_object) {
     names_an_object->Fail("says {object}, but neither the level nor the file gives object_names");
+  } else if (!declared_names_an_object.empty()) {
+    level.Fail("task '" + declared_names_an_object +
+               "' has a paraphrase for it that says {object}, but neither the level nor the file gives object_names");
   }
 }
 

@@ -9,7 +9,7 @@ std::string EpisodePrompt(const engine::WorldModel& model, const scenarios::Scen
   const engine::EpisodePerturbation& perturbation = model.episode_perturbation;
   if (!perturbation.paraphrases_prompt()) return scenario.prompt != nullptr ? scenario.prompt(state, env) : "";
   const auto paraphrases = perturbation.language.paraphrases.find(scenario.name);
-  // The level file names every task of the registry (episode_perturbation_levels.cc).
+  // The level, or else the task itself, gives every task of the registry some (episode_perturbation_levels.cc).
   TAVIS_INVARIANT(paraphrases != perturbation.language.paraphrases.end() && !paraphrases->second.empty(),
                   "a language level has paraphrases for every task");
   engine::RandomStream rng(perturbation.seed, engine::RandomStreamId::kParaphrase,

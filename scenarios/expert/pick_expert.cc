@@ -254,7 +254,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
         m.phase_start_step = step;
         if (m.scan_index < settings_.scan_points.size() || settings_.cue_object >= 0) break;
       }
-      const bool go = !settings_.wait_for_go || state.task[env].go;
+      const bool go = settings_.go_signal == nullptr || settings_.go_signal(state, env);
       if (go) Enter(m, Phase::kLook, step);
       break;
     }
@@ -271,7 +271,7 @@ void PickExpert::Act(const engine::WorldModel& model, const engine::BatchState& 
       if (!SceneAtRest(model, state, env)) m.phase_start_step = step;
       const double still_s = (step - m.phase_start_step) / model.physics.control_hz;
       const bool scene_ready = still_s >= kRestS || step >= kMaxSceneWaitS * model.physics.control_hz;
-      const bool go = !settings_.wait_for_go || state.task[env].go;
+      const bool go = settings_.go_signal == nullptr || settings_.go_signal(state, env);
       if (scene_ready && go) StartHands(model, state, env, m, step);
       break;
     }

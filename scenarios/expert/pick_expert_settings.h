@@ -18,14 +18,15 @@ struct PickExpertSettings {
   // Gaze-first: the head reads the cue and fixates the target before the hands move (the
   // settings below). Head-still: the neck command stays at its reset pose, the scan points, cue
   // looks and head settling are skipped; the hands wait only for the scene to come to rest and,
-  // with wait_for_go, for the go signal (wrist peeks are hand motions and are kept).
+  // with a go signal, for it (wrist peeks are hand motions and are kept).
   ExpertMode mode = ExpertMode::kGazeFirst;
   // The expert picks the episode's target (TaskVars::target). A cue to read before looking at
   // it (cue card, signal light), or -1: the expert fixates it for cue_look_s once the neck has
-  // settled, and with wait_for_go keeps watching until the task says go (the light turns green).
+  // settled, and with a go signal keeps watching until the task gives it (the light turns green).
   int cue_object = -1;
   double cue_look_s = 0.5;
-  bool wait_for_go = false;
+  // Optional: the task's go signal (wait-then-act's green light); the hands wait for it.
+  bool (*go_signal)(const engine::BatchState& state, int env) = nullptr;
   double grasp_height = 0.000;  // m: pad centre above the object's centre at the grasp
   // The surface the object stands on extends under the whole open hand (a table), so its housing
   // must clear it too; a shelf board ends just in front of the object, below the housing.

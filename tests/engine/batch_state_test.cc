@@ -24,7 +24,7 @@ TEST(BatchState, TaskVariablesAreTypedAndStartUnset) {
   BatchState state;
   state.Allocate(2, 1, 6);
   EXPECT_EQ(state.task[1].target, -1);
-  EXPECT_FALSE(state.task[1].go);
+  EXPECT_EQ(state.task[1].target_move_tick, -1);
   state.task[1].target = 5;
   EXPECT_EQ(state.target(1), 5);
   EXPECT_FALSE(state.running(0)) << "a slot holds no episode until reset";

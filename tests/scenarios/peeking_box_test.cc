@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "scenarios/registry.h"
+#include "scenarios/task_state.h"
 
 namespace tavis::scenarios {
 namespace {
@@ -24,7 +25,7 @@ TEST(PeekingBox, OneSideWallIsMissingAndTheObjectIsInside) {
   for (uint64_t episode = 0; episode < 200; ++episode) {
     state.task_rng[0] = engine::RandomStream(9, engine::RandomStreamId::kTask, episode);
     scenario.reset(model, Split::kId, state, 0);
-    const bool left_open = state.task[0].open_side > 0;
+    const bool left_open = TaskState<PeekingBoxVars>(state, 0).open_side > 0;
     open_left += left_open;
     EXPECT_EQ(state.object_enabled_at(0, kPosY), left_open ? 0 : 1);
     EXPECT_EQ(state.object_enabled_at(0, kNegY), left_open ? 1 : 0);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -128,7 +129,9 @@ TEST(StageMetrics, TheExpertPassesEveryStageInOrderAndRecordsItsTarget) {
   ASSERT_EQ(run.watch.target_y.size(), 3u);
   std::vector<std::string> sides, objects;
   for (const EpisodeRecord& record : run.records) {
-    sides.push_back(record.target.side);
+    ASSERT_EQ(record.target.size(), 1u) << "conditional-pick's one fact: the target's side";
+    EXPECT_EQ(record.target[0].key, "side");
+    sides.push_back(std::get<std::string>(record.target[0].value));
     objects.push_back(record.target_object);
   }
   std::vector<std::string> expected;
@@ -182,7 +185,7 @@ TEST(StageMetrics, RecordsCarryStagesAndTargetsThroughTheirJsonLine) {
   record.end = engine::EpisodeEnd::kTimeOut;
   record.prompt = "Find the red cube and pick it up.";
   record.target_object = "red_cube";
-  record.target.shelf = 2;
+  record.target = {{"shelf", 2}};
   record.stages = {{"target_approached", 120}, {"target_grasped", 300}, {"target_lifted", -1}};
   const std::string text = EpisodeJsonLine(record, 9);
   const nlohmann::json line = nlohmann::json::parse(text);
@@ -194,8 +197,7 @@ TEST(StageMetrics, RecordsCarryStagesAndTargetsThroughTheirJsonLine) {
   const EpisodeRecord back = ParseEpisodeJsonLine(text);
   EXPECT_EQ(back.prompt, record.prompt);
   EXPECT_EQ(back.target_object, "red_cube");
-  EXPECT_EQ(back.target.shelf, 2);
-  EXPECT_TRUE(back.target.side.empty());
+  EXPECT_EQ(back.target, record.target);
   for (const StageReached& stage : record.stages) EXPECT_EQ(Stage(back, stage.name), stage);
   EXPECT_EQ(EpisodeJsonLine(back, 9), text) << "a resumed record writes the same line";
 
@@ -207,6 +209,32 @@ TEST(StageMetrics, RecordsCarryStagesAndTargetsThroughTheirJsonLine) {
       ParseEpisodeJsonLine(
           R"({"end":"time_out","episode":0,"length_control_ticks":1,"length_steps":1,"seed":0,"solver_messages":0,"success":false,"stage_ticks":{"target_grasped":"soon"}})"),
       std::invalid_argument);
+}
+
+// A task's facts are its own keys and values: the record writes and reads whatever a task
+// declares, text or whole number, and refuses another kind of value naming its key.
+TEST(StageMetrics, ATasksOwnFactsGoThroughTheJsonLineByTheirKeys) {
+  EpisodeRecord record;
+  record.episode = 1;
+  record.end = engine::EpisodeEnd::kSuccess;
+  record.target_object = "soup_can";
+  record.target = {{"lane", "middle"}, {"row", 3}};
+  record.target_move_tick = 40;
+  const std::string text = EpisodeJsonLine(record, 2);
+  const nlohmann::json line = nlohmann::json::parse(text);
+  EXPECT_EQ(line.at("target"),
+            nlohmann::json({{"object", "soup_can"}, {"lane", "middle"}, {"row", 3}, {"moved_tick", 40}}));
+  const EpisodeRecord back = ParseEpisodeJsonLine(text);
+  EXPECT_EQ(back.target, (scenarios::TargetFacts{{"lane", "middle"}, {"row", 3}}));
+  EXPECT_EQ(back.target_move_tick, 40);
+  EXPECT_EQ(EpisodeJsonLine(back, 2), text);
+  try {
+    ParseEpisodeJsonLine(R"({"end":"success","episode":0,"length_control_ticks":1,"length_steps":1,"seed":0,)"
+                         R"("solver_messages":0,"success":true,"target":{"object":"soup_can","lane":2.5}})");
+    ADD_FAILURE() << "a fact that is neither text nor a whole number is refused";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("target.lane 2.5"), std::string::npos) << error.what();
+  }
 }
 
 TEST(StageMetrics, TheFunnelCountsEpisodesThatReachedAStageAndEveryOneBefore) {

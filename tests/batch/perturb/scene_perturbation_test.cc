@@ -74,15 +74,20 @@ bool StandsInZone(const VecEnv& env, int slot, int object, const scenarios::Supp
   return true;
 }
 
-// The error reading `axis`'s level file with `text` gives ("" if none), from a config dir of its own.
-std::string AxisFileError(const std::string& axis, const std::string& text) {
+// A config dir of its own holding `axis`'s level file with `text`.
+std::string AxisConfigDir(const std::string& axis, const std::string& text) {
   static int files = 0;
   const std::filesystem::path dir =
       std::filesystem::path(::testing::TempDir()) / ("tavis_episode_axis_" + std::to_string(++files));
   std::filesystem::create_directories(dir / "perturbations");
   std::ofstream(dir / "perturbations" / (axis + ".yaml")) << text;
+  return dir.string();
+}
+
+// The error reading `axis`'s level file with `text` gives ("" if none).
+std::string AxisFileError(const std::string& axis, const std::string& text) {
   try {
-    LoadPerturbationAxis(dir.string(), axis);
+    LoadPerturbationAxis(AxisConfigDir(axis, text), axis);
   } catch (const configs::ConfigError& error) {
     return error.what();
   }
@@ -147,6 +152,39 @@ TEST(EpisodeAxes, BadLevelFilesAreRefusedNamingFileKeyAndValue) {
   EXPECT_NE(names.find("object_names"), std::string::npos) << names;
   const std::string unknown = AxisFileError("language", head + prompts + "      stack-blocks: [Go.]\n");
   EXPECT_NE(unknown.find("stack-blocks"), std::string::npos) << unknown;
+}
+
+// A task's paraphrases live with the task (ScenarioDef::paraphrases): a level that gives a task
+// none of its own takes the task's for the level's name, one that gives some takes those, and a
+// level that no task declares paraphrases for must give every task its own.
+TEST(LanguageAxis, ALevelFallsBackToEachTasksOwnParaphrasesForItsName) {
+  const std::string text =
+      "axis: language\n"
+      "object_names: {soup_can: a, meat_can: b, tuna_fish_can: c, gelatin_box: d, pudding_box: e, red_cube: f}\n"
+      "levels:\n"
+      "  - {name: paraphrase-terse, description: x}\n"
+      "  - {name: paraphrase, description: y, prompts: {peeking-box: [Open the box.]}}\n";
+  const std::vector<PerturbationLevel> levels = LoadPerturbationAxis(AxisConfigDir("language", text), "language");
+  ASSERT_EQ(levels.size(), 2u);
+  for (const scenarios::ScenarioDef& scenario : scenarios::AllScenarios()) {
+    SCOPED_TRACE(scenario.name);
+    const auto declared = [&](const std::string& level) {
+      for (const scenarios::LevelParaphrases& own : scenario.paraphrases) {
+        if (own.level == level) return own.texts;
+      }
+      return std::vector<std::string>();
+    };
+    ASSERT_FALSE(declared("paraphrase-terse").empty()) << "every task declares its own";
+    EXPECT_EQ(levels[0].episode_effect.language.paraphrases.at(scenario.name), declared("paraphrase-terse"));
+    const std::vector<std::string> given =
+        scenario.name == "peeking-box" ? std::vector<std::string>{"Open the box."} : declared("paraphrase");
+    EXPECT_EQ(levels[1].episode_effect.language.paraphrases.at(scenario.name), given);
+    EXPECT_EQ(levels[1].settings.at("prompts").at(scenario.name), nlohmann::ordered_json(given))
+        << "the cell records the paraphrases its level used";
+  }
+  const std::string none = AxisFileError("language", "axis: language\nlevels:\n  - {name: mumbled, description: x}\n");
+  for (const char* part : {"language.yaml", "prompts.clutter-pick-lift", "level 'mumbled'"})
+    EXPECT_NE(none.find(part), std::string::npos) << none;
 }
 
 TEST(DistractorsAxis, EveryTaskKeepsItsBaseSceneAndStandsTheDrawnObjectsInItsZones) {

@@ -15,6 +15,8 @@
 
 #include "engine/object_catalog.h"
 #include "scenarios/registry.h"
+#include "scenarios/task_state.h"
+#include "scenarios/wait_then_act.h"
 #include "tests/support/robot_loading.h"
 
 namespace tavis::scenarios::expert {
@@ -254,7 +256,7 @@ TEST_F(PickExpertTest, HeadStillWaitThenActWaitsForTheGreenLightThenActsAtOnce) 
   const int red_ticks = 240;
   Run(red_ticks, 0.05, &actions);
   EXPECT_EQ(FirstHandMove(actions), actions.size()) << "the hands wait while the light is red";
-  state_.task[0].go = true;
+  TaskState<WaitThenActVars>(state_, 0).go = true;
   const std::vector<kinematics::Action> closings = Run(kTwentySeconds - red_ticks, 0.05, &actions);
   EXPECT_LE(FirstHandMove(actions), static_cast<std::size_t>(red_ticks + 2)) << "the hands start on the green light";
   ASSERT_EQ(closings.size(), 1u);
