@@ -36,6 +36,7 @@
 #include "tools/interrupt_notice.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
+#include "tools/scene_options.h"
 
 namespace tavis::tools {
 namespace {
@@ -373,7 +374,10 @@ void RegisterEvalCommand(CLI::App& app) {
                          "Run one evaluation cell: N episodes of a task with a policy, batched over parallel envs.\n"
                          "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
                          "rate with its 95% Wilson interval, wall time, throughput).");
-  AddCellOptions(*eval, options->cell);
+  batch::cell::EvaluationCellConfig& cell = options->cell;
+  AddSceneOptions(*eval, {&cell.task, &cell.robot, &cell.split, &cell.seed, &cell.perturbations, &cell.expert_mode,
+                          &cell.config_dir});
+  AddCellOptions(*eval, cell);
   eval->get_option(FlagOf("episode_start"))->excludes(FlagOf("episodes"));
   eval->add_option(
       "--suite", options->suite,
@@ -392,7 +396,6 @@ void RegisterEvalCommand(CLI::App& app) {
   AddRolloutOptions(*eval, *options);
   eval->add_option("--out", options->out,
                    "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
-  AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet,
                  "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
   eval->add_flag("--overwrite", options->overwrite,
