@@ -16,13 +16,13 @@
 #include <tbb/info.h>
 
 #include "batch/cell/cell_folder.h"
+#include "batch/cell/cell_folder_name.h"
 #include "batch/cell/cell_report.h"
 #include "batch/cell/evaluation_cell.h"
 #include "batch/cell_profile.h"
 #include "batch/dataset/video/video_log.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/output_folder.h"
-#include "batch/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
@@ -89,16 +89,7 @@ std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, bo
   const std::string mode = cell.expert_mode == scenarios::expert::ExpertMode::kGazeFirst
                                ? ""
                                : std::string("-") + scenarios::expert::ToString(cell.expert_mode);
-  // One chosen episode (--episode I) must not take the place of its full cell either.
-  const std::string only = one_episode ? "_ep" + std::to_string(cell.episode_start) : "";
-  // Nor may a perturbed cell take the place of its base cell.
-  std::string perturbed;
-  for (const std::string& choice : cell.perturbations) {
-    const batch::PerturbationChoice parsed = batch::ParsePerturbationChoice(choice);
-    perturbed += "_p-" + parsed.axis + "-" + parsed.level;
-  }
-  return cell.task + "_" + cell.robot + "_" + scenarios::ToString(cell.split) + "_" + batch::ToString(cell.camera) +
-         "_" + cell.policy + mode + "_s" + std::to_string(cell.seed) + only + perturbed;
+  return batch::cell::CellFolderName(cell, cell.policy + mode, batch::cell::PerturbationsIn::kTail, one_episode);
 }
 
 // What the cell's rollouts leave beside its records (--videos, --record), made once the folder
