@@ -16,11 +16,11 @@ constexpr int kEnvs = 32;
 
 void BM_GymVecEnvStepFromCxx(benchmark::State& state) {
   gym::GymVecEnvConfig config;
-  config.task = "clutter-pick-cube";
+  config.scene.task = "clutter-pick-cube";
   config.num_envs = kEnvs;
-  config.seed = 0;
+  config.scene.seed = 0;
   config.threads = static_cast<int>(state.range(0));
-  config.config_dir = TAVIS_CONFIG_DIR;
+  config.scene.config_dir = TAVIS_CONFIG_DIR;
   gym::GymVecEnv env(config);
   env.Reset(std::vector<uint8_t>(kEnvs, 1), std::vector<int64_t>(kEnvs, -1));
   std::vector<double> actions(static_cast<std::size_t>(kEnvs) * kinematics::action::kSize);

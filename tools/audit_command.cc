@@ -19,6 +19,7 @@
 #include "scenarios/registry.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
+#include "tools/scene_options.h"
 
 namespace tavis::tools {
 namespace {
@@ -27,7 +28,6 @@ constexpr const char* kVisibleDefinition = ">=1% of the object's pixels";
 
 struct AuditOptions {
   batch::audit::AuditConfig audit;
-  std::string split = "id";
   std::string image_size = "224x224";
   std::string out;
   bool all = false;
@@ -46,9 +46,9 @@ std::string Share(int count, int total) {
 void PrintTable(const std::vector<batch::audit::AuditResult>& results, const AuditOptions& options) {
   const batch::audit::AuditConfig& config = options.audit;
   const bool combined = results.size() > 1;
-  const std::string what = combined ? "every task" : config.task + " " + config.robot;
-  std::printf("%s %s, %d episodes, %dx%d, visible = %s\n", what.c_str(), options.split.c_str(), config.episodes,
-              config.image_width, config.image_height, kVisibleDefinition);
+  const std::string what = combined ? "every task" : config.scene.task + " " + config.scene.robot;
+  std::printf("%s %s, %d episodes, %dx%d, visible = %s\n", what.c_str(), scenarios::ToString(config.scene.split),
+              config.episodes, config.image_width, config.image_height, kVisibleDefinition);
   if (combined) std::printf("%-26s %-8s ", "task", "robot");
   std::printf("%-13s %-12s %-15s %-15s %s\n", "object", "camera", "at reset", "at fixation", "never fixated");
   for (const batch::audit::AuditResult& result : results) {
@@ -56,7 +56,7 @@ void PrintTable(const std::vector<batch::audit::AuditResult>& results, const Aud
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
       const int fixated = result.Fixated(static_cast<int>(o));
       for (std::size_t c = 0; c < result.cameras.size(); ++c) {
-        if (combined) std::printf("%-26s %-8s ", result.config.task.c_str(), result.config.robot.c_str());
+        if (combined) std::printf("%-26s %-8s ", result.config.scene.task.c_str(), result.config.scene.robot.c_str());
         std::printf("%-13s %-12s %-15s %-15s %d\n", result.objects[o].c_str(), result.cameras[c].c_str(),
                     Share(result.VisibleAtReset(static_cast<int>(o), static_cast<int>(c)), episodes).c_str(),
                     Share(result.VisibleAtFixation(static_cast<int>(o), static_cast<int>(c)), fixated).c_str(),
@@ -97,8 +97,8 @@ nlohmann::json CellJson(const batch::audit::AuditResult& result) {
     }
     episodes.push_back({{"episode", episode.episode}, {"objects", objects}});
   }
-  return {{"task", result.config.task},
-          {"robot", result.config.robot},
+  return {{"task", result.config.scene.task},
+          {"robot", result.config.scene.robot},
           {"wall_s", result.wall_s},
           {"summary", summary},
           {"episodes", episodes}};
@@ -109,14 +109,16 @@ void WriteAuditJson(const std::vector<batch::audit::AuditResult>& results, const
   const batch::audit::AuditConfig& config = options.audit;
   nlohmann::json cells = nlohmann::json::array();
   for (const batch::audit::AuditResult& result : results) cells.push_back(CellJson(result));
-  const nlohmann::json json = {{"split", options.split},
-                               {"seed", config.seed},
-                               {"episodes", config.episodes},
-                               {"image_width", config.image_width},
-                               {"image_height", config.image_height},
-                               {"visible", kVisibleDefinition},
-                               {"visible_fraction", batch::audit::kVisibleFraction},
-                               {"cells", cells}};
+  nlohmann::json json = {{"split", scenarios::ToString(config.scene.split)},
+                         {"seed", config.scene.seed},
+                         {"episodes", config.episodes},
+                         {"image_width", config.image_width},
+                         {"image_height", config.image_height},
+                         {"visible", kVisibleDefinition},
+                         {"visible_fraction", batch::audit::kVisibleFraction},
+                         {"cells", cells}};
+  // Only a perturbed audit names its levels, so an unperturbed audit.json is as it was.
+  if (!config.scene.perturbations.empty()) json["perturbations"] = config.scene.perturbations;
   std::filesystem::create_directories(options.out);
   const std::filesystem::path path = std::filesystem::path(options.out) / "audit.json";
   std::ofstream out(path);
@@ -127,11 +129,10 @@ void WriteAuditJson(const std::vector<batch::audit::AuditResult>& results, const
 void RunAudit(AuditOptions options, bool task_or_robot_given) {
   batch::audit::AuditConfig& config = options.audit;
   // Every input is checked before anything is simulated.
-  config.split = scenarios::ParseSplit(options.split);
   std::tie(config.image_width, config.image_height) = ParseImageSize(options.image_size);
   if (options.all && task_or_robot_given)
     throw std::invalid_argument("--all audits every task on both robots; drop --task and --robot");
-  scenarios::FindScenario(config.task);
+  scenarios::FindScenario(config.scene.task);
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
 
@@ -139,10 +140,10 @@ void RunAudit(AuditOptions options, bool task_or_robot_given) {
   if (options.all) {
     cells.clear();
     for (const auto& scenario : scenarios::AllScenarios()) {
-      for (const std::string& robot : configs::KnownRobots(config.config_dir)) {
+      for (const std::string& robot : configs::KnownRobots(config.scene.config_dir)) {
         cells.push_back(config);
-        cells.back().task = scenario.name;
-        cells.back().robot = robot;
+        cells.back().scene.task = scenario.name;
+        cells.back().scene.robot = robot;
       }
     }
   }
@@ -150,8 +151,9 @@ void RunAudit(AuditOptions options, bool task_or_robot_given) {
   for (const batch::audit::AuditConfig& cell : cells) {
     results.push_back(batch::audit::RunVisibilityAudit(cell));
     if (!options.quiet) {
-      std::fprintf(stderr, "audit: %s %s %s: %d episodes in %.1f s\n", cell.task.c_str(), cell.robot.c_str(),
-                   options.split.c_str(), cell.episodes, results.back().wall_s);
+      std::fprintf(stderr, "audit: %s %s %s: %d episodes in %.1f s\n", cell.scene.task.c_str(),
+                   cell.scene.robot.c_str(), scenarios::ToString(cell.scene.split), cell.episodes,
+                   results.back().wall_s);
     }
   }
   PrintTable(results, options);
@@ -173,22 +175,19 @@ void RegisterAuditCommand(CLI::App& app) {
       "blacks out (blocked-clutter-pick-cube's head) sees nothing. The fixation column counts among\n"
       "the episodes that reached the fixation. Prints a table; --out DIR also writes DIR/audit.json\n"
       "with the counts and every episode's visible fractions.");
-  audit->add_option("--task", options->audit.task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
-  audit->add_option("--robot", options->audit.robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
-      ->capture_default_str();
-  audit->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
+  batch::scene::SceneSpec& scene = options->audit.scene;
+  AddSceneOptions(
+      *audit, {&scene.task, &scene.robot, &scene.split, &scene.seed, &scene.perturbations, nullptr, &scene.config_dir});
   audit->add_flag("--all", options->all, "Audit every task on every robot of --config-dir at --split, in one table");
   audit->add_option("--episodes", options->audit.episodes, "Episodes per task and robot")
       ->check(IntegerIn(1, 100000000))
       ->capture_default_str();
-  AddSeedOption(*audit, options->audit.seed, "Seed: episode i draws its randomness from (seed, i)");
   audit->add_option("--image-size", options->image_size, "Resolution of the four cameras, WIDTHxHEIGHT")
       ->capture_default_str();
   audit->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->check(IntegerIn(0, 1024))
       ->capture_default_str();
   audit->add_option("--out", options->out, "Directory for audit.json (created if missing; no other file is written)");
-  AddConfigDirOption(*audit, options->audit.config_dir);
   audit->add_flag("--quiet", options->quiet, "No progress lines on stderr");
   audit->callback([options, audit] { RunAudit(*options, audit->count("--task") + audit->count("--robot") > 0); });
 }

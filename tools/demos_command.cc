@@ -24,16 +24,16 @@
 #include "tools/interrupt_notice.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
+#include "tools/scene_options.h"
 
 namespace tavis::tools {
 namespace {
 
 struct DemosOptions {
   batch::dataset::DemoConfig config;
-  std::string task;
+  std::string task = "clutter-pick-cube";
+  bool task_given = false;
   std::string suite;
-  std::string split = "id";
-  std::string expert_mode = "gaze-first";
   std::string image_size = "640x480";
   std::string cameras = "head,fixed,left_wrist,right_wrist";
   std::string codec = "h264";
@@ -104,8 +104,8 @@ nlohmann::ordered_json ReportJson(const batch::dataset::DemoReport& report, cons
   }
   const batch::dataset::DemoConfig& config = options.config;
   return {{"robot", config.robot},
-          {"split", options.split},
-          {"expert_mode", options.expert_mode},
+          {"split", scenarios::ToString(config.split)},
+          {"expert_mode", scenarios::expert::ToString(config.expert_mode)},
           {"perturbations", config.perturbations},
           {"seed", config.seed},
           {"episodes_per_task", config.episodes},
@@ -134,18 +134,16 @@ nlohmann::ordered_json ReportJson(const batch::dataset::DemoReport& report, cons
 
 void RunDemos(DemosOptions options) {
   batch::dataset::DemoConfig& config = options.config;
-  if (!options.task.empty() && !options.suite.empty())
+  if (options.task_given && !options.suite.empty())
     throw std::invalid_argument("give either --task or --suite, not both");
   if (!options.suite.empty()) {
     for (const scenarios::ScenarioDef* scenario : scenarios::SuiteScenarios(scenarios::ParseSuite(options.suite))) {
       config.tasks.push_back(scenario->name);
     }
   } else {
-    config.tasks = {options.task.empty() ? "clutter-pick-cube" : options.task};
+    config.tasks = {options.task};
     scenarios::FindScenario(config.tasks.front());
   }
-  config.split = scenarios::ParseSplit(options.split);
-  config.expert_mode = scenarios::expert::ParseExpertMode(options.expert_mode);
   std::tie(config.video.width, config.video.height) = ParseImageSize(options.image_size);
   config.cameras = options.cameras.empty() ? std::vector<std::string>{} : batch::ParseCameraList(options.cameras);
   config.video.codec = batch::dataset::video::ParseVideoCodec(options.codec);
@@ -188,7 +186,7 @@ void RunDemos(DemosOptions options) {
     int64_t failed = 0;
     for (const auto& [end, count] : task.failures) failed += count;
     std::printf("%s %s %s: %lld episodes written, %lld failed of %lld attempts\n", task.task.c_str(),
-                config.robot.c_str(), options.split.c_str(), static_cast<long long>(task.written),
+                config.robot.c_str(), scenarios::ToString(config.split), static_cast<long long>(task.written),
                 static_cast<long long>(failed), static_cast<long long>(task.attempts));
   }
   std::printf(
@@ -209,18 +207,10 @@ void RegisterDemosCommand(CLI::App& app) {
                          "Record scripted-expert demonstrations as a LeRobot dataset (v3.0, or v2.1 for openpi).\n"
                          "Successful episodes only, in episode order; failures are counted in DIR/tavis_demos.json.\n"
                          "Load it with LeRobot: LeRobotDataset(\"tavis/NAME\", root=DIR).");
-  demos->add_option("--task", options->task, "Task (" + scenarios::KnownTasks() + "); default clutter-pick-cube");
+  batch::dataset::DemoConfig& config = options->config;
+  AddSceneOptions(*demos, {&options->task, &config.robot, &config.split, &config.seed, &config.perturbations,
+                           &config.expert_mode, &config.config_dir});
   demos->add_option("--suite", options->suite, "Every task of a suite in one dataset: " + scenarios::KnownSuites());
-  demos->add_option("--robot", options->config.robot, "Robot: gr1t2 or reachy2")->capture_default_str();
-  demos->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
-  demos
-      ->add_option("--expert-mode", options->expert_mode,
-                   "How the scripted expert's head leads: gaze-first (looks at the cue and the target, then acts)\n"
-                   "or head-still (neck still at its reset pose, hands act as soon as the task allows)")
-      ->capture_default_str();
-  demos->add_option("--perturb", options->config.perturbations,
-                    "AXIS:LEVEL: record every episode under this perturbation level (configs/perturbations/AXIS.yaml,\n"
-                    "docs/perturbations.md); repeat it for several axes, one level each. Episode i keeps its scene");
   demos->add_option("--episodes", options->config.episodes, "Episodes written per task")
       ->check(IntegerIn(1, 10000000))
       ->capture_default_str();
@@ -229,7 +219,6 @@ void RegisterDemosCommand(CLI::App& app) {
                    "Episodes tried per task before giving up (0: 2 x --episodes + 20)")
       ->check(IntegerIn(0, 100000000))
       ->capture_default_str();
-  AddSeedOption(*demos, options->config.seed, "Seed: episode i draws its randomness from (seed, i)");
   demos->add_option("--fps", options->config.fps, "Frame rate: 60 (the reference's datasets) or 20 (the policy rate)")
       ->check(IntegerNamingChoices({60, 20}))  // the rates GenerateDemos takes
       ->capture_default_str();
@@ -268,13 +257,13 @@ void RegisterDemosCommand(CLI::App& app) {
   demos->add_flag("--resume", options->config.resume,
                   "Finish an interrupted recording in --out (same settings): the episodes it had kept are\n"
                   "reused, the rest is recorded again");
-  AddConfigDirOption(*demos, options->config.config_dir);
   demos->add_flag("--quiet", options->quiet,
                   "No progress (episodes written, rate, ETA; a status line on a terminal, else a line per tenth)");
   demos->callback([options, demos] {
     if (demos->count("--out") > 0 && options->config.out.empty()) {
       throw std::invalid_argument("--out must name a folder, got an empty string");
     }
+    options->task_given = demos->count("--task") > 0;
     RunNamingFlags([&options] { RunDemos(*options); });
   });
 }

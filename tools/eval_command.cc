@@ -17,12 +17,12 @@
 
 #include "batch/cell/cell_folder.h"
 #include "batch/cell/cell_profile.h"
+#include "batch/cell/cell_folder_name.h"
 #include "batch/cell/cell_report.h"
 #include "batch/cell/evaluation_cell.h"
 #include "batch/dataset/video/video_log.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/output_folder.h"
-#include "batch/perturb/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/remote/remote_policy.h"
@@ -36,6 +36,7 @@
 #include "tools/interrupt_notice.h"
 #include "tools/option_parsing.h"
 #include "tools/progress_reporter.h"
+#include "tools/scene_options.h"
 
 namespace tavis::tools {
 namespace {
@@ -88,16 +89,7 @@ std::string DefaultCellDirName(const batch::cell::EvaluationCellConfig& cell, bo
   const std::string mode = cell.expert_mode == scenarios::expert::ExpertMode::kGazeFirst
                                ? ""
                                : std::string("-") + scenarios::expert::ToString(cell.expert_mode);
-  // One chosen episode (--episode I) must not take the place of its full cell either.
-  const std::string only = one_episode ? "_ep" + std::to_string(cell.episode_start) : "";
-  // Nor may a perturbed cell take the place of its base cell.
-  std::string perturbed;
-  for (const std::string& choice : cell.perturbations) {
-    const batch::perturb::PerturbationChoice parsed = batch::perturb::ParsePerturbationChoice(choice);
-    perturbed += "_p-" + parsed.axis + "-" + parsed.level;
-  }
-  return cell.task + "_" + cell.robot + "_" + scenarios::ToString(cell.split) + "_" + batch::ToString(cell.camera) +
-         "_" + cell.policy + mode + "_s" + std::to_string(cell.seed) + only + perturbed;
+  return batch::cell::CellFolderName(cell, cell.policy + mode, batch::cell::PerturbationsIn::kTail, one_episode);
 }
 
 // What the cell's rollouts leave beside its records (--videos, --record), made once the folder
@@ -373,7 +365,10 @@ void RegisterEvalCommand(CLI::App& app) {
                          "Run one evaluation cell: N episodes of a task with a policy, batched over parallel envs.\n"
                          "Writes DIR/episodes.jsonl (one JSON object per episode) and DIR/summary.json (success\n"
                          "rate with its 95% Wilson interval, wall time, throughput).");
-  AddCellOptions(*eval, options->cell);
+  batch::cell::EvaluationCellConfig& cell = options->cell;
+  AddSceneOptions(*eval, {&cell.task, &cell.robot, &cell.split, &cell.seed, &cell.perturbations, &cell.expert_mode,
+                          &cell.config_dir});
+  AddCellOptions(*eval, cell);
   eval->get_option(FlagOf("episode_start"))->excludes(FlagOf("episodes"));
   eval->add_option(
       "--suite", options->suite,
@@ -392,7 +387,6 @@ void RegisterEvalCommand(CLI::App& app) {
   AddRolloutOptions(*eval, *options);
   eval->add_option("--out", options->out,
                    "Output directory (default results/<task>_<robot>_<split>_<camera>_<policy>_s<seed>)");
-  AddConfigDirOption(*eval, options->cell.config_dir);
   eval->add_flag("--quiet", options->quiet,
                  "No progress (episodes done, rate, ETA; a status line on a terminal, else a line per tenth)");
   eval->add_flag("--overwrite", options->overwrite,

@@ -8,31 +8,26 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
-#include "batch/perturb/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
+#include "batch/scene/scene_plan.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "render/image_io.h"
 #include "scenarios/registry.h"
 #include "tools/commands.h"
 #include "tools/option_parsing.h"
+#include "tools/scene_options.h"
 
 namespace tavis::tools {
 namespace {
 
 struct RenderCommandOptions {
-  std::string task = "clutter-pick-cube";
-  std::string robot = "gr1t2";
-  std::string split = "id";
-  uint64_t seed = 0;
+  batch::scene::SceneSpec scene;  // --task, --robot, --split, --seed, --perturb, --config-dir
   int64_t episode = 0;
   std::string out;
   int width = 640;
   int height = 480;
   int steps = 120;
-  std::string config_dir;
-  std::vector<std::string> perturbations;  // --perturb AXIS:LEVEL
 };
 
 void RequirePositive(const char* option, int value) {
@@ -107,19 +102,15 @@ class ViewWriter : public batch::EpisodeSink {
 
 void RunRender(const RenderCommandOptions& options) {
   // Every input is checked before anything is simulated or written.
-  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(options.task);
-  const scenarios::Split split = scenarios::ParseSplit(options.split);
+  const batch::scene::SceneSpec& spec = options.scene;
   if (options.episode < 0)
     throw std::invalid_argument("--episode " + std::to_string(options.episode) + " must be >= 0");
   if (options.steps < 0) throw std::invalid_argument("--steps " + std::to_string(options.steps) + " must be >= 0");
   RequirePositive("--width", options.width);
   RequirePositive("--height", options.height);
-  const kinematics::RobotModel robot =
-      configs::LoadRobotModel(configs::RobotConfigPath(options.config_dir, options.robot));
-
-  engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
-  batch::perturb::ApplyPerturbations(options.config_dir, options.perturbations, options.seed, &model);
-  batch::VecEnv vec_env(std::move(model), scenario, split, 1, options.seed);
+  batch::scene::ScenePlan plan = batch::scene::PlanScene(spec);
+  const scenarios::ScenarioDef& scenario = *plan.scenario;
+  batch::VecEnv vec_env(std::move(plan.model), scenario, spec.split, 1, spec.seed);
   batch::CameraSettings settings;
   settings.cameras = batch::SceneCameraNames();
   settings.width = options.width;
@@ -137,7 +128,7 @@ void RunRender(const RenderCommandOptions& options) {
   driver.AddSink(views);
   driver.Run();
 
-  std::cout << options.task << " " << options.robot << " " << scenarios::ToString(split) << " seed " << options.seed
+  std::cout << spec.task << " " << spec.robot << " " << scenarios::ToString(spec.split) << " seed " << spec.seed
             << " episode " << options.episode << ": " << views.tick_label();
   if (views.end() != engine::EpisodeEnd::kStopped) {
     std::cout << " (episode ended: " << engine::ToString(views.end()) << ")";
@@ -164,11 +155,9 @@ void RegisterRenderCommand(CLI::App& app) {
       "views at tick T, labelled). A task without a scripted expert is shown with the robot holding\n"
       "its reset pose. A camera the task blacks out (blocked-clutter-pick-cube's head) is\n"
       "written black, as policies receive it.");
-  render->add_option("--task", options->task, "Task (" + scenarios::KnownTasks() + ")")->capture_default_str();
-  render->add_option("--robot", options->robot, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)")
-      ->capture_default_str();
-  render->add_option("--split", options->split, "Split: id, ood-spatial or ood-init-pose")->capture_default_str();
-  AddSeedOption(*render, options->seed, "Seed: the episode draws its randomness from (seed, episode)");
+  batch::scene::SceneSpec& scene = options->scene;
+  AddSceneOptions(*render, {&scene.task, &scene.robot, &scene.split, &scene.seed, &scene.perturbations, nullptr,
+                            &scene.config_dir});
   render->add_option("--episode", options->episode, "Episode index within the seed")
       ->check(IntegerIn(0, 1000000000))
       ->capture_default_str();
@@ -182,12 +171,6 @@ void RegisterRenderCommand(CLI::App& app) {
   render->add_option("--steps", options->steps, "Control ticks (60 Hz) of the expert before the second render")
       ->check(IntegerIn(0, 1000000))
       ->capture_default_str();
-  render->add_option(
-      "--perturb", options->perturbations,
-      "AXIS:LEVEL: render under a perturbation level (configs/perturbations/AXIS.yaml,\n"
-      "docs/perturbations.md); repeat it for several axes. The episode keeps its base scene (a distractors\n"
-      "level adds its objects, a runtime level moves the target under the hand)");
-  AddConfigDirOption(*render, options->config_dir);
   render->callback([options] { RunRender(*options); });
 }
 

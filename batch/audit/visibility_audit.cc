@@ -4,14 +4,15 @@
 #include <chrono>
 #include <memory>
 #include <stdexcept>
+#include <utility>
 
 #include <tbb/parallel_for.h>
 
 #include "batch/builtin_policies.h"
 #include "batch/episode_driver.h"
+#include "batch/scene/scene_plan.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "kinematics/forward_kinematics.h"
 #include "render/batch_renderer.h"
 #include "scenarios/registry.h"
@@ -252,16 +253,16 @@ AuditResult RunVisibilityAudit(const AuditConfig& config, const ProgressCallback
   if (config.episodes < 1)
     throw std::invalid_argument("episodes must be at least 1, got " + std::to_string(config.episodes));
   if (config.envs < 1) throw std::invalid_argument("envs must be at least 1, got " + std::to_string(config.envs));
-  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.task);
-  if (scenario.make_expert == nullptr)
-    throw std::invalid_argument("task '" + config.task + "' has no scripted expert to audit");
-  const kinematics::RobotModel robot =
-      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  const scene::SceneSpec& spec = config.scene;
+  if (scenarios::FindScenario(spec.task).make_expert == nullptr)
+    throw std::invalid_argument("task '" + spec.task + "' has no scripted expert to audit");
+  scene::ScenePlan plan = scene::PlanScene(spec);
+  const scenarios::ScenarioDef& scenario = *plan.scenario;
   const auto start = std::chrono::steady_clock::now();
 
   const int slots = std::min(config.envs, config.episodes);
-  VecEnv vec_env(BuildWorldModel(robot, scenario), scenario, config.split, slots, config.seed);
-  ExpertPolicy expert(scenario, vec_env.model(), slots);
+  VecEnv vec_env(std::move(plan.model), scenario, spec.split, slots, spec.seed);
+  ExpertPolicy expert(scenario, vec_env.model(), slots, spec.expert_mode);
 
   AuditResult result;
   result.config = config;

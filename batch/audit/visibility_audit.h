@@ -16,20 +16,18 @@
 #include <vector>
 
 #include "batch/episode_driver.h"
-#include "scenarios/split.h"
+#include "batch/scene/scene_spec.h"
 
 namespace tavis::batch::audit {
 
 inline constexpr double kVisibleFraction = 0.01;
 
 struct AuditConfig {
-  std::string task = "clutter-pick-cube";
-  std::string robot = "gr1t2";
-  scenarios::Split split = scenarios::Split::kId;
+  // The task, robot, split, seed, perturbation levels and config dir audited (planned by
+  // scene::PlanScene, as every front end plans its scene).
+  scene::SceneSpec scene;
   int episodes = 96;
   int envs = 32;  // parallel env slots (results do not depend on it)
-  uint64_t seed = 0;
-  std::string config_dir;  // holds robots/*.yaml
   int image_width = 224;
   int image_height = 224;
 };

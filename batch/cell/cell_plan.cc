@@ -10,11 +10,9 @@
 #include "batch/output/config_identity.h"
 #include "batch/output/setting_error.h"
 #include "batch/remote/websocket_url.h"
+#include "batch/scene/scene_plan.h"
 #include "batch/scene_render.h"
-#include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
-#include "scenarios/registry.h"
 
 namespace tavis::batch::cell {
 namespace {
@@ -180,13 +178,13 @@ CellPlan PlanCell(const EvaluationCellConfig& config) {
   plan.policy = KnownPolicy(config.policy);
   CheckSettings(config, plan.policy);
   plan.ContinueFrom(config.first_episode);
-  plan.scenario = &scenarios::FindScenario(config.task);
+  scene::ScenePlan scene = scene::PlanScene(scene::SceneOf(config, config.task));
+  plan.scenario = scene.scenario;
   PlanFiles files;
-  files.robot_path = configs::RobotConfigPath(config.config_dir, config.robot);
-  files.robot_yaml = configs::YamlValue::ReadFileText(files.robot_path);
-  plan.model = BuildWorldModel(configs::ParseRobotModel(files.robot_yaml, files.robot_path), *plan.scenario);
-  plan.perturbations = perturb::ResolvePerturbations(config.config_dir, config.perturbations);
-  perturb::ApplyPerturbationLevels(plan.perturbations, config.seed, &plan.model);
+  files.robot_path = std::move(scene.robot_path);
+  files.robot_yaml = std::move(scene.robot_yaml);
+  plan.model = std::move(scene.model);
+  plan.perturbations = std::move(scene.perturbations);
   const bool served = plan.policy == PolicyKind::kOpenpi;
   if (served) {
     PlanServedLayout(plan, files);

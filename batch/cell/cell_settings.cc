@@ -5,8 +5,8 @@
 
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
+#include "batch/scene/scene_settings.h"
 #include "kinematics/invariant.h"
-#include "scenarios/registry.h"
 
 namespace tavis::batch::cell {
 namespace {
@@ -15,6 +15,11 @@ using Config = EvaluationCellConfig;
 
 // The table, in groups (what a cell is, the policy, the served policy, the episodes, what is
 // rendered): each entry is one setting's whole declaration, made by the builder of its kind.
+
+// A scene setting's flag and help, declared with the scene (scene_settings.h) and registered by
+// every command that runs one.
+const char* SceneFlag(const char* key) { return scene::SceneSettingNamed(key).flag; }
+const std::string& SceneHelp(const char* key) { return scene::SceneSettingNamed(key).help; }
 
 // A setting that says what the cell is: cell.json and summary.json record it under any policy.
 CellSetting Identity(const char* key, SettingMember member) {
@@ -28,12 +33,9 @@ CellSetting OfPolicy(SettingScope scope, const char* key, SettingMember member) 
 
 std::vector<CellSetting> WhatTheCellIs() {
   return {
-      Identity("task", &Config::task)
-          .Flag("--task", EvalOption::kShowingDefault, "Task (" + scenarios::KnownTasks() + ")"),
-      Identity("robot", &Config::robot)
-          .Flag("--robot", EvalOption::kShowingDefault, "Robot: gr1t2 or reachy2 (configs/robots/<name>.yaml)"),
-      Identity("split", &Config::split)
-          .Flag("--split", EvalOption::kShowingDefault, "Split: id, ood-spatial or ood-init-pose"),
+      Identity("task", &Config::task).Flag(SceneFlag("task"), EvalOption::kByHand, SceneHelp("task")),
+      Identity("robot", &Config::robot).Flag(SceneFlag("robot"), EvalOption::kByHand, SceneHelp("robot")),
+      Identity("split", &Config::split).Flag(SceneFlag("split"), EvalOption::kByHand, SceneHelp("split")),
       Identity("camera", &Config::camera)
           .Flag("--camera", EvalOption::kShowingDefault,
                 "Camera protocol: head (the policy sees and moves the head camera; GALT computed) or fixed\n"
@@ -54,10 +56,7 @@ std::vector<CellSetting> ThePolicy() {
                     "protocol (--server), acting at 20 Hz on the cameras its --keys name"),
       OfPolicy(SettingScope::kExpert, "expert_mode", &Config::expert_mode)
           .Records(Recorded::kWhereItApplies, Recorded::kWhereItApplies)  // it decides the expert's records
-          .Flag("--expert-mode", EvalOption::kShowingDefault,
-                "gaze-first (looks at the cue and the target, then acts) or head-still\n"
-                "(neck still at its reset pose, hands act as soon as the task allows; its cells are named\n"
-                "..._expert-head-still_s<seed>)"),
+          .Flag(SceneFlag("expert_mode"), EvalOption::kByHand, SceneHelp("expert_mode")),
       OfPolicy(SettingScope::kExpert, "expert_hz", &Config::expert_hz)
           .Records(Recorded::kAlways, Recorded::kAlways)
           .Flag("--expert-hz", EvalOption::kShowingDefault,
@@ -147,8 +146,7 @@ std::vector<CellSetting> TheEpisodes() {
                 "Run only episode I of the seed: the scene, and with a folder of --actions the actions, it has in\n"
                 "the full cell (replaces --episodes; the cell's one record is episode I)")
           .Range(0, 100000000),
-      Identity("seed", &Config::seed)
-          .Flag("--seed", EvalOption::kShowingDefault, "Seed: episode i draws its randomness from (seed, i)"),
+      Identity("seed", &Config::seed).Flag(SceneFlag("seed"), EvalOption::kByHand, SceneHelp("seed")),
       CellSetting("envs", &Config::envs)  // summary.json records the slots that ran (CellResult::envs)
           .Flag("--envs", EvalOption::kHidingDefault,
                 "Parallel env slots stepped lock-step, for a served policy (default: 32, or 6 per\n"
@@ -158,13 +156,7 @@ std::vector<CellSetting> TheEpisodes() {
       // Each level with its settings (CellSettingsJson).
       CellSetting("perturbations", &Config::perturbations)
           .Records(Recorded::kUnlessDefault, Recorded::kUnlessDefault)
-          .Flag("--perturb", EvalOption::kHidingDefault,
-                "AXIS:LEVEL: run the cell under a perturbation level (configs/perturbations/AXIS.yaml: camera,\n"
-                "sensor, lighting, appearance, distractors, language, runtime; docs/perturbations.md); repeat\n"
-                "it for several axes, one level each. Episode i keeps its base scene, so the cell pairs with its "
-                "unperturbed one;\n"
-                "the levels are recorded in cell.json and summary.json, and the default folder is named\n"
-                "..._p-AXIS-LEVEL"),
+          .Flag(SceneFlag("perturbations"), EvalOption::kByHand, SceneHelp("perturbations")),
   };
 }
 

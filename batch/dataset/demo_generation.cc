@@ -18,9 +18,9 @@
 #include "batch/output/setting_error.h"
 #include "batch/output/settings_difference.h"
 #include "batch/perturb/perturbation_catalog.h"
+#include "batch/scene/scene_plan.h"
 #include "batch/scene_render.h"
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
 #include "scenarios/registry.h"
 
 namespace tavis::batch::dataset {
@@ -156,16 +156,14 @@ std::vector<DemoTaskReport> TakeSpooledEpisodes(DemoSession& session) {
 
 // Records the task's missing episodes in rounds of as many attempts as are still missing, until it
 // has its N or has run out of attempts (std::runtime_error; what is kept stays for a resume).
-void RecordTask(DemoSession& session, const kinematics::RobotModel& robot, std::size_t task_index,
-                DemoTaskReport task) {
+void RecordTask(DemoSession& session, std::size_t task_index, DemoTaskReport task) {
   const DemoConfig& config = session.config;
-  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(config.tasks[task_index]);
+  scene::ScenePlan plan = scene::PlanScene(scene::SceneOf(config, config.tasks[task_index]));
+  const scenarios::ScenarioDef& scenario = *plan.scenario;
   task.task = scenario.name;
   const int cap = config.max_attempts > 0 ? config.max_attempts : 2 * config.episodes + 20;
   const int slots = std::min(config.envs, config.episodes);
-  engine::WorldModel model = batch::BuildWorldModel(robot, scenario);
-  batch::perturb::ApplyPerturbations(config.config_dir, config.perturbations, config.seed, &model);
-  batch::VecEnv vec_env(std::move(model), scenario, config.split, slots, config.seed);
+  batch::VecEnv vec_env(std::move(plan.model), scenario, config.split, slots, config.seed);
   const int control_hz = static_cast<int>(vec_env.model().physics.control_hz + 0.5);
   const auto expert = std::make_unique<batch::ExpertPolicy>(scenario, vec_env.model(), slots, config.expert_mode,
                                                             control_hz / config.expert_hz);
@@ -252,10 +250,11 @@ void ValidateDemoConfig(const DemoConfig& config) {
 
 DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress) {
   ValidateDemoConfig(config);
-  const kinematics::RobotModel robot =
-      configs::LoadRobotModel(configs::RobotConfigPath(config.config_dir, config.robot));
+  // The first task's scene, planned before anything is written: a bad robot file or perturbation
+  // fails here, and the dataset's state names are its robot's.
+  const scene::ScenePlan first = scene::PlanScene(scene::SceneOf(config, config.tasks.front()));
   const Clock::time_point start = Clock::now();
-  const DatasetLayout layout = DemoLayout(config, robot);
+  const DatasetLayout layout = DemoLayout(config, first.model.robot);
   EpisodeSpool spool(config.out + "/" + kSpoolFolder, layout);
   if (config.resume) {
     CheckResumable(config, spool);
@@ -271,7 +270,7 @@ DemoReport GenerateDemos(const DemoConfig& config, const DemoProgress& progress)
   DemoSession session{config, progress, layout, spool, *writer, report};
   const std::vector<DemoTaskReport> spooled = TakeSpooledEpisodes(session);
   for (std::size_t task_index = 0; task_index < config.tasks.size(); ++task_index) {
-    RecordTask(session, robot, task_index, spooled[task_index]);
+    RecordTask(session, task_index, spooled[task_index]);
   }
   const Clock::time_point finish_start = Clock::now();
   writer->Finish();

@@ -12,6 +12,7 @@
 #include "batch/cell/cell_report.h"
 #include "batch/gym/results_folder.h"
 #include "batch/policy_kinds.h"
+#include "batch/scene/scene_plan.h"
 #include "configs/robot_config.h"
 #include "scenarios/registry.h"
 
@@ -79,14 +80,15 @@ const GymVecEnvConfig& Checked(const GymVecEnvConfig& config) {
   return config;
 }
 
-kinematics::RobotModel LoadRobot(const GymVecEnvConfig& config) {
-  std::string path;
+// The env's world, planned as every front end plans its scene; a robot with no file is an
+// unknown name, a bad file or perturbation a bad value.
+engine::WorldModel PlannedModel(const GymVecEnvConfig& config) {
   try {
-    path = configs::RobotConfigPath(config.config_dir, config.robot);
+    configs::RobotConfigPath(config.scene.config_dir, config.scene.robot);
   } catch (const std::exception& error) {
     throw UnknownName(error.what());
   }
-  return configs::LoadRobotModel(path);
+  return scene::PlanScene(config.scene).model;
 }
 
 tbb::task_arena::constraints ArenaThreads(int threads) {
@@ -97,11 +99,11 @@ tbb::task_arena::constraints ArenaThreads(int threads) {
 
 GymVecEnv::GymVecEnv(const GymVecEnvConfig& config)
     : config_(Checked(config)),
-      scenario_(AsUnknownName([&]() -> const scenarios::ScenarioDef& { return scenarios::FindScenario(config.task); })),
+      scenario_(
+          AsUnknownName([&]() -> const scenarios::ScenarioDef& { return scenarios::FindScenario(config.scene.task); })),
       protocol_(AsUnknownName([&] { return ParseCameraProtocol(config.camera); })),
       arena_(ArenaThreads(config.threads)),
-      vec_env_(BuildWorldModel(LoadRobot(config), scenario_), scenario_,
-               AsUnknownName([&] { return scenarios::ParseSplit(config.split); }), config.num_envs, config.seed),
+      vec_env_(PlannedModel(config), scenario_, config.scene.split, config.num_envs, config.scene.seed),
       ticks_per_step_(config.control_ticks_per_step > 0 ? config.control_ticks_per_step
                                                         : vec_env_.model().physics.controls_per_policy()),
       cameras_(ProtocolCameras(config.cameras, protocol_)),
@@ -332,15 +334,16 @@ void GymVecEnv::WriteResults(const std::string& out_dir, const std::string& poli
   }
   cell::CellResult result;
   cell::EvaluationCellConfig& cell = result.config;
-  cell.task = config_.task;
-  cell.robot = config_.robot;
-  cell.split = scenarios::ParseSplit(config_.split);
+  cell.task = config_.scene.task;
+  cell.robot = config_.scene.robot;
+  cell.split = config_.scene.split;
   cell.camera = protocol_;
   cell.policy = policy;
   cell.episodes = static_cast<int>(count);
   cell.envs = num_envs();
-  cell.seed = config_.seed;
-  cell.config_dir = config_.config_dir;
+  cell.seed = config_.scene.seed;
+  cell.perturbations = config_.scene.perturbations;
+  cell.config_dir = config_.scene.config_dir;
   cell.image_width = config_.image_width;
   cell.image_height = config_.image_height;
   for (int64_t episode = first; episode < first + count; ++episode) {

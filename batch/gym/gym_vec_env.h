@@ -24,6 +24,7 @@
 #include "batch/episode_slots.h"
 #include "batch/lock_step_ticker.h"
 #include "batch/policy.h"
+#include "batch/scene/scene_spec.h"
 #include "batch/vec_env.h"
 
 namespace tavis::batch::gym {
@@ -35,11 +36,10 @@ constexpr int kMaxGymEnvs = 4096;
 constexpr int64_t kMaxEpisode = (int64_t{1} << 62) - 1;
 
 struct GymVecEnvConfig {
-  std::string task;
-  std::string robot = "gr1t2";
-  std::string split = "id";
+  // The task, robot, split, seed, perturbation levels and config dir (scene::PlanScene plans it,
+  // as every front end plans its scene).
+  scene::SceneSpec scene;
   int num_envs = 1;
-  uint64_t seed = 0;
   std::string camera = "head";  // the camera protocol: head or fixed
   // The cameras observed, from SceneCameraNames(); under the fixed protocol "head" means the
   // fixed camera (ProtocolCameras).
@@ -49,7 +49,6 @@ struct GymVecEnvConfig {
   int threads = 0;                 // 0: all cores
   int control_ticks_per_step = 0;  // 0: the policy rate's (3 control ticks, 20 Hz)
   bool autoreset = true;
-  std::string config_dir;
 };
 
 // Why the env could not be made: an unknown name (KeyError in Python) or a bad value (ValueError).
@@ -71,8 +70,9 @@ struct EnvBusy : std::runtime_error {
 class GymVecEnv {
  public:
   // Throws UnknownName naming an unknown task, robot or camera, std::invalid_argument for a bad
-  // value (a size, a count above kMaxGymEnvs, cameras with steps off the policy ticks),
-  // OutOfMemory if the images alone would exceed the machine's memory.
+  // value (a size, a count above kMaxGymEnvs, cameras with steps off the policy ticks, a
+  // perturbation that is not AXIS:LEVEL of a known axis and level), OutOfMemory if the images
+  // alone would exceed the machine's memory.
   explicit GymVecEnv(const GymVecEnvConfig& config);
 
   // Holds the env for one caller until destroyed; throws EnvBusy naming `what` while another

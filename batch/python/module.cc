@@ -9,7 +9,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -99,6 +102,63 @@ py::array_t<bool> Flags(const std::vector<uint8_t>& values) {
 
 using Exclusive = gym::GymVecEnv::Exclusive;
 
+// The env's keyword arguments, each declared once: its name (the Python keyword) and how its value
+// is read into the config. The Python package checks their types first, naming the argument.
+struct EnvArgument {
+  const char* name;
+  void (*read)(const py::handle& value, gym::GymVecEnvConfig& config);
+};
+
+scenarios::Split SplitNamed(const std::string& name) {
+  try {
+    return scenarios::ParseSplit(name);
+  } catch (const std::invalid_argument& error) {
+    throw gym::UnknownName(error.what());  // a name, as an unknown task or robot is
+  }
+}
+
+using Config = gym::GymVecEnvConfig;
+const std::vector<EnvArgument>& EnvArguments() {
+  static const std::vector<EnvArgument> arguments = {
+      // The scene (scene::SceneSpec), as every front end names it.
+      {"task", [](const py::handle& v, Config& c) { c.scene.task = v.cast<std::string>(); }},
+      {"robot", [](const py::handle& v, Config& c) { c.scene.robot = v.cast<std::string>(); }},
+      {"split", [](const py::handle& v, Config& c) { c.scene.split = SplitNamed(v.cast<std::string>()); }},
+      {"seed", [](const py::handle& v, Config& c) { c.scene.seed = v.cast<uint64_t>(); }},
+      {"perturbations",
+       [](const py::handle& v, Config& c) { c.scene.perturbations = v.cast<std::vector<std::string>>(); }},
+      {"config_dir", [](const py::handle& v, Config& c) { c.scene.config_dir = v.cast<std::string>(); }},
+      // The env's own.
+      {"num_envs", [](const py::handle& v, Config& c) { c.num_envs = v.cast<int>(); }},
+      {"camera", [](const py::handle& v, Config& c) { c.camera = v.cast<std::string>(); }},
+      {"cameras", [](const py::handle& v, Config& c) { c.cameras = v.cast<std::vector<std::string>>(); }},
+      {"image_size",
+       [](const py::handle& v, Config& c) {
+         std::tie(c.image_height, c.image_width) = v.cast<std::pair<int, int>>();  // (height, width)
+       }},
+      {"threads", [](const py::handle& v, Config& c) { c.threads = v.cast<int>(); }},
+      {"control_ticks_per_step", [](const py::handle& v, Config& c) { c.control_ticks_per_step = v.cast<int>(); }},
+      {"autoreset", [](const py::handle& v, Config& c) { c.autoreset = v.cast<bool>(); }},
+  };
+  return arguments;
+}
+
+// The config the keyword arguments give; an argument the env does not take is a TypeError, as
+// Python names one.
+gym::GymVecEnvConfig EnvConfigFrom(const py::kwargs& given) {
+  gym::GymVecEnvConfig config;
+  config.scene.config_dir = TAVIS_DEFAULT_CONFIG_DIR;
+  for (const auto& [key, value] : given) {
+    const std::string name = key.cast<std::string>();
+    const auto argument = std::find_if(EnvArguments().begin(), EnvArguments().end(),
+                                       [&](const EnvArgument& known) { return name == known.name; });
+    if (argument == EnvArguments().end())
+      throw py::type_error("VecEnvCore() got an unexpected keyword argument '" + name + "'");
+    argument->read(value, config);
+  }
+  return config;
+}
+
 gym::GymVecEnv* MakeEnv(gym::GymVecEnvConfig config) {
   py::gil_scoped_release release;
   return new gym::GymVecEnv(config);
@@ -129,6 +189,14 @@ void BindModuleFunctions(py::module_& m) {
   // The most episodes one cell holds, as `tavis eval --episodes` allows (write_results' count).
   m.attr("MAX_CELL_EPISODES") = static_cast<int64_t>(cell::FindCellSetting("episodes")->range->high);
   m.attr("DEFAULT_CONFIG_DIR") = TAVIS_DEFAULT_CONFIG_DIR;
+  m.def(
+      "env_argument_names",
+      [] {
+        std::vector<std::string> names;
+        for (const EnvArgument& argument : EnvArguments()) names.push_back(argument.name);
+        return names;
+      },
+      "The keyword arguments VecEnvCore takes, in its order");
   m.def("camera_names", &SceneCameraNames, "The cameras: head, fixed, left_wrist, right_wrist");
   m.def("known_tasks", &scenarios::KnownTasks, "The tasks, comma-separated");
   m.def("builtin_policy_names", &BuiltinPolicyNames);
@@ -292,7 +360,7 @@ void BindResults(py::class_<gym::GymVecEnv>& core) {
              const Exclusive use(env, "episode_json_lines");
              std::vector<std::string> lines;
              for (const auto& [episode, record] : env.records())
-               lines.push_back(cell::EpisodeJsonLine(record, env.config().seed));
+               lines.push_back(cell::EpisodeJsonLine(record, env.config().scene.seed));
              return lines;
            })
       .def(
@@ -318,16 +386,9 @@ PYBIND11_MODULE(_tavis, m) {
   BindModuleFunctions(m);
   BindBuiltinPolicy(m);
   py::class_<gym::GymVecEnv> core(m, "VecEnvCore");
-  core.def(py::init([](const std::string& task, const std::string& robot, const std::string& split, int num_envs,
-                       uint64_t seed, const std::string& camera, const std::vector<std::string>& cameras,
-                       std::pair<int, int> image_size, int threads, int control_ticks_per_step, bool autoreset,
-                       const std::string& config_dir) {
-             return MakeEnv({task, robot, split, num_envs, seed, camera, cameras, image_size.second, image_size.first,
-                             threads, control_ticks_per_step, autoreset, config_dir});
-           }),
-           py::arg("task"), py::arg("robot"), py::arg("split"), py::arg("num_envs"), py::arg("seed"), py::arg("camera"),
-           py::arg("cameras"), py::arg("image_size"), py::arg("threads"), py::arg("control_ticks_per_step"),
-           py::arg("autoreset"), py::arg("config_dir"))
+  core.def(py::init([](const py::kwargs& arguments) { return MakeEnv(EnvConfigFrom(arguments)); }),
+           "VecEnvCore(**arguments): the env's keyword arguments (env_argument_names()), each read into "
+           "gym::GymVecEnvConfig; one not given keeps its default")
       .def_property_readonly("num_envs", &gym::GymVecEnv::num_envs)
       .def_property_readonly("state_size", &gym::GymVecEnv::state_size)
       .def_property_readonly("control_ticks_per_step", &gym::GymVecEnv::control_ticks_per_step)

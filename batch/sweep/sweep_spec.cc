@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "batch/cell/cell_folder_name.h"
 #include "batch/output/setting_error.h"
 #include "batch/perturb/perturbation_catalog.h"
 #include "batch/sweep/spec_lists.h"
@@ -342,8 +343,7 @@ std::vector<SweepCell> ExpandCells(const SweepSpec& spec, const std::string& con
                 const std::string suffix = perturb::PerturbationLabelSuffix(perturbations);
                 cell.label = policy.label + suffix;
                 cell.seed_group = policy.seed_group.empty() ? "" : policy.seed_group + suffix;
-                cell.id = task + "_" + robot + "_" + scenarios::ToString(split) + "_" + ToString(camera) + "_" +
-                          cell.label + "_s" + std::to_string(seed);
+                cell.id = cell::CellFolderName(config, policy.label, cell::PerturbationsIn::kLabel);
                 cells.push_back(std::move(cell));
               }
             }

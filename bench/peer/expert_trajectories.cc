@@ -1,19 +1,23 @@
 #include "bench/peer/expert_trajectories.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "batch/builtin_policies.h"
+#include "batch/scene/scene_plan.h"
 #include "batch/vec_env.h"
-#include "configs/robot_config.h"
-#include "scenarios/registry.h"
 
 namespace tavis::peer {
 
 ExpertTrajectories RecordExpertTrajectories(const std::string& config_dir, const std::string& task,
                                             const std::string& robot, int episodes, int ticks) {
-  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
-  const kinematics::RobotModel robot_model = configs::LoadRobotModel(configs::RobotConfigPath(config_dir, robot));
-  batch::VecEnv vec_env(batch::BuildWorldModel(robot_model, scenario), scenario, scenarios::Split::kId, episodes, 0);
+  batch::scene::SceneSpec spec;
+  spec.task = task;
+  spec.robot = robot;
+  spec.config_dir = config_dir;
+  batch::scene::ScenePlan plan = batch::scene::PlanScene(spec);
+  const scenarios::ScenarioDef& scenario = *plan.scenario;
+  batch::VecEnv vec_env(std::move(plan.model), scenario, spec.split, episodes, spec.seed);
   batch::ExpertPolicy policy(scenario, vec_env.model(), episodes);
 
   std::vector<batch::EpisodeStart> starts;

@@ -73,6 +73,25 @@ TEST_F(AuditCommand, SmallRunPrintsTheTableAndWritesAuditJson) {
   EXPECT_TRUE(card.contains("fixation_tick"));
 }
 
+// --perturb runs the audit's scene under the level and audit.json names it; an unknown level is
+// refused naming it before anything is written.
+TEST_F(AuditCommand, PerturbRunsUnderTheLevelAndRecordsIt) {
+  const fs::path dir = root_ / "perturbed";
+  const RunResult run =
+      Run("audit --task clutter-pick-cube --episodes 1 --image-size 32x32 --quiet "
+          "--perturb camera:fixed-view-large --out " +
+          Quote(dir.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json audit = nlohmann::json::parse(ReadText(dir / "audit.json"));
+  EXPECT_EQ(audit.at("perturbations"), nlohmann::json::array({"camera:fixed-view-large"}));
+
+  const fs::path bad = root_ / "bad";
+  const RunResult refused = Run("audit --episodes 1 --perturb camera:sideways --out " + Quote(bad.string()));
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("no level 'sideways'"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(bad));
+}
+
 TEST_F(AuditCommand, AllRefusesATask) {
   const RunResult run = Run("audit --all --task conditional-pick --episodes 1");
   EXPECT_EQ(run.exit_code, 1);

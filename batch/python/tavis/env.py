@@ -1,17 +1,21 @@
 """LeRobot EnvHub entry point: ``make_env(n_envs, use_async_envs, cfg=None)`` returns a TAVIS
 VectorEnv, so ``lerobot-eval`` can load it with ``trust_remote_code=True`` without changes to
 LeRobot (docs/python.md). ``cfg`` is a dict or an object whose attributes override make_vec's
-arguments (task, robot, split, seed, camera, cameras, image_size, threads, autoreset).
+arguments (task, robot, split, seed, camera, cameras, image_size, threads, autoreset,
+perturbations).
 
 ``use_async_envs`` is accepted and ignored: the envs are already stepped in parallel by C++
 threads in this process; a Python subprocess per env would only add copies.
 """
 
+import inspect
+
 import tavis
 
-DEFAULTS = {"task": "clutter-pick-cube", "robot": "gr1t2", "split": "id", "seed": 0, "camera": "head",
-            "cameras": ("head", "left_wrist", "right_wrist"), "image_size": (224, 224), "threads": 0,
-            "autoreset": True}
+# The options a cfg may override, with make_vec's defaults (TavisVectorEnv's signature declares them).
+_OPTIONS = ("robot", "split", "seed", "camera", "cameras", "image_size", "threads", "autoreset", "perturbations")
+_PARAMETERS = inspect.signature(tavis.TavisVectorEnv).parameters
+DEFAULTS = {"task": "clutter-pick-cube", **{name: _PARAMETERS[name].default for name in _OPTIONS}}
 
 
 def _options(cfg):

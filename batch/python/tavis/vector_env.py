@@ -80,9 +80,12 @@ class BuiltinPolicy:
 class TavisVectorEnv(_VectorEnvBase):
     """N envs of one task stepped together in C++; see the module docstring."""
 
+    # The keyword arguments are declared here alone: make_vec takes this signature and the EnvHub
+    # entry point (env.py) its defaults; the C++ core reads each by name.
     def __init__(self, task, robot="gr1t2", split="id", num_envs=1, seed=0, camera="head",
                  cameras=("head", "left_wrist", "right_wrist"), image_size=(224, 224), threads=0,
-                 control_ticks_per_step=0, autoreset=True, config_dir=None, copy=True, render_mode=None):
+                 control_ticks_per_step=0, autoreset=True, config_dir=None, copy=True, render_mode=None,
+                 perturbations=()):
         if isinstance(cameras, str):
             raise ValueError(f"cameras must be a list of camera names, got the string {cameras!r}")
         task, robot, split, camera = (_arguments.require_str(name, value) for name, value in
@@ -93,6 +96,7 @@ class TavisVectorEnv(_VectorEnvBase):
         control_ticks_per_step = _arguments.require_int("control_ticks_per_step", control_ticks_per_step, 0,
                                                         _arguments.MAX_C_INT)
         cameras = _arguments.require_str_list("cameras", cameras)
+        perturbations = _arguments.require_str_list("perturbations", perturbations)
         if config_dir is not None:
             config_dir = _arguments.require_path("config_dir", config_dir)
         if not isinstance(image_size, (list, tuple, np.ndarray)) or len(tuple(image_size)) != 2:
@@ -107,10 +111,11 @@ class TavisVectorEnv(_VectorEnvBase):
             task=task, robot=robot, split=split, num_envs=num_envs, seed=seed, camera=camera,
             cameras=list(cameras), image_size=tuple(int(v) for v in image_size), threads=threads,
             control_ticks_per_step=control_ticks_per_step, autoreset=bool(autoreset),
-            config_dir=config_dir if config_dir is not None else default_config_dir())
+            config_dir=config_dir if config_dir is not None else default_config_dir(), perturbations=perturbations)
         self.num_envs = num_envs
         self.task = task
         self.seed = seed
+        self.perturbations = perturbations
         self.autoreset = bool(autoreset)
         self.image_size = tuple(image_size)
         self.camera_names = list(self._core.camera_names)

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,12 +16,12 @@ namespace {
 
 AuditConfig SmallAudit(const std::string& task, int episodes) {
   AuditConfig config;
-  config.task = task;
-  config.robot = "gr1t2";
+  config.scene.task = task;
+  config.scene.robot = "gr1t2";
   config.episodes = episodes;
   config.image_width = 112;
   config.image_height = 112;
-  config.config_dir = TAVIS_CONFIG_DIR;
+  config.scene.config_dir = TAVIS_CONFIG_DIR;
   return config;
 }
 
@@ -84,7 +85,7 @@ TEST(VisibilityAudit, BlockedClutterExpertSeesTheCubeWithAWristCamera) {
   for (const char* robot : {"gr1t2", "reachy2"}) {
     SCOPED_TRACE(robot);
     AuditConfig config = SmallAudit("blocked-clutter-pick-cube", 8);
-    config.robot = robot;
+    config.scene.robot = robot;
     const AuditResult result = RunVisibilityAudit(config);
     const int left = CameraIndex(result, "left_wrist");
     const int right = CameraIndex(result, "right_wrist");
@@ -92,6 +93,33 @@ TEST(VisibilityAudit, BlockedClutterExpertSeesTheCubeWithAWristCamera) {
     const int at_reset = result.VisibleAtReset(0, left) + result.VisibleAtReset(0, right);
     EXPECT_GE(result.VisibleAtFixation(0, left) + result.VisibleAtFixation(0, right), std::max(7, at_reset + 4))
         << "the wrists at rest mostly look away; the look brings the cube into view";
+  }
+}
+
+// Every episode's visible fractions at reset, object by object and camera by camera.
+std::vector<CameraFractions> FractionsAtReset(const AuditResult& result) {
+  std::vector<CameraFractions> fractions;
+  for (const EpisodeAudit& episode : result.episodes) {
+    for (const ObjectAudit& object : episode.objects) fractions.push_back(object.at_reset);
+  }
+  return fractions;
+}
+
+// The audit runs its scene under the perturbation levels it is given, as every front end does
+// (scene::PlanScene): the fixed camera moved sees the cluttered target otherwise, and an
+// unknown level is refused naming it.
+TEST(VisibilityAudit, RunsUnderThePerturbationLevelsGiven) {
+  const AuditConfig base = SmallAudit("clutter-pick-cube", 2);
+  AuditConfig moved = base;
+  moved.scene.perturbations = {"camera:fixed-view-large"};
+  EXPECT_NE(FractionsAtReset(RunVisibilityAudit(moved)), FractionsAtReset(RunVisibilityAudit(base)));
+  AuditConfig unknown = base;
+  unknown.scene.perturbations = {"camera:no-such-level"};
+  try {
+    RunVisibilityAudit(unknown);
+    ADD_FAILURE() << "an unknown level was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("no level 'no-such-level'"), std::string::npos) << error.what();
   }
 }
 
