@@ -4,9 +4,13 @@
 
 Environment: TAVIS_PIP_BUILD_DIR, CMake's build folder (default build-pip/ in the source tree;
 setuptools' scratch goes in its setuptools/ subfolder); CMAKE_BUILD_PARALLEL_LEVEL, the build's jobs (default: all cores);
-CMAKE_CXX_COMPILER_LAUNCHER / CMAKE_C_COMPILER_LAUNCHER (e.g. ccache), read by CMake itself."""
+CMAKE_CXX_COMPILER_LAUNCHER / CMAKE_C_COMPILER_LAUNCHER (e.g. ccache), read by CMake itself;
+TAVIS_CMAKE_ARGS, more arguments for CMake's configure, split as a shell would (e.g.
+"-DTAVIS_WERROR=ON", which tests/python/test_install.py passes when the build tree has it, so
+that every compile command equals the build tree's and ccache serves its objects)."""
 
 import os
+import shlex
 import subprocess
 import sys
 
@@ -26,7 +30,8 @@ class CMakeBuild(build_ext):
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or str(os.cpu_count() or 1)
         self._run(["cmake", "-S", SOURCE_DIR, "-B", cmake_dir, "-DCMAKE_BUILD_TYPE=Release",
                    f"-DPython3_EXECUTABLE={sys.executable}", "-DTAVIS_BUILD_PYTHON=ON", "-DTAVIS_BUILD_TESTS=OFF",
-                   "-DTAVIS_BUILD_BENCHMARKS=OFF", "-DTAVIS_PYTHON_INSTALL_DIR=."])
+                   "-DTAVIS_BUILD_BENCHMARKS=OFF", "-DTAVIS_PYTHON_INSTALL_DIR=.",
+                   *shlex.split(os.environ.get("TAVIS_CMAKE_ARGS", ""))])
         self._run(["cmake", "--build", cmake_dir, "--target", "tavis_python", "--parallel", jobs])
         self._run(["cmake", "--install", cmake_dir, "--component", "python", "--prefix", package_root])
 
