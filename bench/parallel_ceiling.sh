@@ -12,7 +12,7 @@
 # Without --cell each copy is an awk loop of ITERATIONS (default 20000000) that touches no memory:
 # the ceiling of the cores alone. With --cell each copy is bench/rendering_cell.sh's rendering cell
 # of EPISODES episodes (default 24) on one thread, all copies the same episodes: the ceiling for
-# that very work, which `bench/scaling.sh`'s speed-up is to be read against (docs/performance.md:
+# that very work, which `bench/scaling.sh`'s speed-up is to be read against (docs/performance-history.md:
 # on the lent 16-core machine 16 such cells did 11.5x the work of one, 16 awk loops 12.9-15.7x,
 # the cell on 16 threads 12.7x). N defaults to the number of online CPUs, ROUNDS to 2. Each round
 # times one copy alone, then N copies started together, and prints each copy's wall time, the

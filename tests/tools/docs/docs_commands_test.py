@@ -59,7 +59,8 @@ NOT_RUN = [
     (r"/usr/bin/python3 -m venv|venv/bin/", "installs the package into a virtualenv: tests/python/test_install.py does"),
     (r"build/tavis demos --task clutter-pick-cube --robot gr1t2 --episodes 100 ",
      "100 episodes of four 640x480 cameras at 60 fps: minutes on 2 cores (parsed with --help)"),
-    (r"build/tavis demos --task conditional-pick", "200 episodes, for the GPU baseline (parsed with --help)"),
+    (r"build/tavis demos --task conditional-pick --robot gr1t2 (--split id )?--episodes 200 ",
+     "200 episodes, for the GPU baseline (parsed with --help)"),
     (r"build/tavis sweep configs/sweeps/acceptance\.yaml", "96 cells of 96 episodes (parsed with --help)"),
     (r"tavis sweep /tmp/p8\.yaml", "512 cells of 8 episodes (parsed with --help)"),
     (r"tavis sweep +configs/sweeps/perturbations\.yaml", "512 cells of 96 episodes (parsed with --help)"),
@@ -68,6 +69,8 @@ NOT_RUN = [
     (r"tavis eval +--task multi-shelf-scan --perturb distractors:two --perturb runtime:move|"
      r"tavis eval +--task clutter-pick-cube --perturb appearance:table-wood",
      "96 episodes each, as build/tavis eval runs here (parsed with --help)"),
+    (r"PYTHONPATH=batch/python /usr/bin/python3 -m tavis_server --policy my_policy:make_policy ",
+     "serves the README's quick-start policy until stopped: tests/python/test_readme_example.py runs it and the eval"),
     (r"PYTHONPATH=batch/python python3 -m tavis_(baseline|server)|python3 -m tavis_baseline",
      "trains or serves a policy with PyTorch (a CUDA GPU; docs/baselines.md) or LeRobot"),
     (r"tools/baseline/gpu_table_runs\.sh", "the GPU table: a lent GPU machine, 25 minutes"),
