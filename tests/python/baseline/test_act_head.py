@@ -53,18 +53,39 @@ def test_act_chunks_depend_on_the_observation_only(act_checkpoints):
     assert first.shape == (3, 4, 19) and not torch.equal(first[0], first[1])
 
 
+def test_select_action_ensembles_a_forward_pass_per_call_until_reset(act_checkpoints):
+    policy = checkpoint.load(act_checkpoints["ensembled"])
+    config = policy.config
+    assert config.temporal_ensemble == 0.01 and config.executed_steps == 1
+    batches = []
+    for seed in range(3):
+        generator = torch.Generator().manual_seed(seed)
+        batch = {key: torch.rand(2, config.n_obs_steps, 3, 24, 32, generator=generator) for key in config.image_keys}
+        batch["observation.state"] = torch.rand(2, config.n_obs_steps, config.state_dim, generator=generator)
+        batches.append(batch)
+    chunks = [policy.predict_action_chunk(batch) for batch in batches]
+    assert chunks[0].shape == (2, config.chunk_size, 19)  # every row, to be averaged in
+    ensemble = TemporalEnsemble(0.01)
+    policy.reset()
+    for batch, chunk in zip(batches, chunks):
+        assert torch.allclose(policy.select_action(batch), torch.from_numpy(ensemble.add(chunk.numpy())), atol=1e-6)
+    policy.reset()  # a new episode: nothing earlier is averaged in
+    assert torch.allclose(policy.select_action(batches[2]), chunks[2][:, 0], atol=1e-6)
+
+
 def test_served_temporal_ensembling_averages_the_policys_own_chunks(act_checkpoints):
     requests, metadata, replies, _ = serve_steps(act_checkpoints["queued"], "--temporal-ensemble", "0.5")
     assert metadata["temporal_ensemble"] == 0.5 and metadata["executed_steps"] == 1
     assert metadata["action_queue"] is False and metadata["n_action_steps"] == 1 and metadata["action_horizon"] == 1
     assert metadata["chunk_execution"].startswith("temporal ensembling (m = 0.5)")
     ensemble = TemporalEnsemble(0.5)
-    expected = [ensemble.add(chunk) for chunk in own_chunks(act_checkpoints["queued"], requests)]
+    chunks = own_chunks(act_checkpoints["queued"], requests)
+    expected = [ensemble.add(chunk) for chunk in chunks]
     for step, reply in enumerate(replies):
         assert reply.shape == (1, 19)
         np.testing.assert_allclose(reply[0], expected[step], atol=1e-5, err_msg=f"step {step}")
     # ... which re-planning (the first row of each step's own chunk) would not be.
-    assert not np.allclose(replies[3][0], own_chunks(act_checkpoints["queued"], requests)[3][0], atol=1e-5)
+    assert not np.allclose(replies[3][0], chunks[3][0], atol=1e-5)
 
 
 def test_a_served_act_checkpoint_completes_a_cell_the_same_twice_with_and_without_ensembling(act_checkpoints,
