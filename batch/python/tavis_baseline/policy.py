@@ -123,7 +123,7 @@ class BaselinePolicy(nn.Module):
         (B, cameras * T * h * w, channels), and the states' features (B, T, feature_dim)."""
         batch = state.shape[0]
         maps = [encoder.feature_map(frames.flatten(0, 1)) for encoder, frames in zip(self.encoders, images)]
-        tokens = [feature_map.flatten(2).transpose(1, 2).reshape(batch, -1, feature_map.shape[1]) for feature_map in maps]
+        tokens = [map_.flatten(2).transpose(1, 2).reshape(batch, -1, map_.shape[1]) for map_ in maps]  # (B, T*h*w, C)
         return torch.cat(tokens, dim=1), self.state_features(state)
 
     def normalized_chunk(self, images, state, noise=None):

@@ -36,7 +36,7 @@ def make_policy(checkpoint_dir, device="cpu", executed_steps=None, temporal_ense
     notes = []
     policy = checkpoint.load(checkpoint_dir, device, notes=notes)
     if executed_steps is not None or temporal_ensemble is not None:
-        policy.config.execute_with(1 if executed_steps is None else executed_steps, temporal_ensemble)  # validated there
+        policy.config.execute_with(1 if executed_steps is None else executed_steps, temporal_ensemble)  # validates
     for note in notes:
         print(f"tavis_baseline.serve: {note}", file=sys.stderr, flush=True)
     if policy.config.temporal_ensemble is not None:

@@ -10,8 +10,8 @@ import pytest
 import torch
 
 from test_flow_head import served_cell
-from test_serve import serve_steps, own_chunks
-from test_train import FAST, log_losses, run
+from test_serve import own_chunks, serve_steps
+from test_train import log_losses, run
 from tavis_baseline import checkpoint, serve
 from tavis_baseline.temporal_ensemble import TemporalEnsemble
 
