@@ -3,7 +3,9 @@
 import dataclasses
 import json
 from dataclasses import dataclass, field
-from typing import List
+from typing import List, Optional
+
+from .temporal_ensemble import check_coefficient
 
 IMAGE_PREFIX = "observation.images."
 # observation.state entries of the neck, zeroed under the fixed-camera protocol (docs/observation.md),
@@ -11,7 +13,14 @@ IMAGE_PREFIX = "observation.images."
 NECK_STATE_DIMS = {34: [11, 16, 21], 19: [14, 15, 16]}
 NECK_ACTION_DIMS = [14, 15, 16]
 EXECUTED_STEPS_DEFAULT = 10
-HEADS = ("l1", "flow")
+HEADS = ("l1", "flow", "act")
+# The ACT head's sizes (act_head.py), each train's --act-... option: small defaults for 96x96 images
+# and 200-2,000 demonstrations (ACT's own are d_model 512, feedforward 3200, for 480x640 and 50).
+ACT_OPTIONS = {"act_d_model": "transformer width", "act_heads": "attention heads",
+               "act_encoder_layers": "layers of the observation encoder", "act_decoder_layers": "decoder layers",
+               "act_vae_layers": "layers of the CVAE's encoder (training only)",
+               "act_feedforward": "feed-forward width of every layer", "act_dropout": "dropout of every layer",
+               "act_latent_dim": "dims of the latent z", "act_kl_weight": "weight of the KL term of the loss"}
 EXECUTION_DEFAULT_WHY = (
     "measured (docs/baselines.md, 'Chunk execution'): each checkpoint served both ways on the same "
     "96 scenes, a queue of 10 rows beat re-planning every step at 8,000 training steps on conditional-pick "
@@ -46,6 +55,20 @@ class BaselineConfig:
     flow_steps: int = 10
     flow_width: int = 256
     noise_seed: int = 0
+    # The ACT head ("act", act_head.py): a CVAE transformer, served at z = 0 (deterministic).
+    act_d_model: int = 256
+    act_heads: int = 8
+    act_encoder_layers: int = 4
+    act_decoder_layers: int = 1
+    act_vae_layers: int = 4
+    act_feedforward: int = 1024
+    act_dropout: float = 0.1
+    act_latent_dim: int = 32
+    act_kl_weight: float = 10.0
+    # Temporal ensembling (temporal_ensemble.py), ACT's m (e.g. 0.01), or None: served chunks are
+    # then executed by a forward pass every step (executed_steps 1), each step's action the
+    # exp(-m * i)-weighted mean of every chunk's row for it.
+    temporal_ensemble: Optional[float] = None
     cnn_widths: List[int] = field(default_factory=lambda: [32, 64, 96, 128])
     feature_dim: int = 128
     hidden_dim: int = 512
@@ -68,6 +91,17 @@ class BaselineConfig:
         if not 1 <= self.flow_steps <= 100 or self.flow_width < 8 or self.flow_width % 8:
             raise ValueError(f"flow_steps {self.flow_steps} must be in 1..100 and flow_width {self.flow_width} "
                              f"a multiple of 8")
+        act_sizes = [getattr(self, name) for name in ACT_OPTIONS if name not in ("act_dropout", "act_kl_weight")]
+        if (min(act_sizes) < 1 or self.act_d_model % self.act_heads or not 0 <= self.act_dropout < 1
+                or not 0 <= self.act_kl_weight < float("inf")):
+            raise ValueError(f"act sizes {dict(zip(ACT_OPTIONS, act_sizes))} must be >= 1 with act_d_model a multiple "
+                             f"of act_heads, act_dropout {self.act_dropout} in [0, 1) and act_kl_weight "
+                             f"{self.act_kl_weight} >= 0")
+        if self.temporal_ensemble is not None:
+            self.temporal_ensemble = check_coefficient(self.temporal_ensemble)
+            if self.executed_steps != 1:
+                raise ValueError(f"temporal ensembling runs a forward pass every step: executed_steps must be 1, "
+                                 f"got {self.executed_steps}")
         if len(self.image_size) != 2 or min(self.image_size) < 16:
             raise ValueError(f"image_size {self.image_size} must be (height, width), each >= 16")
         if self.camera == "fixed" and not self.neck_state_dims:
@@ -84,16 +118,26 @@ class BaselineConfig:
 
     @n_action_steps.setter
     def n_action_steps(self, value):
-        previous, self.executed_steps = self.executed_steps, value
+        self.execute_with(value, self.temporal_ensemble)
+
+    def execute_with(self, executed_steps, temporal_ensemble=None):
+        """Replaces how chunks are executed (serve's --executed-steps / --temporal-ensemble), both settings
+        at once; a bad pair raises ValueError and changes nothing."""
+        previous = self.executed_steps, self.temporal_ensemble
+        self.executed_steps, self.temporal_ensemble = executed_steps, temporal_ensemble
         try:
             self.__post_init__()
         except ValueError:
-            self.executed_steps = previous
+            self.executed_steps, self.temporal_ensemble = previous
             raise
 
     @property
     def chunk_execution(self):
         """How a served chunk is executed, in words (the policy's metadata, so summary.json's)."""
+        if self.temporal_ensemble is not None:
+            return (f"temporal ensembling (m = {self.temporal_ensemble:g}): one forward pass per policy step, each "
+                    f"step's action the mean of every chunk's row for it, the i-th oldest chunk weighted "
+                    f"exp(-{self.temporal_ensemble:g} * i)")
         if self.executed_steps == 1:
             return "re-plan every step: one forward pass per policy step, the first row of its chunk executed"
         return (f"queue of {self.executed_steps} rows: one forward pass every {self.executed_steps} policy steps, "

@@ -19,15 +19,18 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
-from .config import BaselineConfig
+from .act_head import ActHead
+from .config import ACT_OPTIONS, BaselineConfig
 from .flow_head import FlowHead
+from .temporal_ensemble import TemporalEnsemble
 
 STATE = "observation.state"
 ACTION = "action"
 
 
 class CameraEncoder(nn.Module):
-    """Stride-2 conv stages (GroupNorm, SiLU), flattened (keeps where things are), to a feature."""
+    """Stride-2 conv stages (GroupNorm, SiLU), flattened (keeps where things are), to a feature;
+    feature_dim None: the last stage's map alone (the ACT head takes its positions as tokens)."""
 
     def __init__(self, widths, image_size, feature_dim):
         super().__init__()
@@ -40,10 +43,16 @@ class CameraEncoder(nn.Module):
         height, width = image_size
         for _ in widths:
             height, width = (height + 1) // 2, (width + 1) // 2
+        self.map_shape = (channels, height, width)
+        if feature_dim is None:
+            return
         self.project = nn.Sequential(nn.Flatten(), nn.Linear(channels * height * width, feature_dim), nn.LayerNorm(feature_dim))
 
+    def feature_map(self, images):
+        return self.conv(images - 0.5)
+
     def forward(self, images):
-        return self.project(self.conv(images - 0.5))
+        return self.project(self.feature_map(images))
 
 
 class BaselinePolicy(nn.Module):
@@ -59,7 +68,9 @@ class BaselinePolicy(nn.Module):
         state_keep = torch.ones(config.state_dim)
         state_keep[config.neck_state_dims if config.camera == "fixed" else []] = 0
         self.register_buffer("state_keep", state_keep)
-        self.encoders = nn.ModuleList(CameraEncoder(config.cnn_widths, config.image_size, config.feature_dim)
+        spatial = config.head == "act"  # ACT attends to the feature maps' positions
+        self.encoders = nn.ModuleList(CameraEncoder(config.cnn_widths, config.image_size,
+                                                    None if spatial else config.feature_dim)
                                       for _ in config.image_keys)
         self.state_encoder = nn.Sequential(nn.Linear(config.state_dim, config.feature_dim), nn.LayerNorm(config.feature_dim))
         tokens = (len(config.image_keys) + 1) * config.history_frames
@@ -68,9 +79,17 @@ class BaselinePolicy(nn.Module):
                 nn.Linear(tokens * config.feature_dim, config.hidden_dim), nn.SiLU(),
                 nn.Linear(config.hidden_dim, config.hidden_dim), nn.SiLU(),
                 nn.Linear(config.hidden_dim, config.chunk_size * config.action_dim))
-        else:
+        elif config.head == "flow":
             self.flow = FlowHead(tokens * config.feature_dim, config.chunk_size, config.action_dim, config.flow_width)
+        else:
+            channels, height, width = self.encoders[0].map_shape
+            self.act = ActHead(channels, len(config.image_keys) * config.history_frames * height * width,
+                               config.feature_dim, config.history_frames, config.chunk_size, config.action_dim,
+                               config.act_d_model, config.act_heads, config.act_encoder_layers,
+                               config.act_decoder_layers, config.act_vae_layers, config.act_feedforward,
+                               config.act_dropout, config.act_latent_dim)
         self._queue = deque()
+        self._ensemble = None  # select_action's, under temporal ensembling
 
     @property
     def metadata(self):
@@ -80,6 +99,9 @@ class BaselinePolicy(nn.Module):
                 "history_frames": c.history_frames, "history_stride": c.history_stride,
                 "chunk_size": c.chunk_size, "head": c.head,
                 **({"flow_steps": c.flow_steps, "noise": "from (noise_seed, the observation)"} if c.head == "flow" else {}),
+                **({"act": {name[4:]: getattr(c, name) for name in ACT_OPTIONS}, "latent": "z = 0 when served"}
+                   if c.head == "act" else {}),
+                **({"temporal_ensemble": c.temporal_ensemble} if c.temporal_ensemble is not None else {}),
                 "executed_steps": c.executed_steps, "chunk_execution": c.chunk_execution,
                 "client_replan_steps": 1}
 
@@ -89,13 +111,26 @@ class BaselinePolicy(nn.Module):
         Returns the observation's features (B, T * (cameras + 1) * feature_dim)."""
         batch, steps = state.shape[:2]
         features = [encoder(frames.flatten(0, 1)).view(batch, steps, -1) for encoder, frames in zip(self.encoders, images)]
-        state = (state * self.state_keep - self.state_mean) / self.state_std
-        features.append(self.state_encoder(state))
+        features.append(self.state_features(state))
         return torch.cat(features, dim=-1).flatten(1)
 
+    def state_features(self, state):
+        """(B, T, feature_dim): each history frame's state, neck entries kept or zeroed, normalised."""
+        return self.state_encoder((state * self.state_keep - self.state_mean) / self.state_std)
+
+    def observation_tokens(self, images, state):
+        """The ACT head's inputs: every position of every camera's feature map of every history frame
+        (B, cameras * T * h * w, channels), and the states' features (B, T, feature_dim)."""
+        batch = state.shape[0]
+        maps = [encoder.feature_map(frames.flatten(0, 1)) for encoder, frames in zip(self.encoders, images)]
+        tokens = [map_.flatten(2).transpose(1, 2).reshape(batch, -1, map_.shape[1]) for map_ in maps]  # (B, T*h*w, C)
+        return torch.cat(tokens, dim=1), self.state_features(state)
+
     def normalized_chunk(self, images, state, noise=None):
-        """The normalised action chunk (B, chunk_size, action_dim): the L1 head's regression, or the
-        flow head's sample from `noise` (B, chunk_size, action_dim)."""
+        """The normalised action chunk (B, chunk_size, action_dim): the L1 head's regression, the
+        flow head's sample from `noise` (B, chunk_size, action_dim), or the ACT head's at z = 0."""
+        if self.config.head == "act":
+            return self.act.sample(*self.observation_tokens(images, state))
         features = self.features(images, state)
         if self.config.head == "flow":
             return self.flow.sample(features, noise, self.config.flow_steps)
@@ -108,28 +143,39 @@ class BaselinePolicy(nn.Module):
         return (action - self.action_mean) / self.action_std
 
     def training_draws(self, batch, device, generator=None):
-        """The flow head's training noise and times for a batch of `batch` ((noise, t), drawn from the
-        CPU `generator`, or on `device` when None); () for the L1 head, which draws nothing."""
-        if self.config.head != "flow":
-            return ()
-        shape = (batch, self.config.chunk_size, self.config.action_dim)
-        if generator is None:
-            return torch.randn(shape, device=device), torch.rand(batch, device=device)
-        return torch.randn(shape, generator=generator).to(device), torch.rand(batch, generator=generator).to(device)
+        """The head's training draws for a batch of `batch`, from the CPU `generator`, or on `device`
+        when None: the flow head's noise and times (noise, t), the ACT head's reparameterisation
+        noise (eps,); () for the L1 head, which draws nothing."""
+        def draw(sample, *shape):
+            return sample(shape, device=device) if generator is None else sample(shape, generator=generator).to(device)
+
+        if self.config.head == "flow":
+            return draw(torch.randn, batch, self.config.chunk_size, self.config.action_dim), draw(torch.rand, batch)
+        if self.config.head == "act":
+            return (draw(torch.randn, batch, self.config.act_latent_dim),)
+        return ()
 
     def loss(self, images, state, action, action_is_pad, *draws):
         """The L1 head: mean L1 between the predicted and target normalised chunks over the
-        non-padded targets. The flow head: its velocity loss, with draws = training_draws(...)."""
+        non-padded targets. The flow head: its velocity loss, with draws = training_draws(...). The ACT
+        head: that L1 (its chunk decoded from the posterior's z) + act_kl_weight x its KL term."""
         if self.config.head == "flow":
             noise, t = draws
             return self.flow.loss(self.features(images, state), self.normalize_action(action), ~action_is_pad, noise, t)
-        error = (self.normalized_chunk(images, state).float() - self.normalize_action(action)).abs()
+        if self.config.head == "act":
+            chunk, kl = self.act.chunk_and_kl(*self.observation_tokens(images, state), self.normalize_action(action),
+                                              ~action_is_pad, *draws)
+        else:
+            chunk, kl = self.normalized_chunk(images, state), None
+        error = (chunk.float() - self.normalize_action(action)).abs()
         valid = (~action_is_pad).unsqueeze(-1).to(error.dtype)
-        return (error * valid).sum() / (valid.sum() * error.shape[-1]).clamp(min=1)
+        l1 = (error * valid).sum() / (valid.sum() * error.shape[-1]).clamp(min=1)
+        return l1 if kl is None else l1 + self.config.act_kl_weight * kl
 
     # -- LeRobot's interface -----------------------------------------------------------------------
     def reset(self):
         self._queue.clear()
+        self._ensemble = None
 
     def _inputs(self, batch):
         """The network's inputs from a LeRobot batch of n_obs_steps consecutive observations."""
@@ -161,7 +207,8 @@ class BaselinePolicy(nn.Module):
 
     @torch.no_grad()
     def predict_action_chunk(self, batch):
-        """The next n_action_steps actions for each env: (B, n_action_steps, action_dim) float32."""
+        """The next n_action_steps actions for each env: (B, n_action_steps, action_dim) float32; under
+        temporal ensembling the whole chunk (B, chunk_size, action_dim), every row averaged in."""
         was_training = self.training
         self.eval()
         images, state = self._inputs(batch)
@@ -170,7 +217,7 @@ class BaselinePolicy(nn.Module):
         if self.config.camera == "fixed":
             chunk[..., self.config.neck_action_dims] = 0
         self.train(was_training)
-        return chunk[:, :self.config.n_action_steps]
+        return chunk if self.config.temporal_ensemble is not None else chunk[:, :self.config.n_action_steps]
 
     def serving_noise(self, images, state):
         """The flow's starting noise for each env, a function of (config.noise_seed, the env's newest
@@ -190,7 +237,13 @@ class BaselinePolicy(nn.Module):
 
     @torch.no_grad()
     def select_action(self, batch):
-        """One action per env (B, action_dim), from a queue refilled with a new chunk when empty."""
+        """One action per env (B, action_dim), from a queue refilled with a new chunk when empty; under
+        temporal ensembling the ensembled action of a forward pass at every call."""
+        if self.config.temporal_ensemble is not None:
+            if self._ensemble is None:
+                self._ensemble = TemporalEnsemble(self.config.temporal_ensemble)
+            chunk = self.predict_action_chunk(batch)
+            return torch.from_numpy(self._ensemble.add(chunk.cpu().numpy())).to(chunk.device)
         if not self._queue:
             self._queue.extend(self.predict_action_chunk(batch).transpose(0, 1))
         return self._queue.popleft()

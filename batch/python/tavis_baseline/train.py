@@ -20,7 +20,7 @@ import numpy as np
 import torch
 
 from . import checkpoint, train_output
-from .config import EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, HEADS, BaselineConfig
+from .config import ACT_OPTIONS, EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, HEADS, BaselineConfig
 from .dataset import ACTION, STATE, DemoDataset
 from .normalization import QUATERNION_ACTION_DIMS, mean_std
 from .policy import BaselinePolicy
@@ -61,9 +61,18 @@ def arguments(argv):
                         help="rows of each chunk executed per forward pass when served, stored in config.json "
                              f"(default {EXECUTED_STEPS_DEFAULT}, a queue of that many rows, or the whole chunk when it is "
                              f"shorter: {EXECUTION_DEFAULT_WHY}; 1: re-plan every step)".replace("%", "%%"))
+    parser.add_argument("--temporal-ensemble", type=float, default=None, metavar="M",
+                        help="serve with ACT's temporal ensembling instead: a forward pass every step, each step's "
+                             "action the exp(-M * i)-weighted mean of every chunk's row for it (ACT: M = 0.01); "
+                             "stored in config.json, executed steps 1")
     parser.add_argument("--shift-px", type=int, default=4)
     parser.add_argument("--head", choices=HEADS, default="l1",
-                        help="action head: l1 (regression, the control) or flow (flow matching over the chunk)")
+                        help="action head: l1 (regression, the control), flow (flow matching over the chunk) or "
+                             "act (ACT's CVAE transformer, the --act-... sizes)")
+    for name, what in ACT_OPTIONS.items():
+        default = getattr(BaselineConfig, name)
+        parser.add_argument(f"--{name.replace('_', '-')}", type=type(default), default=default,
+                            help=f"act head: {what} (default {default})")
     parser.add_argument("--flow-steps", type=int, default=10, help="flow head: Euler steps when served (1..100)")
     parser.add_argument("--flow-width", type=int, default=256, help="flow head: channels of its temporal convs")
     parser.add_argument("--episodes", type=int, default=None, help="use only the first N episodes")
@@ -76,8 +85,11 @@ def arguments(argv):
     parser.add_argument("--no-compile", action="store_true",
                         help="on CUDA, train eagerly instead of torch.compile + one CUDA graph per step (for comparison)")
     args = parser.parse_args(argv)
+    if args.temporal_ensemble is not None and args.executed_steps not in (None, 1):
+        parser.error(f"--temporal-ensemble runs a forward pass every step: --executed-steps {args.executed_steps} "
+                     f"must be 1 or left out")
     if args.executed_steps is None:
-        args.executed_steps = min(EXECUTED_STEPS_DEFAULT, args.chunk_size)
+        args.executed_steps = 1 if args.temporal_ensemble is not None else min(EXECUTED_STEPS_DEFAULT, args.chunk_size)
     for name in ("steps", "batch_size", "history_frames", "history_stride", "chunk_size", "executed_steps", "log_every", "save_every"):
         if getattr(args, name) < 1:
             parser.error(f"--{name.replace('_', '-')} must be >= 1, got {getattr(args, name)}")
@@ -87,7 +99,17 @@ def arguments(argv):
         parser.error(f"--executed-steps {args.executed_steps} exceeds --chunk-size {args.chunk_size}")
     if args.val_episodes < 0:
         parser.error(f"--val-episodes must be >= 0, got {args.val_episodes}")
+    try:  # the head's sizes and the chunk execution, before anything is loaded or written
+        BaselineConfig(chunk_size=args.chunk_size, executed_steps=args.executed_steps, head=args.head,
+                       temporal_ensemble=args.temporal_ensemble, **act_sizes(args))
+    except ValueError as error:
+        parser.error(str(error))
     return args
+
+
+def act_sizes(args):
+    """The ACT head's sizes given on the command line (config.ACT_OPTIONS), as BaselineConfig fields."""
+    return {name: getattr(args, name) for name in ACT_OPTIONS}
 
 
 def build_policy(data, args):
@@ -96,7 +118,8 @@ def build_policy(data, args):
                             action_dim=action_dim, history_frames=args.history_frames,
                             history_stride=args.history_stride, chunk_size=args.chunk_size,
                             executed_steps=args.executed_steps, shift_px=args.shift_px, head=args.head,
-                            flow_steps=args.flow_steps, flow_width=args.flow_width, noise_seed=args.seed)
+                            flow_steps=args.flow_steps, flow_width=args.flow_width, noise_seed=args.seed,
+                            temporal_ensemble=args.temporal_ensemble, **act_sizes(args))
     quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
     state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std, where=data.stats_path)
     action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions, where=data.stats_path)
