@@ -19,8 +19,10 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
+from .augment import center_crop
 from .config import BaselineConfig
 from .flow_head import FlowHead
+from .vision import ResNet18Encoder
 
 STATE = "observation.state"
 ACTION = "action"
@@ -59,8 +61,7 @@ class BaselinePolicy(nn.Module):
         state_keep = torch.ones(config.state_dim)
         state_keep[config.neck_state_dims if config.camera == "fixed" else []] = 0
         self.register_buffer("state_keep", state_keep)
-        self.encoders = nn.ModuleList(CameraEncoder(config.cnn_widths, config.image_size, config.feature_dim)
-                                      for _ in config.image_keys)
+        self.encoders = nn.ModuleList(self.camera_encoder() for _ in config.image_keys)
         self.state_encoder = nn.Sequential(nn.Linear(config.state_dim, config.feature_dim), nn.LayerNorm(config.feature_dim))
         tokens = (len(config.image_keys) + 1) * config.history_frames
         if config.head == "l1":
@@ -78,12 +79,21 @@ class BaselinePolicy(nn.Module):
         c = self.config
         return {"policy_class": self.name, "camera": c.camera, "image_size_hw": list(c.image_size),
                 "history_frames": c.history_frames, "history_stride": c.history_stride,
-                "chunk_size": c.chunk_size, "head": c.head,
+                "chunk_size": c.chunk_size, "head": c.head, "vision": c.vision,
+                **({"vision_width": c.vision_width} if c.vision != "cnn" else {}),
+                **({"crop_hw": c.crop_size} if c.crop_ratio < 1 else {}),
                 **({"flow_steps": c.flow_steps, "noise": "from (noise_seed, the observation)"} if c.head == "flow" else {}),
                 "executed_steps": c.executed_steps, "chunk_execution": c.chunk_execution,
                 "client_replan_steps": 1}
 
     # -- the network -----------------------------------------------------------------------------
+    def camera_encoder(self):
+        """One camera's encoder (config.vision), for images of config.crop_size."""
+        c = self.config
+        if c.vision == "resnet18":
+            return ResNet18Encoder(c.vision_width, c.crop_size, c.feature_dim)
+        return CameraEncoder(c.cnn_widths, c.crop_size, c.feature_dim)
+
     def features(self, images, state):
         """images: list of (B, T, 3, H, W) float in [0, 1], one per config.image_keys; state: (B, T, D).
         Returns the observation's features (B, T * (cameras + 1) * feature_dim)."""
@@ -156,7 +166,7 @@ class BaselinePolicy(nn.Module):
                 flat = F.interpolate(frames.flatten(0, 1), size=(height, width), mode="bilinear", align_corners=False,
                                      antialias=True)
                 frames = flat.view(*frames.shape[:3], height, width)
-            images.append(frames)
+            images.append(center_crop(frames, self.config.crop_size))  # the training crop's centre
         return images, state
 
     @torch.no_grad()
