@@ -42,7 +42,8 @@ class BaselineConfig:
     action_offset: int = 1
     # The action head: "l1" (an MLP regressing the chunk with L1, the control) or "flow" (flow
     # matching over the chunk, flow_head.py), sampled in flow_steps Euler steps when served, its
-    # noise derived from (noise_seed, the observation) so that served records repeat run to run.
+    # noise derived from (noise_seed, the request's episode and step) so that served records repeat
+    # run to run (policy.serving_noise).
     head: str = "l1"
     flow_steps: int = 10
     flow_width: int = 256

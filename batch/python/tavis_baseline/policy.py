@@ -26,6 +26,12 @@ from .vision import ResNet18Encoder
 
 STATE = "observation.state"
 ACTION = "action"
+# The ids tavis_server adds to each batch (tavis_server.policy_batch.request_ids) that key the flow
+# head's serving noise. Not env_index: the cell's episode_index already names the scene, and which
+# env slot runs an episode depends on --envs, which must not change a record.
+NOISE_IDS = ("episode_index", "step")
+NOISE_FROM = ("from (noise_seed, episode_index, step) of the request; from (noise_seed, the observation) "
+              "for a batch without them")
 
 
 class CameraEncoder(nn.Module):
@@ -82,7 +88,7 @@ class BaselinePolicy(nn.Module):
                 "chunk_size": c.chunk_size, "head": c.head, "vision": c.vision,
                 **({"vision_width": c.vision_width} if c.vision != "cnn" else {}),
                 **({"crop_hw": c.crop_size} if c.crop_ratio < 1 else {}),
-                **({"flow_steps": c.flow_steps, "noise": "from (noise_seed, the observation)"} if c.head == "flow" else {}),
+                **({"flow_steps": c.flow_steps, "noise": NOISE_FROM} if c.head == "flow" else {}),
                 "executed_steps": c.executed_steps, "chunk_execution": c.chunk_execution,
                 "client_replan_steps": 1}
 
@@ -175,25 +181,45 @@ class BaselinePolicy(nn.Module):
         was_training = self.training
         self.eval()
         images, state = self._inputs(batch)
-        noise = self.serving_noise(images, state) if self.config.head == "flow" else None
+        noise = self.serving_noise(images, state, self.request_ids(batch, state.shape[0])) if self.config.head == "flow" else None
         chunk = self.normalized_chunk(images, state, noise).float() * self.action_std + self.action_mean
         if self.config.camera == "fixed":
             chunk[..., self.config.neck_action_dims] = 0
         self.train(was_training)
         return chunk[:, :self.config.n_action_steps]
 
-    def serving_noise(self, images, state):
-        """The flow's starting noise for each env, a function of (config.noise_seed, the env's newest
-        observation: its state and its frames as uint8): the same observation gets the same chunk,
-        whichever envs share its batch, so a served episode repeats run after run."""
-        newest = [torch.round(frames[:, -1] * 255).to(torch.uint8).cpu().numpy() for frames in images]
-        states = state[:, -1].float().cpu().numpy()
+    @staticmethod
+    def request_ids(batch, envs):
+        """One (episode_index, step) per env from the ids tavis_server puts in a batch (NOISE_IDS), or
+        None when the batch has none (a batch built by hand, or by another server)."""
+        if not all(key in batch for key in NOISE_IDS):
+            return None
+        columns = []
+        for key in NOISE_IDS:
+            values = torch.as_tensor(batch[key]).reshape(-1)
+            if values.numel() != envs or values.is_floating_point():
+                raise ValueError(f"the batch's {key} {values.tolist()} must hold one whole number per env ({envs})")
+            columns.append(values.cpu().tolist())
+        return list(zip(*columns))
+
+    def serving_noise(self, images, state, ids=None):
+        """The flow's starting noise for each env, a function of (config.noise_seed, the env's
+        (episode_index, step) in `ids`), or without ids of (noise_seed, the env's newest observation:
+        its state and its frames as uint8): the same episode's step (or observation) gets the same
+        chunk, whichever envs share its batch and whichever env runs it, so a served episode repeats
+        run after run."""
+        if ids is None:
+            newest = [torch.round(frames[:, -1] * 255).to(torch.uint8).cpu().numpy() for frames in images]
+            states = state[:, -1].float().cpu().numpy()
         noises = []
         for env in range(state.shape[0]):
             digest = hashlib.blake2b(np.int64(self.config.noise_seed).tobytes(), digest_size=8)
-            digest.update(states[env].tobytes())
-            for frames in newest:
-                digest.update(frames[env].tobytes())
+            if ids is not None:
+                digest.update(np.asarray(ids[env], dtype=np.int64).tobytes())
+            else:
+                digest.update(states[env].tobytes())
+                for frames in newest:
+                    digest.update(frames[env].tobytes())
             generator = torch.Generator().manual_seed(int.from_bytes(digest.digest(), "little") & (2 ** 63 - 1))
             noises.append(torch.randn((self.config.chunk_size, self.config.action_dim), generator=generator))
         return torch.stack(noises).to(state.device)
