@@ -1,5 +1,6 @@
-"""The reference learned baseline: per-camera CNNs + state, over a short observation history, to an
-L1-trained chunk of future actions (docs/baselines.md says why this model).
+"""The reference learned baseline: per-camera encoders (a CNN, or vision.py's ResNet-18) + state,
+over a short observation history, to an L1-trained chunk of future actions (docs/baselines.md
+says why this model).
 
 It exposes LeRobot's policy interface, so tavis_server serves it like a LeRobot policy:
 reset(), select_action(batch) (one action per call from a queue of n_action_steps, LeRobot's name
@@ -181,7 +182,9 @@ class BaselinePolicy(nn.Module):
         was_training = self.training
         self.eval()
         images, state = self._inputs(batch)
-        noise = self.serving_noise(images, state, self.request_ids(batch, state.shape[0])) if self.config.head == "flow" else None
+        noise = None
+        if self.config.head == "flow":
+            noise = self.serving_noise(images, state, self.request_ids(batch, state.shape[0]))
         chunk = self.normalized_chunk(images, state, noise).float() * self.action_std + self.action_mean
         if self.config.camera == "fixed":
             chunk[..., self.config.neck_action_dims] = 0

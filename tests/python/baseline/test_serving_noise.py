@@ -29,9 +29,10 @@ def still_batch(policy, episodes, steps, envs=None, picture=0):
     `picture`-th), with tavis_server's ids."""
     config = policy.config
     generator = torch.Generator().manual_seed(picture)
-    batch = {key: torch.rand(1, 1, 3, HEIGHT, WIDTH, generator=generator).expand(len(episodes), config.n_obs_steps, -1, -1, -1)
+    envs_and_steps = (len(episodes), config.n_obs_steps)
+    batch = {key: torch.rand(1, 1, 3, HEIGHT, WIDTH, generator=generator).expand(*envs_and_steps, -1, -1, -1)
              for key in config.image_keys}
-    batch["observation.state"] = torch.rand(1, 1, config.state_dim, generator=generator).expand(len(episodes), config.n_obs_steps, -1)
+    batch["observation.state"] = torch.rand(1, 1, config.state_dim, generator=generator).expand(*envs_and_steps, -1)
     batch.update(env_index=torch.tensor(envs if envs is not None else list(range(len(episodes)))),
                  episode_index=torch.tensor(episodes), step=torch.tensor(steps))
     return batch
