@@ -14,6 +14,7 @@ NECK_STATE_DIMS = {34: [11, 16, 21], 19: [14, 15, 16]}
 NECK_ACTION_DIMS = [14, 15, 16]
 EXECUTED_STEPS_DEFAULT = 10
 HEADS = ("l1", "flow", "act")
+VISIONS = ("cnn", "resnet18")
 # The ACT head's sizes (act_head.py), each train's --act-... option: small defaults for 96x96 images
 # and 200-2,000 demonstrations (ACT's own are d_model 512, feedforward 3200, for 480x640 and 50).
 ACT_OPTIONS = {"act_d_model": "transformer width", "act_heads": "attention heads",
@@ -50,7 +51,8 @@ class BaselineConfig:
     action_offset: int = 1
     # The action head: "l1" (an MLP regressing the chunk with L1, the control) or "flow" (flow
     # matching over the chunk, flow_head.py), sampled in flow_steps Euler steps when served, its
-    # noise derived from (noise_seed, the observation) so that served records repeat run to run.
+    # noise derived from (noise_seed, the request's episode and step) so that served records repeat
+    # run to run (policy.serving_noise).
     head: str = "l1"
     flow_steps: int = 10
     flow_width: int = 256
@@ -70,6 +72,14 @@ class BaselineConfig:
     # exp(-m * i)-weighted mean of every chunk's row for it.
     temporal_ensemble: Optional[float] = None
     cnn_widths: List[int] = field(default_factory=lambda: [32, 64, 96, 128])
+    # The camera encoder: "cnn" (CameraEncoder: stride-2 convs, flattened) or "resnet18" (vision.py:
+    # Diffusion Policy's ResNet-18 with GroupNorm and a spatial softmax, vision_width base channels).
+    # A config.json without these fields predates them: it was a cnn, and loads as one.
+    vision: str = "cnn"
+    vision_width: int = 64
+    # Random-crop augmentation (LeRobot's diffusion policy): the encoder sees a crop of crop_ratio of
+    # each side (crop_size), at a random place in training and the centre when served; 1.0: no crop.
+    crop_ratio: float = 1.0
     feature_dim: int = 128
     hidden_dim: int = 512
     shift_px: int = 4                 # random-shift augmentation (training only)
@@ -104,6 +114,13 @@ class BaselineConfig:
                                  f"got {self.executed_steps}")
         if len(self.image_size) != 2 or min(self.image_size) < 16:
             raise ValueError(f"image_size {self.image_size} must be (height, width), each >= 16")
+        if self.vision not in VISIONS:
+            raise ValueError(f"vision must be one of {', '.join(VISIONS)}, got {self.vision!r}")
+        if isinstance(self.vision_width, bool) or not isinstance(self.vision_width, int) or self.vision_width < 4:
+            raise ValueError(f"vision_width {self.vision_width!r} must be a whole number >= 4")
+        if not 0 < self.crop_ratio <= 1 or min(self.crop_size) < 8:
+            raise ValueError(f"crop_ratio {self.crop_ratio!r} must be in (0, 1] and leave each side of image_size "
+                             f"{self.image_size} at least 8 pixels")
         if self.camera == "fixed" and not self.neck_state_dims:
             if self.state_dim not in NECK_STATE_DIMS:
                 raise ValueError(f"fixed camera: no known neck entries for a state of {self.state_dim} dims; "
@@ -142,6 +159,11 @@ class BaselineConfig:
             return "re-plan every step: one forward pass per policy step, the first row of its chunk executed"
         return (f"queue of {self.executed_steps} rows: one forward pass every {self.executed_steps} policy steps, "
                 f"its first {self.executed_steps} rows executed one per step, open loop")
+
+    @property
+    def crop_size(self):
+        """(height, width) of the crop the encoder sees: crop_ratio of image_size, rounded."""
+        return [int(round(side * self.crop_ratio)) for side in self.image_size]
 
     @property
     def image_keys(self):

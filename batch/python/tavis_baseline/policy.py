@@ -1,5 +1,6 @@
-"""The reference learned baseline: per-camera CNNs + state, over a short observation history, to an
-L1-trained chunk of future actions (docs/baselines.md says why this model).
+"""The reference learned baseline: per-camera encoders (a CNN, or vision.py's ResNet-18) + state,
+over a short observation history, to an L1-trained chunk of future actions (docs/baselines.md
+says why this model).
 
 It exposes LeRobot's policy interface, so tavis_server serves it like a LeRobot policy:
 reset(), select_action(batch) (one action per call from a queue of n_action_steps, LeRobot's name
@@ -20,12 +21,20 @@ import torch.nn.functional as F
 from torch import nn
 
 from .act_head import ActHead
+from .augment import center_crop
 from .config import ACT_OPTIONS, BaselineConfig
 from .flow_head import FlowHead
 from .temporal_ensemble import TemporalEnsemble
+from .vision import ResNet18Encoder
 
 STATE = "observation.state"
 ACTION = "action"
+# The ids tavis_server adds to each batch (tavis_server.policy_batch.request_ids) that key the flow
+# head's serving noise. Not env_index: the cell's episode_index already names the scene, and which
+# env slot runs an episode depends on --envs, which must not change a record.
+NOISE_IDS = ("episode_index", "step")
+NOISE_FROM = ("from (noise_seed, episode_index, step) of the request; from (noise_seed, the observation) "
+              "for a batch without them")
 
 
 class CameraEncoder(nn.Module):
@@ -68,10 +77,7 @@ class BaselinePolicy(nn.Module):
         state_keep = torch.ones(config.state_dim)
         state_keep[config.neck_state_dims if config.camera == "fixed" else []] = 0
         self.register_buffer("state_keep", state_keep)
-        spatial = config.head == "act"  # ACT attends to the feature maps' positions
-        self.encoders = nn.ModuleList(CameraEncoder(config.cnn_widths, config.image_size,
-                                                    None if spatial else config.feature_dim)
-                                      for _ in config.image_keys)
+        self.encoders = nn.ModuleList(self.camera_encoder() for _ in config.image_keys)
         self.state_encoder = nn.Sequential(nn.Linear(config.state_dim, config.feature_dim), nn.LayerNorm(config.feature_dim))
         tokens = (len(config.image_keys) + 1) * config.history_frames
         if config.head == "l1":
@@ -97,8 +103,10 @@ class BaselinePolicy(nn.Module):
         c = self.config
         return {"policy_class": self.name, "camera": c.camera, "image_size_hw": list(c.image_size),
                 "history_frames": c.history_frames, "history_stride": c.history_stride,
-                "chunk_size": c.chunk_size, "head": c.head,
-                **({"flow_steps": c.flow_steps, "noise": "from (noise_seed, the observation)"} if c.head == "flow" else {}),
+                "chunk_size": c.chunk_size, "head": c.head, "vision": c.vision,
+                **({"vision_width": c.vision_width} if c.vision != "cnn" else {}),
+                **({"crop_hw": c.crop_size} if c.crop_ratio < 1 else {}),
+                **({"flow_steps": c.flow_steps, "noise": NOISE_FROM} if c.head == "flow" else {}),
                 **({"act": {name[4:]: getattr(c, name) for name in ACT_OPTIONS}, "latent": "z = 0 when served"}
                    if c.head == "act" else {}),
                 **({"temporal_ensemble": c.temporal_ensemble} if c.temporal_ensemble is not None else {}),
@@ -106,6 +114,16 @@ class BaselinePolicy(nn.Module):
                 "client_replan_steps": 1}
 
     # -- the network -----------------------------------------------------------------------------
+    def camera_encoder(self):
+        """One camera's encoder (config.vision), for images of config.crop_size."""
+        c = self.config
+        if c.vision == "resnet18":
+            if c.head == "act":
+                raise ValueError("the act head attends to the cnn's feature maps; vision resnet18 is not offered with it")
+            return ResNet18Encoder(c.vision_width, c.crop_size, c.feature_dim)
+        # ACT attends to the feature maps' positions: no projection (feature_dim None).
+        return CameraEncoder(c.cnn_widths, c.crop_size, None if c.head == "act" else c.feature_dim)
+
     def features(self, images, state):
         """images: list of (B, T, 3, H, W) float in [0, 1], one per config.image_keys; state: (B, T, D).
         Returns the observation's features (B, T * (cameras + 1) * feature_dim)."""
@@ -202,7 +220,7 @@ class BaselinePolicy(nn.Module):
                 flat = F.interpolate(frames.flatten(0, 1), size=(height, width), mode="bilinear", align_corners=False,
                                      antialias=True)
                 frames = flat.view(*frames.shape[:3], height, width)
-            images.append(frames)
+            images.append(center_crop(frames, self.config.crop_size))  # the training crop's centre
         return images, state
 
     @torch.no_grad()
@@ -212,25 +230,47 @@ class BaselinePolicy(nn.Module):
         was_training = self.training
         self.eval()
         images, state = self._inputs(batch)
-        noise = self.serving_noise(images, state) if self.config.head == "flow" else None
+        noise = None
+        if self.config.head == "flow":
+            noise = self.serving_noise(images, state, self.request_ids(batch, state.shape[0]))
         chunk = self.normalized_chunk(images, state, noise).float() * self.action_std + self.action_mean
         if self.config.camera == "fixed":
             chunk[..., self.config.neck_action_dims] = 0
         self.train(was_training)
         return chunk if self.config.temporal_ensemble is not None else chunk[:, :self.config.n_action_steps]
 
-    def serving_noise(self, images, state):
-        """The flow's starting noise for each env, a function of (config.noise_seed, the env's newest
-        observation: its state and its frames as uint8): the same observation gets the same chunk,
-        whichever envs share its batch, so a served episode repeats run after run."""
-        newest = [torch.round(frames[:, -1] * 255).to(torch.uint8).cpu().numpy() for frames in images]
-        states = state[:, -1].float().cpu().numpy()
+    @staticmethod
+    def request_ids(batch, envs):
+        """One (episode_index, step) per env from the ids tavis_server puts in a batch (NOISE_IDS), or
+        None when the batch has none (a batch built by hand, or by another server)."""
+        if not all(key in batch for key in NOISE_IDS):
+            return None
+        columns = []
+        for key in NOISE_IDS:
+            values = torch.as_tensor(batch[key]).reshape(-1)
+            if values.numel() != envs or values.is_floating_point():
+                raise ValueError(f"the batch's {key} {values.tolist()} must hold one whole number per env ({envs})")
+            columns.append(values.cpu().tolist())
+        return list(zip(*columns))
+
+    def serving_noise(self, images, state, ids=None):
+        """The flow's starting noise for each env, a function of (config.noise_seed, the env's
+        (episode_index, step) in `ids`), or without ids of (noise_seed, the env's newest observation:
+        its state and its frames as uint8): the same episode's step (or observation) gets the same
+        chunk, whichever envs share its batch and whichever env runs it, so a served episode repeats
+        run after run."""
+        if ids is None:
+            newest = [torch.round(frames[:, -1] * 255).to(torch.uint8).cpu().numpy() for frames in images]
+            states = state[:, -1].float().cpu().numpy()
         noises = []
         for env in range(state.shape[0]):
             digest = hashlib.blake2b(np.int64(self.config.noise_seed).tobytes(), digest_size=8)
-            digest.update(states[env].tobytes())
-            for frames in newest:
-                digest.update(frames[env].tobytes())
+            if ids is not None:
+                digest.update(np.asarray(ids[env], dtype=np.int64).tobytes())
+            else:
+                digest.update(states[env].tobytes())
+                for frames in newest:
+                    digest.update(frames[env].tobytes())
             generator = torch.Generator().manual_seed(int.from_bytes(digest.digest(), "little") & (2 ** 63 - 1))
             noises.append(torch.randn((self.config.chunk_size, self.config.action_dim), generator=generator))
         return torch.stack(noises).to(state.device)

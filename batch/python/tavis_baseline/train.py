@@ -20,7 +20,7 @@ import numpy as np
 import torch
 
 from . import checkpoint, train_output
-from .config import ACT_OPTIONS, EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, HEADS, BaselineConfig
+from .config import ACT_OPTIONS, EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, HEADS, VISIONS, BaselineConfig
 from .dataset import ACTION, STATE, DemoDataset
 from .normalization import QUATERNION_ACTION_DIMS, mean_std
 from .policy import BaselinePolicy
@@ -65,7 +65,16 @@ def arguments(argv):
                         help="serve with ACT's temporal ensembling instead: a forward pass every step, each step's "
                              "action the exp(-M * i)-weighted mean of every chunk's row for it (ACT: M = 0.01); "
                              "stored in config.json, executed steps 1")
-    parser.add_argument("--shift-px", type=int, default=4)
+    parser.add_argument("--shift-px", type=int, default=None,
+                        help="random-shift augmentation, pixels (default 4 with --vision cnn, 0 with resnet18)")
+    parser.add_argument("--vision", choices=VISIONS, default="cnn",
+                        help="camera encoder: cnn (strided convs, flattened) or resnet18 (Diffusion Policy's: "
+                             "GroupNorm, spatial softmax)")
+    parser.add_argument("--vision-width", type=int, default=64, help="resnet18: channels of its first stage")
+    parser.add_argument("--crop-ratio", type=float, default=None,
+                        help="random-crop augmentation: the encoder sees this fraction of each side, a random "
+                             "crop in training, the centre when served (default 1.0, no crop, with --vision cnn; "
+                             "0.9 with resnet18, as LeRobot's diffusion policy)")
     parser.add_argument("--head", choices=HEADS, default="l1",
                         help="action head: l1 (regression, the control), flow (flow matching over the chunk) or "
                              "act (ACT's CVAE transformer, the --act-... sizes)")
@@ -90,6 +99,16 @@ def arguments(argv):
                      f"must be 1 or left out")
     if args.executed_steps is None:
         args.executed_steps = 1 if args.temporal_ensemble is not None else min(EXECUTED_STEPS_DEFAULT, args.chunk_size)
+    if args.shift_px is None:
+        args.shift_px = 4 if args.vision == "cnn" else 0
+    if args.crop_ratio is None:
+        args.crop_ratio = 1.0 if args.vision == "cnn" else 0.9
+    if not 0 < args.crop_ratio <= 1:
+        parser.error(f"--crop-ratio must be in (0, 1], got {args.crop_ratio}")
+    if args.vision_width < 4:
+        parser.error(f"--vision-width must be >= 4, got {args.vision_width}")
+    if args.head == "act" and args.vision != "cnn":
+        parser.error(f"--head act attends to the cnn's feature maps; --vision {args.vision} is not offered with it")
     for name in ("steps", "batch_size", "history_frames", "history_stride", "chunk_size", "executed_steps", "log_every", "save_every"):
         if getattr(args, name) < 1:
             parser.error(f"--{name.replace('_', '-')} must be >= 1, got {getattr(args, name)}")
@@ -119,7 +138,8 @@ def build_policy(data, args):
                             history_stride=args.history_stride, chunk_size=args.chunk_size,
                             executed_steps=args.executed_steps, shift_px=args.shift_px, head=args.head,
                             flow_steps=args.flow_steps, flow_width=args.flow_width, noise_seed=args.seed,
-                            temporal_ensemble=args.temporal_ensemble, **act_sizes(args))
+                            temporal_ensemble=args.temporal_ensemble, **act_sizes(args),
+                            vision=args.vision, vision_width=args.vision_width, crop_ratio=args.crop_ratio)
     quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
     state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std, where=data.stats_path)
     action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions, where=data.stats_path)
@@ -176,7 +196,8 @@ def train(args):
 
     policy = build_policy(data, args).to(device).train()
     parameters = sum(p.numel() for p in policy.parameters())
-    print(f"policy: {parameters / 1e6:.2f} M parameters, camera {args.camera}, history {policy.config.obs_offsets} frames, "
+    print(f"policy: {parameters / 1e6:.2f} M parameters, camera {args.camera}, vision {args.vision} on "
+          f"{policy.config.crop_size[1]}x{policy.config.crop_size[0]}, history {policy.config.obs_offsets} frames, "
           f"chunk {policy.config.chunk_size} (served: {policy.config.chunk_execution}), device {device}", flush=True)
     generator = torch.Generator().manual_seed(args.seed)
     lr_at = lambda step: learning_rate(step, args)  # noqa: E731

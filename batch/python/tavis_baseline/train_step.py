@@ -1,5 +1,5 @@
 """One training step, two ways, the same step in distribution (the same window sampling, the same
-random shift, the same schedule, loss, clip and AdamW):
+random shift and crop, the same schedule, loss, clip and AdamW):
 
 - EagerStep: PyTorch as written; the CPU path (Debian's torch 1.13 has no torch.compile), and
   CUDA with --no-compile. Rows and shift offsets come from a CPU generator, so on the CPU a seed
@@ -19,7 +19,7 @@ import time
 
 import torch
 
-from .augment import random_shift, random_shift_on_device
+from .augment import center_crop, random_crop, random_shift, random_shift_on_device
 from .dataset import ACTION, STATE
 
 
@@ -32,7 +32,8 @@ def autocast(device, cache_enabled=True):
 
 def batch_loss(policy, data, rows, generator, augment, loss=None, offsets=None):
     """The policy's loss on the windows of `rows`. generator: the CPU generator of the shift
-    offsets (None: drawn on the rows' device); loss: the function to call (default policy.loss);
+    offsets and crop places (None: drawn on the rows' device); augment False (validation): the
+    centre crop, as served; loss: the function to call (default policy.loss);
     offsets: (observation, action) frame offsets as device tensors (default the config's lists)."""
     config = policy.config
     obs_offsets, action_offsets = offsets if offsets is not None else (config.obs_offsets, config.action_offsets)
@@ -43,6 +44,9 @@ def batch_loss(policy, data, rows, generator, augment, loss=None, offsets=None):
         if augment:
             frames = (random_shift(frames, config.shift_px, generator) if generator is not None
                       else random_shift_on_device(frames, config.shift_px))
+            frames = random_crop(frames, config.crop_size, generator)  # None: drawn on the device
+        else:
+            frames = center_crop(frames, config.crop_size)  # as served
         images.append(frames)
     draws = policy.training_draws(len(rows), rows.device, generator) if augment else \
         policy.training_draws(len(rows), rows.device, torch.Generator().manual_seed(0))

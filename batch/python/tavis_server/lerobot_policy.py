@@ -28,7 +28,7 @@ import numpy as np
 
 from .action_queue import ActionQueues
 from .actions import ACTION_DIM
-from .policy_batch import stack_histories, to_numpy, to_policy_batch
+from .policy_batch import request_ids, stack_histories, to_numpy, to_policy_batch
 from .slots import drop_connection
 
 
@@ -125,6 +125,7 @@ class LeRobotServedPolicy:
         """One forward pass over these envs' histories: (N, H, 19), H at most n_action_steps."""
         histories = [self._histories[observation.slot] for observation in observations]
         stacked = stack_histories(histories, lambda env: f"env {observations[env].env_index}")
+        stacked.update(request_ids(observations))
         batch = self.preprocess(to_policy_batch(stacked, [o.task for o in observations], self.device, self.torch))
         with self._no_grad():
             self.forward_passes += 1
@@ -145,6 +146,7 @@ class LeRobotServedPolicy:
         if start:
             policy.reset()
         stacked = stack_histories([[observation.arrays]], lambda env: f"env {observation.env_index}")
+        stacked.update(request_ids([observation]))
         batch = self.preprocess(to_policy_batch(stacked, [observation.task], self.device, self.torch))
         with self._no_grad():
             self.forward_passes += 1

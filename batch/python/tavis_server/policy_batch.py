@@ -41,6 +41,14 @@ def stack_histories(histories, keys_of):
     return stacked
 
 
+def request_ids(observations):
+    """The ids of the newest request of each env, (B,) int64 under the requests' own names
+    (env_index, episode_index, step): a policy that draws noise keys it on them, so that a served
+    episode repeats run after run. Policies that read only their own keys never see them."""
+    return {key: np.array([getattr(observation, key) for observation in observations], dtype=np.int64)
+            for key in ("env_index", "episode_index", "step")}
+
+
 def to_policy_batch(stacked, tasks, device, torch=None):
     """The policy's input: images float CHW in [0, 1], other arrays as sent, "task" the list of
     prompts (LeRobot's language key). torch None: numpy arrays; device is then ignored."""
