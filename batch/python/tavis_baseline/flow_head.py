@@ -8,8 +8,9 @@ the mean squared error between the predicted and the true velocity x1 - x0 over 
 rows. Sampling: `steps` Euler steps from x0 at t = 0 to t = 1.
 
 The noise is an argument, never drawn here: the trainer draws it (from its CPU generator, or on
-the GPU inside the CUDA graph), and serving derives it from the observation (policy.py), so a
-served episode is the same run after run."""
+the GPU inside the CUDA graph), and serving derives it from (seed, episode index, step) of the
+request, or from the observation when a batch carries no ids (policy.py), so a served episode is
+the same run after run."""
 
 import math
 
