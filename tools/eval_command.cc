@@ -16,8 +16,8 @@
 #include <tbb/info.h>
 
 #include "batch/cell/cell_folder.h"
-#include "batch/cell/cell_profile.h"
 #include "batch/cell/cell_folder_name.h"
+#include "batch/cell/cell_profile.h"
 #include "batch/cell/cell_report.h"
 #include "batch/cell/evaluation_cell.h"
 #include "batch/dataset/video/video_log.h"

@@ -23,7 +23,7 @@ struct ScenePlan {
   std::string robot_path;
   std::string robot_yaml;
   std::vector<perturb::PerturbationLevel> perturbations;  // the levels chosen, in the spec's order
-  engine::WorldModel model;                      // the robot in the task's scene, the levels applied
+  engine::WorldModel model;                               // the robot in the task's scene, the levels applied
 };
 
 // Finds the task, reads and parses the robot file, resolves the perturbation levels and builds

@@ -43,7 +43,7 @@ TEST(ScenePlan, IsTheRobotInTheTasksSceneWithTheLevelsApplied) {
   const ScenePlan plan = PlanScene(spec);
   engine::WorldModel by_hand =
       BuildWorldModel(configs::LoadRobotModel(plan.robot_path), scenarios::FindScenario("clutter-pick-cube"));
-  ApplyPerturbations(TAVIS_CONFIG_DIR, spec.perturbations, spec.seed, &by_hand);
+  perturb::ApplyPerturbations(TAVIS_CONFIG_DIR, spec.perturbations, spec.seed, &by_hand);
   ASSERT_EQ(plan.perturbations.size(), 2u);
   EXPECT_EQ(plan.perturbations[0].name, "fov-wide");
   EXPECT_EQ(plan.perturbations[1].name, "two");
