@@ -10,13 +10,12 @@ GR1T2, head camera, id: success with its 95 % Wilson interval, how far the failu
 stage funnel), how the episodes ended, and what the run cost on the card.
 """
 
-import argparse
 import json
 import re
 import sys
 from pathlib import Path
 
-from .table import DATASET_TASKS, Cell, rate
+from .table import DATASET_TASKS, Cell, rate, tables_command
 
 CELL_NAME = re.compile(r"^(?P<dataset>[a-z]+)_(?P<recipe>[a-z0-9]+)_(?P<demos>\d+)(?P<variant>_[a-z0-9]+)?$")
 VISIONS = {"rn18": "ResNet-18 + spatial softmax"}  # recipe prefix -> encoder; none: the CNN
@@ -120,19 +119,8 @@ def render(root):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("cells", help="folder of selection cells (<dataset>_<recipe>_<demonstrations>)")
-    parser.add_argument("--out", help="also write the tables to this Markdown file")
-    args = parser.parse_args(argv)
-    try:
-        text = render(args.cells)
-    except (OSError, ValueError, KeyError) as error:
-        print(f"tavis_baseline.selection: {error}", file=sys.stderr)
-        return 1
-    print(text, end="")
-    if args.out:
-        Path(args.out).write_text(text)
-    return 0
+    return tables_command("tavis_baseline.selection", __doc__.splitlines()[0],
+                          "folder of selection cells (<dataset>_<recipe>_<demonstrations>)", render, argv)
 
 
 if __name__ == "__main__":

@@ -180,20 +180,27 @@ def render(root):
     return "\n\n".join(parts) + "\n"
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("cells", help="folder of evaluation cells (WORK/eval of tools/baseline/gpu_table_runs.sh)")
+def tables_command(program, description, cells_help, render_tables, argv=None):
+    """The command line of a table module: CELLS [--out FILE]; prints what `render_tables(CELLS)`
+    returns, exit 1 with the error on stderr when the folder does not hold the cells it needs."""
+    parser = argparse.ArgumentParser(prog=program, description=description)
+    parser.add_argument("cells", help=cells_help)
     parser.add_argument("--out", help="also write the tables to this Markdown file")
     args = parser.parse_args(argv)
     try:
-        text = render(args.cells)
+        text = render_tables(args.cells)
     except (OSError, ValueError, KeyError) as error:
-        print(f"tavis_baseline.table: {error}", file=sys.stderr)
+        print(f"{program}: {error}", file=sys.stderr)
         return 1
     print(text, end="")
     if args.out:
         Path(args.out).write_text(text)
     return 0
+
+
+def main(argv=None):
+    return tables_command("tavis_baseline.table", __doc__.splitlines()[0],
+                          "folder of evaluation cells (WORK/eval of tools/baseline/gpu_table_runs.sh)", render, argv)
 
 
 if __name__ == "__main__":
