@@ -13,9 +13,8 @@ stage funnel), how the episodes ended, and what the run cost on the card.
 import json
 import re
 import sys
-from pathlib import Path
 
-from .table import DATASET_TASKS, Cell, rate, tables_command
+from .table import DATASET_TASKS, Cell, rate, scan_cells, tables_command
 
 CELL_NAME = re.compile(r"^(?P<dataset>[a-z]+)_(?P<recipe>[a-z0-9]+)_(?P<demos>\d+)(?P<variant>_[a-z0-9]+)?$")
 VISIONS = {"rn18": "ResNet-18 + spatial softmax"}  # recipe prefix -> encoder; none: the CNN
@@ -32,20 +31,12 @@ def recipe_parts(recipe):
 
 def load(root):
     """{(dataset, recipe, demos, variant): (Cell, training dict or None)} and {(task, split): expert Cell}."""
-    runs, experts = {}, {}
-    for folder in sorted(Path(root).iterdir()):
-        if not (folder / "summary.json").is_file() or not (folder / "episodes.jsonl").is_file():
-            continue
-        if folder.name.startswith("expert_"):
-            task, _, split = folder.name[len("expert_"):].rpartition("_")
-            experts[(task, split)] = Cell(folder)
-            continue
-        match = CELL_NAME.match(folder.name)
-        if match:
-            training = folder / "training.json"
-            info = json.loads(training.read_text()) if training.is_file() else None
-            key = (match["dataset"], match["recipe"], int(match["demos"]), match["variant"] or "")
-            runs[key] = (Cell(folder), info)
+    matches, experts = scan_cells(root, CELL_NAME)
+    runs = {}
+    for match, folder in matches:
+        training = folder / "training.json"
+        info = json.loads(training.read_text()) if training.is_file() else None
+        runs[(match["dataset"], match["recipe"], int(match["demos"]), match["variant"] or "")] = (Cell(folder), info)
     return runs, experts
 
 

@@ -78,10 +78,11 @@ class Cell:
         return galt.get("median_s") if galt.get("n_valid") else None
 
 
-def load_cells(root):
-    """{(dataset, camera, seed, split): Cell} and {(task, split): expert Cell}; cells without a
-    summary (a run that failed) are left out."""
-    policies, experts = {}, {}
+def scan_cells(root, pattern):
+    """[(name match, folder)] of the folders of `root` whose name `pattern` matches, and
+    {(task, split): expert Cell} of its `expert_<task>_<split>` folders; folders without a summary
+    and records (a run that failed) are left out."""
+    matches, experts = [], {}
     for folder in sorted(Path(root).iterdir()):
         if not (folder / "summary.json").is_file() or not (folder / "episodes.jsonl").is_file():
             continue
@@ -89,10 +90,16 @@ def load_cells(root):
             task, _, split = folder.name[len("expert_"):].rpartition("_")
             experts[(task, split)] = Cell(folder)
             continue
-        match = CELL_NAME.match(folder.name)
+        match = pattern.match(folder.name)
         if match:
-            key = (match["dataset"], match["camera"], int(match["seed"]), match["split"])
-            policies[key] = Cell(folder)
+            matches.append((match, folder))
+    return matches, experts
+
+
+def load_cells(root):
+    """{(dataset, camera, seed, split): Cell} and {(task, split): expert Cell}."""
+    matches, experts = scan_cells(root, CELL_NAME)
+    policies = {(m["dataset"], m["camera"], int(m["seed"]), m["split"]): Cell(folder) for m, folder in matches}
     return policies, experts
 
 
