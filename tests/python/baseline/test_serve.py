@@ -43,7 +43,7 @@ class Server:
     """python3 -m tavis_baseline.serve CKPT --port 0 ARGS, waited for by its ready line."""
 
     def __init__(self, ckpt, *args):
-        environment = dict(os.environ, PYTHONPATH=str(REPO / "batch" / "python"))
+        environment = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO / "batch" / "python"), str(REPO / "tools" / "policy_server")]))
         self.process = subprocess.Popen([sys.executable, "-m", "tavis_baseline.serve", str(ckpt), "--port", "0", *args],
                                         env=environment, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.process.stdout.readline()
@@ -163,7 +163,7 @@ def test_an_old_checkpoint_is_served_with_its_queue_as_before_and_says_so(checkp
 
 
 def test_bad_executed_steps_are_refused(checkpoints):
-    environment = dict(os.environ, PYTHONPATH=str(REPO / "batch" / "python"))
+    environment = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO / "batch" / "python"), str(REPO / "tools" / "policy_server")]))
     result = subprocess.run([sys.executable, "-m", "tavis_baseline.serve", str(checkpoints["default"]), "--port", "0",
                              "--executed-steps", "9"], env=environment, capture_output=True, text=True, timeout=60)
     assert result.returncode == 2 and "chunks of 8 rows" in result.stderr
