@@ -8,7 +8,7 @@
 #   tools/baseline/gpu_table_runs.sh TAVIS WORK
 #
 # TAVIS is the `tavis` program (on a machine without the project's Debian libraries, the
-# portable bundle's bin/tavis, docs/bundle.md); PYTHONPATH must reach batch/python and
+# portable bundle's bin/tavis, docs/bundle.md); PYTHONPATH must reach tools/baseline and
 # tools/policy_server, and a Python with PyTorch (CUDA), NumPy, OpenCV or PyAV, msgpack and
 # websockets.
 #

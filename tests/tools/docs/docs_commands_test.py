@@ -71,7 +71,7 @@ NOT_RUN = [
      "96 episodes each, as build/tavis eval runs here (parsed with --help)"),
     (r"PYTHONPATH=tools/policy_server /usr/bin/python3 -m tavis_server --policy my_policy:make_policy ",
      "serves the README's quick-start policy until stopped: tests/python/test_readme_example.py runs it and the eval"),
-    (r"PYTHONPATH=batch/python(:tools/policy_server)? python3 -m tavis_baseline|"
+    (r"PYTHONPATH=tools/baseline:tools/policy_server python3 -m tavis_baseline|"
      r"PYTHONPATH=tools/policy_server python3 -m tavis_server|python3 -m tavis_baseline",
      "trains or serves a policy with PyTorch (a CUDA GPU; docs/baselines.md) or LeRobot"),
     (r"tools/baseline/gpu_table_runs\.sh", "the GPU table: a lent GPU machine, 25 minutes"),
