@@ -8,8 +8,9 @@
 #   tools/baseline/gpu_table_runs.sh TAVIS WORK
 #
 # TAVIS is the `tavis` program (on a machine without the project's Debian libraries, the
-# portable bundle's bin/tavis, docs/bundle.md); PYTHONPATH must reach batch/python and a Python
-# with PyTorch (CUDA), NumPy, OpenCV or PyAV, msgpack and websockets.
+# portable bundle's bin/tavis, docs/bundle.md); PYTHONPATH must reach tools/baseline and
+# tools/policy_server, and a Python with PyTorch (CUDA), NumPy, OpenCV or PyAV, msgpack and
+# websockets.
 #
 # Why waves: runs side by side share the card's time (one run alone made 58.8 steps/s, four side
 # by side 4 x 14, twelve 12 x 4.6), so the total number of steps is set by the lease, not by how

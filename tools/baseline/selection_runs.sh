@@ -11,8 +11,8 @@
 #   tools/baseline/selection_runs.sh TAVIS WORK
 #
 # TAVIS is the `tavis` program (the portable bundle's bin/tavis on such a machine, docs/bundle.md);
-# PYTHONPATH must reach batch/python and a Python with PyTorch (CUDA), NumPy, OpenCV or PyAV,
-# msgpack and websockets. Cells land in WORK/eval with each checkpoint's training.json beside
+# PYTHONPATH must reach tools/baseline and tools/policy_server, and a Python with PyTorch (CUDA),
+# NumPy, OpenCV or PyAV, msgpack and websockets. Cells land in WORK/eval with each checkpoint's training.json beside
 # them: `python3 -m tavis_baseline.selection WORK/eval` prints the tables.
 set -u
 if [ $# -ne 2 ] || [ ! -x "$1" ]; then

@@ -4,7 +4,7 @@ with the same seed and settings. Prints steps/s and samples/s of each (the media
 windows after the first, and the whole loop's) and checks that each lowered its loss and that the
 two end at similar losses (they draw different random numbers, so not the same ones).
 
-    PYTHONPATH=batch/python python3 tools/baseline/trainer_speed.py --dataset DS --steps 600 \\
+    PYTHONPATH=tools/baseline:tools/policy_server python3 tools/baseline/trainer_speed.py --dataset DS --steps 600 \\
         [--device cuda] [--batch-size 256] [--camera head] [--image-size 96x96] [--keep DIR]
 
 DS: a `tavis demos` dataset (docs/baselines.md). Exit status 0 when both runs lowered the loss,

@@ -69,9 +69,10 @@ NOT_RUN = [
     (r"tavis eval +--task multi-shelf-scan --perturb distractors:two --perturb runtime:move|"
      r"tavis eval +--task clutter-pick-cube --perturb appearance:table-wood",
      "96 episodes each, as build/tavis eval runs here (parsed with --help)"),
-    (r"PYTHONPATH=batch/python /usr/bin/python3 -m tavis_server --policy my_policy:make_policy ",
+    (r"PYTHONPATH=tools/policy_server /usr/bin/python3 -m tavis_server --policy my_policy:make_policy ",
      "serves the README's quick-start policy until stopped: tests/python/test_readme_example.py runs it and the eval"),
-    (r"PYTHONPATH=batch/python python3 -m tavis_(baseline|server)|python3 -m tavis_baseline",
+    (r"PYTHONPATH=tools/baseline:tools/policy_server python3 -m tavis_baseline|"
+     r"PYTHONPATH=tools/policy_server python3 -m tavis_server|python3 -m tavis_baseline",
      "trains or serves a policy with PyTorch (a CUDA GPU; docs/baselines.md) or LeRobot"),
     (r"tools/baseline/gpu_table_runs\.sh", "the GPU table: a lent GPU machine, 25 minutes"),
     (r"sbatch |job=\$\(sbatch |TAVIS=\S+ sbatch |N=\d+$|tavis sweep merge --out /scratch/",

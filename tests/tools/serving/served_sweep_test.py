@@ -2,13 +2,14 @@
 reference server, with default options (served cells run side by side), completes and writes
 the same records as the same cells run one at a time.
 
-The server is the project's own (batch/python/tavis_server) serving a LeRobot-interface policy
-with an observation history (tests/python/serving/history_policy.py's HistoryPolicy, n_obs_steps
-2, through torch), whose actions are computed from the history it is given: the server's action
-queue needs every step (replan_steps 1). Cells running side by side each number their envs from
-0, so a server that keeps per-episode state by env alone refuses the second cell's steps ("comes
-after step 10; steps must grow"), and one that mixed the cells' histories would change their
-records. The reference run is the same spec with --concurrent-cells 1 against the same server.
+The server is the project's own (tools/policy_server/tavis_server) serving a LeRobot-interface
+policy with an observation history (tests/tools/policy_server/history_policy.py's HistoryPolicy,
+n_obs_steps 2, through torch), whose actions are computed from the history it is given: the
+server's action queue needs every step (replan_steps 1). Cells running side by side each number
+their envs from 0, so a server that keeps per-episode state by env alone refuses the second
+cell's steps ("comes after step 10; steps must grow"), and one that mixed the cells' histories
+would change their records. The reference run is the same spec with --concurrent-cells 1 against
+the same server.
 
     /usr/bin/python3 served_sweep_test.py TAVIS_BINARY SOURCE_DIR
 """
@@ -30,7 +31,7 @@ CAMERAS = ["head", "fixed"]
 def start_reference_server():
     """python3 -m tavis_server serving HistoryPolicy on a free port; returns (process, url)."""
     environment = dict(os.environ, PYTHONPATH=os.pathsep.join(
-        [os.path.join(SOURCE, "batch", "python"), os.path.join(SOURCE, "tests", "python", "serving")]),
+        [os.path.join(SOURCE, "tools", "policy_server"), os.path.join(SOURCE, "tests", "tools", "policy_server")]),
         OMP_NUM_THREADS="1")
     process = subprocess.Popen(["/usr/bin/python3", "-m", "tavis_server", "--policy", "history_policy:HistoryPolicy",
                                 "--policy-arg", "n_obs_steps=2", "--policy-arg", "chunk=4", "--port", "0"],

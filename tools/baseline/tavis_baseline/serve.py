@@ -108,7 +108,7 @@ def main(argv=None):
     try:
         from tavis_server import cli
     except ImportError:
-        print("tavis_baseline.serve: the tavis_server package is not importable (batch/python on PYTHONPATH?)",
+        print("tavis_baseline.serve: the tavis_server package is not importable (tools/policy_server on PYTHONPATH?)",
               file=sys.stderr)
         return 2
     arguments = server_arguments(args.checkpoint, executed_steps, args.port, args.host, args.device, args.seed,

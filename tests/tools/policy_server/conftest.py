@@ -15,7 +15,7 @@ import pytest
 import websockets
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
-SERVER_PACKAGE_DIR = os.path.join(REPO, "batch", "python")
+SERVER_PACKAGE_DIR = os.path.join(REPO, "tools", "policy_server")
 sys.path.insert(0, SERVER_PACKAGE_DIR)
 sys.path.insert(0, os.path.join(REPO, "tests", "batch", "remote"))
 

@@ -21,6 +21,8 @@ from tavis_baseline import checkpoint, train
 
 REPO = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(REPO / "tests" / "batch" / "remote"))
+# Where tavis_baseline and the tavis_server it serves through live.
+PACKAGES = os.pathsep.join([str(REPO / "tools" / "baseline"), str(REPO / "tools" / "policy_server")])
 from openpi_msgpack_numpy import packb, unpackb  # noqa: E402  (a msgpack-numpy we did not serve with)
 
 TINY = ["--batch-size", "8", "--image-size", "32x24", "--threads", "2", "--warmup-steps", "1", "--chunk-size", "8",
@@ -43,7 +45,7 @@ class Server:
     """python3 -m tavis_baseline.serve CKPT --port 0 ARGS, waited for by its ready line."""
 
     def __init__(self, ckpt, *args):
-        environment = dict(os.environ, PYTHONPATH=str(REPO / "batch" / "python"))
+        environment = dict(os.environ, PYTHONPATH=PACKAGES)
         self.process = subprocess.Popen([sys.executable, "-m", "tavis_baseline.serve", str(ckpt), "--port", "0", *args],
                                         env=environment, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.process.stdout.readline()
@@ -163,7 +165,7 @@ def test_an_old_checkpoint_is_served_with_its_queue_as_before_and_says_so(checkp
 
 
 def test_bad_executed_steps_are_refused(checkpoints):
-    environment = dict(os.environ, PYTHONPATH=str(REPO / "batch" / "python"))
+    environment = dict(os.environ, PYTHONPATH=PACKAGES)
     result = subprocess.run([sys.executable, "-m", "tavis_baseline.serve", str(checkpoints["default"]), "--port", "0",
                              "--executed-steps", "9"], env=environment, capture_output=True, text=True, timeout=60)
     assert result.returncode == 2 and "chunks of 8 rows" in result.stderr
