@@ -8,8 +8,8 @@ expert on the same task, split and seed with `--expert-hz 20` (so one row per 20
 as the policy's). Both folders hold episodes.jsonl. The arm is the one whose gripper the expert
 closes; the grasp point is the expert's commanded hand position at its first closed row. Per
 episode it prints the policy's success, whether the other arm's gripper closed further than the
-grasping arm's (the two arms averaged), when each closed, and the policy's commanded hand
-against the expert's grasp point when the policy first closed (height difference and
+grasping arm's (the two arms averaged), when each closed, how close the policy's commanded hand
+came to the expert's grasp point, and where it was when the policy first closed (height difference and
 horizontal distance). Pure Python: the standard library alone, so any Python 3 runs it.
 
 Columns are the canonical action's (kinematics/action_layout.h, docs/cli.md): left hand
@@ -40,6 +40,10 @@ def first_closed(actions, gripper):
     return next((step for step, row in enumerate(actions) if row[gripper] > 0), None)
 
 
+def distance(a, b):
+    return sum((x - y) ** 2 for x, y in zip(a, b)) ** 0.5
+
+
 def account(policy_actions, expert_actions):
     """One episode's figures, or None when the expert never closes (no grasp to compare with)."""
     arm = max((0, 1), key=lambda a: max(row[GRIPPER[a]] for row in expert_actions))
@@ -55,6 +59,7 @@ def account(policy_actions, expert_actions):
         "expert_close_step": expert_close,
         "policy_close_step": policy_close,
         "closed_steps": sum(row[GRIPPER[arm]] > 0 for row in policy_actions),
+        "closest_to_grasp_m": min(distance(row[HAND[arm]:HAND[arm] + 3], grasp) for row in policy_actions),
     }
     if policy_close is not None:
         hand = policy_actions[policy_close][HAND[arm]:HAND[arm] + 3]
@@ -83,14 +88,14 @@ def main(argv=None):
         print("grasp_account.py: no episode of both cells has an expert grasp", file=sys.stderr)
         return 2
     print("| episode | success | arm | other arm closed further | close step (policy / expert) "
-          "| closed steps | hand above grasp (cm) | hand from grasp, horizontal (cm) |")
-    print("|---:|---|---|---|---|---:|---:|---:|")
+          "| closed steps | closest to grasp (cm) | hand above grasp (cm) | hand from grasp, horizontal (cm) |")
+    print("|---:|---|---|---|---|---:|---:|---:|---:|")
     for episode, success, f in rows:
         above = f.get("height_above_grasp_m")
         aside = f.get("horizontal_from_grasp_m")
         print(f"| {episode} | {'yes' if success else 'no'} | {f['arm']} | {'yes' if f['other_arm_closed_further'] else 'no'} "
               f"| {f['policy_close_step'] if f['policy_close_step'] is not None else 'never'} / {f['expert_close_step']} "
-              f"| {f['closed_steps']} | {'-' if above is None else f'{100 * above:+.1f}'} "
+              f"| {f['closed_steps']} | {100 * f['closest_to_grasp_m']:.1f} | {'-' if above is None else f'{100 * above:+.1f}'} "
               f"| {'-' if aside is None else f'{100 * aside:.1f}'} |")
     for label, wanted in (("successes", True), ("failures", False)):
         heights = [100 * f["height_above_grasp_m"] for _, s, f in rows if s == wanted and "height_above_grasp_m" in f]

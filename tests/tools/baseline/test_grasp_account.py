@@ -42,6 +42,7 @@ def test_the_height_and_timing_of_a_close_are_measured_against_the_experts():
     assert abs(figures["height_above_grasp_m"] - 0.04) < 1e-9
     assert abs(figures["horizontal_from_grasp_m"]) < 1e-9
     assert not figures["other_arm_closed_further"]
+    assert abs(figures["closest_to_grasp_m"] - 0.04) < 1e-9  # its hand stops 4 cm above the grasp point
 
 
 def test_a_policy_closing_the_other_arms_gripper_further_is_flagged():
@@ -63,8 +64,8 @@ def test_the_command_prints_each_episode_and_the_summary(tmp_path, capsys):
                                               trajectory(right_close=8, right_z=0.26)], [True, False])
     assert grasp_account.main([str(policy), str(expert)]) == 0
     out = capsys.readouterr().out
-    assert "| 0 | yes | right | no | 6 / 6 | 6 | +0.5 | 0.0 |" in out
-    assert "| 1 | no | right | no | 8 / 6 | 4 | +5.0 | 0.0 |" in out
+    assert "| 0 | yes | right | no | 6 / 6 | 6 | 0.5 | +0.5 | 0.0 |" in out
+    assert "| 1 | no | right | no | 8 / 6 | 4 | 5.0 | +5.0 | 0.0 |" in out
     assert "failures: 1 closed, hand above the grasp point median +5.0 cm" in out
 
 
