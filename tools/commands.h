@@ -7,6 +7,7 @@
 namespace tavis::tools {
 
 void RegisterAuditCommand(CLI::App& app);
+void RegisterCompareCommand(CLI::App& app);
 void RegisterDemosCommand(CLI::App& app);
 void RegisterEvalCommand(CLI::App& app);
 void RegisterGaltCommand(CLI::App& app);

@@ -6,6 +6,7 @@
 
 #include "tools/build_version.h"
 #include "tools/commands.h"
+#include "tools/exit_status.h"
 #include "tools/interrupt_notice.h"
 
 namespace {
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
   tavis::tools::RegisterTableCommand(app);
   tavis::tools::RegisterAuditCommand(app);
   tavis::tools::RegisterSweepCommand(app);
+  tavis::tools::RegisterCompareCommand(app);
   // CLI11 reports a misspelt subcommand as a missing one ("A subcommand is required").
   if (argc > 1 && argv[1][0] != '-' && !IsSubcommand(app, argv[1])) {
     std::cerr << "tavis: error: unknown command '" << argv[1] << "' (known: " << SubcommandNames(app) << ")\n";
@@ -46,8 +48,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // --help exits 0; every usage error exits 1, like the errors below.
-    return app.exit(e) == 0 ? 0 : 1;
+    // --help exits 0; a usage error exits 1, like the errors below, unless its command says otherwise.
+    return app.exit(e) == 0 ? 0 : tavis::tools::UsageErrorStatus();
+  } catch (const tavis::tools::ExitStatus& e) {
+    if (*e.what() != '\0') std::cerr << "tavis: error: " << e.what() << "\n";
+    return e.status();
   } catch (const std::bad_alloc&) {
     std::cerr << "tavis: error: out of memory (try fewer --envs or a smaller --image-size)\n";
     return 1;

@@ -77,12 +77,31 @@ std::string SeedText(const nlohmann::json& seed, const std::string& source) {
   throw std::runtime_error(source + ": key 'seed' must be an integer from 0 to 2^64-1, got " + seed.dump());
 }
 
-// Reads a cell's episodes.jsonl into `cell` (has_records, records_digest, record_keys) and checks
-// it against the summary's counts: the records are what the counts claim to summarise.
+// A summary's perturbation levels ("camera:tilt-15"), sorted: the order they were given in does not
+// change the cell.
+std::vector<std::string> ReadPerturbations(const nlohmann::json& levels, const std::string& source) {
+  const auto bad = [&] {
+    return std::runtime_error(source + ": key 'perturbations' must be a list of \"AXIS:LEVEL\" strings, got " +
+                              levels.dump());
+  };
+  if (!levels.is_array()) throw bad();
+  std::vector<std::string> names;
+  for (const nlohmann::json& level : levels) {
+    if (!level.is_string() || level.get<std::string>().empty()) throw bad();
+    names.push_back(level.get<std::string>());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Reads a cell's episodes.jsonl into `cell` (has_records, records_digest, record_keys and their
+// successes) and checks it against the summary's counts: the records are what the counts claim to
+// summarise.
 void ReadRecords(const std::filesystem::path& path, CellCounts& cell) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot open file");
   std::vector<std::string> lines;
+  std::vector<std::tuple<uint64_t, int64_t, bool>> keyed;  // (seed, episode, success)
   int64_t episodes = 0, successes = 0, line_number = 0;
   for (std::string line; std::getline(in, line);) {
     ++line_number;
@@ -99,7 +118,7 @@ void ReadRecords(const std::filesystem::path& path, CellCounts& cell) {
     if (success->get<bool>()) ++successes;
     const auto seed = record.find("seed"), episode = record.find("episode");
     if (seed != record.end() && seed->is_number_unsigned() && episode != record.end() && episode->is_number_integer()) {
-      cell.record_keys.emplace_back(seed->get<uint64_t>(), episode->get<int64_t>());
+      keyed.emplace_back(seed->get<uint64_t>(), episode->get<int64_t>(), success->get<bool>());
     }
     lines.push_back(record.dump());  // keys sorted: the same record however it was spaced
   }
@@ -109,7 +128,11 @@ void ReadRecords(const std::filesystem::path& path, CellCounts& cell) {
                              " successful) but summary.json says n_episodes " + std::to_string(cell.n_episodes) +
                              ", n_successful " + std::to_string(cell.n_successful));
   }
-  std::sort(cell.record_keys.begin(), cell.record_keys.end());
+  std::sort(keyed.begin(), keyed.end());
+  for (const auto& [seed, episode, succeeded] : keyed) {
+    cell.record_keys.emplace_back(seed, episode);
+    cell.record_successes.push_back(succeeded);
+  }
   const auto twice = std::adjacent_find(cell.record_keys.begin(), cell.record_keys.end());
   if (twice != cell.record_keys.end()) {
     throw std::runtime_error(path.string() + ": holds episode " + std::to_string(twice->second) + " of seed " +
@@ -300,6 +323,7 @@ CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<s
   if (summary.contains("camera")) cell.camera = CameraMode(ReadString(summary, "camera", source));
   if (summary.contains("policy")) cell.policy = ReadString(summary, "policy", source);
   if (summary.contains("seed")) cell.seed = SeedText(summary.at("seed"), source);
+  if (summary.contains("perturbations")) cell.perturbations = ReadPerturbations(summary["perturbations"], source);
   RequireKnown(cell.task, "task", KnownTaskNames(), source);
   if (!known_robots.empty()) RequireKnown(cell.robot, "robot", known_robots, source);
   RequireKnown(cell.split, "split", KnownSplitNames(), source);
@@ -315,8 +339,7 @@ CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<s
   return cell;
 }
 
-std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder,
-                                        const std::vector<std::string>& known_robots, const CellLabeller& label_of) {
+std::vector<std::filesystem::path> FindCellSummaries(const std::filesystem::path& folder) {
   if (!std::filesystem::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": not a directory");
   }
@@ -330,6 +353,12 @@ std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder,
     }
   }
   std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+std::vector<CellCounts> LoadCellResults(const std::filesystem::path& folder,
+                                        const std::vector<std::string>& known_robots, const CellLabeller& label_of) {
+  const std::vector<std::filesystem::path> paths = FindCellSummaries(folder);
   std::vector<CellCounts> cells;
   cells.reserve(paths.size());
   // A copied cell folder would count its episodes twice and narrow the interval. Files without a

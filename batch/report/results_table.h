@@ -46,15 +46,18 @@ struct CellCounts {
   std::string camera = "head";
   std::string policy;  // empty when the file does not name one
   std::string seed;    // a JSON number's text (a string of digits counts as that number), empty when absent
+  std::vector<std::string> perturbations;  // summary.json's "perturbations" ("axis:level"), sorted; none when absent
   int64_t n_episodes = 0;
   int64_t n_successful = 0;
   std::string source;  // file it came from, for error messages
   std::string label;   // the policy label cells are kept apart by (LoadCellResults: the policy by default)
   // From episodes.jsonl beside the summary, when there is one: a digest of its records (the set of
-  // lines, canonical JSON) and the (seed, episode) pairs of the records that name both.
+  // lines, canonical JSON) and the (seed, episode) pairs of the records that name both, sorted,
+  // with each one's success (record_successes[i] is record_keys[i]'s).
   bool has_records = false;
   std::size_t records_digest = 0;
   std::vector<std::pair<uint64_t, int64_t>> record_keys;
+  std::vector<bool> record_successes;
 };
 
 // The suite's tasks in table order (the task registry's); throws std::invalid_argument for an
@@ -65,6 +68,11 @@ std::vector<std::string> SuiteTasks(const std::string& suite);
 // std::runtime_error naming the file, the key and the value, or the cell and both counts when its
 // records do not match its summary.
 CellCounts ReadCellResult(const std::filesystem::path& path, const std::vector<std::string>& known_robots = {});
+
+// Every cell's summary.json under `folder` (at any depth, `folder/summary.json` included), in
+// path order: not a sweep's own summary (beside its manifest.json), nothing inside tavis's
+// temporary folders. Throws std::runtime_error when `folder` is not a directory.
+std::vector<std::filesystem::path> FindCellSummaries(const std::filesystem::path& folder);
 
 // A cell's label: cells of different labels are kept apart by the duplicate check.
 using CellLabeller = std::function<std::string(const CellCounts&)>;

@@ -13,12 +13,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string Points(double difference) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%+.1f", 100.0 * difference);
-  return text;
-}
-
 std::string ColumnLabel(const Json& column) {
   return column["robot"].get<std::string>() + " " + column["split"].get<std::string>() + " " +
          column["camera"].get<std::string>();
@@ -215,6 +209,12 @@ std::string Percent(double fraction) {
 }
 
 std::string PercentInterval(double low, double high) { return "[" + Percent(low) + ", " + Percent(high) + "]"; }
+
+std::string Points(double difference) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%+.1f", 100.0 * difference);
+  return text;
+}
 
 std::string Seconds(const Json& value) {
   if (value.is_null()) return "-";

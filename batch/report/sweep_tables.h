@@ -26,10 +26,12 @@ std::string ToCsv(const TextTable& table);    // RFC 4180 quoting; the note is n
 std::string ToLatex(const TextTable& table);  // a booktabs tabular in a table float
 
 // How the tables print numbers (the HTML report uses the same): a fraction in percent with one
-// decimal ("45.8"), an interval "[31.2, 61.0]", seconds with two decimals, a p-value with three
+// decimal ("45.8"), an interval "[31.2, 61.0]", a difference of fractions in points with its sign
+// ("-12.5"), seconds with two decimals, a p-value with three
 // significant digits.
 std::string Percent(double fraction);
 std::string PercentInterval(double low, double high);
+std::string Points(double difference);
 std::string Seconds(const nlohmann::ordered_json& value);  // "-" for null
 std::string PValue(double p);
 

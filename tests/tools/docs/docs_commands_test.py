@@ -53,6 +53,9 @@ NOT_RUN = [
     (r"tools/bundle/make_bundle\.sh|tools/bundle/check_bundle\.sh|tar xzf tavis-|tavis-\*/bin/tavis ",
      "builds or unpacks the portable bundle: bundle_runs_outside_the_build runs make_bundle.sh and check_bundle.sh"),
     (r"debootstrap ", "creates a Debian root (root, network)"),
+    (r"build/tavis compare results/reference ",
+     "compares the two served evaluations before it (their policy servers are placeholders); "
+     "compare_command_test.cc runs `tavis compare` on cells it evaluates"),
     (r"cmake -S ", "configures a build (minutes); .ci/build configures the one this test runs in"),
     (r"cmake --build ", "builds targets; .ci/build built them for this test"),
     (r"cmake --install build --component python", "installs the module: tests/python/test_install.py installs it into a prefix"),

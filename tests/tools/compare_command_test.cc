@@ -1,0 +1,137 @@
+// `tavis compare A B` on folders of cells that `tavis eval` wrote: a folder against its copy is no
+// regression and shows each side's summary, a failing policy against the expert is one (exit 1),
+// bad input exits 2 naming the file and writes nothing.
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "tool_runner.h"
+
+namespace tavis::tools {
+namespace {
+
+class CompareCommand : public TavisCommandTest {
+ protected:
+  // One cell of clutter-pick-lift (the quickest task) into `dir`.
+  void Eval(const fs::path& dir, const std::string& policy, int episodes, int seed) const {
+    const RunResult run =
+        Run("eval --task clutter-pick-lift --policy " + policy + " --episodes " + std::to_string(episodes) +
+            " --seed " + std::to_string(seed) + " --threads 2 --out " + Quote(dir.string()));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+
+  RunResult Compare(const fs::path& a, const fs::path& b, const std::string& more = "") const {
+    return Run("compare " + Quote(a.string()) + " " + Quote(b.string()) + more);
+  }
+
+  static nlohmann::json ReadJson(const fs::path& path) { return nlohmann::json::parse(ReadText(path)); }
+};
+
+std::string Percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f", 100.0 * fraction);
+  return text;
+}
+
+std::string LastLine(const std::string& text) { return Lines(text).empty() ? "" : Lines(text).back(); }
+
+TEST_F(CompareCommand, AFolderAgainstItsCopyIsNoRegressionWithEachSidesSummary) {
+  Eval(root_ / "main" / "s0", "expert", 6, 0);
+  Eval(root_ / "main" / "nested" / "s1", "expert", 3, 1);
+  fs::copy(root_ / "main", root_ / "copy", fs::copy_options::recursive);
+  const RunResult run = Compare(root_ / "main", root_ / "copy", " --out " + Quote((root_ / "report").string()));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_EQ(LastLine(run.out), "no regression at alpha 0.05 over 2 paired cells") << run.out;
+  EXPECT_EQ(ReadText(root_ / "report" / "compare.md"), run.out);
+  const nlohmann::json json = ReadJson(root_ / "report" / "compare.json");
+  EXPECT_EQ(json["alpha"], 0.05);
+  EXPECT_EQ(json["verdict"], "no regression");
+  ASSERT_EQ(json["pairs"].size(), 2u);
+  for (const auto& [pair, dir] :
+       {std::make_pair(json["pairs"][0], "s0"), std::make_pair(json["pairs"][1], "nested/s1")}) {
+    const nlohmann::json summary = ReadJson(root_ / "main" / dir / "summary.json");
+    for (const char* side : {"a", "b"}) {
+      EXPECT_EQ(pair[side]["n_episodes"], summary["n_episodes"]);
+      EXPECT_EQ(pair[side]["n_successful"], summary["n_successful"]);
+      EXPECT_EQ(pair[side]["ci_low"].get<double>(), summary["ci_low"].get<double>());
+      EXPECT_EQ(pair[side]["ci_high"].get<double>(), summary["ci_high"].get<double>());
+    }
+    EXPECT_EQ(pair["shared_episodes"], summary["n_episodes"]);
+    EXPECT_EQ(pair["mcnemar_p"], 1.0);
+    EXPECT_EQ(pair["verdict"], "not significant");
+    // The table's row: both sides as the summary has them, no difference, no discordant episode.
+    const std::string side = std::to_string(summary["n_successful"].get<int>()) + "/" +
+                             std::to_string(summary["n_episodes"].get<int>()) + " " + Percent(summary["success_rate"]) +
+                             " [" + Percent(summary["ci_low"]) + ", " + Percent(summary["ci_high"]) + "]";
+    const std::string row = "| " + pair["cell"].get<std::string>() + " | " + side + " | " + side + " | +0.0 | " +
+                            std::to_string(summary["n_episodes"].get<int>()) + " | 0 : 0 | 1 | not significant |";
+    EXPECT_NE(run.out.find(row), std::string::npos) << row << "\n" << run.out;
+  }
+}
+
+TEST_F(CompareCommand, AFailingPolicyAgainstTheExpertIsARegressionAndTheReverseIsNot) {
+  Eval(root_ / "main" / "s0", "expert", 16, 0);
+  Eval(root_ / "change" / "s0", "hold", 16, 0);
+  Eval(root_ / "change" / "s1", "hold", 2, 1);  // no expert cell of seed 1: unpaired
+  const nlohmann::json expert = ReadJson(root_ / "main" / "s0" / "summary.json");
+  ASSERT_GE(expert["n_successful"].get<int>(), 6) << "the expert must win enough episodes for p < 0.05";
+
+  const RunResult worse = Compare(root_ / "main", root_ / "change", " --out " + Quote((root_ / "report").string()));
+  EXPECT_EQ(worse.exit_code, 1) << worse.out << worse.err;
+  EXPECT_EQ(
+      LastLine(worse.out).rfind("regression on 1 of 1 cell at alpha 0.05: clutter-pick-lift gr1t2 id head s0 (A ", 0),
+      0u)
+      << worse.out;
+  EXPECT_NE(worse.out.find("unpaired: clutter-pick-lift gr1t2 id head s1 only in B"), std::string::npos) << worse.out;
+  const nlohmann::json json = ReadJson(root_ / "report" / "compare.json");
+  EXPECT_EQ(json["verdict"], "regression");
+  EXPECT_EQ(json["n_regressions"], 1);
+  EXPECT_EQ(json["pairs"][0]["a_only"], expert["n_successful"]);
+  EXPECT_EQ(json["pairs"][0]["b_only"], 0);
+  EXPECT_LT(json["pairs"][0]["mcnemar_p"].get<double>(), 0.05);
+  EXPECT_EQ(json["pairs"][0]["verdict"], "regression");
+  EXPECT_EQ(json["unpaired"].size(), 1u);
+  if (expert["n_successful"] == 16) {
+    EXPECT_EQ(LastLine(worse.out),
+              "regression on 1 of 1 cell at alpha 0.05: clutter-pick-lift gr1t2 id head s0 "
+              "(A 100.0% -> B 0.0%, 16:0, p 3.05e-05)");
+  }
+
+  // One cell's folder against another's is the same comparison; the expert against hold is not worse.
+  EXPECT_EQ(Compare(root_ / "main" / "s0", root_ / "change" / "s0").exit_code, 1);
+  const RunResult better = Compare(root_ / "change", root_ / "main");
+  EXPECT_EQ(better.exit_code, 0) << better.out << better.err;
+  EXPECT_EQ(LastLine(better.out), "no regression at alpha 0.05 over 1 paired cell") << better.out;
+  EXPECT_NE(better.out.find("| improvement |"), std::string::npos) << better.out;
+  // Below the tiny p nothing is significant.
+  EXPECT_EQ(Compare(root_ / "main", root_ / "change", " --alpha 1e-9").exit_code, 0);
+}
+
+TEST_F(CompareCommand, BadInputExitsTwoNamingTheFileAndWritesNothing) {
+  fs::create_directories(root_ / "empty" / "inside");
+  fs::create_directories(root_ / "broken" / "cell");
+  std::ofstream(root_ / "broken" / "cell" / "summary.json") << "{\"task\": \"clutter-pick-lift\",";
+  const std::string out = " --out " + Quote((root_ / "report").string());
+
+  const RunResult empty = Compare(root_ / "empty", root_ / "broken", out);
+  EXPECT_EQ(empty.exit_code, 2);
+  EXPECT_NE(empty.err.find((root_ / "empty").string() + ": holds no cell"), std::string::npos) << empty.err;
+  const RunResult broken = Compare(root_ / "broken", root_ / "broken", out);
+  EXPECT_EQ(broken.exit_code, 2);
+  EXPECT_NE(broken.err.find((root_ / "broken" / "cell" / "summary.json").string() + ": invalid JSON"),
+            std::string::npos)
+      << broken.err;
+  const RunResult missing = Compare(root_ / "nowhere", root_ / "broken", out);
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find((root_ / "nowhere").string() + ": not a directory"), std::string::npos) << missing.err;
+  EXPECT_TRUE(empty.out.empty() && broken.out.empty() && missing.out.empty());
+  EXPECT_FALSE(fs::exists(root_ / "report"));
+  // Usage errors are bad input as well, never the 1 of a regression.
+  EXPECT_EQ(Run("compare " + Quote((root_ / "empty").string())).exit_code, 2);
+  EXPECT_EQ(Compare(root_ / "empty", root_ / "empty", " --alpha 2").exit_code, 2);
+  EXPECT_EQ(Run("compare --help").exit_code, 0);
+}
+
+}  // namespace
+}  // namespace tavis::tools
