@@ -115,6 +115,21 @@ TEST_F(VerifyCommand, AnInterruptedAndAResumedCellVerify) {
   EXPECT_NE(whole.out.find("ok   " + cell.string() + ": 8/8 episodes identical"), std::string::npos) << whole.out;
 }
 
+// Episode 12 of this seed is one the expert gives up on (a decision of the policy, which its actions
+// do not replay): it is re-simulated up to where it gave up and verifies, as a one-episode cell.
+TEST_F(VerifyCommand, AnEpisodeTheExpertGaveUpOnVerifies) {
+  const fs::path cell = root_ / "gave_up";
+  ASSERT_EQ(Run("eval --task peeking-box --robot reachy2 --episode 12 --seed 0 --quiet --expert-hz 20 --out " +
+                Quote(cell.string()))
+                .exit_code,
+            0);
+  ASSERT_NE(ReadText(cell / "episodes.jsonl").find("\"end\":\"gave_up\""), std::string::npos)
+      << ReadText(cell / "episodes.jsonl");
+  const RunResult run = Verify(cell);
+  EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("ok   " + cell.string() + ": 1/1 episodes identical"), std::string::npos) << run.out;
+}
+
 // One episode's grippers never close: it no longer succeeds, and verify names the episode and field.
 TEST_F(VerifyCommand, AnEditedActionFileFailsNamingTheEpisodeAndField) {
   const fs::path cell = ExpertCell("expert", 4);
