@@ -14,5 +14,6 @@ void RegisterGaltCommand(CLI::App& app);
 void RegisterRenderCommand(CLI::App& app);
 void RegisterSweepCommand(CLI::App& app);
 void RegisterTableCommand(CLI::App& app);
+void RegisterVerifyCommand(CLI::App& app);
 
 }  // namespace tavis::tools

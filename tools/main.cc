@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   tavis::tools::RegisterAuditCommand(app);
   tavis::tools::RegisterSweepCommand(app);
   tavis::tools::RegisterCompareCommand(app);
+  tavis::tools::RegisterVerifyCommand(app);
   // CLI11 reports a misspelt subcommand as a missing one ("A subcommand is required").
   if (argc > 1 && argv[1][0] != '-' && !IsSubcommand(app, argv[1])) {
     std::cerr << "tavis: error: unknown command '" << argv[1] << "' (known: " << SubcommandNames(app) << ")\n";

@@ -1,8 +1,10 @@
 #include "batch/cell/cell_settings.h"
 
 #include <cstring>
+#include <stdexcept>
 #include <type_traits>
 
+#include "batch/output/json_error_text.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/observation_keys.h"
 #include "batch/scene/scene_settings.h"
@@ -198,6 +200,24 @@ nlohmann::json ValueJson(const T& value) {
   }
 }
 
+// A recorded value read back as the member's type (an enum from its text); a perturbation level
+// may be the object cell.json writes.
+template <typename T>
+T ValueFromJson(const nlohmann::json& value) {
+  if constexpr (std::is_enum_v<T>) {
+    return SettingText<T>::Read(value.get<std::string>());
+  } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+    std::vector<std::string> items;
+    for (const nlohmann::json& item : value) {
+      items.push_back(item.is_object() ? item.at("axis").get<std::string>() + ":" + item.at("level").get<std::string>()
+                                       : item.get<std::string>());
+    }
+    return items;
+  } else {
+    return value.get<T>();
+  }
+}
+
 }  // namespace
 
 CellSetting& CellSetting::AppliesTo(SettingScope policies) {
@@ -297,6 +317,20 @@ nlohmann::json RecordedSettingsJson(const EvaluationCellConfig& config, CellReco
     if (recorded) json[setting.key] = SettingJson(setting, config);
   }
   return json;
+}
+
+void ReadRecordedSettings(const nlohmann::json& record, EvaluationCellConfig& config) {
+  for (const CellSetting& setting : CellSettings()) {
+    if (!record.is_object() || !record.contains(setting.key)) continue;
+    const nlohmann::json& value = record.at(setting.key);
+    try {
+      std::visit([&](auto member) { config.*member = ValueFromJson<std::decay_t<decltype(config.*member)>>(value); },
+                 setting.member);
+    } catch (const std::exception& error) {  // nlohmann's type errors, an unknown enum's text
+      throw std::invalid_argument(std::string(setting.key) + ": cannot read " + value.dump() + ": " +
+                                  output::JsonErrorText(error.what()));
+    }
+  }
 }
 
 void CheckSettingValues(const EvaluationCellConfig& config) {

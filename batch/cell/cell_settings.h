@@ -179,6 +179,11 @@ enum class CellRecord { kCellJson, kSummary };
 // records; a served policy's where it applies) or summary.json's (a served policy's where
 // `served`: the cell was run with one).
 nlohmann::json RecordedSettingsJson(const EvaluationCellConfig& config, CellRecord record, bool served);
+// The other way: every setting `record` holds (a cell.json's or a summary's settings) read into
+// `config`, the others left as they are; keys no setting has (identity) are skipped, and the
+// perturbation levels may be written as cell.json writes them ({axis, level, settings} each).
+// Throws std::invalid_argument naming the key whose value is of the wrong type or unknown.
+void ReadRecordedSettings(const nlohmann::json& record, EvaluationCellConfig& config);
 
 // Checks each setting against the table: its range or choices, and that a setting for other
 // policies keeps its default ("replan_steps applies to policy 'openpi' only, got policy

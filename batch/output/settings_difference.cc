@@ -14,8 +14,8 @@ std::set<std::string> Keys(const nlohmann::json& settings) {
   return keys;
 }
 
-void AddDifferences(const nlohmann::json& was, const nlohmann::json& now, const std::string& prefix,
-                    std::string* differences) {
+void AddChanges(const nlohmann::json& was, const nlohmann::json& now, const std::string& prefix,
+                std::vector<SettingChange>* changes) {
   // Both sides' keys: a setting the new run leaves out (a resume without --perturb) differs as
   // much as one it changes, or its records would mix two runs.
   std::set<std::string> keys = Keys(was);
@@ -26,19 +26,30 @@ void AddDifferences(const nlohmann::json& was, const nlohmann::json& now, const 
     if (in_was && in_now && was.at(key) == now.at(key)) continue;
     // Nested settings (a robot file's content) name the key that changed, not the whole file.
     if (in_was && in_now && was.at(key).is_object() && now.at(key).is_object()) {
-      AddDifferences(was.at(key), now.at(key), prefix + key + ".", differences);
+      AddChanges(was.at(key), now.at(key), prefix + key + ".", changes);
       continue;
     }
-    *differences += (differences->empty() ? "" : ", ") + prefix + key + " " + (in_was ? was.at(key).dump() : "unset") +
-                    " -> " + (in_now ? now.at(key).dump() : "unset");
+    SettingChange change{prefix + key, std::nullopt, std::nullopt};
+    if (in_was) change.was = was.at(key);
+    if (in_now) change.now = now.at(key);
+    changes->push_back(std::move(change));
   }
 }
 
 }  // namespace
 
+std::vector<SettingChange> SettingChanges(const nlohmann::json& was, const nlohmann::json& now) {
+  std::vector<SettingChange> changes;
+  AddChanges(was, now, "", &changes);
+  return changes;
+}
+
 std::string SettingsDifference(const nlohmann::json& was, const nlohmann::json& now) {
   std::string differences;
-  AddDifferences(was, now, "", &differences);
+  for (const SettingChange& change : SettingChanges(was, now)) {
+    differences += (differences.empty() ? "" : ", ") + change.path + " " + (change.was ? change.was->dump() : "unset") +
+                   " -> " + (change.now ? change.now->dump() : "unset");
+  }
   return differences;
 }
 

@@ -7,7 +7,9 @@
 
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "tests/batch/cell/example_cells.h"
 
@@ -142,6 +144,40 @@ TEST(CellSettings, ValuesAreCopiedAndComparedWithTheirDefaultsByTheTable) {
   EXPECT_FALSE(SettingApplies(SettingScope::kServed, "expert"));
   EXPECT_TRUE(SettingApplies(SettingScope::kAnyPolicy, "replay"));
   EXPECT_STREQ(ScopePolicyName(SettingScope::kReplay), "replay");
+}
+
+// A record read back gives the settings it was written from (tavis verify reads cell.json so);
+// cell.json's perturbation levels, objects with their settings, read as AXIS:LEVEL.
+TEST(CellSettings, ARecordReadsBackIntoTheSettingsItWasWrittenFrom) {
+  EvaluationCellConfig written;
+  written.task = "wait-then-act";
+  written.split = scenarios::Split::kOodSpatial;
+  written.camera = CameraProtocol::kFixed;
+  written.policy = "openpi";
+  written.servers = {"ws://h:1"};
+  written.seed = 18446744073709551615ull;
+  written.episode_start = 7;
+  written.image_width = 32;
+  written.image_height = 24;
+  written.perturbations = {"lighting:dim"};
+  nlohmann::json record = RecordedSettingsJson(written, CellRecord::kCellJson, true);
+  EvaluationCellConfig read;
+  ReadRecordedSettings(record, read);
+  EXPECT_EQ(RecordedSettingsJson(read, CellRecord::kCellJson, true), record);
+  EXPECT_EQ(read.seed, written.seed);
+  record["perturbations"] = {{{"axis", "lighting"}, {"level", "dim"}, {"settings", {{"scale", 0.5}}}}};
+  record["identity"] = {{"program_version", "v1"}};  // no setting's key: skipped
+  EvaluationCellConfig from_cell_json;
+  ReadRecordedSettings(record, from_cell_json);
+  EXPECT_EQ(from_cell_json.perturbations, std::vector<std::string>{"lighting:dim"});
+  record["seed"] = "zero";
+  try {
+    ReadRecordedSettings(record, from_cell_json);
+    ADD_FAILURE() << "a seed that is no number was read";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("seed: cannot read \"zero\": type must be number", 0), 0u)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -39,5 +39,20 @@ TEST(SettingsDifference, ARecordThatIsNotAnObjectHasNoneOfTheSettings) {
   EXPECT_EQ(SettingsDifference({{"seed", 0}}, nlohmann::json()), "seed 0 -> unset");
 }
 
+// The changes themselves, for a caller that words them its own way (tavis verify): each key's
+// path and both values, absent where a side has none.
+TEST(SettingChanges, GiveEachChangedKeysPathAndBothValues) {
+  const std::vector<SettingChange> changes = SettingChanges({{"identity", {{"arm", {{"gain", "60.0"}}}}}, {"seed", 0}},
+                                                            {{"identity", {{"arm", {{"gain", "61.0"}}}}}});
+  ASSERT_EQ(changes.size(), 2u);
+  EXPECT_EQ(changes[0].path, "identity.arm.gain");
+  EXPECT_EQ(*changes[0].was, "60.0");
+  EXPECT_EQ(*changes[0].now, "61.0");
+  EXPECT_EQ(changes[1].path, "seed");
+  EXPECT_EQ(*changes[1].was, 0);
+  EXPECT_FALSE(changes[1].now.has_value());
+  EXPECT_TRUE(SettingChanges({{"a", 1}}, {{"a", 1}}).empty());
+}
+
 }  // namespace
 }  // namespace tavis::batch::output
