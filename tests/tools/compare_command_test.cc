@@ -1,7 +1,9 @@
-// `tavis compare A B` on folders of cells that `tavis eval` wrote: a folder against its copy is no
-// regression and shows each side's summary, a failing policy against the expert is one (exit 1),
-// bad input exits 2 naming the file and writes nothing.
+// `tavis compare A B` on folders of cells that `tavis eval` and `tavis sweep` wrote: a folder
+// against its copy is no regression and shows each side's summary, a failing policy against the
+// expert is one (exit 1), two sweeps pair cell by cell, bad input exits 2 naming the file and
+// writes nothing.
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -18,6 +20,16 @@ class CompareCommand : public TavisCommandTest {
     const RunResult run =
         Run("eval --task clutter-pick-lift --policy " + policy + " --episodes " + std::to_string(episodes) +
             " --seed " + std::to_string(seed) + " --threads 2 --out " + Quote(dir.string()));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+
+  // A two-cell `tavis sweep` of clutter-pick-lift (head and fixed camera) with `policy` into `dir`.
+  void Sweep(const fs::path& dir, const std::string& policy) const {
+    const fs::path spec = root_ / (policy + ".yaml");
+    std::ofstream(spec) << "tasks: [clutter-pick-lift]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head, fixed]\n"
+                           "seeds: [0]\nepisodes: 12\npolicy:\n  name: "
+                        << policy << "\n";
+    const RunResult run = Run("sweep " + Quote(spec.string()) + " --threads 2 --quiet --out " + Quote(dir.string()));
     ASSERT_EQ(run.exit_code, 0) << run.err;
   }
 
@@ -106,6 +118,22 @@ TEST_F(CompareCommand, AFailingPolicyAgainstTheExpertIsARegressionAndTheReverseI
   EXPECT_NE(better.out.find("| improvement |"), std::string::npos) << better.out;
   // Below the tiny p nothing is significant.
   EXPECT_EQ(Compare(root_ / "main", root_ / "change", " --alpha 1e-9").exit_code, 0);
+}
+
+// Two sweeps' folders (cells/<id>/ beside the sweep's own summary.json, manifest and tables) pair
+// cell by cell: the sweep-level summary is not a cell.
+TEST_F(CompareCommand, TwoSweepsPairCellByCell) {
+  Sweep(root_ / "expert", "expert");
+  Sweep(root_ / "hold", "hold");
+  const RunResult worse = Compare(root_ / "expert", root_ / "hold");
+  EXPECT_EQ(worse.exit_code, 1) << worse.out << worse.err;
+  EXPECT_NE(worse.out.find("| clutter-pick-lift gr1t2 id head s0 |"), std::string::npos) << worse.out;
+  EXPECT_NE(worse.out.find("| clutter-pick-lift gr1t2 id fixed s0 |"), std::string::npos) << worse.out;
+  EXPECT_EQ(worse.out.find("unpaired"), std::string::npos) << worse.out;
+  EXPECT_EQ(LastLine(worse.out).rfind("regression on 2 of 2 cells at alpha 0.05: ", 0), 0u) << worse.out;
+  const RunResult same = Compare(root_ / "expert", root_ / "expert");
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_EQ(LastLine(same.out), "no regression at alpha 0.05 over 2 paired cells") << same.out;
 }
 
 TEST_F(CompareCommand, BadInputExitsTwoNamingTheFileAndWritesNothing) {

@@ -85,7 +85,8 @@ TEST_F(RedTeamCliTest, SeedsOutsideSixtyFourBitsAreRefusedByEveryCommand) {
 }
 
 TEST_F(RedTeamCliTest, MisspeltCommandIsNamed) {
-  ExpectRefused("evl --episodes 1", "unknown command 'evl' (known: eval, demos, galt, render, table, audit, sweep, compare, verify)");
+  ExpectRefused("evl --episodes 1",
+                "unknown command 'evl' (known: eval, demos, galt, render, table, audit, sweep, compare, verify)");
 }
 
 TEST_F(RedTeamCliTest, MissingOrEmptyConfigDirIsNamed) {
