@@ -24,19 +24,7 @@ BUDGET=${BUDGET:-360}      # seconds of training per run, all runs of a wave sid
 STEPS=${STEPS:-40000}      # upper bound; the budget stops them first
 DEMOS=${DEMOS:-2000}
 MID=${MID:-1000}; SMALL=${SMALL:-200}; EPISODES=${EPISODES:-96}; DEVICE=${DEVICE:-cuda}
-CORES=$(getconf _NPROCESSORS_ONLN)
-export PYTHONUNBUFFERED=1 PYTORCH_CUDA_ALLOC_CONF=expandable_segments:True
-mkdir -p $W/logs $W/eval $W/ckpt $W/ds
-stamp() { echo "$(date -u +%H:%M:%S) $*" | tee -a "$W/progress.log"; }
-declare -A TASK=([wta]=wait-then-act [cpc]=clutter-pick-cube)
-stamp "start cores=$CORES $(nvidia-smi --query-gpu=name,memory.total --format=csv,noheader 2>/dev/null)"
-
-demos() {  # d threads
-  [ -f "$W/ds/$1/meta/info.json" ] && return  # a re-run keeps the demonstrations it recorded
-  "$T" demos --task ${TASK[$1]} --robot gr1t2 --episodes $DEMOS --fps 20 --expert-hz 20 --image-size 96x96 --seed 0 \
-    --envs 32 --threads $2 --expert-mode gaze-first --out "$W/ds/$1" --quiet > "$W/logs/demos_$1.log" 2>&1
-  stamp "demos $1 rc=$? $(du -sh $W/ds/$1 | cut -f1)"
-}
+source "$(dirname "$0")/gpu_block_common.sh"  # CORES, stamp, TASK, demos
 
 train() {  # d name head episodes ["" extra options...]
   local d=$1 name=$2 head=$3 episodes=$4
