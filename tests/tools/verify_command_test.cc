@@ -210,6 +210,11 @@ TEST_F(VerifyCommand, WhatCannotBeVerifiedExits2NamingWhy) {
   EXPECT_EQ(damaged.exit_code, 2);
   EXPECT_NE(damaged.out.find((cell / "cell.json").string() + ": not valid JSON"), std::string::npos) << damaged.out;
   EXPECT_NE(damaged.out.find("1 unreadable"), std::string::npos) << damaged.out;
+
+  // A usage error is not a difference either: 2, naming the bad value, never 1.
+  const RunResult usage = Verify(plain, "--threads -1");
+  EXPECT_EQ(usage.exit_code, 2);
+  EXPECT_NE(usage.err.find("--threads: must be an integer from 0 to 1024, got '-1'"), std::string::npos) << usage.err;
 }
 
 }  // namespace
