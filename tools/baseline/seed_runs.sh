@@ -1,8 +1,10 @@
 #!/bin/bash
 # Training seeds of the chosen recipe (docs/baselines.md, "Seeds of the chosen recipe"): the L1
 # CNN head, 1,000 demonstrations per task, a fixed number of steps with the cosine schedule run to
-# its end (--steps sized to the card, no time budget cutting it), GR1T2. Each run is a
-# "dataset:camera:seed" triple of RUNS; all of them train side by side on the one card, then each
+# its end (--steps sized to the card, no time budget cutting it), GR1T2. Each run of RUNS is
+# "dataset:camera:seed", optionally ":head" (l1, flow or act; default l1) and ":demos" (the first N
+# episodes of the recording; default DEMOS): "cp:head:0:flow", "cp:head:0:l1:200". All of them
+# train side by side on the one card, then each
 # checkpoint is served twice on the same 96 id scenes (seed 1000): with its queue of 10 rows and
 # re-planning every step (`serve --executed-steps 1`). Cells named in ood's list are evaluated on
 # ood-spatial as well (queue of 10 rows). Written for one H200 with 16 cores and a 30-minute lease.
@@ -26,19 +28,19 @@ BUDGET=${BUDGET:-1500}     # a safety stop only: the runs are sized to end by --
 DEMOS=${DEMOS:-1000}; EPISODES=${EPISODES:-96}; DEVICE=${DEVICE:-cuda}
 source "$(dirname "$0")/gpu_block_common.sh"  # CORES, stamp, TASK, demos
 
-name_of() { echo "$1" | tr ':' '_'; }  # wta:head:1 -> wta_head_1
+name_of() { echo "$1" | tr ':' '_'; }  # wta:head:1 -> wta_head_1, cp:head:0:flow -> cp_head_0_flow
 
-train() {  # d:camera:seed
-  local d c s; IFS=: read d c s <<< "$1"
+train() {  # d:camera:seed[:head[:demos]]
+  local d c s h n; IFS=: read d c s h n <<< "$1"
   local name=$(name_of "$1")
   OMP_NUM_THREADS=1 python3 -m tavis_baseline.train --dataset "$W/ds/$d" --camera $c --seed $s \
-     --out "$W/ckpt/$name" --head l1 --episodes $DEMOS --val-episodes 20 --steps $STEPS --time-budget-s $BUDGET \
+     --out "$W/ckpt/$name" --head ${h:-l1} --episodes ${n:-$DEMOS} --val-episodes 20 --steps $STEPS --time-budget-s $BUDGET \
      --save-every $((STEPS + 1)) --device $DEVICE --threads 1 > "$W/logs/train_$name.log" 2>&1
   stamp "train $name rc=$? $(grep -o 'saved .*' $W/logs/train_$name.log | tail -1)"
 }
 
-evaluate() {  # d:camera:seed split executed-steps port
-  local d c s; IFS=: read d c s <<< "$1"
+evaluate() {  # d:camera:seed[:head[:demos]] split executed-steps port
+  local d c s; IFS=: read d c s _ <<< "$1"
   local ckpt=$(name_of "$1") split=$2 k=$3 port=$4
   local name=${ckpt}_${split}_exec$k
   [ -f "$W/ckpt/$ckpt/config.json" ] || { stamp "eval $name skipped: no checkpoint"; return; }
