@@ -22,7 +22,7 @@ if [ $# -ne 2 ] || [ ! -x "$1" ]; then
 fi
 T=$1; W=$2
 RUNS=${RUNS:-"wta:head:1 wta:head:2 cp:head:0 cp:fixed:0"}
-OOD=${OOD:-"cp:head:0 cp:fixed:0"}
+OOD=${OOD-"cp:head:0 cp:fixed:0"}  # OOD="" evaluates none on ood-spatial
 STEPS=${STEPS:-30000}
 BUDGET=${BUDGET:-1500}     # a safety stop only: the runs are sized to end by --steps
 DEMOS=${DEMOS:-1000}; EPISODES=${EPISODES:-96}; DEVICE=${DEVICE:-cuda}
@@ -64,7 +64,7 @@ wait
 stamp "trained"
 port=9300
 for r in $RUNS; do
-  for k in 10 1; do port=$((port + 1)); evaluate $r id $k $port & sleep 1; done
+  for k in ${EXECUTED:-10 1}; do port=$((port + 1)); evaluate $r id $k $port & sleep 1; done
 done
 for r in $OOD; do port=$((port + 1)); evaluate $r ood-spatial 10 $port & sleep 1; done
 wait
