@@ -19,6 +19,7 @@
 #include "batch/cell/cell_folder_name.h"
 #include "batch/cell/cell_profile.h"
 #include "batch/cell/cell_report.h"
+#include "batch/cell/declared_contract.h"
 #include "batch/cell/evaluation_cell.h"
 #include "batch/dataset/video/video_log.h"
 #include "batch/output/atomic_file.h"
@@ -178,7 +179,10 @@ std::string InterruptedCellLine(const std::filesystem::path& out, const std::str
 batch::cell::CellResult RunCell(const batch::cell::EvaluationCellConfig& cell, const EvalOptions& options, int threads,
                                 const std::string& out, const std::string& resume_command) {
   batch::output::RequireUsableOutputPath(out);
-  batch::cell::CellPlan plan = PlanCellNamingFlags(cell);  // a bad setting must not touch what --out holds
+  // A served cell's server may declare what its policy needs; the plan adopts it or refuses a flag that contradicts it.
+  batch::cell::EvaluationCellConfig declared = cell;
+  declared.declared_contract = batch::cell::ReadDeclaredContract(cell);
+  batch::cell::CellPlan plan = PlanCellNamingFlags(declared);  // a bad setting must not touch what --out holds
   std::optional<batch::output::OutputLock> record_lock;
   if (!options.record.root.empty()) record_lock.emplace(PrepareRolloutDataset(options.record.root, out));
   for (const std::string& difference : plan.layout_differences) {
@@ -350,6 +354,7 @@ void ReadOptionsAndRun(const CLI::App& eval, EvalOptions& options) {
   }
   ReadRolloutOptions(eval, options);
   options.cell.observation_keys_given = eval.count(FlagOf("observation_keys")) > 0;
+  options.cell.replan_steps_given = eval.count(FlagOf("replan_steps")) > 0;
   options.task_given = eval.count(FlagOf("task")) > 0;
   options.image_size_given = eval.count(FlagOf("image_width")) > 0;
   options.envs_given = eval.count(FlagOf("envs")) > 0;

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "batch/camera_protocol.h"
+#include "batch/cell/declared_contract.h"
 #include "batch/output/config_identity.h"
 #include "batch/output/setting_error.h"
 #include "batch/remote/websocket_url.h"
@@ -67,8 +68,9 @@ struct PlanFiles {
   std::string key_text;
 };
 
-// The served policy's request layout: the dataset's when one is named and no keys are, else the
-// keys' (preset or file), with an explicit image size taking the place of its own; a layout that
+// The served policy's request layout: the one its server declares when it declares a contract
+// (declared_contract.h), else the dataset's when one is named and no keys are, else the keys'
+// (preset or file), with an explicit image size taking the place of its own; a layout that
 // differs from a dataset named alongside is reported.
 void PlanServedLayout(CellPlan& plan, PlanFiles& files) {
   const EvaluationCellConfig& config = plan.config;
@@ -76,7 +78,9 @@ void PlanServedLayout(CellPlan& plan, PlanFiles& files) {
   std::optional<remote::ObservationKeys> dataset;
   if (!config.observation_dataset.empty()) dataset = remote::LoadDatasetKeys(config.observation_dataset, state_size);
   remote::ObservationKeys keys;
-  if (dataset && !config.observation_keys_given) {
+  if (config.declared_contract) {
+    keys = AdoptDeclaredContract(plan.config, dataset, state_size);
+  } else if (dataset && !config.observation_keys_given) {
     keys = *dataset;
   } else {
     remote::LoadedObservationKeys loaded =

@@ -18,6 +18,7 @@
 #include "batch/camera_protocol.h"
 #include "batch/output/setting_error.h"
 #include "batch/remote/remote_policy.h"
+#include "batch/remote/server_contract.h"
 #include "scenarios/expert/expert_mode.h"
 #include "scenarios/split.h"
 
@@ -47,6 +48,12 @@ struct EvaluationCellConfig {
   // differs from the dataset's is reported (CellPlan::layout_differences), not refused.
   std::string observation_dataset;
   bool observation_keys_given = false;  // not a setting: whether observation_keys was given
+  // Not settings: whether replan_steps was given, and the contract the cell's first policy server
+  // declared at connect (remote/server_contract.h; ReadDeclaredContract reads it before the cell is
+  // planned): the plan adopts its layout and executed steps, or refuses a setting given that
+  // contradicts it. nullopt: the server declares none (a plain openpi server), nothing changes.
+  bool replan_steps_given = false;
+  std::optional<remote::ServerContract> declared_contract;
   // How requests travel (remote_policy.h); the records do not depend on it.
   remote::ServingMode serving = remote::ServingMode::kSerial;
   double server_ready_timeout_s = 60.0;  // per server, for its /healthz to answer before the cell starts

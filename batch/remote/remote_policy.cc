@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -10,6 +11,7 @@
 #include "batch/remote/health_probe.h"
 #include "batch/remote/openpi_reply.h"
 #include "batch/remote/remote_error.h"
+#include "batch/remote/server_contract.h"
 #include "batch/remote/websocket_url.h"
 #include "kinematics/enum_names.h"
 
@@ -52,7 +54,29 @@ bool DeclaresBatchedRequests(const Value& metadata) {
   return flag != nullptr && flag->is<bool>() && *flag->get_if<bool>();
 }
 
+// Every server's declared contract must agree with what the cell sends: a contradiction is refused
+// before the first episode, naming both values.
+void CheckDeclaredContracts(const std::vector<std::unique_ptr<OpenpiSession>>& sessions,
+                            const RemotePolicyOptions& options) {
+  for (std::size_t i = 0; i < sessions.size() && i < options.servers.size(); ++i) {
+    const std::optional<ServerContract> contract = ParseServerContract(sessions[i]->metadata(), options.servers[i]);
+    if (!contract) continue;
+    const int state_size = options.state_size > 0 ? options.state_size : contract->state_size;
+    const std::vector<std::string> conflicts =
+        ContractConflicts(*contract, options.keys, options.replan_steps, state_size);
+    if (conflicts.empty()) continue;
+    std::string lines;
+    for (const std::string& conflict : conflicts) lines += "\n  " + conflict;
+    throw std::invalid_argument("the cell contradicts the contract policy server " + options.servers[i] +
+                                " declares:" + lines);
+  }
+}
+
 }  // namespace
+
+Value ReadServerMetadata(const std::string& server, const RemotePolicyOptions& options) {
+  return OpenWhenReady(server, options, /*announce_fallback=*/false)->metadata();
+}
 
 const char* ToString(ServingMode mode) { return kinematics::NameOf(kServingModes, mode, "?"); }
 
@@ -74,6 +98,7 @@ RemotePolicy::RemotePolicy(RemotePolicyOptions options, int num_envs)
     const std::string& server = options_.servers[static_cast<std::size_t>(i) % options_.servers.size()];
     sessions_.push_back(OpenWhenReady(server, options_, i < static_cast<int>(options_.servers.size())));
   }
+  CheckDeclaredContracts(sessions_, options_);
   if (options_.mode == ServingMode::kBatched) {
     for (std::size_t i = 0; i < sessions_.size(); ++i) {
       if (!DeclaresBatchedRequests(sessions_[i]->metadata())) {

@@ -55,7 +55,15 @@ struct RemotePolicyOptions {
   std::chrono::milliseconds ready_timeout{60'000};                // per server, for /healthz to answer
   std::chrono::milliseconds reply_timeout{300'000};
   std::uint64_t max_reply_bytes = kDefaultMaxReplyBytes;  // OpenpiSessionOptions::max_reply_bytes
+  // The robot's observation.state length, checked against a server's declared contract (0: not checked).
+  int state_size = 0;
 };
+
+// Waits for `server` as RemotePolicy does, connects, and returns the metadata map it sends first
+// (the connection is then closed): how a command reads a server's declared contract
+// (server_contract.h) before it plans a cell. Throws std::runtime_error naming the server when it
+// does not become ready or cannot be reached.
+Value ReadServerMetadata(const std::string& server, const RemotePolicyOptions& options);
 
 // What the requests of a run took, one entry per request message, in request order.
 struct RequestTimings {
@@ -73,8 +81,9 @@ class RemotePolicy : public batch::Policy {
   // has no /healthz, its websocket accepting), then connects and reads its metadata (per-env: one
   // connection per env slot). Throws std::invalid_argument for no server, a malformed URL,
   // negative replan_steps, or batched mode with a server whose metadata does not declare
-  // batched_requests, and std::runtime_error naming the server when it does not become ready or
-  // cannot be reached.
+  // batched_requests, or a server whose declared contract (server_contract.h) is malformed or
+  // contradicts the layout, the state size or replan_steps (naming both values), and
+  // std::runtime_error naming the server when it does not become ready or cannot be reached.
   RemotePolicy(RemotePolicyOptions options, int num_envs);
 
   std::string name() const override { return batch::PolicyName(batch::PolicyKind::kOpenpi); }

@@ -8,7 +8,7 @@ from tavis import env as envhub
 
 def test_make_env_builds_the_configured_vector_env():
     env = envhub.make_env(n_envs=2, use_async_envs=True,
-                          cfg={"task": "occluded-reach", "image_size": (24, 24), "seed": 3, "threads": 1})
+                          cfg={"task": "occluded-reach", "image_size": (24, 24), "seed": 3, "threads": 1})["tavis"][0]
     observation, _ = env.reset(seed=[0, 1])
     assert env.num_envs == 2 and env.seed == 3
     assert observation["pixels"]["OBS_HEAD"].shape == (2, 24, 24, 3)

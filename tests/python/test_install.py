@@ -66,6 +66,15 @@ def test_cmake_install_installs_an_importable_package(tmp_path):
     output = run([sys.executable, "-c", ROLLOUT, str(site)], cwd=tmp_path,
                  env=clean_environment(PYTHONPATH=str(site)))
     assert output.startswith("rollout ok")
+    check_installed_tools(sys.executable, site, tmp_path, clean_environment(PYTHONPATH=str(site)))
+
+
+def check_installed_tools(python, site, cwd, environment):
+    """The reference server and baseline are installed beside tavis and run from outside the trees."""
+    for package in ("tavis_server", "tavis_baseline"):
+        assert (site / package / "__init__.py").is_file(), f"{package} is not installed in {site}"
+    assert "--contract" in run([str(python), "-m", "tavis_server", "--help"], cwd=cwd, env=environment)
+    assert "checkpoint" in run([str(python), "-m", "tavis_baseline.serve", "--help"], cwd=cwd, env=environment)
 
 
 def test_pip_installs_into_a_fresh_virtualenv_offline(tmp_path):
@@ -84,4 +93,6 @@ def test_pip_installs_into_a_fresh_virtualenv_offline(tmp_path):
         cwd=tmp_path, env=environment)
     output = run([str(python), "-c", ROLLOUT, str(venv)], cwd=tmp_path, env=clean_environment())
     assert output.startswith("rollout ok")
+    site = next(path.parent for path in venv.rglob("tavis/__init__.py")).parent
+    check_installed_tools(python, site, tmp_path, clean_environment())
     assert not (SOURCE_DIR / "tavis.egg-info").exists(), "pip's build wrote into the source tree"

@@ -169,6 +169,8 @@ class TavisVectorEnv(_VectorEnvBase):
             return tuple(self._core.prompts())
         if name == "_max_episode_steps":
             return (self._max_episode_steps,) * self.num_envs
+        if name == "render":  # one frame per env, as Gymnasium's vector envs call render() on each
+            return tuple(self._env_frames())
         value = getattr(self, name)
         return value(*args, **kwargs) if callable(value) else (value,) * self.num_envs
 
@@ -179,16 +181,25 @@ class TavisVectorEnv(_VectorEnvBase):
         """With render_mode "rgb_array": the current images of every env as one (rows*H, cols*C*W, 3)
         uint8 image, each env's cameras side by side (in camera_names order), the envs in a grid
         of cols = ceil(sqrt(N)) columns, row by row (unused tiles black)."""
-        if self.render_mode is None:
-            raise ValueError("render() needs an env made with render_mode='rgb_array'")
-        pixels = self._core.pixels()
-        envs = np.concatenate([pixels[name] for name in self.camera_names], axis=2)  # (N, H, C*W, 3)
+        envs = self._env_frames()  # (N, H, C*W, 3)
         columns = math.ceil(math.sqrt(self.num_envs))
         rows = math.ceil(self.num_envs / columns)
         tiles = np.zeros((rows * columns, *envs.shape[1:]), dtype=np.uint8)
         tiles[:self.num_envs] = envs
         height, width = envs.shape[1:3]
         return tiles.reshape(rows, columns, height, width, 3).swapaxes(1, 2).reshape(rows * height, columns * width, 3)
+
+    def _env_frames(self):
+        """Each env's cameras side by side (camera_names order): (N, H, C*W, 3) uint8."""
+        if self.render_mode is None:
+            raise ValueError("render() needs an env made with render_mode='rgb_array'")
+        pixels = self._core.pixels()
+        return np.concatenate([pixels[name] for name in self.camera_names], axis=2)
+
+    @property
+    def unwrapped(self):
+        """The env itself (Gymnasium's VectorEnv.unwrapped; lerobot-eval reads unwrapped.metadata)."""
+        return self
 
     def close(self, **kwargs):
         """Nothing to release early: the buffers live as long as the env or a view of them."""

@@ -90,7 +90,7 @@ NOT_RUN = [
 PYTHONS = re.compile(r"^(/usr/bin/python3|python3(\.\d+)?|venv/bin/python|\$VIRTUAL_ENV/bin/python)$")
 # Programs the docs use that are not the project's: run when concrete, otherwise not checked.
 EXTERNAL = {"tar", "sed", "grep", "echo", "paste", "valgrind", "callgrind_annotate", "debootstrap", "sbatch",
-            "git", "ctest", "cmake", "mount"}
+            "git", "ctest", "cmake", "mount", "lerobot-eval"}
 # DIR, FILE.csv, I/N, DIR_i, ws://HOST:PORT, <version>, ..., $VAR, a|b, [optional].
 PLACEHOLDER = re.compile(r"<[^>]*>|\.\.\.|\$|(?<![A-Za-z0-9])[A-Z][A-Z0-9]*(?![a-z0-9])|\w\|\w|\[|\]")
 OUTPUT_FLAGS = {"--out", "--record", "--json-out", "-B", "--prefix"}

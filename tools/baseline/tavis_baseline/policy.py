@@ -96,6 +96,7 @@ class BaselinePolicy(nn.Module):
                                config.act_dropout, config.act_latent_dim)
         self._queue = deque()
         self._ensemble = None  # select_action's, under temporal ensembling
+        self.declared_contract = None  # set by serve.make_policy: the metadata's observation_contract
 
     @property
     def metadata(self):
@@ -111,7 +112,9 @@ class BaselinePolicy(nn.Module):
                    if c.head == "act" else {}),
                 **({"temporal_ensemble": c.temporal_ensemble} if c.temporal_ensemble is not None else {}),
                 "executed_steps": c.executed_steps, "chunk_execution": c.chunk_execution,
-                "client_replan_steps": 1}
+                "client_replan_steps": 1,
+                # serve.make_policy's: what the checkpoint was trained on (tavis_server's contract.py)
+                **({"observation_contract": self.declared_contract} if self.declared_contract else {})}
 
     # -- the network -----------------------------------------------------------------------------
     def camera_encoder(self):

@@ -22,6 +22,8 @@ client with `--replan-steps 1`.
 """
 
 import argparse
+import hashlib
+import os
 import sys
 
 from . import checkpoint
@@ -39,10 +41,29 @@ def make_policy(checkpoint_dir, device="cpu", executed_steps=None, temporal_ense
         policy.config.execute_with(1 if executed_steps is None else executed_steps, temporal_ensemble)  # validates
     for note in notes:
         print(f"tavis_baseline.serve: {note}", file=sys.stderr, flush=True)
+    policy.declared_contract = observation_contract(policy.config, checkpoint_dir)
     if policy.config.temporal_ensemble is not None:
         from .ensembled_serving import EnsembledServedPolicy  # imports tavis_server, which only serving needs
         return EnsembledServedPolicy(policy, "tavis_baseline.serve:make_policy", device)
     return policy
+
+
+def observation_contract(config, checkpoint_dir):
+    """What the checkpoint was trained on, for the metadata frame's observation_contract (tavis_server's
+    contract.py adds n_obs_steps, chunk_length and executed_steps from how it serves; docs/serving.md):
+    its cameras' image keys (the fixed camera's under the fixed protocol, with head's key beside it as
+    the tavis layout has), the training image size, observation.state's length and model.pt's SHA-256."""
+    keys = config.image_keys
+    cameras = {"head": keys[0]} if config.camera == "head" else {"head": "observation.images.OBS_HEAD", "fixed": keys[0]}
+    cameras.update({"left_wrist": keys[1], "right_wrist": keys[2]})
+    height, width = config.image_size
+    digest = hashlib.sha256()
+    with open(os.path.join(checkpoint_dir, "model.pt"), "rb") as weights:
+        for block in iter(lambda: weights.read(1 << 20), b""):
+            digest.update(block)
+    return {"version": 1, "cameras": cameras, "image_width": int(width), "image_height": int(height),
+            "state": {"key": "observation.state", "size": int(config.state_dim)},
+            "checkpoint_sha256": digest.hexdigest()}
 
 
 def server_arguments(checkpoint_dir, executed_steps, port, host, device, seed=None, temporal_ensemble=None):

@@ -7,6 +7,7 @@
         (numbers, true/false, lists), else as a string.
   --action-queue auto|on|off, --n-action-steps N   LeRobot-interface policies: execute N rows of each
         chunk one per step from a server-side queue (auto: when n_obs_steps > 1; docs/serving.md)
+  --contract FILE.json   the contract the policy was trained on, sent in the metadata frame (contract.py)
   --max-request-mb M, --idle-timeout S   a longer frame is refused (close 1009); a connection that
         sends no request for S seconds is closed (defaults in server.py)
 Prints one line "tavis_server: serving POLICY on ws://HOST:PORT" once it listens (--port 0 picks a
@@ -21,6 +22,7 @@ import signal
 import sys
 
 from .actions import NEUTRAL_ACTION, parse_action_row
+from .contract import CONTRACT_KEY
 from .lerobot_policy import ACTION_QUEUE_MODES, LeRobotServedPolicy
 from .policy_batch import import_torch
 from .server import DEFAULT_IDLE_TIMEOUT_S, DEFAULT_MAX_REQUEST_MB, PolicyServer
@@ -108,6 +110,15 @@ def build_served_policy(options):
                                n_action_steps=options.n_action_steps)
 
 
+def _read_contract(path):
+    """--contract FILE.json's object (checked with the server's own fields by PolicyServer)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except (OSError, json.JSONDecodeError) as error:
+        raise ValueError(f"--contract {path}: {error}") from None
+
+
 def _integer_in(text, low, high, what):
     """An int from low to high (inclusive) parsed from `text`, else argparse's error naming it."""
     try:
@@ -170,6 +181,11 @@ def parser():
                         help="sleep/stateful stand-ins: the 19 comma-separated values of their action")
     result.add_argument("--history", type=int, default=1,
                         help="stateful stand-in: observation history length (> 1: steps must be consecutive)")
+    result.add_argument("--contract", default=None, metavar="JSON",
+                        help="a JSON file of the contract the policy was trained on (cameras, image_width, "
+                             "image_height, state, checkpoint_sha256), sent in the metadata frame as "
+                             "observation_contract with the server's n_obs_steps, chunk_length and executed_steps "
+                             "(docs/serving.md); it replaces one the policy declares")
     result.add_argument("--record", default=None, metavar="JSON",
                         help="stateful stand-in: file rewritten after every request with the steps received")
     return result
@@ -196,6 +212,8 @@ def main(argv=None):
             if options.policy not in STAND_INS and import_torch() is not None:
                 import_torch().manual_seed(options.seed)
         served = build_served_policy(options)
+        if options.contract is not None:
+            served.metadata = {**served.metadata, CONTRACT_KEY: _read_contract(options.contract)}
         server = PolicyServer(served, host=options.host, port=options.port, max_request_mb=options.max_request_mb,
                               idle_timeout_s=options.idle_timeout)
     except (ValueError, ImportError) as error:

@@ -30,6 +30,7 @@ except ImportError:  # Debian's 10.4: only the legacy API
     from .legacy_handshake import timed_handshake_protocol
 
 from . import msgpack_numpy
+from .contract import CONTRACT_KEY, complete_contract
 from .episodes import EpisodeTracker
 from .observations import split_request
 
@@ -66,13 +67,17 @@ class PolicyServer:
         self.handshake_timeout_s = handshake_timeout_s
         self._connection_ids = itertools.count()
         self.open_connections = 0
-        self.tracker = EpisodeTracker(consecutive_steps=getattr(served, "consecutive_steps", served.history_length > 1))
+        consecutive_steps = getattr(served, "consecutive_steps", served.history_length > 1)
+        self.tracker = EpisodeTracker(consecutive_steps=consecutive_steps)
         self._lock = threading.Lock()
         self._executor = concurrent.futures.ThreadPoolExecutor(max_workers=workers,
                                                                thread_name_prefix="tavis-server-infer")
         self.metadata = {**served.metadata, "policy": served.name, "batched_requests": True, "stateful": True,
                          "action_dim": 19, "protocol": PROTOCOL_VERSION}
         self.metadata.setdefault("action_horizon", 1)
+        if self.metadata.get(CONTRACT_KEY) is not None:  # what the policy was trained on (contract.py)
+            self.metadata[CONTRACT_KEY] = complete_contract(self.metadata[CONTRACT_KEY], self.metadata["action_horizon"],
+                                                            served.history_length, consecutive_steps)
 
     def answer(self, request, connection=0):
         """The reply map to one decoded request of `connection` (runs in a worker thread)."""

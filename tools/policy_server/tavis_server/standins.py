@@ -123,10 +123,15 @@ class StatefulCheckPolicy:
         self.metadata = {"action_horizon": chunk, "history": history}
         self.episodes = {}  # (connection, env_index, episode_index) -> {"steps": [...], "is_first": [...]}
         self.requests = []  # per request: the env indices it held, in order
+        self.layouts = []  # every distinct {key: {"shape", "dtype"}} of one env's arrays received
 
     def infer(self, observations, starts):
         self.requests.append([observation.env_index for observation in observations])
         for observation in observations:
+            layout = {key: {"shape": list(value.shape), "dtype": value.dtype.str}
+                      for key, value in sorted(observation.arrays.items())}
+            if layout not in self.layouts:
+                self.layouts.append(layout)
             record = self.episodes.setdefault(self._key(observation), {"steps": [], "is_first": []})
             record["steps"].append(observation.step)
             record["is_first"].append(observation.is_first)
@@ -146,7 +151,7 @@ class StatefulCheckPolicy:
     def report(self):
         return {"episodes": [{"connection": connection, "env_index": env, "episode_index": episode, **record}
                              for (connection, env, episode), record in sorted(self.episodes.items())],
-                "requests": self.requests}
+                "requests": self.requests, "layouts": self.layouts}
 
     def _write(self):
         temporary = f"{self.record_path}.tmp"
