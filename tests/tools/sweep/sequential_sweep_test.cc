@@ -4,12 +4,14 @@
 // merged, stop at the same n with the same files.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/child_process.h"
 #include "tests/tools/tool_runner.h"
 
 namespace tavis::tools::sweep {
@@ -103,6 +105,15 @@ TEST_F(SequentialSweep, ExpertAgainstHoldStopsEarlyTheSameWayResumedShardedOrNot
   EXPECT_NE(table.find("expert head better"), std::string::npos) << table;
   EXPECT_NE(ReadText(out / "report.html").find("<p id=\"sequential\">2 of 2 pairs stopped before the cap of 40"),
             std::string::npos);
+  // The report read in Chromium as a person reads it: every table, sequential_pairs among them,
+  // each value under its heading equal to summary.json's.
+  fs::create_directories(root_ / "chromium");
+  testing::ChildProcess check(
+      testing::kDebianPython,
+      {TAVIS_TEST_DATA_DIR "/sweep/check_report_in_chromium.py", out.string(), (root_ / "chromium").string()},
+      "needs Debian's chromium and python3-av (.ci/install-deps)");
+  const std::string report = check.ReadAllOutput(std::chrono::seconds(180));
+  EXPECT_NE(report.find("report ok: 4 cells"), std::string::npos) << report;
 
   // Episode k is the episode a sweep without the test runs: the same record, byte for byte.
   const fs::path plain = root_ / "plain";
@@ -153,16 +164,24 @@ TEST_F(SequentialSweep, ResultsRefuseAStopTheRecordsDoNotGive) {
   stop["stopped_at"] = 4;
   std::ofstream(cell / "sequential.json", std::ios::trunc) << stop.dump(2);
   const std::vector<std::string> lines = Lines(ReadText(cell / "episodes.jsonl"));
-  std::ofstream(cell / "episodes.jsonl", std::ios::trunc)
-      << lines[0] + "\n" + lines[1] + "\n" + lines[2] + "\n" + lines[3] + "\n";
+  ASSERT_GE(lines.size(), 4u);
+  std::string first_four;
+  int successes = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    first_four += lines[i] + "\n";
+    successes += nlohmann::json::parse(lines[i])["success"].get<bool>() ? 1 : 0;
+  }
+  std::ofstream(cell / "episodes.jsonl", std::ios::trunc) << first_four;
   nlohmann::json summary = Json(cell / "summary.json");
   summary["n_episodes"] = 4;
-  summary["n_successful"] = 4;
+  summary["n_successful"] = successes;  // a complete cell of 4 episodes, as far as its own files go
   std::ofstream(cell / "summary.json", std::ios::trunc) << summary.dump(2);
   fs::remove(out / "summary.json");
   const RunResult rerun = Sweep(spec, out);
   EXPECT_NE(rerun.exit_code, 0);
-  EXPECT_NE(rerun.err.find(kCells[1]), std::string::npos) << rerun.err;
+  EXPECT_NE(rerun.err.find("cell " + kCells[1] + " holds 4 episodes where the sequential test over its pairs stops at"),
+            std::string::npos)
+      << rerun.err;
   EXPECT_FALSE(fs::exists(out / "summary.json"));
 }
 
