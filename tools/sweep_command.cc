@@ -98,7 +98,14 @@ void RegisterSweepCommand(CLI::App& app) {
       "Run the evaluation cells a sweep spec names (configs/sweeps/*.yaml) into one folder: cells/<id>/\n"
       "(each as `tavis eval` writes it), manifest.json, summary.json, tables/ (Markdown, CSV, LaTeX) and\n"
       "report.html. Rerun the same command to finish an interrupted sweep: complete cells are skipped,\n"
-      "interrupted ones continue after their complete episodes.");
+      "interrupted ones continue after their complete episodes.\n"
+      "Sequential paired testing (opt-in, the spec's `sequential: {alpha: 0.05, block: 10, pairs: [cameras,\n"
+      "perturbations], policies: [[A, B]]}`): paired cells (head vs each other camera, the base scene vs each\n"
+      "perturbation, label A vs label B; same task, robot, split and seed) run `block` episodes at a time and\n"
+      "stop together once an anytime-valid test on their discordant pairs decides at `alpha` (a wrong\n"
+      "decision has probability <= alpha, however often it looks), or at `episodes`; each such cell's\n"
+      "sequential.json says where and why it stopped, tables/sequential_pairs the decisions and the episodes\n"
+      "saved (docs/sweeps.md). Without `sequential:` every cell runs all its episodes, as before.");
   sweep->add_option("spec", options->spec_file, "The sweep spec (YAML)");
   sweep->add_option("--out", options->out, "Output folder (default results/<spec name>)");
   sweep->add_option("--threads", options->threads, "Cores to use (0 = all; results do not depend on it)")

@@ -1,5 +1,6 @@
 #include "batch/cell/cell_folder.h"
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -101,9 +102,17 @@ CellResult RunCellInFolder(CellPlan plan, const CellFolderOptions& options, cons
     stream->Write(episode);
     folder.SwapIn(*stream);
   };
+  // A cell run in blocks runs up to the block's end (nothing when a resumed one has it already);
+  // its records still say how many episodes the whole cell has.
+  const int cell_episodes = plan.config.episodes;
+  const bool stops_short = options.stop_before >= 0 && options.stop_before < plan.end_episode();
+  if (stops_short)
+    plan.config.episodes =
+        static_cast<int>(std::max(stream->next_episode(), options.stop_before) - plan.config.episode_start);
   CellResult result;
   try {
     result = RunEvaluationCell(plan, options.progress, record, attached.sinks);
+    result.config.episodes = cell_episodes;
   } catch (...) {
     // One that recorded episodes keeps them for a resume.
     if (stream->written() == 0) folder.ForgetIfNew();
@@ -111,6 +120,7 @@ CellResult RunCellInFolder(CellPlan plan, const CellFolderOptions& options, cons
   }
   folder.SwapIn(*stream);  // a cell with nothing left to run
   PrependResumed(*stream, result);
+  if (stops_short && !options.complete_at_stop) return result;  // paused: no summary, as if interrupted
   WriteCellSummary(result, {options.threads, static_cast<int64_t>(stream->resumed().size())}, options.out.string());
   if (attached.finish) attached.finish(result);
   return result;

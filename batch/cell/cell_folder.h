@@ -30,6 +30,11 @@ struct CellFolderOptions {
   bool remove_new_folder_on_failure = true;
   int threads = 0;  // recorded in summary.json
   ProgressCallback progress;
+  // Run only the episodes before this one (a sweep's sequential test runs a cell in blocks);
+  // negative: to the cell's end. A cell stopped short of its end pauses there, as an interrupted
+  // one (no summary.json), unless `complete_at_stop` makes it complete with the episodes it has.
+  int64_t stop_before = -1;
+  bool complete_at_stop = false;
 };
 
 // What a caller plugs in beside the cell's records (episode videos, a rollout dataset).

@@ -55,10 +55,10 @@ const std::vector<std::string>& OwnPaths(OutputKind kind) {
       ".tavis_spool/", ".tavis_spool/episode_*/", ".tavis_spool/episode_*/data.parquet",
       ".tavis_spool/episode_*/*.packets", ".tavis_spool/episode_*/episode.json"};
   static const std::vector<std::string> sweep = [&cell_paths] {
-    std::vector<std::string> paths = {"manifest.json",      "summary.json",  "report.html",  "tables/",
-                                      "tables/*.md",        "tables/*.csv",  "tables/*.tex", "figures/",
-                                      "figures/*.svg",      "figures/*.png", "cells/",       "cells/*/",
-                                      "cells/*/policy.json"};
+    std::vector<std::string> paths = {"manifest.json",       "summary.json",           "report.html",  "tables/",
+                                      "tables/*.md",         "tables/*.csv",           "tables/*.tex", "figures/",
+                                      "figures/*.svg",       "figures/*.png",          "cells/",       "cells/*/",
+                                      "cells/*/policy.json", "cells/*/sequential.json"};
     for (const std::string& path : cell_paths("cells/*/")) paths.push_back(path);
     return paths;
   }();

@@ -9,6 +9,7 @@
 
 #include "batch/report/figure_drawing.h"
 #include "batch/report/paper_figures.h"
+#include "batch/report/sequential_section.h"
 #include "batch/report/sweep_summary.h"
 #include "batch/report/sweep_tables.h"
 
@@ -225,6 +226,7 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
       }
     }
   }
+  html << SequentialHtml(summary);
   html << "<h2>Tables</h2>\n";
   for (const TextTable& table : SweepTables(summary)) html << HtmlTable(table);
   html << CellTable(summary);

@@ -16,6 +16,7 @@
 #include "batch/report/perturbation_pairs.h"
 #include "batch/report/results_table.h"
 #include "batch/report/seed_groups.h"
+#include "batch/report/sequential_section.h"
 #include "batch/report/stage_funnel_section.h"
 #include "scenarios/registry.h"
 
@@ -369,6 +370,9 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, 
   // perturbed cells has the section, so other summaries are as before.
   const Json perturbation_pairs = PerturbationPairRows(cells);
   if (!perturbation_pairs.empty()) summary["paired_perturbations"] = perturbation_pairs;
+  // Only a sweep that runs the sequential test has its section.
+  const SequentialSettings sequential = SequentialSettingsFromJson(spec.value("sequential", Json()));
+  if (sequential.enabled) summary["sequential"] = SequentialSection(cells, sequential);
   summary["seed_groups"] = SeedGroupsJson(summary);
   const Json choices = spec.contains("figures") ? spec["figures"] : Json::object();
   summary["figures"] = PaperFiguresJson(summary, choices, galt_reference);

@@ -6,6 +6,7 @@
 
 #include "batch/report/camera_set_pairs.h"
 #include "batch/report/perturbation_pairs.h"
+#include "batch/report/sequential_section.h"
 #include "batch/report/stage_funnel_section.h"
 
 namespace tavis::batch::report {
@@ -240,6 +241,7 @@ std::vector<TextTable> SweepTables(const Json& summary) {
   for (TextTable& table : StageFunnelTables(summary["stages"])) tables.push_back(std::move(table));
   if (!summary["paired_camera_sets"].empty()) tables.push_back(CameraSetPairTable(summary));
   if (summary.contains("paired_perturbations")) tables.push_back(PerturbationPairTable(summary));
+  if (summary.contains("sequential")) tables.push_back(SequentialTable(summary));
   if (!summary["seed_groups"].empty()) tables.push_back(SeedGroupTable(summary));
   tables.push_back(HeadlineTable(summary));
   return tables;

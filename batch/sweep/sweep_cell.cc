@@ -11,6 +11,7 @@
 #include "batch/cell/cell_record_stream.h"
 #include "batch/output/atomic_file.h"
 #include "batch/rollout/cell_videos.h"
+#include "batch/sweep/sequential_stop.h"
 
 namespace tavis::batch::sweep {
 namespace {
@@ -48,6 +49,8 @@ std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path&
     if (records.back().episode != static_cast<int64_t>(records.size()) - 1) return std::nullopt;
     successes += records.back().success ? 1 : 0;
   }
+  // A cell the sequential test stopped early holds fewer (checked against its pairs by the results).
+  episodes = SequentialEpisodes(dir, episodes);
   if (static_cast<int64_t>(records.size()) != episodes || summary->value("n_episodes", int64_t{-1}) != episodes ||
       summary->value("n_successful", int64_t{-1}) != successes) {
     return std::nullopt;
@@ -57,7 +60,7 @@ std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const fs::path&
 
 cell::CellResult RunCellInto(const cell::CellPlan& plan, const fs::path& dir, int threads,
                              const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
-                             const rollout::EpisodeVideoSettings& videos) {
+                             const rollout::EpisodeVideoSettings& videos, int64_t stop_before, bool complete_at_stop) {
   cell::CellFolderOptions folder;
   folder.out = dir;
   // A folder with settings continues; anything else there (a cell that failed before writing its
@@ -69,6 +72,8 @@ cell::CellResult RunCellInto(const cell::CellPlan& plan, const fs::path& dir, in
   folder.remove_new_folder_on_failure = false;
   folder.threads = threads;
   folder.progress = progress;
+  folder.stop_before = stop_before;
+  folder.complete_at_stop = complete_at_stop;
   if (!folder.resume) fs::remove_all(dir);
   std::unique_ptr<rollout::CellVideos> films;
   return cell::RunCellInFolder(

@@ -22,7 +22,8 @@ std::optional<nlohmann::json> ReadCellSettings(const std::filesystem::path& dir)
 
 // The cell's records when DIR holds it complete: cell.json equal to `cell_json` (what the cell
 // records: cell::CellSettingsJson of its plan), summary.json, and episodes.jsonl with exactly
-// episodes 0 .. `episodes` - 1 whose successes match the summary's count. nullopt otherwise
+// episodes 0 .. `episodes` - 1 (fewer for a cell the sequential test stopped: sequential_stop.h)
+// whose successes match the summary's count. nullopt otherwise
 // (absent, interrupted, or not matching: such a folder is run again).
 std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const std::filesystem::path& dir,
                                                                  const nlohmann::json& cell_json, int64_t episodes);
@@ -31,8 +32,11 @@ std::optional<std::vector<cell::EpisodeRecord>> ReadCompleteCell(const std::file
 // and returns the whole cell's result (the kept records first). DIR/policy.json names the
 // policy's label and seed group, so that tools reading the folder (`tavis table`) keep labels
 // apart. `videos` films the cell's first episodes into DIR/videos (none by default).
+// `stop_before` (>= 0) runs only the episodes before it and leaves the cell paused there (as an
+// interrupted one), or complete with them when `complete_at_stop` (the sequential test's blocks).
 cell::CellResult RunCellInto(const cell::CellPlan& plan, const std::filesystem::path& dir, int threads,
                              const ProgressCallback& progress, const std::string& label, const std::string& seed_group,
-                             const rollout::EpisodeVideoSettings& videos = {});
+                             const rollout::EpisodeVideoSettings& videos = {}, int64_t stop_before = -1,
+                             bool complete_at_stop = false);
 
 }  // namespace tavis::batch::sweep

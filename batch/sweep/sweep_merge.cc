@@ -10,6 +10,7 @@
 #include "batch/output/atomic_file.h"
 #include "batch/output/output_folder.h"
 #include "batch/output/settings_difference.h"
+#include "batch/sweep/sequential_plan.h"
 #include "batch/sweep/sweep_cell.h"
 #include "batch/sweep/sweep_manifest.h"
 #include "batch/sweep/sweep_results.h"
@@ -47,29 +48,30 @@ void RequireOutsideShards(const std::vector<std::string>& shard_dirs, const std:
 // version or --config-dir) is named with the keys that differ and a shard whose cells have the
 // expected ones; a cell not complete is to be finished by rerunning its shard.
 void RequireCompleteCells(const std::vector<SweepCell>& cells, const std::vector<nlohmann::json>& cell_jsons,
-                          const std::vector<std::string>& shards, const std::string& config_dir) {
+                          const std::vector<std::string>& shards, const std::vector<std::size_t>& shard_position,
+                          const std::string& config_dir) {
   const std::size_t count = shards.size();
   std::vector<bool> shard_as_expected(count, false);  // some cell of the shard has the expected settings
   std::string other_settings, not_complete;
   std::size_t other_shard = 0;
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    const fs::path from = fs::path(shards[i % count]) / "cells" / cells[i].id;
+    const std::size_t shard = shard_position[i] % count;
+    const fs::path from = fs::path(shards[shard]) / "cells" / cells[i].id;
     if (ReadCompleteCell(from, cell_jsons[i], cells[i].config.episodes)) {
-      shard_as_expected[i % count] = true;
+      shard_as_expected[shard] = true;
       continue;
     }
     const std::optional<nlohmann::json> recorded = ReadCellSettings(from);
     if (recorded && ReadCompleteCell(from, *recorded, cells[i].config.episodes)) {
       if (other_settings.empty()) {
-        other_settings = "cell " + cells[i].id + " of shard " + shards[i % count] +
+        other_settings = "cell " + cells[i].id + " of shard " + shards[shard] +
                          " is complete but ran with other settings (its cell.json -> this merge's spec and "
                          "--config-dir " +
                          config_dir + "): " + output::SettingsDifference(*recorded, cell_jsons[i]);
-        other_shard = i % count;
+        other_shard = shard;
       }
     } else if (not_complete.empty()) {
-      not_complete =
-          from.string() + " is not complete: rerun shard " + shards[i % count] + " (it resumes) before merging";
+      not_complete = from.string() + " is not complete: rerun shard " + shards[shard] + " (it resumes) before merging";
     }
   }
   if (!other_settings.empty()) {
@@ -129,7 +131,9 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   const std::vector<SweepCell> cells = ExpandCells(spec, config_dir);
   std::vector<nlohmann::json> cell_jsons;  // what each cell's cell.json must say, its files read once
   for (const SweepCell& cell : cells) cell_jsons.push_back(cell::CellSettingsJson(cell.config));
-  RequireCompleteCells(cells, cell_jsons, shard_of, config_dir);
+  // A sequential test's group of paired cells ran in the shard of its first cell.
+  const std::vector<std::size_t> shard_position = PlanSequential(cells, spec.sequential).shard_position;
+  RequireCompleteCells(cells, cell_jsons, shard_of, shard_position, config_dir);
 
   const fs::path out = out_dir;
   if (!output::HoldsNoResults(out))
@@ -154,7 +158,8 @@ void MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
                                      {"timing", manifest_of[index]->value("timing", Json())}});
   }
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    const fs::path from = fs::path(shard_of[i % static_cast<std::size_t>(count)]) / "cells" / cells[i].id;
+    const fs::path from =
+        fs::path(shard_of[shard_position[i] % static_cast<std::size_t>(count)]) / "cells" / cells[i].id;
     fs::copy(from, staging / "cells" / cells[i].id, fs::copy_options::recursive);
     merged["cells"][cells[i].id] = "complete";
   }

@@ -10,6 +10,7 @@
 #include "batch/report/sweep_summary.h"
 #include "batch/report/sweep_tables.h"
 #include "batch/sweep/galt_reference.h"
+#include "batch/sweep/sequential_plan.h"
 #include "batch/sweep/sweep_cell.h"
 
 namespace tavis::batch::sweep {
@@ -28,15 +29,23 @@ nlohmann::ordered_json ServerMetadata(const std::filesystem::path& cell_dir) {
 void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered_json& spec_json,
                        const std::vector<SweepCell>& cells, const std::vector<nlohmann::json>& cell_jsons,
                        const nlohmann::ordered_json& manifest) {
+  std::vector<std::vector<cell::EpisodeRecord>> records;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::filesystem::path cell_dir = dir / "cells" / cells[i].id;
+    std::optional<std::vector<cell::EpisodeRecord>> cell_records =
+        ReadCompleteCell(cell_dir, cell_jsons.at(i), cells[i].config.episodes);
+    if (!cell_records) throw std::runtime_error(cell_dir.string() + " is not a complete cell of this sweep");
+    records.push_back(std::move(*cell_records));
+  }
+  // Cells stopped early by the sequential test hold what the test over their records says.
+  const report::SequentialSettings sequential =
+      report::SequentialSettingsFromJson(spec_json.value("sequential", nlohmann::ordered_json()));
+  if (sequential.enabled) RequireSequentialStops(PlanSequential(cells, sequential), cells, records, sequential.test);
   std::vector<report::CellEpisodes> episodes;
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const SweepCell& cell = cells[i];
-    const std::filesystem::path cell_dir = dir / "cells" / cell.id;
-    std::optional<std::vector<cell::EpisodeRecord>> records =
-        ReadCompleteCell(cell_dir, cell_jsons.at(i), cell.config.episodes);
-    if (!records) throw std::runtime_error(cell_dir.string() + " is not a complete cell of this sweep");
-    episodes.push_back(
-        {cell.id, cell.config, std::move(*records), cell.label, cell.seed_group, ServerMetadata(cell_dir)});
+    episodes.push_back({cell.id, cell.config, std::move(records[i]), cell.label, cell.seed_group,
+                        ServerMetadata(dir / "cells" / cell.id)});
   }
   const nlohmann::ordered_json summary = report::SweepSummaryJson(
       spec_json, episodes, DatasetGaltReference(spec_json.value("figures", nlohmann::ordered_json::object())));

@@ -18,6 +18,9 @@
 #include "batch/dataset/video/video_log.h"
 #include "batch/output/output_folder.h"
 #include "batch/sweep/galt_reference.h"
+#include "batch/sweep/sequential_group.h"
+#include "batch/sweep/sequential_plan.h"
+#include "batch/sweep/sequential_stop.h"
 #include "batch/sweep/sweep_cell.h"
 #include "batch/sweep/sweep_manifest.h"
 #include "batch/sweep/sweep_progress.h"
@@ -42,6 +45,34 @@ struct PlannedCell {
   cell::CellPlan plan;
 };
 
+// What one worker runs at a time: a cell, or a group of paired cells the sequential test runs
+// in blocks (sequential_group.h).
+struct RunUnit {
+  std::vector<const PlannedCell*> cells;
+  std::vector<report::SequentialPair> pairs;  // a group's, as positions in `cells`; empty for a lone cell
+  report::SequentialTestSettings test;
+};
+
+// The shard's cells as units, in the order of their first cell: each sequential group one unit.
+std::vector<RunUnit> UnitsOf(const std::vector<PlannedCell>& mine, const std::vector<std::size_t>& positions,
+                             const SequentialPlan& sequential, const report::SequentialTestSettings& test) {
+  std::vector<RunUnit> units;
+  std::vector<std::ptrdiff_t> unit_of_group(sequential.groups.size(), -1);
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    const std::ptrdiff_t group = sequential.group_of[positions[k]];
+    if (group < 0) {
+      units.push_back({{&mine[k]}, {}, test});
+      continue;
+    }
+    if (unit_of_group[group] < 0) {
+      unit_of_group[group] = static_cast<std::ptrdiff_t>(units.size());
+      units.push_back({{}, GroupPairs(sequential, static_cast<std::size_t>(group)), test});
+    }
+    units[unit_of_group[group]].cells.push_back(&mine[k]);
+  }
+  return units;
+}
+
 }  // namespace
 
 int DefaultConcurrentCells(bool all_per_slot, int threads) {
@@ -53,31 +84,67 @@ int DefaultConcurrentCells(bool all_per_slot, int threads) {
   return all_per_slot ? std::max(1, threads / kThreadsPerPerSlotCell) : std::max(1, threads);
 }
 
-// The cells of `mine` still to run (all but the complete ones in `out`), marking the interrupted
-// ones in the manifest; `episodes_done` counts the episodes already recorded.
-std::vector<const PlannedCell*> CellsToRun(const std::vector<PlannedCell>& mine, const fs::path& out,
-                                           SweepManifest& manifest, int64_t* episodes_done) {
-  std::vector<const PlannedCell*> to_run;
-  for (const PlannedCell& planned : mine) {
-    const SweepCell& cell = *planned.cell;
-    const fs::path dir = out / "cells" / cell.id;
-    if (ReadCompleteCell(dir, cell::CellSettingsJson(planned.plan), cell.config.episodes)) {
-      manifest.SetState(cell.id, "complete");
-      *episodes_done += cell.config.episodes;
-    } else {
+// The units of `units` still to run (all but those whose cells are complete in `out`), marking
+// the interrupted cells in the manifest; `cells_done` and `episodes_done` count the complete
+// cells and the episodes already recorded.
+std::vector<RunUnit> UnitsToRun(const std::vector<RunUnit>& units, const fs::path& out, SweepManifest& manifest,
+                                int* cells_done, int64_t* episodes_done) {
+  std::vector<RunUnit> to_run;
+  for (const RunUnit& unit : units) {
+    bool complete = true;
+    for (const PlannedCell* planned : unit.cells) {
+      const SweepCell& cell = *planned->cell;
+      const fs::path dir = out / "cells" / cell.id;
+      if (ReadCompleteCell(dir, cell::CellSettingsJson(planned->plan), cell.config.episodes)) {
+        manifest.SetState(cell.id, "complete");
+        ++*cells_done;
+        *episodes_done += SequentialEpisodes(dir, cell.config.episodes);
+        continue;
+      }
+      complete = false;
       if (fs::exists(dir / "cell.json")) {
         manifest.SetState(cell.id, "interrupted");
         *episodes_done += std::min<int64_t>(RecordedEpisodes(dir), cell.config.episodes);
       }
-      to_run.push_back(&planned);
     }
+    if (!complete) to_run.push_back(unit);
   }
   return to_run;
 }
 
+// Runs a sequential group's cells in blocks (the complete ones are read, not run).
+void RunGroup(const RunUnit& unit, const fs::path& out, const SweepRunOptions& options,
+              const rollout::EpisodeVideoSettings& videos, SweepManifest& manifest, SweepProgress& progress) {
+  std::vector<GroupCell> cells;
+  for (const PlannedCell* planned : unit.cells) {
+    const fs::path dir = out / "cells" / planned->cell->id;
+    cells.push_back({planned->cell, dir,
+                     ReadCompleteCell(dir, cell::CellSettingsJson(planned->plan), planned->cell->config.episodes)});
+    if (!cells.back().complete) manifest.SetState(planned->cell->id, "running");
+  }
+  manifest.Write(out);
+  RunSequentialGroup(cells, unit.pairs, unit.test, [&](std::size_t m, int64_t stop_before, bool complete_at_stop) {
+    const SweepCell& cell = *unit.cells[m]->cell;
+    int64_t reported = 0;
+    cell::CellResult result = RunCellInto(
+        unit.cells[m]->plan, cells[m].dir, options.threads,
+        [&progress, &reported](int64_t finished, int64_t) {
+          progress.AddEpisodes(finished - reported);
+          reported = finished;
+        },
+        cell.label, cell.seed_group, videos, stop_before, complete_at_stop);
+    if (complete_at_stop) {
+      manifest.SetState(cell.id, "complete");
+      manifest.Write(out);
+      progress.CellFinished(cell::CellSummaryLine(result));
+    }
+    return std::move(result.episodes);
+  });
+}
+
 // Runs `to_run` into out/cells, `jobs` cells at a time, keeping the manifest's states current.
 // Returns the first error of a cell, if any (the other running cells finish first).
-std::exception_ptr RunCells(const std::vector<const PlannedCell*>& to_run, int jobs, const fs::path& out,
+std::exception_ptr RunCells(const std::vector<RunUnit>& to_run, int jobs, const fs::path& out,
                             const SweepRunOptions& options, const rollout::EpisodeVideoSettings& videos,
                             SweepManifest& manifest, SweepProgress& progress) {
   std::atomic<std::size_t> next{0};
@@ -86,13 +153,17 @@ std::exception_ptr RunCells(const std::vector<const PlannedCell*>& to_run, int j
   std::mutex error_mutex;
   const auto worker = [&] {
     for (std::size_t i = next++; i < to_run.size() && !failed; i = next++) {
-      const SweepCell& cell = *to_run[i]->cell;
+      const SweepCell& cell = *to_run[i].cells.front()->cell;
       try {
+        if (!to_run[i].pairs.empty()) {
+          RunGroup(to_run[i], out, options, videos, manifest, progress);
+          continue;
+        }
         manifest.SetState(cell.id, "running");
         manifest.Write(out);
         int64_t reported = 0;
         const cell::CellResult result = RunCellInto(
-            to_run[i]->plan, out / "cells" / cell.id, options.threads,
+            to_run[i].cells.front()->plan, out / "cells" / cell.id, options.threads,
             [&progress, &reported](int64_t finished, int64_t) {
               progress.AddEpisodes(finished - reported);
               reported = finished;
@@ -102,7 +173,11 @@ std::exception_ptr RunCells(const std::vector<const PlannedCell*>& to_run, int j
         manifest.Write(out);
         progress.CellFinished(cell::CellSummaryLine(result));
       } catch (...) {
-        manifest.SetState(cell.id, "failed");
+        for (const PlannedCell* planned : to_run[i].cells) {
+          if (!ReadCompleteCell(out / "cells" / planned->cell->id, cell::CellSettingsJson(planned->plan),
+                                planned->cell->config.episodes))
+            manifest.SetState(planned->cell->id, "failed");
+        }
         std::lock_guard<std::mutex> error_lock(error_mutex);
         if (!first_error) first_error = std::current_exception();
         failed = true;
@@ -120,13 +195,17 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   const fs::path out = options.out_dir;
   const std::vector<SweepCell> all = ExpandCells(spec, options.config_dir);
   RequireShardHoldsCells(options.shard, all.size());
+  const SequentialPlan sequential = PlanSequential(all, spec.sequential);
+  RequireShardHoldsUnits(options.shard, sequential);
   // Each cell of the shard planned once, here: bad settings fail before any work, and the cell
   // runs that plan (its files read once).
   std::vector<PlannedCell> mine;
+  std::vector<std::size_t> positions;  // of mine's cells in `all`
   std::vector<std::string> ids;
   for (std::size_t i = 0; i < all.size(); ++i) {
-    if (!InShard(i, options.shard)) continue;
+    if (!InShard(sequential.shard_position[i], options.shard)) continue;
     mine.push_back({&all[i], cell::PlanCell(all[i].config)});
+    positions.push_back(i);
     ids.push_back(all[i].id);
   }
   DatasetGaltReference(spec.figures);  // an unreadable reference dataset fails before any work, not after it
@@ -142,20 +221,24 @@ void RunSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   output::WriteOutputMarker(out, output::OutputKind::kSweep);
   fs::create_directories(out / "cells");
 
+  int cells_done = 0;
   int64_t episodes_done = 0;
-  const std::vector<const PlannedCell*> to_run = CellsToRun(mine, out, manifest, &episodes_done);
+  const std::vector<RunUnit> to_run = UnitsToRun(UnitsOf(mine, positions, sequential, spec.sequential.test), out,
+                                                 manifest, &cells_done, &episodes_done);
   manifest.Write(out);
 
-  const bool all_per_slot = std::all_of(to_run.begin(), to_run.end(),
-                                        [](const PlannedCell* cell) { return cell::RunsPerSlot(cell->cell->config); });
+  const bool all_per_slot = std::all_of(to_run.begin(), to_run.end(), [](const RunUnit& unit) {
+    return std::all_of(unit.cells.begin(), unit.cells.end(),
+                       [](const PlannedCell* cell) { return cell::RunsPerSlot(cell->cell->config); });
+  });
   const int default_jobs = DefaultConcurrentCells(all_per_slot, options.threads);
   const int jobs = std::max(1, std::min<int>(options.concurrent_cells > 0 ? options.concurrent_cells : default_jobs,
                                              static_cast<int>(to_run.size())));
   // Each running cell's own thread works too: TBB gets the cores the cell threads leave.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                             static_cast<std::size_t>(std::max(1, options.threads - jobs + 1)));
-  SweepProgress progress(static_cast<int>(mine.size()), static_cast<int>(mine.size() - to_run.size()),
-                         static_cast<int64_t>(mine.size()) * spec.episodes, episodes_done, options.quiet);
+  SweepProgress progress(static_cast<int>(mine.size()), cells_done, static_cast<int64_t>(mine.size()) * spec.episodes,
+                         episodes_done, options.quiet);
   rollout::EpisodeVideoSettings videos;
   videos.episodes = options.videos.value_or(spec.videos);
   if (videos.episodes > 0) dataset::video::ShowOnlyVideoErrors();

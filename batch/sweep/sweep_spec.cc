@@ -10,6 +10,7 @@
 #include "batch/cell/cell_folder_name.h"
 #include "batch/output/setting_error.h"
 #include "batch/perturb/perturbation_catalog.h"
+#include "batch/sweep/sequential_spec.h"
 #include "batch/sweep/spec_lists.h"
 #include "configs/robot_config.h"
 #include "configs/yaml_reader.h"
@@ -258,7 +259,7 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
   SweepSpec spec;
   spec.source = source;
   RejectUnknownKeys(root, {"suites", "tasks", "robots", "splits", "cameras", "seeds", "episodes", "envs", "videos",
-                           "policy", "policies", "perturbations", "figures"});
+                           "policy", "policies", "perturbations", "figures", "sequential"});
   const auto suites = root.Optional("suites");
   const auto tasks = root.Optional("tasks");
   if (!suites && !tasks) root.Fail("needs suites: [...] or tasks: [...] (or both)");
@@ -283,6 +284,7 @@ SweepSpec ReadSpec(const YamlValue& root, const std::string& source, const std::
     spec.perturbations = ReadPerturbations(*perturbations, config_dir);
   RequireDistinctCellLabels(root, spec);
   if (const auto figures = root.Optional("figures")) ReadFigures(*figures, spec);
+  if (const auto sequential = root.Optional("sequential")) spec.sequential = ReadSequential(*sequential, spec);
   root.ExpectNoOtherKeys();
   return spec;
 }
@@ -315,6 +317,8 @@ nlohmann::ordered_json SweepSpecJson(const SweepSpec& spec) {
     for (const std::vector<std::string>& choices : spec.perturbations) sets.push_back(choices);
     json["perturbations"] = sets;
   }
+  // Absent when off, as in manifests written before it existed.
+  if (spec.sequential.enabled) json["sequential"] = report::SequentialSettingsJson(spec.sequential);
   return json;
 }
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/cell/evaluation_cell.h"
+#include "batch/report/sequential_pairs.h"
 #include "batch/sweep/policy_spec.h"
 
 namespace tavis::batch::sweep {
@@ -37,6 +38,8 @@ struct SweepSpec {
   // Which labels the paper's figures and headline numbers take (figures:); empty: the defaults
   // of report::FigureChoices.
   nlohmann::ordered_json figures = nlohmann::ordered_json::object();
+  // sequential: the opt-in sequential paired test (sequential_spec.h); off by default.
+  report::SequentialSettings sequential;
 };
 
 struct SweepCell {

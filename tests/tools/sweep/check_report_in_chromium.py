@@ -226,6 +226,21 @@ def expected_tables(summary):
               pct(r["base_rate"]), pct(r["perturbed_rate"]), str(r["both"]), str(r["base_only"]),
               str(r["perturbed_only"]), str(r["neither"]), pvalue(r["mcnemar_p"])]
              for r in summary["paired_perturbations"]])
+    if "sequential" in summary:
+        def side(r, which):
+            return r[which + "_label"] + " " + r[which + "_camera"]
+
+        def decision(r):
+            if r["outcome"] == "undecided":
+                return "undecided"
+            return side(r, "first" if r["outcome"] == "first_better" else "second") + " better"
+        tables["sequential_pairs"] = (
+            ["kind", "first", "second", "task", "robot", "split", "seed", "stopped at", "cap", "decision",
+             "decided at", "first only", "second only", "e-value", "episodes saved"],
+            [[r["kind"], side(r, "first"), side(r, "second"), r["task"], r["robot"], r["split"], str(r["seed"]),
+              str(r["stopped_at"]), str(r["cap"]), decision(r),
+              "-" if r["decided_at"] is None else str(r["decided_at"]), str(r["first_only"]), str(r["second_only"]),
+              pvalue(r["e_value"]), str(r["episodes_saved"])] for r in summary["sequential"]["pairs"]])
     if summary["seed_groups"]:
         rows = []
         for group in summary["seed_groups"]:
@@ -288,6 +303,7 @@ TITLES = {
     "stage_funnel_episodes": "Stage funnel: episodes, success rate and simulator faults per camera",
     "paired_camera_sets": "Camera sets vs head on matched episodes",
     "paired_perturbations": "Perturbations vs the base scene on matched episodes",
+    "sequential_pairs": "Sequential paired test: where each pair stopped",
     "seed_groups": "Seed groups: success rate (%) across checkpoints (training seeds of one recipe)",
     "headline": "Headline numbers (suite means averaged over robots, %)",
     "cells": "Cells",
