@@ -111,7 +111,8 @@ CellResult RunCellInFolder(CellPlan plan, const CellFolderOptions& options, cons
   }
   folder.SwapIn(*stream);  // a cell with nothing left to run
   PrependResumed(*stream, result);
-  WriteCellSummary(result, {options.threads, static_cast<int64_t>(stream->resumed().size())}, options.out.string());
+  WriteCellSummary(result, {options.threads, static_cast<int64_t>(stream->resumed().size())}, options.out.string(),
+                   options.label);
   if (attached.finish) attached.finish(result);
   return result;
 }

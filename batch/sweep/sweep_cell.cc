@@ -68,6 +68,7 @@ cell::CellResult RunCellInto(const cell::CellPlan& plan, const fs::path& dir, in
   // A cell that failed keeps its folder: the next run of the sweep continues it or starts it over.
   folder.remove_new_folder_on_failure = false;
   folder.threads = threads;
+  folder.label = label;
   folder.progress = progress;
   if (!folder.resume) fs::remove_all(dir);
   std::unique_ptr<rollout::CellVideos> films;
