@@ -41,7 +41,7 @@ class HoldPolicy : public PerEnvPolicy {
 };
 
 // Plays one CSV in every episode, or, given a folder (a served cell's DIR/actions), episode i's
-// own DIR/episode_<i>.csv, read when the episode starts.
+// own DIR/episode_<i>.csv (or .csv.gz, as cells save them), read when the episode starts.
 class ReplayPolicy : public PerEnvPolicy {
  public:
   ReplayPolicy(const std::string& actions, int num_envs)
@@ -58,12 +58,14 @@ class ReplayPolicy : public PerEnvPolicy {
  private:
   void ResetEnv(const Observation& observation, int env) override {
     if (folder_.empty()) return;
-    const std::filesystem::path path =
-        std::filesystem::path(folder_) / ("episode_" + std::to_string(observation.state.episode[env]) + ".csv");
-    if (!std::filesystem::exists(path)) {
-      throw std::runtime_error("policy 'replay': " + path.string() +
-                               " does not exist (the folder has no actions for episode " +
-                               std::to_string(observation.state.episode[env]) + ")");
+    const int64_t episode = observation.state.episode[env];
+    const std::filesystem::path path = FindEpisodeActions(folder_, episode);
+    if (path.empty()) {
+      throw std::runtime_error(
+          "policy 'replay': " +
+          (std::filesystem::path(folder_) / ("episode_" + std::to_string(episode) + ".csv")).string() +
+          " does not exist, nor " + EpisodeActionsName(episode) + " (the folder has no actions for episode " +
+          std::to_string(episode) + ")");
     }
     per_env_[static_cast<std::size_t>(env)] = ReadActionCsv(path);
   }

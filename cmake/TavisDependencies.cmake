@@ -7,6 +7,7 @@ find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(Threads REQUIRED)
 find_package(PNG 1.6 REQUIRED)  # libpng-dev: the PNG files of renders, frames and figures
+find_package(ZLIB REQUIRED)  # zlib1g-dev (libpng's own dependency): a cell's saved actions, gzip-compressed
 
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)

@@ -1,7 +1,6 @@
 // `tavis table`: success-rate tables in the paper's layout from a folder of cell results.
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -9,8 +8,7 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "batch/report/policy_label.h"
 #include "batch/report/results_table.h"
 #include "batch/report/stage_funnel_table.h"
 #include "configs/robot_config.h"
@@ -29,19 +27,6 @@ struct TableOptions {
   std::string label;         // keep only the cells of this policy label
   bool pool_labels = false;  // declared: pool cells of different labels
 };
-
-// A cell's policy label: its folder's policy.json (written by `tavis sweep`), else its policy's
-// name (summary.json's "policy"), else "unlabelled".
-std::string CellLabel(const batch::report::CellCounts& cell) {
-  const std::filesystem::path policy_file = std::filesystem::path(cell.source).parent_path() / "policy.json";
-  std::ifstream in(policy_file);
-  if (in) {
-    const nlohmann::json policy = nlohmann::json::parse(in, nullptr, false);
-    if (policy.is_object() && policy.contains("label") && policy["label"].is_string()) return policy["label"];
-    throw std::runtime_error(policy_file.string() + ": needs a string \"label\"");
-  }
-  return cell.policy.empty() ? "unlabelled" : cell.policy;
-}
 
 // The cells the table pools: those of --label, or all of them when they share one label or
 // --pool-labels declares the pooling; anything else is refused, naming the labels.
@@ -79,8 +64,10 @@ void RunTable(const TableOptions& options) {
     throw std::invalid_argument("--label and --pool-labels exclude each other");
   // Two labels may evaluate the same cell and seed (two checkpoints): the label is part of the
   // duplicate check.
-  const std::vector<batch::report::CellCounts> cells = CellsOfOneLabel(
-      batch::report::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir()), CellLabel), options);
+  const std::vector<batch::report::CellCounts> cells =
+      CellsOfOneLabel(batch::report::LoadCellResults(options.in_dir, configs::KnownRobots(DefaultConfigDir()),
+                                                     batch::report::PolicyLabelOf),
+                      options);
   const batch::report::ResultsTable table = batch::report::BuildResultsTable(cells, options.suite);
   for (const std::string& source : table.skipped_empty) {
     std::cerr << "tavis table: note: " << source << " holds no episodes (n_episodes 0): left out of the table\n";

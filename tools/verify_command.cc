@@ -1,12 +1,15 @@
 // `tavis verify DIR`: re-simulates every cell under DIR from its saved actions and compares the
-// records (batch/cell/cell_verification.h); exit status 0 when every cell verifies, 1 when a record
-// or a config differs, 2 when a cell cannot be verified (none found, no actions, unreadable files).
+// records (batch/cell/cell_verification.h); DIR may be a submission (batch/cell/submission_card.h),
+// whose card is checked first. Exit status 0 when every cell verifies, 1 when a record or a config
+// differs (or a cell does not match the card), 2 when a cell cannot be verified (none found, no
+// actions, unreadable files) or the card is malformed.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -16,6 +19,7 @@
 #include <tbb/info.h>
 
 #include "batch/cell/cell_verification.h"
+#include "batch/cell/submission_card.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/output_folder.h"
 #include "batch/output/program_version.h"
@@ -91,8 +95,18 @@ int Verify(const VerifyOptions& options) {
   if (!options.json_out.empty() && batch::output::IsSameOrInside(options.json_out, dir))
     throw std::invalid_argument("--json " + options.json_out + " is inside " + options.dir +
                                 ": verify writes nothing there; give a file elsewhere");
-  const std::vector<fs::path> cells = batch::cell::FindCells(dir);
-  if (cells.empty()) throw std::invalid_argument("no cell found under " + options.dir + " (no cell.json at any depth)");
+  // A submission's card is checked first (a bad field exits 2, naming it); its cells are those of
+  // its results folder.
+  std::optional<batch::cell::SubmissionCard> card;
+  if (batch::cell::IsSubmission(dir)) {
+    card = batch::cell::ReadSubmissionCard(dir);
+    std::cout << "submission " << options.dir << ": " << card->model << " " << card->version << " ("
+              << card->policy_family << "), results " << fs::relative(card->results, dir).string() << std::endl;
+  }
+  const fs::path results = card ? card->results : dir;
+  const std::vector<fs::path> cells = batch::cell::FindCells(results);
+  if (cells.empty())
+    throw std::invalid_argument("no cell found under " + results.string() + " (no cell.json at any depth)");
   int64_t total = 0;
   for (const fs::path& cell : cells) total += batch::cell::RecordedEpisodeCount(cell);
   ProgressReporter reporter(stderr, ProgressReporter::StyleFor(stderr));
@@ -107,6 +121,14 @@ int Verify(const VerifyOptions& options) {
   for (const fs::path& cell : cells) {
     const std::string name = CellName(cell, dir);
     try {
+      const std::string mismatch = card ? batch::cell::CardMismatch(*card, cell) : "";
+      if (!mismatch.empty()) {
+        std::cout << "FAIL " << name << ": does not match the submission card: " << mismatch << std::endl;
+        tally.cells.push_back({{"cell", name}, {"path", cell.string()}, {"outcome", "fail"}, {"card", mismatch}});
+        ++tally.failed;
+        done_before += batch::cell::RecordedEpisodeCount(cell);
+        continue;
+      }
       const CellVerification verification = batch::cell::VerifyCell(cell, settings);
       std::cout << batch::cell::VerificationLine(verification, name) << std::endl;
       Count(verification, name, tally);
@@ -125,18 +147,19 @@ int Verify(const VerifyOptions& options) {
   std::cout << SummaryLine(tally, cells.size(), options) << std::endl;
   const int status = tally.ExitStatus(options.skip_unverifiable);
   if (!options.json_out.empty()) {
-    const nlohmann::json report = {{"dir", options.dir},
-                                   {"program_version", batch::output::ProgramVersion()},
-                                   {"cells", tally.cells},
-                                   {"summary",
-                                    {{"cells", cells.size()},
-                                     {"ok", tally.ok},
-                                     {"failed", tally.failed},
-                                     {"no_actions", tally.skipped},
-                                     {"unreadable", tally.unreadable},
-                                     {"episodes", tally.episodes},
-                                     {"identical", tally.identical}}},
-                                   {"exit_status", status}};
+    nlohmann::json report = {{"dir", options.dir},
+                             {"program_version", batch::output::ProgramVersion()},
+                             {"cells", tally.cells},
+                             {"summary",
+                              {{"cells", cells.size()},
+                               {"ok", tally.ok},
+                               {"failed", tally.failed},
+                               {"no_actions", tally.skipped},
+                               {"unreadable", tally.unreadable},
+                               {"episodes", tally.episodes},
+                               {"identical", tally.identical}}},
+                             {"exit_status", status}};
+    if (card) report["submission"] = card->json;
     batch::output::WriteFileAtomically(options.json_out, report.dump(2) + "\n");
   }
   return status;
@@ -154,7 +177,11 @@ void RegisterVerifyCommand(CLI::App& app) {
       "perturbation levels with the cell's identity. Writes nothing under DIR. Exit status 0: every cell\n"
       "verifies; 1: a record or a config differs; 2: a cell cannot be verified (none found, no actions,\n"
       "an unreadable file).");
-  verify->add_option("DIR", options->dir, "A cell's folder, or a folder holding cells at any depth")->required();
+  verify
+      ->add_option("DIR", options->dir,
+                   "A cell's folder, a folder holding cells at any depth, or a submission (a folder with\n"
+                   "submission.json, whose card is checked and whose results folder is verified)")
+      ->required();
   AddConfigDirOption(*verify, options->config_dir);
   verify->add_option("--threads", options->threads, "Worker threads (0 = all cores; results do not depend on it)")
       ->check(IntegerIn(0, 1024))

@@ -121,7 +121,8 @@ CellResult RunCellInFolder(CellPlan plan, const CellFolderOptions& options, cons
   folder.SwapIn(*stream);  // a cell with nothing left to run
   PrependResumed(*stream, result);
   if (stops_short && !options.complete_at_stop) return result;  // paused: no summary, as if interrupted
-  WriteCellSummary(result, {options.threads, static_cast<int64_t>(stream->resumed().size())}, options.out.string());
+  WriteCellSummary(result, {options.threads, static_cast<int64_t>(stream->resumed().size())}, options.out.string(),
+                   options.label);
   if (attached.finish) attached.finish(result);
   return result;
 }

@@ -28,7 +28,8 @@ struct CellFolderOptions {
   std::string command = "eval";  // who holds the folder's lock while the cell runs
   // A folder this run created is removed if the cell fails before its first record.
   bool remove_new_folder_on_failure = true;
-  int threads = 0;  // recorded in summary.json
+  int threads = 0;    // recorded in summary.json
+  std::string label;  // the policy label summary.json's provenance names (empty: the policy's name)
   ProgressCallback progress;
   // Run only the episodes before this one (a sweep's sequential test runs a cell in blocks);
   // negative: to the cell's end. A cell stopped short of its end pauses there, as an interrupted

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/action_csv.h"
+#include "batch/cell/cell_provenance.h"
 #include "batch/cell/galt_summary.h"
 #include "batch/cell/stage_record.h"
 #include "batch/cell/statistics.h"
@@ -94,8 +95,8 @@ std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
 void WriteReplayCsv(const EpisodeRecord& record, const std::filesystem::path& out_dir) {
   const std::filesystem::path dir = out_dir / "actions";
   output::MakeOwnFolder(dir);  // never a link to elsewhere
-  const std::filesystem::path path = dir / ("episode_" + std::to_string(record.episode) + ".csv");
-  WriteActionCsv(output::FreshPartialPath(path), record.replay_actions);
+  const std::filesystem::path path = dir / EpisodeActionsName(record.episode);
+  WriteActionCsv(output::FreshPartialPath(path), record.replay_actions, ActionFileFormat::kGzip);
   output::RenamePartialIntoPlace(path);
 }
 
@@ -110,7 +111,8 @@ void WriteCellReport(const CellResult& result, const RunInfo& info, const std::s
   WriteCellSummary(result, info, out_dir);
 }
 
-void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::string& out_dir) {
+void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::string& out_dir,
+                      const std::string& label) {
   const EvaluationCellConfig& config = result.config;
   const int n = static_cast<int>(result.episodes.size());
   const ProportionInterval ci = WilsonInterval(result.successes, n);
@@ -169,6 +171,8 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
         {"round_trip", MillisecondsJson(result.requests->round_trip_ms)},
         {"server_infer", MillisecondsJson(result.requests->server_infer_ms)}};
   }
+  // Where the cell came from and how it ran: never compared (cell_provenance.h).
+  summary["provenance"] = CellProvenanceJson(result, {label, info.threads});
   output::WriteFileAtomically(std::filesystem::path(out_dir) / "summary.json", summary.dump(2) + "\n");
 }
 

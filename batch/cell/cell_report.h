@@ -1,8 +1,8 @@
 // Writes an evaluation cell's results: DIR/episodes.jsonl (one object per episode),
-// DIR/summary.json, and for a served policy DIR/actions/episode_<i>.csv (the actions each episode
-// stepped with, one row per policy step, for --policy replay) and its request timings. Files are
-// written to a temporary name and renamed, so an interrupted run never leaves a half-written
-// result in place of a good one.
+// DIR/summary.json, and for a served policy DIR/actions/episode_<i>.csv.gz (the actions each episode
+// stepped with, one row per policy step, gzip-compressed, for --policy replay and tavis verify) and its request
+// timings. Files are written to a temporary name and renamed, so an interrupted run never leaves a half-written result
+// in place of a good one.
 #pragma once
 
 #include <cstdint>
@@ -22,13 +22,15 @@ struct RunInfo {
 void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir);
 
 // DIR/summary.json alone, for a cell whose records were streamed (CellRecordStream).
-void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::string& out_dir);
+// `label`: the policy label its provenance names (empty: the policy's name).
+void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::string& out_dir,
+                      const std::string& label = "");
 
 // An episode's line of episodes.jsonl (no newline).
 std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed);
 
-// DIR/actions/episode_<i>.csv: the actions a served policy's episode stepped with, one row per
-// policy step, for --policy replay.
+// DIR/actions/episode_<i>.csv.gz: the actions a served policy's episode stepped with, one row per
+// policy step, gzip-compressed (2.2x smaller than the plain CSV), for --policy replay.
 void WriteReplayCsv(const EpisodeRecord& record, const std::filesystem::path& out_dir);
 
 // One line for the terminal: task, robot, split, policy, success rate with its interval, time,

@@ -63,7 +63,7 @@ std::vector<CellSetting> ThePolicy() {
           .Records(Recorded::kAlways, Recorded::kAlways)
           .Flag("--expert-hz", EvalOption::kShowingDefault,
                 "60 (its action may change every control tick) or 20 (held for three ticks, as\n"
-                "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv, which\n"
+                "a 20 Hz policy acts; each episode's actions are saved as DIR/actions/episode_<i>.csv.gz, which\n"
                 "--policy replay --actions DIR/actions plays back exactly)")
           .Choices({60, 20}),
       OfPolicy(SettingScope::kReplay, "actions_file", &Config::actions_file)
@@ -71,7 +71,8 @@ std::vector<CellSetting> ThePolicy() {
           .InSpec("actions", true)
           .Flag("--actions", EvalOption::kHidingDefault,
                 "T x 19 CSV of canonical actions, one row per 20 Hz step, played in every\n"
-                "episode; or a folder of episode_<i>.csv (a served cell's DIR/actions), episode i playing its own"),
+                "episode; or a folder of episode_<i>.csv or .csv.gz (a served cell's DIR/actions), episode i playing\n"
+                "its own"),
   };
 }
 

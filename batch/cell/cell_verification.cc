@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "batch/action_csv.h"
 #include "batch/cell/cell_plan.h"
 #include "batch/cell/cell_record_stream.h"
 #include "batch/cell/cell_report.h"
@@ -289,9 +290,10 @@ CellVerification VerifyCell(const fs::path& cell, const VerifySettings& settings
   std::map<int64_t, json> resimulated;
   CellPlan plan = PlanCell(ReplayConfig(recorded, cell, std::max<int64_t>(episodes, 1), settings.config_dir));
   for (int64_t episode = recorded.episode_start; episode < recorded.episode_start + episodes; ++episode) {
-    const fs::path actions = cell / "actions" / ("episode_" + std::to_string(episode) + ".csv");
-    if (!fs::exists(actions))
-      throw std::invalid_argument(actions.string() + ": missing: the cell's actions are incomplete");
+    if (FindEpisodeActions(cell / "actions", episode).empty())
+      throw std::invalid_argument((cell / "actions" / EpisodeActionsName(episode)).string() +
+                                  ": missing (nor a plain episode_" + std::to_string(episode) +
+                                  ".csv): the cell's actions are incomplete");
   }
   if (episodes > 0) resimulated = Resimulate(plan, recorded, records, settings.progress);
   verification.identity = CompareIdentity(cell_json, plan);

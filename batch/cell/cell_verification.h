@@ -1,5 +1,6 @@
 // Verifying a cell's records (`tavis verify`): every episode of a cell that saved its actions
-// (DIR/actions/episode_<i>.csv: a served cell, an expert cell at expert_hz 20) is re-simulated
+// (DIR/actions/episode_<i>.csv.gz, or the plain .csv older cells saved: a served cell, an expert
+// cell at expert_hz 20) is re-simulated
 // from them with the settings its cell.json records, in memory (nothing is written anywhere), and
 // its record compared field by field with its line of episodes.jsonl; what the re-simulation reads
 // now (the robot file, the perturbation levels' settings, the program) is compared with what

@@ -37,11 +37,17 @@ namespace fs = std::filesystem;
 const std::vector<std::string>& OwnPaths(OutputKind kind) {
   // An evaluation cell's files, under `prefix` (a sweep's cells/NAME/).
   const auto cell_paths = [](const std::string& prefix) {
-    return std::vector<std::string>{prefix + "cell.json",         prefix + "episodes.jsonl",
-                                    prefix + "summary.json",      prefix + "profile.json",
-                                    prefix + "actions/",          prefix + "actions/episode_*.csv",
-                                    prefix + "videos/",           prefix + "videos/episode_*.mp4",
-                                    prefix + "videos/episode_*/", prefix + "videos/episode_*/frame_*.png"};
+    return std::vector<std::string>{prefix + "cell.json",
+                                    prefix + "episodes.jsonl",
+                                    prefix + "summary.json",
+                                    prefix + "profile.json",
+                                    prefix + "actions/",
+                                    prefix + "actions/episode_*.csv",
+                                    prefix + "actions/episode_*.csv.gz",
+                                    prefix + "videos/",
+                                    prefix + "videos/episode_*.mp4",
+                                    prefix + "videos/episode_*/",
+                                    prefix + "videos/episode_*/frame_*.png"};
   };
   static const std::vector<std::string> cell = cell_paths("");
   static const std::vector<std::string> dataset = {

@@ -9,4 +9,8 @@ namespace tavis::batch::output {
 // ("unknown" outside a git checkout).
 std::string ProgramVersion();
 
+// The full commit hash (`git rev-parse HEAD`) of that source tree ("unknown" outside a git
+// checkout): what ProgramVersion's short hash abbreviates, for a provenance record.
+std::string ProgramRevision();
+
 }  // namespace tavis::batch::output

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "batch/cell/statistics.h"
+#include "batch/report/policy_label.h"
 
 namespace tavis::batch::report {
 namespace {
@@ -73,16 +74,20 @@ CellIdentity IdentityOf(const CellCounts& cell) {
   return {cell.task, cell.robot, cell.split, cell.camera, cell.perturbations, cell.seed};
 }
 
-std::vector<CellCounts> LoadComparedCells(const std::filesystem::path& folder) {
+std::vector<CellCounts> LoadComparedCells(const std::filesystem::path& folder, const std::string& label) {
   const std::vector<std::filesystem::path> paths = FindCellSummaries(folder);
   if (paths.empty()) {
     throw std::runtime_error(folder.string() + ": holds no cell (no summary.json at any depth, as `tavis eval` and " +
                              "`tavis sweep` write them)");
   }
   std::vector<CellCounts> cells;
-  std::map<CellIdentity, std::string> sources;
+  std::map<CellIdentity, const CellCounts*> earlier_of;
+  std::map<std::string, int> labels;  // every label there, with its cells
   for (const std::filesystem::path& path : paths) {
     CellCounts cell = ReadCellResult(path);
+    cell.label = PolicyLabelOf(cell);
+    ++labels[cell.label];
+    if (!label.empty() && cell.label != label) continue;
     if (!cell.has_records) {
       throw std::runtime_error(path.string() + ": no episodes.jsonl beside it: compare pairs the cells' episodes");
     }
@@ -91,12 +96,23 @@ std::vector<CellCounts> LoadComparedCells(const std::filesystem::path& folder) {
                                std::to_string(cell.n_episodes - static_cast<int64_t>(cell.record_keys.size())) +
                                " records do not name their \"seed\" and \"episode\": they cannot be paired");
     }
-    const auto [earlier, inserted] = sources.emplace(IdentityOf(cell), cell.source);
-    if (!inserted) {
-      throw std::runtime_error(folder.string() + " holds two cells of " + IdentityOf(cell).label() + ": " +
-                               earlier->second + " and " + cell.source + " (compare one policy's cells per folder)");
-    }
     cells.push_back(std::move(cell));
+  }
+  std::string label_list;
+  for (const auto& [name, n] : labels)
+    label_list +=
+        (label_list.empty() ? "" : ", ") + name + " (" + Plural(static_cast<std::size_t>(n), "cell", "cells") + ")";
+  if (cells.empty())
+    throw std::runtime_error(folder.string() + ": no cell has label " + label + " (labels: " + label_list + ")");
+  for (const CellCounts& cell : cells) {
+    const auto [earlier, inserted] = earlier_of.emplace(IdentityOf(cell), &cell);
+    if (inserted) continue;
+    const bool two_labels = earlier->second->label != cell.label;
+    throw std::runtime_error(folder.string() + " holds two cells of " + IdentityOf(cell).label() + ": " +
+                             earlier->second->source + " and " + cell.source +
+                             (two_labels ? " (policy labels " + earlier->second->label + " and " + cell.label +
+                                               ": choose one with --label, labels there: " + label_list + ")"
+                                         : " (compare one policy's cells per folder)"));
   }
   return cells;
 }

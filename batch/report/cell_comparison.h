@@ -39,10 +39,13 @@ struct CellIdentity {
 CellIdentity IdentityOf(const CellCounts& cell);
 
 // The cells of one side: every summary.json under `folder` (itself a cell, or a folder of cells at
-// any depth), read by ReadCellResult with its episodes.jsonl. Throws std::runtime_error naming the
-// file and the problem: a folder without any cell, unreadable or invalid JSON, a cell without
-// episodes.jsonl or whose records do not all name their seed and episode, two cells of one identity.
-std::vector<CellCounts> LoadComparedCells(const std::filesystem::path& folder);
+// any depth), read by ReadCellResult with its episodes.jsonl, each labelled by PolicyLabelOf; with
+// a `label`, only the cells of that label (a sweep holding several policies). Throws
+// std::runtime_error naming the file and the problem: a folder without any cell, unreadable or
+// invalid JSON, a cell without episodes.jsonl or whose records do not all name their seed and
+// episode, no cell of `label` (naming the labels there), two cells of one identity (naming their
+// labels when they differ, which a `label` tells apart).
+std::vector<CellCounts> LoadComparedCells(const std::filesystem::path& folder, const std::string& label = "");
 
 // Episodes of `a` and `b` paired by (seed, episode index): only the episodes both recorded count.
 PairedCounts PairEpisodes(const CellCounts& a, const CellCounts& b);

@@ -71,6 +71,7 @@ cell::CellResult RunCellInto(const cell::CellPlan& plan, const fs::path& dir, in
   // A cell that failed keeps its folder: the next run of the sweep continues it or starts it over.
   folder.remove_new_folder_on_failure = false;
   folder.threads = threads;
+  folder.label = label;
   folder.progress = progress;
   folder.stop_before = stop_before;
   folder.complete_at_stop = complete_at_stop;

@@ -13,7 +13,9 @@
 #include "batch/output/atomic_file.h"
 #include "batch/output/json_error_text.h"
 #include "batch/output/program_version.h"
+#include "batch/output/run_provenance.h"
 #include "batch/output/settings_difference.h"
+#include "batch/output/sha256.h"
 #include "batch/output/utc_time.h"
 
 namespace tavis::batch::sweep {
@@ -39,7 +41,14 @@ SweepManifest::SweepManifest(const SweepSpec& spec, const std::string& spec_yaml
            {"machine", MachineJson()},
            {"shard", {{"index", shard.index}, {"count", shard.count}}},
            {"cells", cells},
-           {"timing", {{"started", output::UtcNow()}, {"updated", output::UtcNow()}}}};
+           {"timing", {{"started", output::UtcNow()}, {"updated", output::UtcNow()}}},
+           // Never compared by a resume or a merge (RequireSameSweep, sweep_merge.cc): how and where it ran.
+           {"provenance",
+            {{"program", output::ProgramProvenanceJson()},
+             {"spec",
+              {{"file", std::filesystem::path(spec.source).filename().string()},
+               {"sha256", "sha256:" + output::Sha256Hex(spec_yaml)}}},
+             {"machine", output::MachineJson(0)}}}};
 }
 
 nlohmann::ordered_json SweepManifest::Read(const std::filesystem::path& dir) {
@@ -104,6 +113,7 @@ void SweepManifest::SetTiming(double wall_s, int threads, int jobs) {
   json_["timing"]["wall_s"] = wall_s;
   json_["timing"]["threads"] = threads;
   json_["timing"]["concurrent_cells"] = jobs;
+  json_["provenance"]["machine"]["threads_used"] = threads;
   json_["timing"]["updated"] = output::UtcNow();
 }
 

@@ -1,6 +1,8 @@
 // DIR/manifest.json of a sweep: the spec (its settings and its text), the program version (git
-// describe at build time), the machine, the shard, and each cell's state (pending, interrupted,
-// running, complete). Rewritten atomically on every change, so a reader sees one whole version.
+// describe at build time), the machine, the shard, each cell's state (pending, interrupted,
+// running, complete) and its provenance (the program's full git revision, the spec text's sha256,
+// the CPU model and threads: batch/output/run_provenance.h). Rewritten atomically on every change, so a reader sees one
+// whole version.
 #pragma once
 
 #include <filesystem>

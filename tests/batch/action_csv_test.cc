@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -128,6 +131,65 @@ TEST(ActionCsv, WrittenActionsReadBackBitExactly) {
       EXPECT_EQ(read.values[row * 19 + column], rows[row][column]) << "row " << row << " column " << column;
     }
   }
+}
+
+// A cell's actions are saved gzip-compressed: they read back bit-exactly, the same actions give
+// the same bytes (no time stamp in the stream), and the file is a gzip stream that gzip reads.
+TEST(ActionCsv, CompressedActionsReadBackBitExactlyAndAreTheSameBytesEachTime) {
+  std::vector<kinematics::Action> rows(50);
+  for (std::size_t row = 0; row < rows.size(); ++row) {
+    for (std::size_t column = 0; column < rows[row].size(); ++column)
+      rows[row][column] = std::sin(0.37 * static_cast<double>(row * 19 + column)) / 3.0;
+  }
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tavis_action_csv_test_gzip";
+  std::filesystem::create_directories(dir);
+  WriteActionCsv(dir / "plain.csv", rows);
+  WriteActionCsv(dir / "a.csv.gz", rows, ActionFileFormat::kGzip);
+  WriteActionCsv(dir / "b.csv.gz", rows, ActionFileFormat::kGzip);
+  const auto bytes = [](const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string compressed = bytes(dir / "a.csv.gz");
+  EXPECT_EQ(compressed, bytes(dir / "b.csv.gz"));
+  ASSERT_GE(compressed.size(), 2u);
+  EXPECT_EQ(static_cast<unsigned char>(compressed[0]), 0x1f);  // the gzip magic
+  EXPECT_EQ(static_cast<unsigned char>(compressed[1]), 0x8b);
+  EXPECT_LT(compressed.size() * 2, bytes(dir / "plain.csv").size());
+  const ActionTrajectory read = ReadActionCsv(dir / "a.csv.gz");
+  const ActionTrajectory plain = ReadActionCsv(dir / "plain.csv");
+  ASSERT_EQ(read.num_steps, 50);
+  EXPECT_EQ(read.values, plain.values);
+  for (std::size_t row = 0; row < rows.size(); ++row) {
+    for (std::size_t column = 0; column < rows[row].size(); ++column)
+      ASSERT_EQ(read.values[row * 19 + column], rows[row][column]) << "row " << row << " column " << column;
+  }
+  // gzip itself reads it as the plain CSV: another reader than ours.
+  const std::string command =
+      "gzip -dc '" + (dir / "a.csv.gz").string() + "' > '" + (dir / "gunzipped.csv").string() + "'";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(bytes(dir / "gunzipped.csv"), bytes(dir / "plain.csv"));
+  // A cut stream is named, not read as fewer rows.
+  std::ofstream(dir / "cut.csv.gz", std::ios::binary) << compressed.substr(0, compressed.size() / 2);
+  const std::string error =
+      testing::ThrownMessage<std::runtime_error>([&dir] { ReadActionCsv(dir / "cut.csv.gz"); }, "no error");
+  EXPECT_EQ(error.rfind((dir / "cut.csv.gz").string() + ": damaged gzip data: ", 0), 0u) << error;
+  std::filesystem::remove_all(dir);
+}
+
+// Episode i's actions in a folder: the plain CSV of older cells first, else the compressed one.
+TEST(ActionCsv, EpisodeActionsAreFoundPlainOrCompressed) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tavis_action_csv_test_find";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  EXPECT_EQ(EpisodeActionsName(7), "episode_7.csv.gz");
+  EXPECT_TRUE(FindEpisodeActions(dir, 7).empty());
+  WriteActionCsv(dir / "episode_7.csv.gz", {kinematics::Action{}}, ActionFileFormat::kGzip);
+  EXPECT_EQ(FindEpisodeActions(dir, 7), dir / "episode_7.csv.gz");
+  WriteActionCsv(dir / "episode_7.csv", {kinematics::Action{}});
+  EXPECT_EQ(FindEpisodeActions(dir, 7), dir / "episode_7.csv");
+  EXPECT_TRUE(FindEpisodeActions(dir, 8).empty());
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ActionCsv, UnwritableFileIsNamed) {

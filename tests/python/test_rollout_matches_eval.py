@@ -10,9 +10,9 @@ from conftest import TASK
 
 EPISODES = 16
 SEED = 7
-# Differ by design: timing, the thread count, the env slots, and the control ticks (the Python
-# loop keeps refilling slots after the 16th episode has started).
-RUN_DEPENDENT = {"wall_s", "threads", "control_ticks", "control_ticks_per_s", "envs", "render"}
+# Differ by design: timing, the thread count, the env slots, the control ticks (the Python
+# loop keeps refilling slots after the 16th episode has started) and the provenance (machine, times).
+RUN_DEPENDENT = {"wall_s", "threads", "control_ticks", "control_ticks_per_s", "envs", "render", "provenance"}
 
 
 def run_cli(out):

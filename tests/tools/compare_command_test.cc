@@ -136,6 +136,58 @@ TEST_F(CompareCommand, TwoSweepsPairCellByCell) {
   EXPECT_EQ(LastLine(same.out), "no regression at alpha 0.05 over 2 paired cells") << same.out;
 }
 
+// A sweep of two labelled policies holds two cells per identity: without --label compare refuses
+// it naming both labels (exit 2); --label picks one on both sides, --label-a/--label-b compare the
+// sweep's two policies against each other.
+TEST_F(CompareCommand, LabelPicksOnePolicyOfASweepHoldingTwo) {
+  const fs::path spec = root_ / "two.yaml";
+  std::ofstream(spec) << "tasks: [clutter-pick-lift]\nrobots: [gr1t2]\nsplits: [id]\ncameras: [head]\n"
+                         "seeds: [0]\nepisodes: 12\npolicies:\n  - {label: good, name: expert}\n"
+                         "  - {label: bad, name: hold}\n";
+  const fs::path sweep = root_ / "two";
+  const RunResult run = Run("sweep " + Quote(spec.string()) + " --threads 2 --quiet --out " + Quote(sweep.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  const RunResult mixed = Compare(sweep, sweep);
+  EXPECT_EQ(mixed.exit_code, 2) << mixed.out << mixed.err;
+  EXPECT_NE(mixed.err.find("policy labels "), std::string::npos) << mixed.err;
+  EXPECT_NE(mixed.err.find("labels there: bad (1 cell), good (1 cell)"), std::string::npos) << mixed.err;
+
+  const RunResult same = Compare(sweep, sweep, " --label good");
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_EQ(LastLine(same.out), "no regression at alpha 0.05 over 1 paired cell") << same.out;
+  const RunResult worse = Compare(sweep, sweep, " --label-a good --label-b bad");
+  EXPECT_EQ(worse.exit_code, 1) << worse.out << worse.err;
+  EXPECT_EQ(LastLine(worse.out).rfind("regression on 1 of 1 cell at alpha 0.05: clutter-pick-lift gr1t2 id head s0", 0),
+            0u)
+      << worse.out;
+  EXPECT_EQ(Compare(sweep, sweep, " --label-a bad --label-b good").exit_code, 0);
+
+  const RunResult unknown = Compare(sweep, sweep, " --label nobody");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find(sweep.string() + ": no cell has label nobody (labels: bad (1 cell), good (1 cell))"),
+            std::string::npos)
+      << unknown.err;
+  EXPECT_EQ(Compare(sweep, sweep, " --label good --label-b bad").exit_code, 2);
+}
+
+// --out inside a compared folder would put compare.json among the cells it reads: refused with
+// exit 2 before anything is written, as verify --json is.
+TEST_F(CompareCommand, OutInsideAComparedFolderIsRefused) {
+  Eval(root_ / "a", "expert", 2, 0);
+  Eval(root_ / "b", "expert", 2, 0);
+  for (const fs::path& out : {root_ / "a" / "report", root_ / "b", root_ / "b" / "deeper" / "report"}) {
+    const RunResult run = Compare(root_ / "a", root_ / "b", " --out " + Quote(out.string()));
+    EXPECT_EQ(run.exit_code, 2) << out;
+    EXPECT_NE(run.err.find("--out " + out.string() + " is inside "), std::string::npos) << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;
+  }
+  EXPECT_FALSE(fs::exists(root_ / "a" / "report"));
+  EXPECT_FALSE(fs::exists(root_ / "b" / "deeper"));
+  EXPECT_FALSE(fs::exists(root_ / "b" / "compare.json"));
+  EXPECT_EQ(Compare(root_ / "a", root_ / "b", " --out " + Quote((root_ / "report").string())).exit_code, 0);
+}
+
 TEST_F(CompareCommand, BadInputExitsTwoNamingTheFileAndWritesNothing) {
   fs::create_directories(root_ / "empty" / "inside");
   fs::create_directories(root_ / "broken" / "cell");

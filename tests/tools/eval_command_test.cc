@@ -270,10 +270,10 @@ TEST_F(EvalCommand, ServedPolicyCellSavesReplayableActionsAndAFailingServerLeave
   const fs::path replay_dir = root_ / "replayed";
   const RunResult replay =
       Run("eval --episodes 1 --envs 1 --seed 6 --quiet --policy replay --actions " +
-          Quote((dir / "actions" / "episode_0.csv").string()) + " --out " + Quote(replay_dir.string()));
+          Quote((dir / "actions" / "episode_0.csv.gz").string()) + " --out " + Quote(replay_dir.string()));
   ASSERT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_EQ(Lines(ReadText(replay_dir / "episodes.jsonl")), std::vector<std::string>{served[0]});
-  EXPECT_TRUE(fs::exists(dir / "actions" / "episode_1.csv"));
+  EXPECT_TRUE(fs::exists(dir / "actions" / "episode_1.csv.gz"));
   // Episode 1 alone, from the whole cell's actions folder: the same record, without running episode 0.
   const fs::path one_dir = root_ / "episode_1";
   const RunResult one = Run("eval --episode 1 --envs 1 --seed 6 --quiet --policy replay --actions " +

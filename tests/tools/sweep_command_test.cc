@@ -49,8 +49,8 @@ class SweepRuns : public SweepCommand {
     return Run("sweep " + Quote(spec_.string()) + " --out " + Quote(out.string()) + " --quiet " + options);
   }
   // What a run decides: every file but the manifest, each cell's summary without the fields that
-  // say how it ran (time, threads, resumed episodes, the control ticks of its last run only), the
-  // report without the manifest it shows.
+  // say how it ran (time, threads, resumed episodes, the control ticks of its last run only, the
+  // provenance: machine and time split), the report without the manifest it shows.
   static std::map<std::string, std::string> Results(const fs::path& dir) {
     std::map<std::string, std::string> files;
     for (const auto& [path, text] : Snapshot(dir)) {
@@ -58,7 +58,8 @@ class SweepRuns : public SweepCommand {
       if (name == "manifest.json") continue;
       if (name.rfind("cells/", 0) == 0 && fs::path(name).filename() == "summary.json") {
         nlohmann::json summary = nlohmann::json::parse(text);
-        for (const char* timing : {"wall_s", "control_ticks_per_s", "threads", "resumed_episodes", "control_ticks"}) {
+        for (const char* timing :
+             {"wall_s", "control_ticks_per_s", "threads", "resumed_episodes", "control_ticks", "provenance"}) {
           summary.erase(timing);
         }
         files[name] = summary.dump(2);

@@ -44,12 +44,18 @@ def free_port():
 
 def start_replay_server(source_dir, replay, record_dir=None, lifetime=900):
     """Starts policy_server.py answering each request with the saved action row of its (episode,
-    step) from `replay` (a folder of episode_<i>.csv), saving every request under `record_dir` if
-    given; returns (process, ws:// address) once its /healthz answers."""
+    step) from `replay` (a folder of episode_<i>.csv or .csv.gz), saving every request under
+    `record_dir` if given; returns (process, ws:// address) once its /healthz answers."""
+    return start_policy_server(source_dir, ["--replay-actions", replay], record_dir, lifetime)
+
+
+def start_policy_server(source_dir, options, record_dir=None, lifetime=900):
+    """Starts policy_server.py (horizon 1, 19 action entries) with further `options`, saving every
+    request under `record_dir` if given; returns (process, ws:// address) once its /healthz answers."""
     server = os.path.join(source_dir, "tests", "batch", "remote", "policy_server.py")
     port = free_port()
     command = ["/usr/bin/python3", server, "--port", str(port), "--horizon", "1", "--action-dim", "19",
-               "--replay-actions", replay, "--lifetime", str(lifetime)]
+               "--lifetime", str(lifetime)] + list(options)
     if record_dir is not None:
         command += ["--record-dir", record_dir]
     process = subprocess.Popen(command, cwd=os.path.dirname(server))

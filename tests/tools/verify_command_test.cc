@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -39,6 +41,32 @@ class VerifyCommand : public TavisCommandTest {
   }
 };
 
+// A gzip file's text, read by gzip itself.
+std::string Gunzipped(const fs::path& path) {
+  const fs::path plain = path.parent_path() / (path.stem().string() + ".gunzipped");
+  EXPECT_EQ(std::system(("gzip -dc " + Quote(path.string()) + " > " + Quote(plain.string())).c_str()), 0);
+  std::string text = ReadText(plain);
+  fs::remove(plain);
+  return text;
+}
+
+// Writes `text` to `path` compressed by gzip itself.
+void WriteGzipped(const fs::path& path, const std::string& text) {
+  const fs::path plain = path.parent_path() / "text.tmp";
+  std::ofstream(plain) << text;
+  EXPECT_EQ(std::system(("gzip -n -c " + Quote(plain.string()) + " > " + Quote(path.string())).c_str()), 0);
+  fs::remove(plain);
+}
+
+// A cell as the versions before compressed actions left it: actions/episode_<i>.csv, plain.
+void DecompressActions(const fs::path& cell) {
+  for (const auto& entry : fs::directory_iterator(cell / "actions")) {
+    if (entry.path().extension() != ".gz") continue;
+    std::ofstream(entry.path().parent_path() / entry.path().stem()) << Gunzipped(entry.path());
+    fs::remove(entry.path());
+  }
+}
+
 std::string Replaced(std::string text, const std::string& from, const std::string& to) {
   const std::size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
@@ -48,7 +76,8 @@ std::string Replaced(std::string text, const std::string& from, const std::strin
 
 TEST_F(VerifyCommand, AnExpertCellAt20HzVerifiesAndNothingInItIsWritten) {
   const fs::path cell = ExpertCell("expert", 4);
-  ASSERT_TRUE(fs::exists(cell / "actions" / "episode_3.csv"));
+  ASSERT_TRUE(fs::exists(cell / "actions" / "episode_3.csv.gz"));
+  EXPECT_FALSE(fs::exists(cell / "actions" / "episode_3.csv"));
   const auto before = Snapshot(cell);
   const fs::path report = root_ / "report.json";
   const RunResult run = Verify(cell, "--threads 2 --json " + Quote(report.string()));
@@ -74,9 +103,19 @@ TEST_F(VerifyCommand, AServedCellVerifies) {
       Run("eval --episodes 2 --envs 2 --seed 6 --quiet --image-size 32x24 --policy openpi --server " +
           server.address() + " --out " + Quote(cell.string()));
   ASSERT_EQ(served.exit_code, 0) << served.err;
+  // A served cell always keeps its actions, compressed.
+  EXPECT_TRUE(fs::exists(cell / "actions" / "episode_0.csv.gz"));
+  EXPECT_TRUE(fs::exists(cell / "actions" / "episode_1.csv.gz"));
   const RunResult run = Verify(cell);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find("ok   " + cell.string() + ": 2/2 episodes identical"), std::string::npos) << run.out;
+  // The plain actions/ of older cells verify the same.
+  fs::copy(cell, root_ / "plain", fs::copy_options::recursive);
+  DecompressActions(root_ / "plain");
+  ASSERT_TRUE(fs::exists(root_ / "plain" / "actions" / "episode_1.csv"));
+  const RunResult plain = Verify(root_ / "plain");
+  EXPECT_EQ(plain.exit_code, 0) << plain.out << plain.err;
+  EXPECT_NE(plain.out.find("2/2 episodes identical"), std::string::npos) << plain.out;
 }
 
 TEST_F(VerifyCommand, EveryCellOfASweepVerifies) {
@@ -145,9 +184,9 @@ TEST_F(VerifyCommand, AnEditedActionFileFailsNamingTheEpisodeAndField) {
   ASSERT_GE(succeeded, 0) << "no successful episode to tamper with";
   const fs::path copy = root_ / "tampered";
   fs::copy(cell, copy, fs::copy_options::recursive);
-  const fs::path csv = copy / "actions" / ("episode_" + std::to_string(succeeded) + ".csv");
+  const fs::path compressed = copy / "actions" / ("episode_" + std::to_string(succeeded) + ".csv.gz");
   std::string edited;
-  for (const std::string& row : Lines(ReadText(csv))) {
+  for (const std::string& row : Lines(Gunzipped(compressed))) {
     std::vector<std::string> values;
     std::stringstream fields(row);
     for (std::string value; std::getline(fields, value, ',');) values.push_back(value);
@@ -156,7 +195,7 @@ TEST_F(VerifyCommand, AnEditedActionFileFailsNamingTheEpisodeAndField) {
     for (std::size_t i = 0; i < values.size(); ++i) edited += (i > 0 ? "," : "") + values[i];
     edited += "\n";
   }
-  std::ofstream(csv) << edited;
+  WriteGzipped(compressed, edited);
   const RunResult run = Verify(copy);
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_NE(run.out.find("FAIL " + copy.string() + ": episode " + std::to_string(succeeded) +
@@ -164,6 +203,88 @@ TEST_F(VerifyCommand, AnEditedActionFileFailsNamingTheEpisodeAndField) {
             std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("0 ok, 1 FAIL"), std::string::npos) << run.out;
+  // The same edit in an older cell's plain actions fails the same way.
+  DecompressActions(copy);
+  const RunResult plain = Verify(copy);
+  EXPECT_EQ(plain.exit_code, 1) << plain.out << plain.err;
+  EXPECT_NE(
+      plain.out.find("episode " + std::to_string(succeeded) + " field success: true recorded, false re-simulated"),
+      std::string::npos)
+      << plain.out;
+}
+
+// Two runs on different thread counts write the same records, cell.json and compressed actions,
+// byte for byte; only summary.json's run-dependent keys differ, its provenance among them (the
+// threads used, the times), which no record comparison reads.
+TEST_F(VerifyCommand, ProvenanceDiffersBetweenThreadCountsAndTheRecordsDoNot) {
+  std::map<int, fs::path> cells;
+  for (const int threads : {1, 2}) {
+    cells[threads] = root_ / ("threads" + std::to_string(threads));
+    const RunResult run = Run("eval --task clutter-pick-cube --episodes 3 --seed 2 --quiet --expert-hz 20 --threads " +
+                              std::to_string(threads) + " --out " + Quote(cells[threads].string()));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+  for (const char* file : {"episodes.jsonl", "cell.json", "actions/episode_0.csv.gz", "actions/episode_2.csv.gz"})
+    EXPECT_EQ(ReadText(cells[1] / file), ReadText(cells[2] / file)) << file;
+  nlohmann::json one = nlohmann::json::parse(ReadText(cells[1] / "summary.json"));
+  nlohmann::json two = nlohmann::json::parse(ReadText(cells[2] / "summary.json"));
+  EXPECT_EQ(one["provenance"]["machine"]["threads_used"], 1);
+  EXPECT_EQ(two["provenance"]["machine"]["threads_used"], 2);
+  EXPECT_EQ(one["provenance"]["config_files"], two["provenance"]["config_files"]);
+  EXPECT_EQ(one["provenance"]["program"], two["provenance"]["program"]);
+  EXPECT_EQ(one["provenance"]["policy"], nlohmann::json({{"label", "expert"}, {"name", "expert"}}));
+  EXPECT_GT(one["provenance"]["time"]["wall_s"].get<double>(), 0.0);
+  for (const char* run_dependent : {"provenance", "wall_s", "threads", "control_ticks_per_s", "control_ticks"}) {
+    one.erase(run_dependent);
+    two.erase(run_dependent);
+  }
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(Verify(cells[2]).exit_code, 0);
+}
+
+// A submission: a card and its results folder. A valid card's cells are verified; a malformed card
+// exits 2 naming the field before any cell is read; a cell of a split the card does not list fails.
+TEST_F(VerifyCommand, ASubmissionsCardIsCheckedAndItsCellsVerified) {
+  const fs::path submission = root_ / "submission";
+  fs::create_directories(submission / "results");
+  ExpertCell("submission/results/expert", 2);
+  nlohmann::json card = nlohmann::json::parse(R"({
+    "format": "tavis-submission/1",
+    "model": {"name": "scripted-expert", "version": "1", "policy_family": "scripted"},
+    "code": {"url": "https://github.com/example/tavis", "commit": "39cbc19"},
+    "checkpoint": {"url": "https://example.org/none"},
+    "training": {"steps": 0, "data": ["none: scripted"]},
+    "splits": ["id"],
+    "results": "results"})");
+  std::ofstream(submission / "submission.json") << card.dump(2);
+  const fs::path report = root_ / "submission.json";
+  const RunResult run = Verify(submission, "--json " + Quote(report.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("submission " + submission.string() + ": scripted-expert 1 (scripted), results results"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("ok   results/expert: 2/2 episodes identical"), std::string::npos) << run.out;
+  EXPECT_EQ(nlohmann::json::parse(ReadText(report))["submission"]["model"]["name"], "scripted-expert");
+
+  card["training"]["steps"] = "many";
+  std::ofstream(submission / "submission.json") << card.dump(2);
+  const RunResult bad = Verify(submission);
+  EXPECT_EQ(bad.exit_code, 2) << bad.out << bad.err;
+  EXPECT_NE(bad.err.find((submission / "submission.json").string() +
+                         ": training.steps: must be an integer >= 0, got \"many\""),
+            std::string::npos)
+      << bad.err;
+  EXPECT_EQ(bad.out.find("results/expert"), std::string::npos) << bad.out;
+
+  card["training"]["steps"] = 100;
+  card["splits"] = {"ood-spatial"};
+  std::ofstream(submission / "submission.json") << card.dump(2);
+  const RunResult other = Verify(submission);
+  EXPECT_EQ(other.exit_code, 1) << other.out << other.err;
+  EXPECT_NE(other.out.find("FAIL results/expert: does not match the submission card: split id is not among the "
+                           "card's splits"),
+            std::string::npos)
+      << other.out;
 }
 
 TEST_F(VerifyCommand, AChangedRobotFileFailsNamingTheKey) {

@@ -17,6 +17,7 @@ position 0-2, right hand 7-9, grippers 17 (left) and 18 (right), -1 open and +1 
 
 import argparse
 import json
+import gzip
 import statistics
 import sys
 from pathlib import Path
@@ -25,8 +26,13 @@ HAND = (0, 7)      # first position column of each arm's commanded hand
 GRIPPER = (17, 18)
 
 
-def read_actions(path):
-    with open(path) as rows:
+def read_actions(actions, episode):
+    """Episode `episode`'s rows from a cell's actions/ folder: episode_<i>.csv as older cells saved
+    them, else the gzip-compressed episode_<i>.csv.gz cells save now."""
+    plain = Path(actions) / f"episode_{episode}.csv"
+    compressed = Path(actions) / f"episode_{episode}.csv.gz"
+    path = compressed if not plain.exists() and compressed.exists() else plain
+    with (gzip.open(path, "rt") if path.suffix == ".gz" else open(path)) as rows:
         return [[float(value) for value in line.split(",")] for line in rows if line.strip()]
 
 
@@ -70,15 +76,15 @@ def account(policy_actions, expert_actions):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("policy_cell", help="a served cell with actions/episode_<i>.csv")
+    parser.add_argument("policy_cell", help="a served cell with actions/episode_<i>.csv(.gz)")
     parser.add_argument("expert_cell", help="the expert's cell on the same scenes, --expert-hz 20")
     args = parser.parse_args(argv)
     try:
         policy, expert = read_records(args.policy_cell), read_records(args.expert_cell)
         rows = []
         for episode in sorted(set(policy) & set(expert)):
-            figures = account(read_actions(Path(args.policy_cell) / "actions" / f"episode_{episode}.csv"),
-                              read_actions(Path(args.expert_cell) / "actions" / f"episode_{episode}.csv"))
+            figures = account(read_actions(Path(args.policy_cell) / "actions", episode),
+                              read_actions(Path(args.expert_cell) / "actions", episode))
             if figures is not None:
                 rows.append((episode, policy[episode]["success"], figures))
     except (OSError, ValueError, KeyError) as error:

@@ -123,7 +123,8 @@ class StepChecker:
 
 
 class CsvEpisodes:
-    """A served cell's DIR/actions (episode_<i>.csv, one 19-wide row per policy step) by episode."""
+    """A served cell's DIR/actions (episode_<i>.csv, or .csv.gz as cells save them: one 19-wide row
+    per policy step) by episode."""
 
     def __init__(self, folder):
         self.folder = folder
@@ -131,7 +132,10 @@ class CsvEpisodes:
 
     def __getitem__(self, episode):
         if episode not in self.loaded:
-            rows = np.loadtxt(os.path.join(self.folder, f"episode_{episode}.csv"), delimiter=",", ndmin=2)
+            path = os.path.join(self.folder, f"episode_{episode}.csv")
+            if not os.path.exists(path):
+                path += ".gz"  # np.loadtxt reads gzip by the name
+            rows = np.loadtxt(path, delimiter=",", ndmin=2)
             self.loaded[episode] = rows.tolist()
         return self.loaded[episode]
 

@@ -197,11 +197,11 @@ TEST(RemotePolicy, CellIsTheSameWithOneAndTwoThreadsAndItsSavedActionsReplayIt) 
   replay.policy = "replay";
   replay.servers.clear();
   replay.episodes = 1;
-  replay.actions_file = (dir / "actions" / "episode_0.csv").string();
+  replay.actions_file = (dir / "actions" / "episode_0.csv.gz").string();  // one compressed file
   const batch::cell::CellResult replayed = RunWithThreads(replay, 2);
   ASSERT_EQ(replayed.episodes.size(), 1U);
   ExpectSameEpisode(replayed.episodes[0], two.episodes[0], "replay of episode 0's saved actions");
-  EXPECT_TRUE(std::filesystem::exists(dir / "actions" / "episode_1.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "actions" / "episode_1.csv.gz"));
   std::filesystem::remove_all(dir);
 }
 
@@ -215,8 +215,8 @@ std::string ReadFile(const std::filesystem::path& path) {
 }
 
 // Acceptance of the serving modes: a server whose answer depends only on the request gives the
-// same records whichever way the requests travel, byte for byte in episodes.jsonl and the action
-// CSVs.
+// same records whichever way the requests travel, byte for byte in episodes.jsonl and the
+// compressed action CSVs.
 TEST(RemotePolicy, RecordsAreByteIdenticalServedSeriallyPerEnvAndBatched) {
   testing::PolicyServerProcess server = ServeActions(4, {"--batched"});
   batch::cell::EvaluationCellConfig config = ServedCell({server.address(), server.address()});
@@ -240,7 +240,7 @@ TEST(RemotePolicy, RecordsAreByteIdenticalServedSeriallyPerEnvAndBatched) {
     }
     EXPECT_EQ(ReadFile(written[mode] / "episodes.jsonl"), ReadFile(written["serial"] / "episodes.jsonl")) << mode;
     for (int episode = 0; episode < config.episodes; ++episode) {
-      const std::string csv = "actions/episode_" + std::to_string(episode) + ".csv";
+      const std::string csv = "actions/episode_" + std::to_string(episode) + ".csv.gz";
       ASSERT_TRUE(std::filesystem::exists(written["serial"] / csv)) << csv;
       EXPECT_EQ(ReadFile(written[mode] / csv), ReadFile(written["serial"] / csv)) << mode << " " << csv;
     }

@@ -1,6 +1,7 @@
 """tools/baseline/grasp_account.py: per-episode grasp figures of a served cell against the
 expert's, on hand-made cells whose answers are known."""
 
+import gzip
 import json
 
 import grasp_account
@@ -22,12 +23,15 @@ def trajectory(right_close=None, left_close=None, right_z=0.30, left_grip_peak=-
     return rows
 
 
-def write_cell(folder, trajectories, successes):
+def write_cell(folder, trajectories, successes, compressed=False):
+    """A cell's episodes.jsonl and actions/: plain episode_<i>.csv as older cells kept them, or the
+    episode_<i>.csv.gz cells keep now."""
     (folder / "actions").mkdir(parents=True)
     with open(folder / "episodes.jsonl", "w") as records:
         for episode, (rows, success) in enumerate(zip(trajectories, successes)):
             records.write(json.dumps({"episode": episode, "success": success}) + "\n")
-            with open(folder / "actions" / f"episode_{episode}.csv", "w") as csv:
+            name = folder / "actions" / f"episode_{episode}.csv{'.gz' if compressed else ''}"
+            with (gzip.open(name, "wt") if compressed else open(name, "w")) as csv:
                 csv.writelines(",".join(f"{value:.6f}" for value in row) + "\n" for row in rows)
     return folder
 
@@ -76,3 +80,15 @@ def test_a_cell_without_actions_is_refused_naming_the_file(tmp_path, capsys):
     (policy / "episodes.jsonl").write_text(json.dumps({"episode": 0, "success": False}) + "\n")
     assert grasp_account.main([str(policy), str(expert)]) == 2
     assert "episode_0.csv" in capsys.readouterr().err
+
+
+def test_compressed_actions_give_the_same_account_as_plain_ones(tmp_path, capsys):
+    trajectories = [trajectory(right_close=6, right_z=0.215), trajectory(right_close=8, right_z=0.26)]
+    expert = write_cell(tmp_path / "expert", [trajectory(right_close=6, right_z=0.21)] * 2, [True, True])
+    plain = write_cell(tmp_path / "plain", trajectories, [True, False])
+    compressed = write_cell(tmp_path / "compressed", trajectories, [True, False], compressed=True)
+    assert grasp_account.main([str(plain), str(expert)]) == 0
+    from_plain = capsys.readouterr().out
+    assert grasp_account.main([str(compressed), str(expert)]) == 0
+    assert capsys.readouterr().out == from_plain
+    assert "| 1 | no | right | no | 8 / 6 | 4 | 5.0 | +5.0 | 0.0 |" in from_plain

@@ -93,7 +93,7 @@ def main():
          "--policy", "expert", "--expert-hz", "20", "--out", expert, "--quiet"])
     replay_path = os.path.join(expert, "actions")
     for episode in (0, 1):
-        rows = np.loadtxt(os.path.join(replay_path, f"episode_{episode}.csv"), delimiter=",", ndmin=2)
+        rows = np.loadtxt(os.path.join(replay_path, f"episode_{episode}.csv.gz"), delimiter=",", ndmin=2)
         for f in range(0, 100000):
             if (episode, f) not in frames:
                 break

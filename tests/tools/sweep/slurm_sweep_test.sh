@@ -144,7 +144,8 @@ def results(root):
             text = open(path, encoding="utf-8").read()
             if rel.startswith("cells/") and name == "summary.json":
                 summary = json.loads(text)
-                for timing in ("wall_s", "control_ticks_per_s", "threads", "resumed_episodes", "control_ticks"):
+                for timing in ("wall_s", "control_ticks_per_s", "threads", "resumed_episodes", "control_ticks",
+                               "provenance"):
                     summary.pop(timing, None)
                 text = json.dumps(summary, sort_keys=True)
             elif rel == "report.html":
