@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/action_csv.h"
+#include "batch/cell/event_record.h"
 #include "batch/cell/galt_summary.h"
 #include "batch/cell/stage_record.h"
 #include "batch/cell/statistics.h"
@@ -88,6 +89,7 @@ std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
   add_galt(record.galt, "galt");
   add_galt(record.galt_policy_rate, "galt_policy_rate");
   AddStagesJson(record, line);
+  AddEventsJson(record, line);
   return line.dump();
 }
 
@@ -130,6 +132,8 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
        std::count_if(result.episodes.begin(), result.episodes.end(),
                      [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kPhysicsBlowUp; })},
       {"stages", FunnelJson(StageFunnel(FunnelStages(config.task, config.camera), result.episodes))},
+      {"events", EventCountsJson(config.task, !UsesFixedView(config.camera), result.episodes)},
+      {"motion", MotionMediansJson(result.episodes)},
       {"wall_s", result.wall_s},
       {"envs", result.envs},
       {"threads", info.threads},
