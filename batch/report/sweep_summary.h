@@ -31,7 +31,7 @@ inline constexpr double kHumanGaltReachy2 = 2.10;
 // id - ood columns per robot and camera, in rate differences),
 // "id_minus_ood" (per task, robot, camera and ood split, in points), "paired" (head vs fixed per
 // task, robot and split over matched episodes, McNemar's exact p), "galt" (per robot, task and
-// split over the head cells), "stages" (the stage funnel and simulator faults per task, robot, split
+// split over the head cells), "failure_events" (failure_event_section.h), "stages" (the stage funnel and simulator faults per task, robot, split
 // and camera, stage_funnel_section.h), "paired_camera_sets" (each camera set but fixed vs head on matched
 // episodes, camera_set_pairs.h). Cells of several seeds are pooled in everything but "cells".
 // Every section but "cells" is computed per policy label and each of its rows names its "label":

@@ -188,6 +188,27 @@ def funnel_tables(rows):
                                        "simulator faults"], episodes)}
 
 
+EVENTS = ["wrong_object_touched", "wrong_object_lifted", "target_dropped", "object_knocked_over",
+          "object_out_of_workspace", "gripper_table_contact", "both_arms_moved", "opposite_arm_used",
+          "reach_before_cue", "reach_before_go", "cue_never_fixated", "target_never_fixated", "time_out_still",
+          "time_out_moving"]
+
+
+def event_tables(rows):
+    """The failure events (each event's heading over its count, n/a where it cannot fire) and the
+    motion quality medians, formatted here from summary.json's "failure_events"."""
+    def fixed(value, decimals):
+        return "-" if value is None else "%.*f" % (decimals, value)
+    events = [[r["label"], r["task"], r["robot"], r["split"], r["camera"], str(r["episodes"])]
+              + ["n/a" if r["events"][e] is None else str(r["events"][e]) for e in EVENTS] for r in rows]
+    motion = [[r["label"], r["task"], r["robot"], r["split"], r["camera"]]
+              + [fixed(r["motion"][hand][key], decimals) for hand in ("left", "right")
+                 for key, decimals in (("path_m", 3), ("jerk_rms", 1), ("sparc", 2))] for r in rows]
+    return {"failure_events": (["policy", "task", "robot", "split", "camera", "episodes"] + EVENTS, events),
+            "motion_quality": (["policy", "task", "robot", "split", "camera", "left path m", "left jerk m/s^3",
+                                "left SPARC", "right path m", "right jerk m/s^3", "right SPARC"], motion)}
+
+
 def expected_tables(summary):
     tables = success_tables(summary)
     tables["id_minus_ood"] = (
@@ -211,6 +232,8 @@ def expected_tables(summary):
           "%d (%s %%)" % (r["n_valid"], pct(r["detection_rate"])), seconds(r["mean_s"]), seconds(r["median_s"]),
           seconds(r["std_s"])] for r in summary["galt"]])
     tables.update(funnel_tables(summary["stages"]))
+    if "failure_events" in summary:
+        tables.update(event_tables(summary["failure_events"]))
     if summary["paired_camera_sets"]:
         tables["paired_camera_sets"] = (
             ["policy", "task", "robot", "split", "camera set", "pairs", "head %", "set %", "both", "head only",
@@ -287,6 +310,8 @@ TITLES = {
                     "stage that applies, and that reached it alone",
     "stage_funnel_episodes": "Stage funnel: episodes, success rate and simulator faults per camera",
     "paired_camera_sets": "Camera sets vs head on matched episodes",
+    "failure_events": "Failure events: episodes (of the row's) in which each event fired",
+    "motion_quality": "Motion quality: medians per arm of the tool centre point's path, RMS jerk and SPARC",
     "paired_perturbations": "Perturbations vs the base scene on matched episodes",
     "seed_groups": "Seed groups: success rate (%) across checkpoints (training seeds of one recipe)",
     "headline": "Headline numbers (suite means averaged over robots, %)",
