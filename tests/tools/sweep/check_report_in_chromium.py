@@ -372,9 +372,12 @@ def check_markdown(path, label, summary):
     expected = expected_tables(summary)
     suites = [s for s in summary["success"] if s["label"] == label]
     funnel = funnel_tables([r for r in summary["stages"] if r["label"] == label])
+    funnel.update(event_tables([r for r in summary.get("failure_events", []) if r["label"] == label]))
     tables = markdown_tables(open(path).read())
-    if len(tables) != 3:
-        fail("%s holds %d tables, not the success table and the two funnel tables" % (path, len(tables)))
+    names = ["stage_funnel", "stage_funnel_episodes"] + (["failure_events", "motion_quality"]
+                                                         if "failure_events" in summary else [])
+    if len(tables) != 1 + len(names):
+        fail("%s holds %d tables, not the success table and %s" % (path, len(tables), ", ".join(names)))
     values = 0
     for number, (title, headings, rows) in enumerate(tables):
         for row_number, row in enumerate(rows, 1):
@@ -390,7 +393,7 @@ def check_markdown(path, label, summary):
             want = (want_headings[:width], [r[:width] for r in want_rows])
             values += compare(path + " success", headings, rows, want, 1) * len(headings)
         else:
-            name = ["stage_funnel", "stage_funnel_episodes"][number - 1]
+            name = names[number - 1]
             want_headings, want_rows = funnel[name]
             keyed = 5
             values += compare(path + " " + name, headings, rows, (want_headings, want_rows), keyed) * len(headings)
