@@ -1,40 +1,30 @@
 #include "batch/report/failure_event_section.h"
 
 #include <cstdio>
-#include <map>
 #include <string>
-#include <tuple>
 
 #include "batch/camera_protocol.h"
 #include "batch/cell/event_record.h"
 #include "batch/cell/failure_events.h"
-#include "scenarios/split.h"
+#include "batch/report/pooled_cells.h"
 
 namespace tavis::batch::report {
 
 using Json = nlohmann::ordered_json;
 
 Json FailureEventRows(const std::vector<CellEpisodes>& cells) {
-  using Key = std::tuple<std::string, std::string, std::string, CameraProtocol>;
-  std::vector<Key> order;
-  std::map<Key, std::vector<cell::EpisodeRecord>> episodes;
-  for (const CellEpisodes& cell : cells) {
-    const Key key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split), cell.config.camera};
-    if (!episodes.count(key)) order.push_back(key);
-    std::vector<cell::EpisodeRecord>& pooled = episodes[key];
-    pooled.insert(pooled.end(), cell.episodes.begin(), cell.episodes.end());
-  }
   Json rows = Json::array();
-  for (const Key& key : order) {
-    const auto& [task, robot, split, camera] = key;
-    const std::vector<cell::EpisodeRecord>& records = episodes[key];
+  for (const PooledCell& pooled : PoolBySetting(cells)) {
+    const std::string& task = pooled.task;
+    const CameraProtocol camera = pooled.camera;
+    const std::vector<cell::EpisodeRecord>& records = pooled.episodes;
     Json events = Json::object();
     // In the events' declared order (the cell's JSON object sorts its keys).
     const nlohmann::json counts = cell::EventCountsJson(task, !UsesFixedView(camera), records);
     for (const cell::FailureEvent event : cell::AllFailureEvents()) events[ToString(event)] = counts[ToString(event)];
     rows.push_back({{"task", task},
-                    {"robot", robot},
-                    {"split", split},
+                    {"robot", pooled.robot},
+                    {"split", pooled.split},
                     {"camera", ToString(camera)},
                     {"episodes", static_cast<int64_t>(records.size())},
                     {"events", events},

@@ -197,10 +197,15 @@ TEST(FailureEvents, BothHandsRisingIsBothArmsMoved) {
   EXPECT_TRUE(Fired(records[0], FailureEvent::kBothArmsMoved)) << Names(records[0]);
 }
 
-TEST(FailureEvents, ReachingBeforeTheLightTurnsGreenIsReachBeforeGo) {
-  VecEnv vec_env = MakeEnv("wait-then-act", 3.0, 2);
+// Two episodes of a hand sent straight over the target from the first tick, head still.
+std::vector<EpisodeRecord> EagerReaches(const std::string& task, double episode_length_s) {
+  VecEnv vec_env = MakeEnv(task, episode_length_s, 2);
   ScriptedHands eager(2, OverTarget(SideOf));
-  const std::vector<EpisodeRecord> records = RunCell(vec_env, eager, 2);
+  return RunCell(vec_env, eager, 2);
+}
+
+TEST(FailureEvents, ReachingBeforeTheLightTurnsGreenIsReachBeforeGo) {
+  const std::vector<EpisodeRecord> records = EagerReaches("wait-then-act", 3.0);
   ASSERT_EQ(records.size(), 2u);
   for (const EpisodeRecord& record : records) {
     EXPECT_TRUE(Fired(record, FailureEvent::kReachBeforeGo)) << Names(record);
@@ -210,9 +215,7 @@ TEST(FailureEvents, ReachingBeforeTheLightTurnsGreenIsReachBeforeGo) {
 }
 
 TEST(FailureEvents, ReachingBeforeLookingAtTheCardIsReachBeforeCueAndTheCardNeverFixated) {
-  VecEnv vec_env = MakeEnv("conditional-pick", 6.0, 2);
-  ScriptedHands eager(2, OverTarget(SideOf));
-  const std::vector<EpisodeRecord> records = RunCell(vec_env, eager, 2);
+  const std::vector<EpisodeRecord> records = EagerReaches("conditional-pick", 6.0);
   ASSERT_EQ(records.size(), 2u);
   for (const EpisodeRecord& record : records) {
     EXPECT_TRUE(Fired(record, FailureEvent::kReachBeforeCue)) << Names(record);
