@@ -47,14 +47,8 @@ void StageProgress::Observe(const engine::BatchState& state, int env) {
     // can bring each cue to the optical axis is fixed for the episode.
     for (std::size_t i = 0; i < scenario_.stages.size(); ++i) {
       if (cue_objects_[i] < 0) continue;
-      const Vec3 cue = state.ObjectPosition(env, cue_objects_[i]);
-      JointPositions q{};
-      std::copy(state.q_row(env), state.q_row(env) + model_.robot.num_joints(), q.begin());
-      const std::array<double, 3> neck = expert::FixationNeckAngles(model_.robot, q.data(), cue);
-      for (int k = 0; k < 3; ++k)
-        q[static_cast<std::size_t>(model_.robot.neck_joints[static_cast<std::size_t>(k)])] =
-            neck[static_cast<std::size_t>(k)];
-      best_gaze_error_[i] = expert::GazeError(model_.robot, q.data(), cue);
+      best_gaze_error_[i] =
+          expert::ClosestGazeError(model_.robot, state.q_row(env), state.ObjectPosition(env, cue_objects_[i]));
     }
   }
   furthest_back_ = pull_out ? std::max(furthest_back_, back) : std::min(furthest_back_, back);

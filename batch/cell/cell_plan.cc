@@ -159,6 +159,7 @@ nlohmann::json CellIdentityJson(const EvaluationCellConfig& config) {
 RecordSettings RecordSettingsFor(const EvaluationCellConfig& config, int hold_ticks,
                                  const engine::PhysicsSettings& physics, bool served) {
   RecordSettings settings;
+  settings.head_moves = !UsesFixedView(config.camera);
   if (!UsesFixedView(config.camera)) {
     settings.galt_stride = hold_ticks;
     settings.galt_fps = physics.control_hz / hold_ticks;

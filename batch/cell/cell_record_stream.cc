@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "batch/cell/cell_report.h"
+#include "batch/cell/event_record.h"
 #include "batch/cell/stage_record.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/json_error_text.h"
@@ -91,6 +92,7 @@ EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
   record.galt = ParseGalt(line, "galt");
   record.galt_policy_rate = ParseGalt(line, "galt_policy_rate");
   ParseStagesJson(line, record);
+  ParseEventsJson(line, record);
   return record;
 }
 

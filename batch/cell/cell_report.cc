@@ -13,6 +13,7 @@
 
 #include "batch/action_csv.h"
 #include "batch/cell/cell_provenance.h"
+#include "batch/cell/event_record.h"
 #include "batch/cell/galt_summary.h"
 #include "batch/cell/stage_record.h"
 #include "batch/cell/statistics.h"
@@ -89,6 +90,7 @@ std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
   add_galt(record.galt, "galt");
   add_galt(record.galt_policy_rate, "galt_policy_rate");
   AddStagesJson(record, line);
+  AddEventsJson(record, line);
   return line.dump();
 }
 
@@ -132,6 +134,8 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
        std::count_if(result.episodes.begin(), result.episodes.end(),
                      [](const EpisodeRecord& record) { return record.end == engine::EpisodeEnd::kPhysicsBlowUp; })},
       {"stages", FunnelJson(StageFunnel(FunnelStages(config.task, config.camera), result.episodes))},
+      {"events", EventCountsJson(config.task, !UsesFixedView(config.camera), result.episodes)},
+      {"motion", MotionMediansJson(result.episodes)},
       {"wall_s", result.wall_s},
       {"envs", result.envs},
       {"threads", info.threads},

@@ -10,11 +10,16 @@ EpisodeRecorder::EpisodeRecorder(int slots, int max_control_steps, RecordSetting
       finished_(std::move(finished)),
       action_logs_(static_cast<std::size_t>(slots)),
       stage_progress_(static_cast<std::size_t>(slots)),
+      event_detectors_(static_cast<std::size_t>(slots)),
+      tcp_logs_(static_cast<std::size_t>(slots)),
       prompts_(static_cast<std::size_t>(slots)),
       target_objects_(static_cast<std::size_t>(slots)),
       targets_(static_cast<std::size_t>(slots)),
       next_release_(first_episode) {
   for (auto& log : action_logs_) log.reserve(static_cast<std::size_t>(max_control_steps));
+  for (auto& hands : tcp_logs_) {
+    for (auto& log : hands) log.reserve(static_cast<std::size_t>(max_control_steps) + 1);
+  }
 }
 
 void EpisodeRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
@@ -24,6 +29,10 @@ void EpisodeRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   std::optional<scenarios::StageProgress>& progress = stage_progress_[slot];
   if (!progress) progress.emplace(scenario, vec_env.model());
   progress->Start();
+  std::optional<FailureEventDetector>& detector = event_detectors_[slot];
+  if (!detector) detector.emplace(scenario, vec_env.model(), settings_.head_moves);
+  detector->Start();
+  for (auto& log : tcp_logs_[slot]) log.clear();
   prompts_[slot] = vec_env.prompt(slot);
   target_objects_[slot] = vec_env.model().objects[static_cast<std::size_t>(state.target(slot))].name;
   targets_[slot] = scenario.target_facts != nullptr ? scenario.target_facts(state, slot) : scenarios::TargetFacts{};
@@ -34,6 +43,13 @@ void EpisodeRecorder::ActionChosen(const VecEnv& vec_env, int slot, const kinema
   // The state this tick's action is chosen in: every state of the episode but its last, which
   // EpisodeEnded looks at.
   stage_progress_[slot]->Observe(vec_env.state(), slot);
+  ObserveMotion(vec_env, slot);
+}
+
+void EpisodeRecorder::ObserveMotion(const VecEnv& vec_env, int slot) {
+  const HandFrames hands = ComputeHandFrames(vec_env.model().robot, vec_env.state().q_row(slot));
+  event_detectors_[slot]->Observe(vec_env.state(), slot, hands, stage_progress_[slot]->first_ticks());
+  for (std::size_t hand = 0; hand < 2; ++hand) tcp_logs_[slot][hand].push_back(hands.tcp[hand]);
 }
 
 std::optional<kinematics::GaltResult> EpisodeRecorder::Galt(const std::vector<kinematics::Action>& log, int stride,
@@ -64,6 +80,12 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& vec_env, int slot) {
   progress.Observe(state, slot);
   const std::vector<scenarios::StageDef>& stages = vec_env.scenario().stages;
   for (std::size_t i = 0; i < stages.size(); ++i) record.stages.push_back({stages[i].name, progress.first_ticks()[i]});
+  ObserveMotion(vec_env, slot);
+  const std::array<std::vector<Vec3>, 2>& tcp_log = tcp_logs_[slot];
+  record.events = event_detectors_[slot]->Finish(state, slot, progress.first_ticks(), tcp_log);
+  const double control_hz = vec_env.model().physics.control_hz;
+  record.motion =
+      std::array<ArmMotion, 2>{MeasureArmMotion(tcp_log[0], control_hz), MeasureArmMotion(tcp_log[1], control_hz)};
   if (record.success) {
     record.galt = Galt(log, settings_.galt_stride, settings_.galt_fps);
     record.galt_policy_rate = Galt(log, settings_.policy_rate_stride, settings_.policy_rate_fps);

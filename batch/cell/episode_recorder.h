@@ -4,6 +4,7 @@
 // Records are handed on in episode order, whatever order the slots finish in.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -11,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "batch/cell/failure_events.h"
+#include "batch/cell/motion_quality.h"
 #include "batch/episode_driver.h"
 #include "engine/batch_state.h"
 #include "kinematics/action.h"
@@ -51,7 +54,12 @@ struct EpisodeRecord {
   // Under a runtime perturbation level only: the control tick the target was moved, -1 if it was
   // not (no hand came near it, or no free place was found); unset in every other cell.
   std::optional<int> target_move_tick;
-  std::vector<StageReached> stages;                // the task's stages, in declared order
+  std::vector<StageReached> stages;  // the task's stages, in declared order
+  // What went wrong (failure_events.h: the events that fired, in declared order, each with its
+  // first control tick) and how each arm moved (motion_quality.h, by kinematics::Index); unset in
+  // a record written before they existed.
+  std::optional<std::vector<EventFired>> events;
+  std::optional<std::array<ArmMotion, 2>> motion;
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
   std::vector<kinematics::Action> actions;         // every control tick's, with RecordSettings::keep_actions
 };
@@ -69,6 +77,8 @@ struct RecordSettings {
   // Hand records on in episode order (the driver deals episodes in sequence); false: as each
   // episode ends (the Python module, whose caller may deal episodes in any order).
   bool in_episode_order = true;
+  // The head moves (not a fixed view, which zeroes the neck): the gaze events apply.
+  bool head_moves = true;
 };
 
 class EpisodeRecorder : public EpisodeSink {
@@ -86,6 +96,8 @@ class EpisodeRecorder : public EpisodeSink {
   bool works_per_slot() const override { return true; }
 
  private:
+  // The slot's state at a tick shown to the stages: its events and its hands' path.
+  void ObserveMotion(const VecEnv& vec_env, int slot);
   std::optional<kinematics::GaltResult> Galt(const std::vector<kinematics::Action>& log, int stride, double fps) const;
 
   RecordSettings settings_;
@@ -94,6 +106,9 @@ class EpisodeRecorder : public EpisodeSink {
   // [slot]: made at the slot's first episode (the recorder learns the task from the env then);
   // each slot touches only its own.
   std::vector<std::optional<scenarios::StageProgress>> stage_progress_;
+  std::vector<std::optional<FailureEventDetector>> event_detectors_;  // [slot], made with its StageProgress
+  // [slot][hand]: the tool centre point at every tick shown, reserved for a whole episode.
+  std::vector<std::array<std::vector<Vec3>, 2>> tcp_logs_;
   std::vector<std::string> prompts_;             // [slot] the running episode's prompt
   std::vector<std::string> target_objects_;      // [slot]
   std::vector<scenarios::TargetFacts> targets_;  // [slot]

@@ -7,6 +7,7 @@
 
 #include "batch/camera_protocol.h"
 #include "batch/cell/stage_record.h"
+#include "batch/report/pooled_cells.h"
 #include "scenarios/split.h"
 
 namespace tavis::batch::report {
@@ -14,19 +15,11 @@ namespace tavis::batch::report {
 using Json = nlohmann::ordered_json;
 
 Json StageFunnelRows(const std::vector<CellEpisodes>& cells) {
-  using Key = std::tuple<std::string, std::string, std::string, CameraProtocol>;
-  std::vector<Key> order;
-  std::map<Key, std::vector<cell::EpisodeRecord>> episodes;
-  for (const CellEpisodes& cell : cells) {
-    const Key key{cell.config.task, cell.config.robot, scenarios::ToString(cell.config.split), cell.config.camera};
-    if (!episodes.count(key)) order.push_back(key);
-    std::vector<cell::EpisodeRecord>& pooled = episodes[key];
-    pooled.insert(pooled.end(), cell.episodes.begin(), cell.episodes.end());
-  }
   Json rows = Json::array();
-  for (const Key& key : order) {
-    const auto& [task, robot, split, camera] = key;
-    const std::vector<cell::EpisodeRecord>& records = episodes[key];
+  for (const PooledCell& pooled : PoolBySetting(cells)) {
+    const std::string& task = pooled.task;
+    const CameraProtocol camera = pooled.camera;
+    const std::vector<cell::EpisodeRecord>& records = pooled.episodes;
     int64_t successes = 0, faults = 0;
     for (const cell::EpisodeRecord& record : records) {
       successes += record.success ? 1 : 0;
@@ -40,8 +33,8 @@ Json StageFunnelRows(const std::vector<CellEpisodes>& cells) {
                         {"reached_alone", step["reached_alone"]}});
     }
     rows.push_back({{"task", task},
-                    {"robot", robot},
-                    {"split", split},
+                    {"robot", pooled.robot},
+                    {"split", pooled.split},
                     {"camera", ToString(camera)},
                     {"episodes", static_cast<int64_t>(records.size())},
                     {"successes", successes},

@@ -10,6 +10,7 @@
 #include "batch/cell/galt_summary.h"
 #include "batch/cell/statistics.h"
 #include "batch/report/camera_set_pairs.h"
+#include "batch/report/failure_event_section.h"
 #include "batch/report/galt_validation.h"
 #include "batch/report/paired_statistics.h"
 #include "batch/report/paper_figures.h"
@@ -325,6 +326,7 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
   summary["galt"] = GaltSection(grouped);
   summary["stages"] = StageFunnelRows(cells);
   summary["paired_camera_sets"] = CameraSetPairRows(cells);
+  summary["failure_events"] = FailureEventRows(cells);
   return summary;
 }
 
@@ -353,8 +355,8 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, 
   }
   summary["labels"] = label_list;
   summary["cells"] = cell_list;
-  const char* sections[] = {"success", "successful_length", "id_minus_ood", "paired", "galt",
-                            "stages",  "paired_camera_sets"};
+  const char* sections[] = {"success", "successful_length",  "id_minus_ood",  "paired", "galt",
+                            "stages",  "paired_camera_sets", "failure_events"};
   for (const char* section : sections) summary[section] = Json::array();
   for (const std::string& label : labels) {
     std::vector<CellEpisodes> mine;

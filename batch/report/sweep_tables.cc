@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "batch/report/camera_set_pairs.h"
+#include "batch/report/failure_event_section.h"
 #include "batch/report/perturbation_pairs.h"
 #include "batch/report/sequential_section.h"
 #include "batch/report/stage_funnel_section.h"
@@ -239,6 +240,9 @@ std::vector<TextTable> SweepTables(const Json& summary) {
   tables.push_back(LengthTable(summary));
   tables.push_back(GaltTable(summary));
   for (TextTable& table : StageFunnelTables(summary["stages"])) tables.push_back(std::move(table));
+  if (summary.contains("failure_events")) {
+    for (TextTable& table : FailureEventTables(summary["failure_events"])) tables.push_back(std::move(table));
+  }
   if (!summary["paired_camera_sets"].empty()) tables.push_back(CameraSetPairTable(summary));
   if (summary.contains("paired_perturbations")) tables.push_back(PerturbationPairTable(summary));
   if (summary.contains("sequential")) tables.push_back(SequentialTable(summary));

@@ -66,4 +66,14 @@ double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec
   return std::acos(std::clamp(t.normalized().x(), -1.0, 1.0));
 }
 
+double ClosestGazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world) {
+  CheckFitsRobotBuffers(robot);
+  JointPositions aimed{};
+  std::copy(q, q + robot.num_joints(), aimed.begin());
+  const std::array<double, 3> neck = FixationNeckAngles(robot, q, target_world);
+  for (int k = 0; k < 3; ++k)
+    aimed[static_cast<std::size_t>(robot.neck_joints[static_cast<std::size_t>(k)])] = neck[static_cast<std::size_t>(k)];
+  return GazeError(robot, aimed.data(), target_world);
+}
+
 }  // namespace tavis::scenarios::expert

@@ -20,4 +20,9 @@ std::array<double, 3> FixationNeckAngles(const kinematics::RobotModel& robot, co
 // Angle (rad) between the head camera's optical axis and the direction to `target_world`.
 double GazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world);
 
+// The smallest GazeError the neck's joint limits allow for `target_world` (0 where the head can
+// centre it; Reachy2's neck pitches 0.35 rad at most, so its head cannot centre a card on the
+// table), with the other joints at q.
+double ClosestGazeError(const kinematics::RobotModel& robot, const double* q, const Vec3& target_world);
+
 }  // namespace tavis::scenarios::expert

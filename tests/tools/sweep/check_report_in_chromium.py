@@ -188,6 +188,27 @@ def funnel_tables(rows):
                                        "simulator faults"], episodes)}
 
 
+EVENTS = ["wrong_object_touched", "wrong_object_lifted", "target_dropped", "object_knocked_over",
+          "object_out_of_workspace", "gripper_table_contact", "both_arms_moved", "opposite_arm_used",
+          "reach_before_cue", "reach_before_go", "cue_never_fixated", "target_never_fixated", "time_out_still",
+          "time_out_moving"]
+
+
+def event_tables(rows):
+    """The failure events (each event's heading over its count, n/a where it cannot fire) and the
+    motion quality medians, formatted here from summary.json's "failure_events"."""
+    def fixed(value, decimals):
+        return "-" if value is None else "%.*f" % (decimals, value)
+    events = [[r["label"], r["task"], r["robot"], r["split"], r["camera"], str(r["episodes"])]
+              + ["n/a" if r["events"][e] is None else str(r["events"][e]) for e in EVENTS] for r in rows]
+    motion = [[r["label"], r["task"], r["robot"], r["split"], r["camera"]]
+              + [fixed(r["motion"][hand][key], decimals) for hand in ("left", "right")
+                 for key, decimals in (("path_m", 3), ("jerk_rms", 1), ("sparc", 2))] for r in rows]
+    return {"failure_events": (["policy", "task", "robot", "split", "camera", "episodes"] + EVENTS, events),
+            "motion_quality": (["policy", "task", "robot", "split", "camera", "left path m", "left jerk m/s^3",
+                                "left SPARC", "right path m", "right jerk m/s^3", "right SPARC"], motion)}
+
+
 def expected_tables(summary):
     tables = success_tables(summary)
     tables["id_minus_ood"] = (
@@ -211,6 +232,8 @@ def expected_tables(summary):
           "%d (%s %%)" % (r["n_valid"], pct(r["detection_rate"])), seconds(r["mean_s"]), seconds(r["median_s"]),
           seconds(r["std_s"])] for r in summary["galt"]])
     tables.update(funnel_tables(summary["stages"]))
+    if "failure_events" in summary:
+        tables.update(event_tables(summary["failure_events"]))
     if summary["paired_camera_sets"]:
         tables["paired_camera_sets"] = (
             ["policy", "task", "robot", "split", "camera set", "pairs", "head %", "set %", "both", "head only",
@@ -302,6 +325,8 @@ TITLES = {
                     "stage that applies, and that reached it alone",
     "stage_funnel_episodes": "Stage funnel: episodes, success rate and simulator faults per camera",
     "paired_camera_sets": "Camera sets vs head on matched episodes",
+    "failure_events": "Failure events: episodes (of the row's) in which each event fired",
+    "motion_quality": "Motion quality: medians per arm of the tool centre point's path, RMS jerk and SPARC",
     "paired_perturbations": "Perturbations vs the base scene on matched episodes",
     "sequential_pairs": "Sequential paired test: where each pair stopped",
     "seed_groups": "Seed groups: success rate (%) across checkpoints (training seeds of one recipe)",
@@ -363,9 +388,12 @@ def check_markdown(path, label, summary):
     expected = expected_tables(summary)
     suites = [s for s in summary["success"] if s["label"] == label]
     funnel = funnel_tables([r for r in summary["stages"] if r["label"] == label])
+    funnel.update(event_tables([r for r in summary.get("failure_events", []) if r["label"] == label]))
     tables = markdown_tables(open(path).read())
-    if len(tables) != 3:
-        fail("%s holds %d tables, not the success table and the two funnel tables" % (path, len(tables)))
+    names = ["stage_funnel", "stage_funnel_episodes"] + (["failure_events", "motion_quality"]
+                                                         if "failure_events" in summary else [])
+    if len(tables) != 1 + len(names):
+        fail("%s holds %d tables, not the success table and %s" % (path, len(tables), ", ".join(names)))
     values = 0
     for number, (title, headings, rows) in enumerate(tables):
         for row_number, row in enumerate(rows, 1):
@@ -381,7 +409,7 @@ def check_markdown(path, label, summary):
             want = (want_headings[:width], [r[:width] for r in want_rows])
             values += compare(path + " success", headings, rows, want, 1) * len(headings)
         else:
-            name = ["stage_funnel", "stage_funnel_episodes"][number - 1]
+            name = names[number - 1]
             want_headings, want_rows = funnel[name]
             keyed = 5
             values += compare(path + " " + name, headings, rows, (want_headings, want_rows), keyed) * len(headings)

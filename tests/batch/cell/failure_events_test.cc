@@ -1,0 +1,432 @@
+// Failure events (batch/cell/failure_events.h): each fires on a scripted policy made to cause it,
+// none of them on the scripted expert's cells, and records carry them through episodes.jsonl.
+#include "batch/cell/failure_events.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/builtin_policies.h"
+#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/cell_report.h"
+#include "batch/cell/episode_recorder.h"
+#include "batch/cell/event_record.h"
+#include "batch/episode_driver.h"
+#include "engine/object_catalog.h"
+#include "kinematics/forward_kinematics.h"
+#include "scenarios/registry.h"
+#include "tests/support/robot_loading.h"
+#include "tests/support/wrong_side_policy.h"
+
+namespace tavis::batch::cell {
+namespace {
+
+VecEnv MakeEnv(const std::string& task, double episode_length_s, int envs, const std::string& robot_name = "gr1t2",
+               uint64_t seed = 5) {
+  const scenarios::ScenarioDef& scenario = scenarios::FindScenario(task);
+  const kinematics::RobotModel robot = tavis::testing::LoadRobot(robot_name);
+  engine::WorldModel model = BuildWorldModel(robot, scenario);
+  model.physics.episode_length_s = episode_length_s;
+  return VecEnv(std::move(model), scenario, scenarios::Split::kId, envs, seed);
+}
+
+std::vector<EpisodeRecord> RunCell(VecEnv& vec_env, Policy& policy, int episodes) {
+  std::vector<EpisodeRecord> records;
+  EpisodeRecorder recorder(vec_env.num_envs(), vec_env.model().physics.max_control_steps(), RecordSettings(), 0,
+                           [&records](EpisodeRecord&& record) { records.push_back(std::move(record)); });
+  EpisodeDriver driver(vec_env, policy, episodes);
+  driver.AddSink(recorder);
+  driver.RequireLockStep();
+  driver.Run();
+  return records;
+}
+
+bool Fired(const EpisodeRecord& record, FailureEvent event) {
+  return record.events && std::any_of(record.events->begin(), record.events->end(),
+                                      [&](const EventFired& fired) { return fired.event == event; });
+}
+
+std::string Names(const EpisodeRecord& record) {
+  std::string text;
+  for (const EventFired& fired : record.events.value_or(std::vector<EventFired>{}))
+    text += std::string(ToString(fired.event)) + "@" + std::to_string(fired.first_tick) + " ";
+  return text;
+}
+
+// Where a scripted policy sends the hands this tick: world positions the tool centre point moves
+// toward at kHandSpeed (none: the hand stays at its reset pose), grippers, neck.
+struct HandGoals {
+  std::array<std::optional<Vec3>, 2> tcp;
+  std::array<double, 2> gripper = {-1.0, -1.0};
+};
+using HandScript = std::function<HandGoals(const engine::WorldModel&, const engine::BatchState&, int env, int tick)>;
+
+// A test policy that moves the hands' IK targets along straight lines toward its script's goals,
+// its head still (neck angles 0), the hands' orientations kept from the reset.
+class ScriptedHands : public PerEnvPolicy {
+ public:
+  static constexpr double kHandSpeed = 0.3;  // m/s
+
+  ScriptedHands(int num_envs, HandScript script)
+      : script_(std::move(script)), start_(num_envs), commanded_(num_envs), ticks_(num_envs, 0) {}
+  std::string name() const override { return "scripted-hands"; }
+  int control_ticks_per_action() const override { return 1; }
+
+ private:
+  void ResetEnv(const Observation& observation, int env) override {
+    const kinematics::RobotModel& robot = observation.model.robot;
+    std::vector<RigidTransform> X_BL(robot.links.size());
+    kinematics::ComputeLinkPoses(robot, observation.state.q_row(env), X_BL.data());
+    kinematics::Action& action = start_[env];
+    action.fill(0.0);
+    for (kinematics::Side side : kinematics::kSides) {
+      const RigidTransform& X = X_BL[robot.arm(side).ik_link];
+      const int i = kinematics::Index(side);
+      const Vec3 p = robot.BaseToCanonical(X.translation());
+      const Quat q(X.linear());
+      for (int k = 0; k < 3; ++k) action[kinematics::action::kArmPosition[i] + k] = p[k];
+      const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+      for (int k = 0; k < 4; ++k) action[kinematics::action::kArmQuaternion[i] + k] = wxyz[k];
+      action[kinematics::action::kGripper[i]] = -1.0;
+      // The IK target is the IK link's origin; the goal is the tool centre point's, offset by tcp.
+      commanded_[env][i] = robot.root_world + X * robot.gripper.tcp;
+      offset_[i] = X.linear() * robot.gripper.tcp;
+    }
+    ticks_[env] = 0;
+  }
+
+  void ActEnv(const Observation& observation, int env, kinematics::Action& action) override {
+    const kinematics::RobotModel& robot = observation.model.robot;
+    const HandGoals goals = script_(observation.model, observation.state, env, ticks_[env]++);
+    action = start_[env];
+    const double step = kHandSpeed / observation.model.physics.control_hz;
+    for (int i = 0; i < 2; ++i) {
+      Vec3& commanded = commanded_[env][i];
+      if (goals.tcp[i]) {
+        const Vec3 to_goal = *goals.tcp[i] - commanded;
+        commanded += to_goal.norm() <= step ? to_goal : to_goal.normalized() * step;
+      }
+      const Vec3 ik = robot.BaseToCanonical(commanded - offset_[i] - robot.root_world);
+      for (int k = 0; k < 3; ++k) action[kinematics::action::kArmPosition[i] + k] = ik[k];
+      action[kinematics::action::kGripper[i]] = goals.gripper[i];
+    }
+  }
+
+  HandScript script_;
+  std::vector<kinematics::Action> start_;
+  std::vector<std::array<Vec3, 2>> commanded_;  // [env][hand] the tool centre point's commanded position
+  std::array<Vec3, 2> offset_{};                // the tool centre point from the IK link, at reset
+  std::vector<int> ticks_;
+};
+
+Vec3 HalfSize(const engine::WorldModel& model, int object) {
+  return BoundingHalfSize(model.objects[static_cast<std::size_t>(object)].shape);
+}
+
+// The hand on the target's side (+y is the robot's left), or the other one.
+int SideOf(const engine::BatchState& state, int env) {
+  return state.ObjectPosition(env, state.target(env)).y() >= 0 ? 0 : 1;
+}
+
+// 2 cm above the target's top, with the hand `hand(state, env)`.
+HandScript OverTarget(std::function<int(const engine::BatchState&, int)> hand) {
+  return [hand](const engine::WorldModel& model, const engine::BatchState& state, int env, int) {
+    HandGoals goals;
+    const int target = state.target(env);
+    const Vec3 top = state.ObjectPosition(env, target) + Vec3(0, 0, HalfSize(model, target).z());
+    goals.tcp[static_cast<std::size_t>(hand(state, env))] = top;
+    return goals;
+  };
+}
+
+TEST(FailureEvents, TheHoldPolicyTimesOutStill) {
+  VecEnv vec_env = MakeEnv("clutter-pick-cube", 3.0, 2);
+  const std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 2);
+  const std::vector<EpisodeRecord> records = RunCell(vec_env, *hold, 2);
+  ASSERT_EQ(records.size(), 2u);
+  for (const EpisodeRecord& record : records) {
+    EXPECT_TRUE(Fired(record, FailureEvent::kTimeOutStill)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kTimeOutMoving)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kBothArmsMoved)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kWrongObjectTouched)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kGripperTableContact)) << Names(record);
+    ASSERT_TRUE(record.motion);
+    EXPECT_LT((*record.motion)[0].path_m, kMinSparcPath);
+    EXPECT_FALSE((*record.motion)[0].sparc) << "a standing arm has no SPARC";
+  }
+}
+
+TEST(FailureEvents, AHandStillMovingAtTheTimeOutTimesOutMoving) {
+  VecEnv vec_env = MakeEnv("clutter-pick-cube", 3.0, 1);
+  ScriptedHands waving(1, [](const engine::WorldModel&, const engine::BatchState& state, int env, int tick) {
+    HandGoals goals;
+    const Vec3 base(0.25, 0.3, 1.25);
+    goals.tcp[0] = base + Vec3(0, 0, (tick / 30) % 2 == 0 ? 0.06 : -0.06);
+    (void)state;
+    (void)env;
+    return goals;
+  });
+  const std::vector<EpisodeRecord> records = RunCell(vec_env, waving, 1);
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_TRUE(Fired(records[0], FailureEvent::kTimeOutMoving)) << Names(records[0]);
+  EXPECT_FALSE(Fired(records[0], FailureEvent::kTimeOutStill));
+  ASSERT_TRUE(records[0].motion);
+  EXPECT_GT((*records[0].motion)[0].path_m, 0.5) << "it went up and down 12 cm every half second";
+  EXPECT_TRUE((*records[0].motion)[0].sparc);
+  EXPECT_FALSE(Fired(records[0], FailureEvent::kBothArmsMoved)) << "the right hand stood still";
+}
+
+TEST(FailureEvents, BothHandsRisingIsBothArmsMoved) {
+  VecEnv vec_env = MakeEnv("clutter-pick-cube", 2.0, 1);
+  ScriptedHands rising(1, [](const engine::WorldModel&, const engine::BatchState&, int, int) {
+    HandGoals goals;
+    goals.tcp = {Vec3(0.25, 0.25, 1.3), Vec3(0.25, -0.25, 1.3)};
+    return goals;
+  });
+  const std::vector<EpisodeRecord> records = RunCell(vec_env, rising, 1);
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_TRUE(Fired(records[0], FailureEvent::kBothArmsMoved)) << Names(records[0]);
+}
+
+// Two episodes of a hand sent straight over the target from the first tick, head still.
+std::vector<EpisodeRecord> EagerReaches(const std::string& task, double episode_length_s) {
+  VecEnv vec_env = MakeEnv(task, episode_length_s, 2);
+  ScriptedHands eager(2, OverTarget(SideOf));
+  return RunCell(vec_env, eager, 2);
+}
+
+TEST(FailureEvents, ReachingBeforeTheLightTurnsGreenIsReachBeforeGo) {
+  const std::vector<EpisodeRecord> records = EagerReaches("wait-then-act", 3.0);
+  ASSERT_EQ(records.size(), 2u);
+  for (const EpisodeRecord& record : records) {
+    EXPECT_TRUE(Fired(record, FailureEvent::kReachBeforeGo)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kReachBeforeCue)) << "wait-then-act's reach waits for the light";
+    EXPECT_FALSE(Fired(record, FailureEvent::kOppositeArmUsed)) << Names(record);
+  }
+}
+
+TEST(FailureEvents, ReachingBeforeLookingAtTheCardIsReachBeforeCueAndTheCardNeverFixated) {
+  const std::vector<EpisodeRecord> records = EagerReaches("conditional-pick", 6.0);
+  ASSERT_EQ(records.size(), 2u);
+  for (const EpisodeRecord& record : records) {
+    EXPECT_TRUE(Fired(record, FailureEvent::kReachBeforeCue)) << Names(record);
+    EXPECT_TRUE(Fired(record, FailureEvent::kCueNeverFixated)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kReachBeforeGo)) << "conditional-pick has no go signal";
+  }
+}
+
+TEST(FailureEvents, PickingTheOtherObjectIsWrongObjectTouchedAndLifted) {
+  VecEnv vec_env = MakeEnv("conditional-pick", 10.0, 2);
+  testing::WrongSidePolicy wrong_side(vec_env);
+  const std::vector<EpisodeRecord> records = RunCell(vec_env, wrong_side, 2);
+  ASSERT_EQ(records.size(), 2u);
+  for (const EpisodeRecord& record : records) {
+    EXPECT_TRUE(Fired(record, FailureEvent::kWrongObjectTouched)) << Names(record);
+    EXPECT_TRUE(Fired(record, FailureEvent::kWrongObjectLifted)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kTargetDropped)) << Names(record);
+    EXPECT_FALSE(Fired(record, FailureEvent::kCueNeverFixated)) << "it looked at the card as the expert does";
+  }
+}
+
+// The scripted expert with each of its actions altered by `alter` (the env, its observation and
+// whether the env's hand has been let go of, which `alter` may set).
+using Alteration = std::function<void(const Observation&, int env, kinematics::Action&, uint8_t& flag)>;
+class AlteredExpert : public Policy {
+ public:
+  AlteredExpert(const VecEnv& vec_env, Alteration alter)
+      : expert_(MakeBuiltinPolicy("expert", vec_env.scenario(), vec_env.model(), vec_env.num_envs())),
+        alter_(std::move(alter)),
+        flags_(static_cast<std::size_t>(vec_env.num_envs()), 0) {}
+  std::string name() const override { return "altered-expert"; }
+  int control_ticks_per_action() const override { return 1; }
+  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
+    for (std::size_t env = 0; env < started.size(); ++env) flags_[env] = started[env] ? 0 : flags_[env];
+    expert_->Reset(observation, started);
+  }
+  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
+    expert_->Act(observation, acting, actions);
+    for (std::size_t env = 0; env < acting.size(); ++env) {
+      if (acting[env]) alter_(observation, static_cast<int>(env), actions[env], flags_[env]);
+    }
+  }
+
+ private:
+  std::unique_ptr<Policy> expert_;
+  Alteration alter_;
+  std::vector<uint8_t> flags_;
+};
+
+// The expert's grippers opened once the closed hand has the target 5 cm above the table's top
+// plus its half height: lifted (the stage's 3 cm), then let go of.
+void LetGoOnceLifted(const Observation& observation, int env, kinematics::Action& action, uint8_t& released) {
+  const int target = observation.state.target(env);
+  const double lifted_z = engine::kTableHeight + HalfSize(observation.model, target).z() + 0.05;
+  const bool closing = action[kinematics::action::kGripper[0]] > 0.0 || action[kinematics::action::kGripper[1]] > 0.0;
+  if (closing && observation.state.ObjectPosition(env, target).z() > lifted_z) released = 1;
+  if (!released) return;
+  for (int hand = 0; hand < 2; ++hand) action[kinematics::action::kGripper[hand]] = -1.0;
+}
+
+// The expert's hand targets 6 cm lower than it plans: its grasps go into the table.
+void SixCentimetresLower(const Observation&, int, kinematics::Action& action, uint8_t&) {
+  for (int hand = 0; hand < 2; ++hand) action[kinematics::action::kArmPosition[hand] + 2] -= 0.06;
+}
+
+TEST(FailureEvents, GraspingSixCentimetresTooLowIsGripperTableContact) {
+  VecEnv vec_env = MakeEnv("clutter-pick-cube", 8.0, 2);
+  AlteredExpert lower(vec_env, &SixCentimetresLower);
+  const std::vector<EpisodeRecord> records = RunCell(vec_env, lower, 2);
+  ASSERT_EQ(records.size(), 2u);
+  for (const EpisodeRecord& record : records)
+    EXPECT_TRUE(Fired(record, FailureEvent::kGripperTableContact)) << Names(record);
+}
+
+TEST(FailureEvents, LettingGoOfTheLiftedTargetIsTargetDropped) {
+  VecEnv vec_env = MakeEnv("clutter-pick-cube", 12.0, 2);
+  AlteredExpert dropping(vec_env, &LetGoOnceLifted);
+  const std::vector<EpisodeRecord> records = RunCell(vec_env, dropping, 2);
+  ASSERT_EQ(records.size(), 2u);
+  for (const EpisodeRecord& record : records) {
+    EXPECT_FALSE(record.success);
+    EXPECT_TRUE(Fired(record, FailureEvent::kTargetDropped)) << Names(record);
+    const auto lifted = std::find_if(record.stages.begin(), record.stages.end(),
+                                     [](const StageReached& stage) { return stage.name == "target_lifted"; });
+    ASSERT_NE(lifted, record.stages.end());
+    for (const EventFired& fired : *record.events) {
+      if (fired.event == FailureEvent::kTargetDropped) {
+        EXPECT_GT(fired.first_tick, lifted->first_tick);
+      }
+    }
+  }
+}
+
+// The detector shown a state in which the settled target has been tipped on its side, then one in
+// which it lies 15 cm lower (fallen off the table): knocked over, then out of the workspace.
+// (No scripted policy here: a hand sweeping the target off the table did not reliably tip it.)
+TEST(FailureEvents, ATippedThenFallenObjectIsKnockedOverThenOutOfTheWorkspace) {
+  VecEnv vec_env = MakeEnv("wait-then-act", 3.0, 1);
+  const std::unique_ptr<Policy> hold = MakeBuiltinPolicy("hold", vec_env.scenario(), vec_env.model(), 1);
+  vec_env.Reset({{0, 0}});
+  const std::vector<kinematics::Action> actions(1, kinematics::Action{});
+  FailureEventDetector detector(vec_env.scenario(), vec_env.model(), true);
+  engine::BatchState state = vec_env.state();
+  const int target = state.target(0);
+  const std::vector<int> no_stages(vec_env.scenario().stages.size(), -1);
+  const auto observe = [&](int tick) {
+    state.control_step[0] = tick;
+    detector.Observe(state, 0, ComputeHandFrames(vec_env.model().robot, state.q_row(0)), no_stages);
+  };
+  std::fill_n(state.object_velocity_row(0, target), engine::kObjectVelocitySize, 0.0);
+  for (int tick = 0; tick < 10; ++tick) observe(tick);  // settled (at rest for 0.1 s)
+  double* pose = state.object_pose_row(0, target);
+  const Quat tipped(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX()) * Quat(pose[3], pose[4], pose[5], pose[6]));
+  pose[3] = tipped.w(), pose[4] = tipped.x(), pose[5] = tipped.y(), pose[6] = tipped.z();
+  observe(20);
+  pose[2] -= 0.15;
+  observe(30);
+  state.end[0] = engine::EpisodeEnd::kGaveUp;
+  const std::vector<EventFired> fired = detector.Finish(state, 0, no_stages, {});
+  const auto tick_of = [&](FailureEvent event) {
+    for (const EventFired& e : fired) {
+      if (e.event == event) return e.first_tick;
+    }
+    return -1;
+  };
+  EXPECT_EQ(tick_of(FailureEvent::kObjectKnockedOver), 20);
+  EXPECT_EQ(tick_of(FailureEvent::kObjectOutOfWorkspace), 30);
+  EXPECT_EQ(tick_of(FailureEvent::kWrongObjectTouched), -1) << "the target is not a wrong object";
+}
+
+TEST(FailureEvents, GazeEventsApplyOnlyWhereTheHeadMoves) {
+  const auto has = [](const std::vector<FailureEvent>& events, FailureEvent event) {
+    return std::find(events.begin(), events.end(), event) != events.end();
+  };
+  EXPECT_TRUE(has(ApplicableEvents("conditional-pick", true), FailureEvent::kReachBeforeCue));
+  EXPECT_FALSE(has(ApplicableEvents("conditional-pick", false), FailureEvent::kReachBeforeCue));
+  EXPECT_FALSE(has(ApplicableEvents("conditional-pick", false), FailureEvent::kCueNeverFixated));
+  EXPECT_FALSE(has(ApplicableEvents("conditional-pick", true), FailureEvent::kReachBeforeGo));
+  EXPECT_TRUE(has(ApplicableEvents("wait-then-act", false), FailureEvent::kReachBeforeGo));
+  EXPECT_FALSE(has(ApplicableEvents("wait-then-act", true), FailureEvent::kReachBeforeCue));
+  EXPECT_FALSE(has(ApplicableEvents("clutter-pick-cube", true), FailureEvent::kCueNeverFixated));
+  EXPECT_FALSE(has(ApplicableEvents("clutter-pick-cube", false), FailureEvent::kTargetNeverFixated));
+  for (const FailureEvent event : AllFailureEvents()) {
+    FailureEvent back;
+    ASSERT_TRUE(ParseFailureEvent(ToString(event), &back));
+    EXPECT_EQ(back, event);
+  }
+}
+
+TEST(FailureEvents, RecordsCarryEventsAndMotionThroughTheirJsonLine) {
+  EpisodeRecord record;
+  record.episode = 3;
+  record.end = engine::EpisodeEnd::kTimeOut;
+  record.events = std::vector<EventFired>{{FailureEvent::kWrongObjectTouched, 412},
+                                          {FailureEvent::kGripperTableContact, 97},
+                                          {FailureEvent::kTimeOutMoving, 1200}};
+  ArmMotion left;
+  left.path_m = 0.8123456789012345;
+  left.jerk_rms = 12.5;
+  left.sparc = -1.734;
+  record.motion = std::array<ArmMotion, 2>{left, ArmMotion{}};
+  const std::string text = EpisodeJsonLine(record, 5);
+  const nlohmann::json line = nlohmann::json::parse(text);
+  EXPECT_EQ(line.at("events"),
+            nlohmann::json({{"wrong_object_touched", 412}, {"gripper_table_contact", 97}, {"time_out_moving", 1200}}));
+  EXPECT_TRUE(line.at("motion").at("right").at("sparc").is_null());
+  const EpisodeRecord back = ParseEpisodeJsonLine(text);
+  EXPECT_EQ(back.events, record.events) << "declared order, whatever order the keys come back in";
+  EXPECT_EQ(back.motion, record.motion) << "bit for bit";
+  EXPECT_EQ(EpisodeJsonLine(back, 5), text);
+
+  const nlohmann::json counts = EventCountsJson("clutter-pick-cube", true, {record, back, EpisodeRecord{}});
+  EXPECT_EQ(counts.at("wrong_object_touched"), 2);
+  EXPECT_EQ(counts.at("target_dropped"), 0);
+  EXPECT_TRUE(counts.at("reach_before_go").is_null()) << "clutter-pick-cube has no go signal";
+  EXPECT_EQ(MotionMediansJson({record, back}).at("left").at("sparc"), -1.734);
+  EXPECT_THROW(ParseEpisodeJsonLine(R"({"episode":0,"success":false,"end":"time_out","length_steps":1,)"
+                                    R"("length_control_ticks":3,"solver_messages":0,"events":{"waved":3}})"),
+               std::invalid_argument);
+}
+
+// The scripted expert at seed 5 on every task and both robots makes none of a policy's mistakes.
+// What it does show is real and explained in docs/events.md ("The scripted expert"): its grippers
+// brush the table or a shelf board as they close low (gripper_table_contact), its fingers push a
+// neighbour in clutter, sometimes over (wrong_object_touched, object_knocked_over), it peeks
+// into the box with both wrist cameras (both_arms_moved, peeking-box only) and it regrasps a target
+// that slipped out (target_dropped, then success). Episodes per cell: kExpertEpisodes (the CLI
+// check of docs/events.md runs 96).
+constexpr int kExpertEpisodes = 4;
+
+TEST(FailureEvents, TheExpertMakesNoneOfAPolicysMistakesOnAnyTaskOrRobot) {
+  const std::vector<FailureEvent> explained = {FailureEvent::kGripperTableContact, FailureEvent::kWrongObjectTouched,
+                                               FailureEvent::kObjectKnockedOver, FailureEvent::kTargetDropped};
+  for (const std::string robot : {"gr1t2", "reachy2"}) {
+    for (const scenarios::ScenarioDef& scenario : scenarios::AllScenarios()) {
+      SCOPED_TRACE(scenario.name + " " + robot);
+      VecEnv vec_env = MakeEnv(scenario.name, 20.0, kExpertEpisodes, robot, 5);
+      const std::unique_ptr<Policy> expert =
+          MakeBuiltinPolicy("expert", vec_env.scenario(), vec_env.model(), kExpertEpisodes);
+      for (const EpisodeRecord& record : RunCell(vec_env, *expert, kExpertEpisodes)) {
+        ASSERT_TRUE(record.events);
+        EXPECT_TRUE(record.success) << "episode " << record.episode;
+        for (const EventFired& fired : *record.events) {
+          const bool peek = scenario.name == "peeking-box" && fired.event == FailureEvent::kBothArmsMoved;
+          const bool known = std::find(explained.begin(), explained.end(), fired.event) != explained.end();
+          EXPECT_TRUE(peek || known) << "episode " << record.episode << ": " << Names(record);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tavis::batch::cell
