@@ -137,9 +137,12 @@ std::map<int64_t, json> Resimulate(CellPlan plan, const EvaluationCellConfig& re
   return resimulated;
 }
 
-// Every field of one episode that differs, in VerifiedEpisodeFields' order, then the others.
+// Every field of one episode that differs, in VerifiedEpisodeFields' order, then the others. A
+// cell another program version wrote may lack the fields this one added since (failure events,
+// motion quality): with `older_writer`, a field the record lacks is not compared but named in
+// `not_recorded`; a cell of this version must hold every field it writes.
 void CompareEpisode(int64_t episode, const std::optional<json>& recorded, const std::optional<json>& now,
-                    std::vector<ValueDifference>& differences) {
+                    bool older_writer, std::vector<ValueDifference>& differences, std::set<std::string>& not_recorded) {
   if (!recorded || !now) {
     differences.push_back({episode, "record", recorded ? "present" : "absent", now ? "present" : "absent"});
     return;
@@ -153,6 +156,10 @@ void CompareEpisode(int64_t episode, const std::optional<json>& recorded, const 
   }
   fields.insert(fields.end(), others.begin(), others.end());
   for (const std::string& field : fields) {
+    if (older_writer && !recorded->contains(field) && now->contains(field)) {
+      not_recorded.insert(field);
+      continue;
+    }
     const json was = recorded->contains(field) ? json{{field, recorded->at(field)}} : json::object();
     const json is = now->contains(field) ? json{{field, now->at(field)}} : json::object();
     for (const output::SettingChange& change : output::SettingChanges(was, is))
@@ -305,7 +312,8 @@ CellVerification VerifyCell(const fs::path& cell, const VerifySettings& settings
     const auto now = resimulated.find(episode);
     const std::size_t before = verification.records.size();
     CompareEpisode(episode, was == records.end() ? std::nullopt : std::optional<json>(was->second),
-                   now == resimulated.end() ? std::nullopt : std::optional<json>(now->second), verification.records);
+                   now == resimulated.end() ? std::nullopt : std::optional<json>(now->second),
+                   verification.program_version_differs(), verification.records, verification.fields_not_recorded);
     verification.identical += verification.records.size() == before ? 1 : 0;
   }
   verification.episodes = static_cast<int64_t>(indices.size());
@@ -319,7 +327,10 @@ std::string VerificationLine(const CellVerification& verification, const std::st
     return "skip " + name + ": cannot verify: " + verification.no_actions;
   const std::string counts = std::to_string(verification.identical) + "/" + std::to_string(verification.episodes) +
                              " episodes identical" + (verification.complete ? "" : " (incomplete: no summary.json)");
-  if (verification.outcome == VerifyOutcome::kIdentical) return "ok   " + name + ": " + counts;
+  std::string unrecorded;
+  for (const std::string& field : verification.fields_not_recorded) unrecorded += (unrecorded.empty() ? "" : ", ") + field;
+  const std::string not_compared = unrecorded.empty() ? "" : " (not in the older records, not compared: " + unrecorded + ")";
+  if (verification.outcome == VerifyOutcome::kIdentical) return "ok   " + name + ": " + counts + not_compared;
   std::string line = "FAIL " + name + ": ";
   if (!verification.identity.empty()) line += DifferenceText(verification.identity.front(), "now") + "; ";
   if (!verification.records.empty()) line += DifferenceText(verification.records.front(), "re-simulated") + "; ";
@@ -341,6 +352,7 @@ json VerificationJson(const CellVerification& verification, const std::string& n
   entry["identical"] = verification.identical;
   entry["identity_differences"] = DifferencesJson(verification.identity);
   entry["record_differences"] = DifferencesJson(verification.records);
+  entry["fields_not_recorded"] = verification.fields_not_recorded;
   return entry;
 }
 

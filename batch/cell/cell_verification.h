@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,8 @@ struct CellVerification {
   // The program that wrote the cell and this one: a difference is reported but is no failure.
   std::string program_version_recorded;
   std::string program_version_now;
+  // Fields this version writes that the records of an older one lack (not compared).
+  std::set<std::string> fields_not_recorded;
 
   bool program_version_differs() const { return program_version_recorded != program_version_now; }
 };
