@@ -91,6 +91,7 @@ EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
   record.galt = ParseGalt(line, "galt");
   record.galt_policy_rate = ParseGalt(line, "galt_policy_rate");
   ParseStagesJson(line, record);
+  ParseGazeJson(line, record.gaze);
   return record;
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/cell/gaze_fixation.h"
 #include "batch/episode_driver.h"
 #include "engine/batch_state.h"
 #include "kinematics/action.h"
@@ -51,7 +52,8 @@ struct EpisodeRecord {
   // Under a runtime perturbation level only: the control tick the target was moved, -1 if it was
   // not (no hand came near it, or no free place was found); unset in every other cell.
   std::optional<int> target_move_tick;
-  std::vector<StageReached> stages;                // the task's stages, in declared order
+  std::vector<StageReached> stages;  // the task's stages, in declared order
+  GazeRecord gaze;                   // where the head looked (gaze_fixation.h); untraced for a robot without a head
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
   std::vector<kinematics::Action> actions;         // every control tick's, with RecordSettings::keep_actions
 };
@@ -94,9 +96,11 @@ class EpisodeRecorder : public EpisodeSink {
   // [slot]: made at the slot's first episode (the recorder learns the task from the env then);
   // each slot touches only its own.
   std::vector<std::optional<scenarios::StageProgress>> stage_progress_;
-  std::vector<std::string> prompts_;             // [slot] the running episode's prompt
-  std::vector<std::string> target_objects_;      // [slot]
-  std::vector<scenarios::TargetFacts> targets_;  // [slot]
+  std::vector<std::optional<GazeTracer>> gaze_tracers_;  // [slot], made with its StageProgress
+  std::vector<GazeRecord> gaze_;                         // [slot] the running episode's fixations
+  std::vector<std::string> prompts_;                     // [slot] the running episode's prompt
+  std::vector<std::string> target_objects_;              // [slot]
+  std::vector<scenarios::TargetFacts> targets_;          // [slot]
   int64_t next_release_;
   std::map<int64_t, EpisodeRecord> waiting_;  // ended, after an episode still running
 };
