@@ -151,7 +151,7 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
   for (const EpisodeRecord& record : result.episodes) {
     if (record.success) gaze.push_back(&record.gaze);
   }
-  summary["gaze"] = GazeSummaryJson(gaze);
+  if (nlohmann::json gaze_summary = GazeSummaryJson(gaze); !gaze_summary.is_null()) summary["gaze"] = gaze_summary;
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
   }

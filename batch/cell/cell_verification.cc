@@ -127,6 +127,7 @@ std::map<int64_t, json> Resimulate(CellPlan plan, const EvaluationCellConfig& re
   for (const EpisodeRecord& episode : result.episodes) {
     json line = json::parse(EpisodeJsonLine(episode, plan.config.seed));
     const auto record = records.find(episode.episode);
+    if (record != records.end() && !record->second.contains("fixations")) RemoveGazeJson(line);  // recorded before gaze
     if (episode.end == engine::EpisodeEnd::kStopped && record != records.end() && EndedByPolicy(record->second)) {
       line["end"] = record->second.at("end");
       if (record->second.contains("invalid_action")) line["invalid_action"] = record->second.at("invalid_action");

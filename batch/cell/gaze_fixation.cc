@@ -206,6 +206,13 @@ void AddGazeJson(const GazeRecord& record, nlohmann::json& line) {
   line["cue_before_reach"] = record.cue_before_reach ? nlohmann::json(*record.cue_before_reach) : nlohmann::json();
 }
 
+void RemoveGazeJson(nlohmann::json& line) {
+  for (const char* key : {"fixations", "galt_verified_s", "galt_verified_reason", "pre_grasp_fixation",
+                          "gaze_on_target_ratio", "cue_before_reach"}) {
+    line.erase(key);
+  }
+}
+
 void ParseGazeJson(const nlohmann::json& line, GazeRecord& record) {
   if (!line.contains("fixations")) return;
   const auto bad = [](const std::string& key) {

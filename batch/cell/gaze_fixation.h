@@ -104,13 +104,15 @@ void VerifyGalt(const std::optional<kinematics::GaltResult>& galt, double policy
 // "galt_verified_s", "galt_verified_reason", "pre_grasp_fixation", "gaze_on_target_ratio",
 // "cue_before_reach" (null when unset).
 void AddGazeJson(const GazeRecord& record, nlohmann::json& line);
+// Removes them from a line (what a record written before gaze existed is compared with).
+void RemoveGazeJson(nlohmann::json& line);
 // Reads them back; a line without them leaves the record untraced. Throws std::invalid_argument
 // naming a malformed key.
 void ParseGazeJson(const nlohmann::json& line, GazeRecord& record);
 
 // summary.json's "gaze": over the successful episodes with a GALT value, how many were verified
 // and the fraction; the verified values' median; the gaze-on-target ratio's mean; look-before-
-// reach's share. Null when no episode was traced.
+// reach's share. Null when no episode was traced (summary.json then has no "gaze").
 nlohmann::json GazeSummaryJson(const std::vector<const GazeRecord*>& successful_episodes);
 
 }  // namespace tavis::batch::cell
