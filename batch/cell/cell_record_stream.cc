@@ -93,6 +93,7 @@ EpisodeRecord ParseEpisodeJsonLine(const std::string& text) {
   record.galt_policy_rate = ParseGalt(line, "galt_policy_rate");
   ParseStagesJson(line, record);
   ParseEventsJson(line, record);
+  ParseGazeJson(line, record.gaze);
   return record;
 }
 

@@ -91,6 +91,7 @@ std::string EpisodeJsonLine(const EpisodeRecord& record, uint64_t seed) {
   add_galt(record.galt_policy_rate, "galt_policy_rate");
   AddStagesJson(record, line);
   AddEventsJson(record, line);
+  AddGazeJson(record.gaze, line);
   return line.dump();
 }
 
@@ -152,6 +153,11 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
   // null under the fixed protocol, where no GALT is computed (as in the reference).
   summary["galt"] =
       !UsesFixedView(config.camera) ? GaltJson(result, &EpisodeRecord::galt, result.galt_fps) : nlohmann::json();
+  std::vector<const GazeRecord*> gaze;
+  for (const EpisodeRecord& record : result.episodes) {
+    if (record.success) gaze.push_back(&record.gaze);
+  }
+  if (nlohmann::json gaze_summary = GazeSummaryJson(gaze); !gaze_summary.is_null()) summary["gaze"] = gaze_summary;
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
   }

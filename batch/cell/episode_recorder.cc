@@ -12,6 +12,8 @@ EpisodeRecorder::EpisodeRecorder(int slots, int max_control_steps, RecordSetting
       stage_progress_(static_cast<std::size_t>(slots)),
       event_detectors_(static_cast<std::size_t>(slots)),
       tcp_logs_(static_cast<std::size_t>(slots)),
+      gaze_tracers_(static_cast<std::size_t>(slots)),
+      gaze_(static_cast<std::size_t>(slots)),
       prompts_(static_cast<std::size_t>(slots)),
       target_objects_(static_cast<std::size_t>(slots)),
       targets_(static_cast<std::size_t>(slots)),
@@ -33,12 +35,22 @@ void EpisodeRecorder::EpisodeStarted(const VecEnv& vec_env, int slot) {
   if (!detector) detector.emplace(scenario, vec_env.model(), settings_.head_moves);
   detector->Start();
   for (auto& log : tcp_logs_[slot]) log.clear();
+  if (!gaze_tracers_[slot]) gaze_tracers_[slot].emplace(vec_env.model(), scenario.cue_objects);
+  gaze_[slot] = GazeRecord{};
+  gaze_[slot].traced = gaze_tracers_[slot]->has_head();
   prompts_[slot] = vec_env.prompt(slot);
   target_objects_[slot] = vec_env.model().objects[static_cast<std::size_t>(state.target(slot))].name;
   targets_[slot] = scenario.target_facts != nullptr ? scenario.target_facts(state, slot) : scenarios::TargetFacts{};
 }
 
 void EpisodeRecorder::ActionChosen(const VecEnv& vec_env, int slot, const kinematics::Action& action) {
+  // The gaze at each policy tick of the log (GALT's clock), in the state the action is chosen in.
+  const int ticks_per_policy_step = vec_env.model().physics.controls_per_policy();
+  const int tick = static_cast<int>(action_logs_[slot].size());
+  if (gaze_[slot].traced && tick % ticks_per_policy_step == 0) {
+    AppendFixation(gaze_tracers_[slot]->Trace(vec_env.state(), slot), tick / ticks_per_policy_step,
+                   gaze_[slot].fixations);
+  }
   action_logs_[slot].push_back(action);
   // The state this tick's action is chosen in: every state of the episode but its last, which
   // EpisodeEnded looks at.
@@ -89,6 +101,10 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& vec_env, int slot) {
   if (record.success) {
     record.galt = Galt(log, settings_.galt_stride, settings_.galt_fps);
     record.galt_policy_rate = Galt(log, settings_.policy_rate_stride, settings_.policy_rate_fps);
+  }
+  record.gaze = std::move(gaze_[slot]);
+  if (record.success) {
+    VerifyGalt(record.galt, vec_env.model().physics.policy_hz, !vec_env.scenario().cue_objects.empty(), record.gaze);
   }
   if (settings_.replay_stride > 0) {
     for (std::size_t tick = 0; tick < log.size(); tick += static_cast<std::size_t>(settings_.replay_stride)) {

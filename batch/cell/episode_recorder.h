@@ -14,6 +14,7 @@
 
 #include "batch/cell/failure_events.h"
 #include "batch/cell/motion_quality.h"
+#include "batch/cell/gaze_fixation.h"
 #include "batch/episode_driver.h"
 #include "engine/batch_state.h"
 #include "kinematics/action.h"
@@ -60,6 +61,7 @@ struct EpisodeRecord {
   // a record written before they existed.
   std::optional<std::vector<EventFired>> events;
   std::optional<std::array<ArmMotion, 2>> motion;
+  GazeRecord gaze;                   // where the head looked (gaze_fixation.h); untraced for a robot without a head
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
   std::vector<kinematics::Action> actions;         // every control tick's, with RecordSettings::keep_actions
 };
@@ -109,9 +111,11 @@ class EpisodeRecorder : public EpisodeSink {
   std::vector<std::optional<FailureEventDetector>> event_detectors_;  // [slot], made with its StageProgress
   // [slot][hand]: the tool centre point at every tick shown, reserved for a whole episode.
   std::vector<std::array<std::vector<Vec3>, 2>> tcp_logs_;
-  std::vector<std::string> prompts_;             // [slot] the running episode's prompt
-  std::vector<std::string> target_objects_;      // [slot]
-  std::vector<scenarios::TargetFacts> targets_;  // [slot]
+  std::vector<std::optional<GazeTracer>> gaze_tracers_;  // [slot], made with its StageProgress
+  std::vector<GazeRecord> gaze_;                         // [slot] the running episode's fixations
+  std::vector<std::string> prompts_;                     // [slot] the running episode's prompt
+  std::vector<std::string> target_objects_;              // [slot]
+  std::vector<scenarios::TargetFacts> targets_;          // [slot]
   int64_t next_release_;
   std::map<int64_t, EpisodeRecord> waiting_;  // ended, after an episode still running
 };

@@ -1,0 +1,154 @@
+#include "batch/cell/gaze_fixation.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <string>
+
+#include "batch/cell/cell_record_stream.h"
+#include "batch/cell/cell_report.h"
+#include "batch/cell/evaluation_cell.h"
+
+namespace tavis::batch::cell {
+namespace {
+
+kinematics::GaltResult GraspAt(double t_grasp_s, double galt_s) {
+  kinematics::GaltResult galt;
+  galt.reason = kinematics::GaltReason::kOk;
+  galt.galt_s = galt_s;
+  galt.t_hand_arrival_s = t_grasp_s;
+  galt.t_hand_onset_s = t_grasp_s - 1.0;
+  galt.t_head_arrival_s = t_grasp_s - galt_s;
+  return galt;
+}
+
+GazeRecord Traced(const std::vector<std::pair<GazeTarget, int>>& steps) {
+  GazeRecord record;
+  record.traced = true;
+  int step = 0;
+  for (const auto& [target, count] : steps) {
+    for (int i = 0; i < count; ++i) AppendFixation(target, step++, record.fixations);
+  }
+  return record;
+}
+
+TEST(GazeFixation, ConsecutiveStepsOnOneThingMakeOneSegment) {
+  const GazeRecord record = Traced({{GazeTarget::kTable, 3}, {GazeTarget::kTarget, 2}, {GazeTarget::kTable, 1}});
+  const std::vector<FixationSegment> expected = {
+      {GazeTarget::kTable, 0, 3}, {GazeTarget::kTarget, 3, 5}, {GazeTarget::kTable, 5, 6}};
+  EXPECT_EQ(record.fixations, expected);
+  EXPECT_EQ(FixationAt(record.fixations, 4), GazeTarget::kTarget);
+  EXPECT_EQ(FixationAt(record.fixations, 9), GazeTarget::kNothing);
+}
+
+TEST(GazeFixation, AGaltIsVerifiedOnlyWhenTheLastFixationBeforeTheGraspIsTheTarget) {
+  // 20 Hz: the grasp at 2.0 s is policy step 40; the head settles at step 20.
+  GazeRecord on_target = Traced({{GazeTarget::kTable, 20}, {GazeTarget::kTarget, 30}});
+  VerifyGalt(GraspAt(2.0, 1.0), 20.0, false, on_target);
+  EXPECT_EQ(on_target.galt_verified_reason, "verified");
+  ASSERT_TRUE(on_target.galt_verified_s);
+  EXPECT_EQ(*on_target.galt_verified_s, 1.0);
+  // 3 s window before the grasp: steps 0..39, 20 of them on the target.
+  ASSERT_TRUE(on_target.gaze_on_target_ratio);
+  EXPECT_DOUBLE_EQ(*on_target.gaze_on_target_ratio, 0.5);
+
+  // A neck that pauses on a distractor: the same GALT, but no verified value.
+  GazeRecord wrong_object = Traced({{GazeTarget::kTable, 20}, {GazeTarget::kDistractor, 30}});
+  VerifyGalt(GraspAt(2.0, 1.0), 20.0, false, wrong_object);
+  EXPECT_EQ(wrong_object.galt_verified_reason, "off_target");
+  EXPECT_FALSE(wrong_object.galt_verified_s);
+  ASSERT_TRUE(wrong_object.pre_grasp_fixation);
+  EXPECT_EQ(*wrong_object.pre_grasp_fixation, GazeTarget::kDistractor);
+  EXPECT_DOUBLE_EQ(*wrong_object.gaze_on_target_ratio, 0.0);
+
+  kinematics::GaltResult no_value = GraspAt(2.0, 1.0);
+  no_value.galt_s.reset();
+  no_value.reason = kinematics::GaltReason::kNoFixation;
+  GazeRecord unverifiable = Traced({{GazeTarget::kTarget, 50}});
+  VerifyGalt(no_value, 20.0, false, unverifiable);
+  EXPECT_EQ(unverifiable.galt_verified_reason, "no_galt");
+  EXPECT_FALSE(unverifiable.galt_verified_s);
+}
+
+TEST(GazeFixation, TheCueCountsBeforeTheReachOnsetOnly) {
+  // Onset at 1.0 s = step 20.
+  GazeRecord early = Traced({{GazeTarget::kCue, 10}, {GazeTarget::kTarget, 40}});
+  VerifyGalt(GraspAt(2.0, 1.0), 20.0, true, early);
+  ASSERT_TRUE(early.cue_before_reach);
+  EXPECT_TRUE(*early.cue_before_reach);
+  GazeRecord late = Traced({{GazeTarget::kTarget, 25}, {GazeTarget::kCue, 25}});
+  VerifyGalt(GraspAt(2.0, 1.0), 20.0, true, late);
+  ASSERT_TRUE(late.cue_before_reach);
+  EXPECT_FALSE(*late.cue_before_reach);
+  GazeRecord no_cue_task = Traced({{GazeTarget::kTarget, 50}});
+  VerifyGalt(GraspAt(2.0, 1.0), 20.0, false, no_cue_task);
+  EXPECT_FALSE(no_cue_task.cue_before_reach);
+}
+
+TEST(GazeFixation, TheRecordsKeysReadBackAsWritten) {
+  GazeRecord record = Traced({{GazeTarget::kShelf, 4}, {GazeTarget::kCue, 3}, {GazeTarget::kTarget, 50}});
+  VerifyGalt(GraspAt(2.0, 1.0), 20.0, true, record);
+  nlohmann::json line;
+  AddGazeJson(record, line);
+  EXPECT_EQ(line["fixations"].dump(), R"([["shelf",0,4],["cue",4,7],["target",7,57]])");
+  GazeRecord back;
+  ParseGazeJson(line, back);
+  EXPECT_TRUE(back.traced);
+  EXPECT_EQ(back.fixations, record.fixations);
+  EXPECT_EQ(back.galt_verified_s, record.galt_verified_s);
+  EXPECT_EQ(back.galt_verified_reason, record.galt_verified_reason);
+  EXPECT_EQ(back.pre_grasp_fixation, record.pre_grasp_fixation);
+  EXPECT_EQ(back.gaze_on_target_ratio, record.gaze_on_target_ratio);
+  EXPECT_EQ(back.cue_before_reach, record.cue_before_reach);
+
+  nlohmann::json bad = line;
+  bad["fixations"] = nlohmann::json::array({nlohmann::json::array({"teapot", 0, 1})});
+  GazeRecord ignored;
+  EXPECT_THROW(ParseGazeJson(bad, ignored), std::invalid_argument);
+  GazeRecord untraced;
+  ParseGazeJson(nlohmann::json::object(), untraced);  // a line written before gaze existed
+  EXPECT_FALSE(untraced.traced);
+}
+
+EvaluationCellConfig ExpertCell(const std::string& task, int episodes) {
+  EvaluationCellConfig config;
+  config.task = task;
+  config.robot = "gr1t2";
+  config.policy = "expert";
+  config.episodes = episodes;
+  config.envs = 2;
+  config.seed = 5;
+  config.config_dir = TAVIS_CONFIG_DIR;
+  return config;
+}
+
+// The expert's head leads to the card, then the target: its GALT is verified and the card seen; the records do not
+// depend on the thread count.
+TEST(GazeFixation, TheExpertFixatesTheCueThenTheTargetItGrasps) {
+  CellResult one;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = RunEvaluationCell(ExpertCell("conditional-pick", 4));
+  }
+  const CellResult two = RunEvaluationCell(ExpertCell("conditional-pick", 4));
+  ASSERT_GT(one.successes, 0);
+  int saw_cue = 0;
+  for (std::size_t i = 0; i < one.episodes.size(); ++i) {
+    const EpisodeRecord& record = one.episodes[i];
+    ASSERT_TRUE(record.gaze.traced);
+    ASSERT_FALSE(record.gaze.fixations.empty());
+    EXPECT_EQ(record.gaze.fixations.front().start, 0);
+    EXPECT_EQ(record.gaze.fixations.back().end, record.length_steps);
+    EXPECT_EQ(EpisodeJsonLine(record, 5), EpisodeJsonLine(two.episodes[i], 5)) << "episode " << i;
+    if (!record.success) continue;
+    EXPECT_EQ(record.gaze.galt_verified_reason, "verified") << "episode " << i;
+    EXPECT_EQ(record.gaze.galt_verified_s, record.galt->galt_s) << "episode " << i;
+    ASSERT_TRUE(record.gaze.cue_before_reach) << "episode " << i;
+    saw_cue += *record.gaze.cue_before_reach;
+  }
+  // The card is small: the ray misses it in some episodes (docs/gaze.md), not in most.
+  EXPECT_GE(2 * saw_cue, one.successes);
+}
+
+}  // namespace
+}  // namespace tavis::batch::cell
