@@ -33,14 +33,7 @@ void CheckSettings(const EvaluationCellConfig& config, PolicyKind policy) {
   if (policy == PolicyKind::kOpenpi && config.servers.empty()) {
     throw output::SettingError("servers", "must name a policy server (ws://HOST:PORT) for policy 'openpi'");
   }
-  // Each server's URL, before any folder is touched or any server is asked.
-  for (const std::string& server : config.servers) {
-    try {
-      remote::ParseWebSocketUrl(server);
-    } catch (const std::invalid_argument& error) {
-      throw output::SettingsAdvice<std::invalid_argument>(output::SettingKey("servers") + ": " + error.what());
-    }
-  }
+  CheckServerUrls(config);
   if (policy == PolicyKind::kReplay && config.actions_file.empty()) {
     throw output::SettingError("actions_file",
                                "must name a CSV of actions or a folder of episode_<i>.csv for policy 'replay'");
@@ -139,6 +132,16 @@ nlohmann::json PlanIdentity(const CellPlan& plan, const PlanFiles& files) {
 }
 
 }  // namespace
+
+void CheckServerUrls(const EvaluationCellConfig& config) {
+  for (const std::string& server : config.servers) {
+    try {
+      remote::ParseWebSocketUrl(server);
+    } catch (const std::invalid_argument& error) {
+      throw output::SettingsAdvice<std::invalid_argument>(output::SettingKey("servers") + ": " + error.what());
+    }
+  }
+}
 
 void CellPlan::ContinueFrom(int64_t first) {
   if (first < config.episode_start || first > end_episode()) {

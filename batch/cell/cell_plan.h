@@ -63,6 +63,10 @@ struct CellPlan {
 // configs::ConfigError naming a bad value or file.
 CellPlan PlanCell(const EvaluationCellConfig& config);
 
+// Each server's URL, checked before any folder is touched or any server is asked (PlanCell does,
+// and what reads a server's declared contract before planning); throws naming the setting.
+void CheckServerUrls(const EvaluationCellConfig& config);
+
 // What cell.json records of the files behind the settings: the robot file, a served policy's key
 // file and the program version (output::ConfigIdentityJson), reading them; a plan has it already.
 nlohmann::json CellIdentityJson(const EvaluationCellConfig& config);

@@ -328,8 +328,10 @@ std::string VerificationLine(const CellVerification& verification, const std::st
   const std::string counts = std::to_string(verification.identical) + "/" + std::to_string(verification.episodes) +
                              " episodes identical" + (verification.complete ? "" : " (incomplete: no summary.json)");
   std::string unrecorded;
-  for (const std::string& field : verification.fields_not_recorded) unrecorded += (unrecorded.empty() ? "" : ", ") + field;
-  const std::string not_compared = unrecorded.empty() ? "" : " (not in the older records, not compared: " + unrecorded + ")";
+  for (const std::string& field : verification.fields_not_recorded)
+    unrecorded += (unrecorded.empty() ? "" : ", ") + field;
+  const std::string not_compared =
+      unrecorded.empty() ? "" : " (not in the older records, not compared: " + unrecorded + ")";
   if (verification.outcome == VerifyOutcome::kIdentical) return "ok   " + name + ": " + counts + not_compared;
   std::string line = "FAIL " + name + ": ";
   if (!verification.identity.empty()) line += DifferenceText(verification.identity.front(), "now") + "; ";

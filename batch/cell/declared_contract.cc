@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/cell/cell_plan.h"
 #include "batch/output/setting_error.h"
 #include "batch/policy_kinds.h"
 #include "batch/remote/remote_policy.h"
@@ -25,6 +26,7 @@ std::string Size(int width, int height) { return std::to_string(width) + "x" + s
 
 std::optional<remote::ServerContract> ReadDeclaredContract(const EvaluationCellConfig& config) {
   if (!IsPolicy(config.policy, PolicyKind::kOpenpi) || config.servers.empty()) return std::nullopt;
+  CheckServerUrls(config);  // a bad URL is a setting's error (naming --server), not a connection's
   remote::RemotePolicyOptions options;
   options.ready_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.server_ready_timeout_s * 1000.0));
   options.reply_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.reply_timeout_s * 1000.0));

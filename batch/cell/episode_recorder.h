@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "batch/cell/failure_events.h"
-#include "batch/cell/motion_quality.h"
 #include "batch/cell/gaze_fixation.h"
+#include "batch/cell/motion_quality.h"
 #include "batch/episode_driver.h"
 #include "engine/batch_state.h"
 #include "kinematics/action.h"
@@ -61,7 +61,7 @@ struct EpisodeRecord {
   // a record written before they existed.
   std::optional<std::vector<EventFired>> events;
   std::optional<std::array<ArmMotion, 2>> motion;
-  GazeRecord gaze;                   // where the head looked (gaze_fixation.h); untraced for a robot without a head
+  GazeRecord gaze;  // where the head looked (gaze_fixation.h); untraced for a robot without a head
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
   std::vector<kinematics::Action> actions;         // every control tick's, with RecordSettings::keep_actions
 };
