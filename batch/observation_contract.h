@@ -35,6 +35,10 @@ inline constexpr const char* kIsFirstField = "is_first";
 // In a batched request (one message for every env due at a policy tick): the number of envs, the
 // length of every value's leading axis.
 inline constexpr const char* kBatchSizeField = "batch_size";
+// All of them: a top-level key every request carries besides the observation, which no image or
+// state key may use (a key layout or a server's declared contract that did would be overwritten).
+inline constexpr const char* kRequestFields[] = {kEnvIndexField, kEpisodeIndexField, kStepField, kIsFirstField,
+                                                 kBatchSizeField};
 // A server's metadata declares that it answers batched requests with this key set to true.
 inline constexpr const char* kBatchedRequestsMetadata = "batched_requests";
 

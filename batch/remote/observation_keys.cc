@@ -18,12 +18,6 @@ namespace {
 constexpr const char* kContractPreset = "tavis";
 const char* const kPresets[] = {kContractPreset, "libero", "aloha"};  // the contract's first: it is built in
 
-// Top-level keys every request carries besides the observation (observation_contract.h): a key
-// layout that used them would have its values overwritten.
-const char* const kRequestFields[] = {batch::contract::kEnvIndexField, batch::contract::kEpisodeIndexField,
-                                      batch::contract::kStepField, batch::contract::kIsFirstField,
-                                      batch::contract::kBatchSizeField};
-
 std::string JoinPath(const KeyPath& path) {
   std::string text;
   for (const std::string& part : path) text += (text.empty() ? "" : "/") + part;
@@ -85,7 +79,7 @@ ObservationKeys ReadKeys(const configs::YamlValue& root, std::string source) {
   sent.emplace_back("prompt", keys.prompt);
   if (!keys.task.empty()) sent.emplace_back("task", keys.task);
   for (const auto& [name, path] : sent) {
-    for (const char* field : kRequestFields) {
+    for (const char* field : batch::contract::kRequestFields) {
       if (path.front() == field)
         root.Fail(name + " uses the key '" + field + "', which every request carries as a request field");
     }

@@ -20,10 +20,6 @@ constexpr std::int64_t kMaxChunk = 100000;
 
 const char* const kFields[] = {"version",     "cameras",      "image_width",    "image_height",     "state",
                                "n_obs_steps", "chunk_length", "executed_steps", "checkpoint_sha256"};
-// Keys every request carries besides the observation: an image or the state under one would be lost.
-const char* const kRequestFields[] = {batch::contract::kEnvIndexField, batch::contract::kEpisodeIndexField,
-                                      batch::contract::kStepField, batch::contract::kIsFirstField,
-                                      batch::contract::kBatchSizeField};
 
 class ContractReader {
  public:
@@ -83,7 +79,7 @@ class ContractReader {
     if (!std::all_of(text->begin(), text->end(), [](char c) { return c > 0x20 && c < 0x7f; })) {
       Fail(field, "must be printable ASCII without spaces, got '" + Shown(*text) + "'");
     }
-    for (const char* request_field : kRequestFields) {
+    for (const char* request_field : batch::contract::kRequestFields) {
       if (*text == request_field) Fail(field, "is '" + *text + "', which every request carries as a request field");
     }
     return *text;
