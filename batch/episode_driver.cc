@@ -142,22 +142,27 @@ void EpisodeDriver::RunSlotEpisode(PerEnvPolicy& policy, int slot, int64_t episo
   const engine::BatchState& state = vec_env_.state();
   const Observation observation = slots_.observation();
   kinematics::Action& action = actions_[slot];
-  vec_env_.ResetEnv(slot, episode);
-  if (slots_.observer() != nullptr) slots_.observer()->EnvReset(slot);
+  LoopObserver* observer = slots_.observer();
+  Observe(observer, LoopPart::kReset, slot, [&] { vec_env_.ResetEnv(slot, episode); });
+  if (observer != nullptr) observer->EnvReset(slot);
   slots_.EpisodeReset(slot);
-  policy.ResetOne(observation, slot);
+  Observe(observer, LoopPart::kPolicyResets, slot, [&] { policy.ResetOne(observation, slot); });
   slots_.TellSinks(slot, [&](EpisodeSink& sink) { sink.EpisodeStarted(vec_env_, slot); });
   int64_t ticks = 0;
   while (state.running(slot) && !slots_.StopIfSinksAreDone(slot)) {
     slots_.TellSinks(slot, [&](EpisodeSink& sink) { sink.SlotTickStarting(vec_env_, slot); });
-    // The slot's cameras at its own policy ticks, as RenderPolicyTick draws them for the batch.
-    vec_env_.RenderEnvPolicyTick(slot);
+    // The slot's cameras at its own policy ticks, as RenderPolicyTick draws them for the batch
+    // (observed only where there are cameras and it is a policy tick: a tick's clock reads are few).
+    const bool policy_tick = state.control_step[slot] % ticks_per_policy_step == 0;
+    if (vec_env_.renderer() != nullptr && policy_tick) {
+      Observe(observer, LoopPart::kRender, slot, [&] { vec_env_.RenderEnvPolicyTick(slot); });
+    }
     if (state.control_step[slot] % hold_ticks == 0) {
-      if (state.control_step[slot] % ticks_per_policy_step == 0) slots_.proprioception().UpdateEnv(state, slot);
-      policy.ActOne(observation, slot, action);
+      if (policy_tick) slots_.proprioception().UpdateEnv(state, slot);
+      Observe(observer, LoopPart::kPolicyActs, slot, [&] { policy.ActOne(observation, slot, action); });
     }
     slots_.ActionChosen(slot, action);
-    vec_env_.StepEnv(slot, actions_);
+    Observe(observer, LoopPart::kStep, slot, [&] { vec_env_.StepEnv(slot, actions_); });
     slots_.EndIfGaveUp(policy, slot);
     slots_.TellSinks(slot, [&](EpisodeSink& sink) { sink.SlotStepped(vec_env_, slot); });
     ++ticks;

@@ -4,6 +4,7 @@
 // (EpisodeSlots, LockStepTicker): the episode driver's two schedules and the Python module's env.
 #pragma once
 
+#include "batch/loop_observer.h"
 #include "batch/vec_env.h"
 #include "kinematics/action.h"
 
@@ -37,5 +38,8 @@ class EpisodeSink {
   // their slot's data (they may run concurrently for distinct slots); and it accepts EpisodeEnded
   // calls, one at a time, in the order episodes happen to end. False: the driver runs lock-step.
   virtual bool works_per_slot() const { return false; }
+  // What the observers count this sink's calls as: kSinks, or kVideo for a sink that renders and
+  // encodes video (episode videos, a rollout dataset), whose time an episode's time split reports.
+  virtual LoopPart timed_as() const { return LoopPart::kSinks; }
 };
 }  // namespace tavis::batch

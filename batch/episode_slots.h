@@ -41,13 +41,11 @@ class EpisodeSlots {
 
   // The env of `slot` has just been reset: its episode's prompt, before the policy's reset.
   void EpisodeReset(int slot);
-  // Tells every sink `tell(sink)`, as the sinks' part of the loop for `slot` (kWholeBatch: a
-  // part the batch shares).
+  // Tells every sink `tell(sink)`, each as its part of the loop for `slot` (kWholeBatch: a part
+  // the batch shares; EpisodeSink::timed_as).
   template <typename Tell>
   void TellSinks(int slot, Tell&& tell) {
-    Observe(observer_, LoopPart::kSinks, slot, [&] {
-      for (EpisodeSink* sink : sinks_) tell(*sink);
-    });
+    for (EpisodeSink* sink : sinks_) Observe(observer_, sink->timed_as(), slot, [&] { tell(*sink); });
   }
   // Ends the running episode in `slot` as kStopped if a sink has all it needs of it; true if so.
   bool StopIfSinksAreDone(int slot);

@@ -11,21 +11,20 @@ LockStepTicker::LockStepTicker(EpisodeSlots& slots)
 void LockStepTicker::StartEpisodes(const std::vector<EpisodeStart>& starts) {
   if (starts.empty()) return;
   LoopObserver* observer = slots_.observer();
-  Observe(observer, LoopPart::kParallel, kWholeBatch, [&] { vec_env_.Reset(starts); });
   std::fill(started_.begin(), started_.end(), 0);
-  for (const EpisodeStart& start : starts) {
-    started_[static_cast<std::size_t>(start.env)] = 1;
-    slots_.EpisodeReset(start.env);
-  }
+  for (const EpisodeStart& start : starts) started_[static_cast<std::size_t>(start.env)] = 1;
+  if (observer != nullptr) observer->EpisodesStarting(started_);
+  Observe(observer, LoopPart::kReset, kWholeBatch, [&] { vec_env_.Reset(starts); });
+  for (const EpisodeStart& start : starts) slots_.EpisodeReset(start.env);
   for (Policy* policy : policies_) {
-    Observe(observer, LoopPart::kParallel, kWholeBatch, [&] { policy->Reset(slots_.observation(), started_); });
+    Observe(observer, LoopPart::kPolicyResets, kWholeBatch, [&] { policy->Reset(slots_.observation(), started_); });
   }
   if (observer != nullptr) observer->EpisodesStarted(started_);
-  Observe(observer, LoopPart::kSinks, kWholeBatch, [&] {
-    for (const EpisodeStart& start : starts) {
-      for (EpisodeSink* sink : slots_.sinks()) sink->EpisodeStarted(vec_env_, start.env);
-    }
-  });
+  for (EpisodeSink* sink : slots_.sinks()) {
+    Observe(observer, sink->timed_as(), kWholeBatch, [&] {
+      for (const EpisodeStart& start : starts) sink->EpisodeStarted(vec_env_, start.env);
+    });
+  }
 }
 
 void LockStepTicker::TickStarting() {
@@ -33,7 +32,7 @@ void LockStepTicker::TickStarting() {
 }
 
 void LockStepTicker::RenderPolicyTick() {
-  Observe(slots_.observer(), LoopPart::kParallel, kWholeBatch, [&] { vec_env_.RenderPolicyTick(); });
+  Observe(slots_.observer(), LoopPart::kRender, kWholeBatch, [&] { vec_env_.RenderPolicyTick(); });
 }
 
 void LockStepTicker::Tick(ActionBatch& actions, Policy* policy) {
@@ -47,14 +46,14 @@ void LockStepTicker::Tick(ActionBatch& actions, Policy* policy) {
     for (PolicyFault& fault : faults_) vec_env_.EndInvalid(fault.env, {-1, 0.0, std::move(fault.reason)});
   }
   for (kinematics::Action& action : actions) slots_.ApplyProtocol(action);
-  Observe(slots_.observer(), LoopPart::kSinks, kWholeBatch, [&] {
-    for (int slot = 0; slot < slots; ++slot) {
-      if (!state.running(slot)) continue;
-      const kinematics::Action& action = actions[static_cast<std::size_t>(slot)];
-      for (EpisodeSink* sink : slots_.sinks()) sink->ActionChosen(vec_env_, slot, action);
-    }
-  });
-  Observe(slots_.observer(), LoopPart::kParallel, kWholeBatch, [&] { vec_env_.Step(actions); });
+  for (EpisodeSink* sink : slots_.sinks()) {
+    Observe(slots_.observer(), sink->timed_as(), kWholeBatch, [&] {
+      for (int slot = 0; slot < slots; ++slot) {
+        if (state.running(slot)) sink->ActionChosen(vec_env_, slot, actions[static_cast<std::size_t>(slot)]);
+      }
+    });
+  }
+  Observe(slots_.observer(), LoopPart::kStep, kWholeBatch, [&] { vec_env_.Step(actions); });
   if (policy != nullptr) {
     for (int slot = 0; slot < slots; ++slot) slots_.EndIfGaveUp(*policy, slot);
   }

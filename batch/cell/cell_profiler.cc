@@ -33,24 +33,25 @@ void CellProfiler::RunStarting(VecEnv& vec_env, Policy& policy, bool per_slot) {
 void CellProfiler::PartStarting(LoopPart, int slot) { part_start_[static_cast<std::size_t>(slot + 1)] = Clock::now(); }
 
 void CellProfiler::PartEnded(LoopPart part, int slot) {
+  const bool sinks = part == LoopPart::kSinks || part == LoopPart::kVideo;
+  // A slot's own parts but its sinks run inside the per-slot workers' part (kParallel of the
+  // batch); their costs are timed env by env (VecEnv's and the policy's env timing).
+  if (slot >= 0 && !sinks) return;
   const double seconds = SecondsSince(part_start_[static_cast<std::size_t>(slot + 1)]);
-  switch (part) {
-    case LoopPart::kParallel: parallel_seconds_ += seconds; break;
-    case LoopPart::kPolicyActs:
-      parallel_seconds_ += seconds;
-      // A policy that times its envs is counted env by env (EndSection), its resets included.
-      if (timed_policy_ == nullptr) policy_seconds_ += seconds;
-      break;
-    case LoopPart::kSinks:
-      // Per slot a worker's sinks run inside the parallel section and count in its episode's
-      // recording, added when the episode ends (slots' parts may run concurrently).
-      if (profile_.per_slot && slot >= 0) {
-        slot_recording_seconds_[static_cast<std::size_t>(slot)] += seconds;
-      } else {
-        recording_seconds_ += seconds;
-      }
-      break;
+  if (sinks) {
+    // Per slot a worker's sinks run inside the parallel section and count in its episode's
+    // recording, added when the episode ends (slots' parts may run concurrently).
+    if (profile_.per_slot && slot >= 0) {
+      slot_recording_seconds_[static_cast<std::size_t>(slot)] += seconds;
+    } else {
+      recording_seconds_ += seconds;
+    }
+    return;
   }
+  // Every other part of the batch runs spread over the threads.
+  parallel_seconds_ += seconds;
+  // A policy that times its envs is counted env by env (EndSection), its resets included.
+  if (part == LoopPart::kPolicyActs && timed_policy_ == nullptr) policy_seconds_ += seconds;
 }
 
 double CellProfiler::EndSection(const std::vector<uint8_t>& slots) {

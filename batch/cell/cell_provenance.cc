@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "batch/cell/episode_times.h"
 #include "batch/output/config_identity.h"
 #include "batch/output/sha256.h"
 #include "batch/perturb/perturbation_catalog.h"
@@ -62,6 +63,11 @@ nlohmann::json TimeJson(const CellResult& result) {
     time["policy_wait_s"] = wait_s;
     time["simulation_s"] = std::max(0.0, result.wall_s - wait_s);
   }
+  std::vector<EpisodeTimes> measured;
+  for (const EpisodeRecord& record : result.episodes) {
+    if (record.times) measured.push_back(*record.times);
+  }
+  time["episodes"] = EpisodeTimesSummaryJson(measured);
   if (result.profile) {
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [stage, seconds] : result.profile->stages) stages[stage] = seconds;

@@ -44,7 +44,8 @@ struct ProvenanceRun {
 
 // summary.json's `provenance`: {"program", "config_files", "policy", "machine", "time"}. "time":
 // the cell's wall_s, and with a served policy policy_wait_s (the time spent waiting for replies)
-// and simulation_s (the rest); with --profile, every stage's seconds (stages_s). A config file no
+// and simulation_s (the rest); "episodes", the episodes' time split aggregated
+// (EpisodeTimesSummaryJson); with --profile, every stage's seconds (stages_s). A config file no
 // longer readable is recorded as {"file", "error"}, never a failure of the finished cell.
 nlohmann::json CellProvenanceJson(const CellResult& result, const ProvenanceRun& run);
 

@@ -10,8 +10,10 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "batch/cell/cell_report.h"
+#include "batch/cell/episode_times.h"
 #include "batch/cell/event_record.h"
 #include "batch/cell/stage_record.h"
 #include "batch/output/atomic_file.h"
@@ -110,7 +112,7 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
       throw Advice(output::SettingKey("resume") + ": " + dir_ + " is complete (it has summary.json)");
     // What a resume reads, cuts and appends to is the cell's own: a planted link is refused before
     // anything is read or written (so a file elsewhere is never truncated nor filled).
-    for (const char* name : {"cell.json", "episodes.jsonl", "actions", "videos"})
+    for (const char* name : {"cell.json", "episodes.jsonl", "episode_times.jsonl", "actions", "videos"})
       output::RefuseLink(fs::path(dir_) / name);
     nlohmann::json was;
     try {
@@ -146,10 +148,43 @@ CellRecordStream::CellRecordStream(std::string dir, const CellPlan& plan, bool r
     output::WriteOutputMarker(dir_, output::OutputKind::kEvalCell);
     output::WriteFileAtomically(cell_json, settings.dump(2) + "\n");
   }
-  OpenEpisodes(episodes_path, resume, kept_bytes);
+  episodes_ = OpenAppending(episodes_path.string(), resume, kept_bytes);
+  const std::string times_path = (fs::path(dir_) / "episode_times.jsonl").string();
+  if (resume) {
+    ResumeTimes(times_path);
+  } else {
+    times_ = OpenAppending(times_path, false, 0);
+  }
 }
 
-void CellRecordStream::OpenEpisodes(const std::string& path, bool resume, std::uintmax_t kept_bytes) {
+void CellRecordStream::ResumeTimes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::uintmax_t kept_bytes = 0;
+  std::size_t kept = 0;
+  while (kept < resumed_.size() && std::getline(in, line) && !in.eof()) {
+    EpisodeTimesLine times;
+    try {
+      times = ParseEpisodeTimesJsonLine(line);
+    } catch (const std::exception&) {
+      break;
+    }
+    if (times.episode != resumed_[kept].episode) break;
+    resumed_[kept++].times = times.times;
+    kept_bytes += line.size() + 1;
+    resumed_time_ends_.push_back(kept_bytes);
+  }
+  in.close();
+  times_ = OpenAppending(path, true, kept_bytes);
+  for (; kept < resumed_.size(); ++kept) {
+    const std::string missing = EpisodeTimesJsonLine(resumed_[kept].episode, std::nullopt);
+    Append(times_, "episode_times.jsonl", missing);
+    resumed_time_ends_.push_back(resumed_time_ends_.empty() ? 0 : resumed_time_ends_.back());
+    resumed_time_ends_.back() += missing.size() + 1;
+  }
+}
+
+std::FILE* CellRecordStream::OpenAppending(const std::string& path, bool resume, std::uintmax_t kept_bytes) {
   // O_NOFOLLOW: the records go into the cell's own file, never through a link to another.
   const int fd =
       open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (resume ? 0 : O_TRUNC), 0644);
@@ -163,37 +198,49 @@ void CellRecordStream::OpenEpisodes(const std::string& path, bool resume, std::u
     close(fd);
     throw std::runtime_error("cannot cut the torn last line of " + path + ": " + std::strerror(reason));
   }
-  episodes_ = fdopen(fd, "ab");
-  if (episodes_ == nullptr) {
+  std::FILE* file = fdopen(fd, "ab");
+  if (file == nullptr) {
     const int reason = errno;
     close(fd);
     throw std::runtime_error("cannot write " + path + ": " + std::strerror(reason));
   }
+  return file;
 }
 
 CellRecordStream::~CellRecordStream() {
   if (episodes_ != nullptr) std::fclose(episodes_);
+  if (times_ != nullptr) std::fclose(times_);
 }
 
 void CellRecordStream::MovedTo(std::string dir) { dir_ = std::move(dir); }
 
 void CellRecordStream::KeepResumed(std::size_t count) {
   if (count >= resumed_.size() || written_ > 0) return;
-  const std::string path = dir_ + "/episodes.jsonl";
-  if (std::fflush(episodes_) != 0 ||
-      ftruncate(fileno(episodes_), static_cast<off_t>(count == 0 ? 0 : resumed_ends_[count - 1])) != 0)
-    throw std::runtime_error("cannot cut " + path + " to its first " + std::to_string(count) +
-                             " records: " + std::strerror(errno));
+  const std::pair<std::FILE*, const std::vector<std::uintmax_t>*> files[] = {{episodes_, &resumed_ends_},
+                                                                             {times_, &resumed_time_ends_}};
+  for (const auto& [file, ends] : files) {
+    if (std::fflush(file) != 0 || ftruncate(fileno(file), static_cast<off_t>(count == 0 ? 0 : (*ends)[count - 1])) != 0)
+      throw std::runtime_error("cannot cut the files of " + dir_ + " to their first " + std::to_string(count) +
+                               " records: " + std::strerror(errno));
+  }
   resumed_.resize(count);
   resumed_ends_.resize(count);
+  resumed_time_ends_.resize(count);
+}
+
+void CellRecordStream::Append(std::FILE* file, const char* name, const std::string& line) {
+  if (std::fwrite(line.data(), 1, line.size(), file) != line.size() || std::fputc('\n', file) == EOF ||
+      std::fflush(file) != 0) {
+    throw std::runtime_error("cannot write " + dir_ + "/" + name + ": " + std::strerror(errno));
+  }
 }
 
 void CellRecordStream::Write(const EpisodeRecord& record) {
   if (!record.replay_actions.empty()) WriteReplayCsv(record, dir_);
-  const std::string line = EpisodeJsonLine(record, seed_) + "\n";
-  if (std::fwrite(line.data(), 1, line.size(), episodes_) != line.size() || std::fflush(episodes_) != 0) {
-    throw std::runtime_error("cannot write " + dir_ + "/episodes.jsonl: " + std::strerror(errno));
-  }
+  // The times first: a kill between the two lines leaves a time line without its record, which a
+  // resume cuts, rather than a record without its times.
+  Append(times_, "episode_times.jsonl", EpisodeTimesJsonLine(record.episode, record.times));
+  Append(episodes_, "episodes.jsonl", EpisodeJsonLine(record, seed_));
   ++written_;
 }
 

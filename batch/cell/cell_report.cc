@@ -13,6 +13,7 @@
 
 #include "batch/action_csv.h"
 #include "batch/cell/cell_provenance.h"
+#include "batch/cell/episode_times.h"
 #include "batch/cell/event_record.h"
 #include "batch/cell/galt_summary.h"
 #include "batch/cell/stage_record.h"
@@ -37,18 +38,14 @@ nlohmann::json GaltJson(const CellResult& result, std::optional<kinematics::Galt
 }
 
 // count, mean, median, 95th percentile (nearest rank) and maximum of `values_ms`; null when empty.
-nlohmann::json MillisecondsJson(std::vector<double> values_ms) {
+nlohmann::json MillisecondsJson(const std::vector<double>& values_ms) {
   if (values_ms.empty()) return nullptr;
-  std::sort(values_ms.begin(), values_ms.end());
   const std::size_t n = values_ms.size();
-  const auto rank = [&](double fraction) {
-    return values_ms[static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(n))) - 1];
-  };
   return {{"count", n},
           {"mean_ms", std::accumulate(values_ms.begin(), values_ms.end(), 0.0) / static_cast<double>(n)},
-          {"median_ms", rank(0.5)},
-          {"p95_ms", rank(0.95)},
-          {"max_ms", values_ms.back()}};
+          {"median_ms", NearestRank(values_ms, 0.5)},
+          {"p95_ms", NearestRank(values_ms, 0.95)},
+          {"max_ms", *std::max_element(values_ms.begin(), values_ms.end())}};
 }
 
 // What ended an invalid_action episode. A non-finite value is written as its name ("nan",
@@ -106,10 +103,17 @@ void WriteReplayCsv(const EpisodeRecord& record, const std::filesystem::path& ou
 void WriteCellReport(const CellResult& result, const RunInfo& info, const std::string& out_dir) {
   std::filesystem::create_directories(out_dir);
   std::string episodes_text;
+  std::string times_text;
+  bool timed = false;
   for (const EpisodeRecord& record : result.episodes) {
     if (!record.replay_actions.empty()) WriteReplayCsv(record, out_dir);
     episodes_text += EpisodeJsonLine(record, result.config.seed) + "\n";
+    times_text += EpisodeTimesJsonLine(record.episode, record.times) + "\n";
+    timed = timed || record.times.has_value();
   }
+  // Episodes run by a cell are timed; those of the Python module's env, whose loop is its
+  // caller's, are not, and get no time file.
+  if (timed) output::WriteFileAtomically(std::filesystem::path(out_dir) / "episode_times.jsonl", times_text);
   output::WriteFileAtomically(std::filesystem::path(out_dir) / "episodes.jsonl", episodes_text);
   WriteCellSummary(result, info, out_dir);
 }

@@ -1,8 +1,9 @@
-// Writes an evaluation cell's results: DIR/episodes.jsonl (one object per episode),
-// DIR/summary.json, and for a served policy DIR/actions/episode_<i>.csv.gz (the actions each episode
-// stepped with, one row per policy step, gzip-compressed, for --policy replay and tavis verify) and its request
-// timings. Files are written to a temporary name and renamed, so an interrupted run never leaves a half-written result
-// in place of a good one.
+// Writes an evaluation cell's results: DIR/episodes.jsonl (one object per episode), beside it
+// DIR/episode_times.jsonl when its episodes were timed (each one's time split, episode_times.h),
+// DIR/summary.json, and for a served policy
+// DIR/actions/episode_<i>.csv.gz (the actions each episode stepped with, one row per policy step, gzip-compressed, for
+// --policy replay and tavis verify) and its request timings. Files are written to a temporary name and renamed, so an
+// interrupted run never leaves a half-written result in place of a good one.
 #pragma once
 
 #include <cstdint>

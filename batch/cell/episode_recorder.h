@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/cell/episode_times.h"
 #include "batch/cell/failure_events.h"
 #include "batch/cell/gaze_fixation.h"
 #include "batch/cell/motion_quality.h"
@@ -64,6 +65,10 @@ struct EpisodeRecord {
   GazeRecord gaze;  // where the head looked (gaze_fixation.h); untraced for a robot without a head
   std::vector<kinematics::Action> replay_actions;  // one every RecordSettings::replay_stride ticks
   std::vector<kinematics::Action> actions;         // every control tick's, with RecordSettings::keep_actions
+  // How long it took and where the time went (episode_times.h), set by the cell that ran it (none
+  // for a resumed episode whose times were lost). Not part of the record: it differs from run to
+  // run, so episodes.jsonl never holds it and no comparison of records reads it.
+  std::optional<EpisodeTimes> times;
 };
 
 struct RecordSettings {

@@ -6,6 +6,7 @@
 
 #include "batch/builtin_policies.h"
 #include "batch/cell/cell_profiler.h"
+#include "batch/cell/episode_timer.h"
 #include "batch/policy_kinds.h"
 #include "batch/vec_env.h"
 #include "kinematics/invariant.h"
@@ -92,8 +93,11 @@ CellResult RunEvaluationCell(const CellPlan& plan, const ProgressCallback& progr
     vec_env.EnableCameras({plan.cameras, plan.render_width, plan.render_height, false, false});
     vec_env.BlockCameras(ProtocolBlackCameras(config.camera));
   }
+  EpisodeTimer timer;
   EpisodeRecorder recorder(slots, vec_env.model().physics.max_control_steps(), plan.record, config.first_episode,
                            [&](EpisodeRecord&& record) {
+                             // The episode has ended (the timer has its times) before its record is made.
+                             record.times = timer.Take(record.episode);
                              if (on_record) on_record(record);
                              result.successes += record.success ? 1 : 0;
                              result.episodes.push_back(std::move(record));
@@ -107,8 +111,12 @@ CellResult RunEvaluationCell(const CellPlan& plan, const ProgressCallback& progr
     driver.AddSink(recorder);
     driver.SetProgress(progress);
     driver.SetCameraProtocol(config.camera);
+    // Every cell times its episodes; with `profile` the profiler observes the loop too.
     CellProfiler profiler;
-    if (config.profile) driver.SetObserver(profiler);
+    LoopObservers observers;
+    observers.Add(timer);
+    if (config.profile) observers.Add(profiler);
+    driver.SetObserver(observers);
     result.per_slot = driver.schedule() == EpisodeDriver::Schedule::kPerSlot;
     driver.Run();
     result.control_ticks = driver.control_ticks();

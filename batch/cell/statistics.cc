@@ -25,6 +25,13 @@ double Median(std::vector<double> values) {
   return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
 }
 
+double NearestRank(std::vector<double> values, double fraction) {
+  if (values.empty()) throw std::invalid_argument("a quantile of no values");
+  std::sort(values.begin(), values.end());
+  const double rank = std::ceil(fraction * static_cast<double>(values.size()));
+  return values[static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(values.size()))) - 1];
+}
+
 Spread SpreadOf(std::vector<double> values) {
   if (values.empty()) throw std::invalid_argument("the spread of no values");
   Spread spread;

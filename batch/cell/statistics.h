@@ -1,5 +1,6 @@
 // The statistics the records and tables report: success-rate intervals, and the spread (mean,
-// median, standard deviation) of a list of values such as GALT seconds. Written once here.
+// median, standard deviation, a nearest-rank quantile) of a list of values such as GALT seconds.
+// Written once here.
 #pragma once
 
 #include <cstddef>
@@ -31,5 +32,10 @@ Spread SpreadOf(std::vector<double> values);
 
 // The median of `values`, which must not be empty (std::invalid_argument).
 double Median(std::vector<double> values);
+
+// The nearest-rank `fraction` quantile of `values` (0 < fraction <= 1): the smallest value with at
+// least that fraction of them at or below it, one of the values; `values` must not be empty
+// (std::invalid_argument).
+double NearestRank(std::vector<double> values, double fraction);
 
 }  // namespace tavis::batch::cell

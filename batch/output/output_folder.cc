@@ -39,6 +39,7 @@ const std::vector<std::string>& OwnPaths(OutputKind kind) {
   const auto cell_paths = [](const std::string& prefix) {
     return std::vector<std::string>{prefix + "cell.json",
                                     prefix + "episodes.jsonl",
+                                    prefix + "episode_times.jsonl",
                                     prefix + "summary.json",
                                     prefix + "profile.json",
                                     prefix + "actions/",

@@ -75,6 +75,8 @@ class EpisodeVideoRecorder : public EpisodeSink {
   void TickStarting(const VecEnv& vec_env) override;
   void ActionChosen(const VecEnv& vec_env, int slot, const kinematics::Action& action) override;
   void EpisodeEnded(const VecEnv& vec_env, int slot) override;
+  // An episode's time split counts its rendering and encoding as video.
+  LoopPart timed_as() const override { return LoopPart::kVideo; }
 
   // The cell has recorded `record`: a filmed episode gets its outcome frames and its file is
   // completed. Throws std::runtime_error naming the file when it cannot be written.

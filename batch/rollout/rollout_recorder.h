@@ -49,6 +49,8 @@ class RolloutRecorder : public EpisodeSink {
   void EpisodeEnded(const VecEnv& vec_env, int slot) override;
   // Per-slot frames and encoders; episodes wait for their records, in whatever order they end.
   bool works_per_slot() const override { return true; }
+  // It renders and encodes the dataset's video: an episode's time split counts it as video.
+  LoopPart timed_as() const override { return LoopPart::kVideo; }
 
   // The cell has recorded `record`: its episode goes to `keep`.
   void RecordFinished(const cell::EpisodeRecord& record);

@@ -687,7 +687,12 @@ class HookLog : public LoopObserver {
     EXPECT_EQ(open_[static_cast<std::size_t>(slot + 1)], static_cast<int>(part));
     open_[static_cast<std::size_t>(slot + 1)] = -1;
   }
+  void EpisodesStarting(const std::vector<uint8_t>& starting) override {
+    EXPECT_EQ(open_[0], -1) << "the batch's starts are told before its reset";
+    starting_ = starting;
+  }
   void EpisodesStarted(const std::vector<uint8_t>& started) override {
+    EXPECT_EQ(started, starting_) << "the slots told as starting are those started";
     for (uint8_t flag : started) batch_starts += flag;
   }
   void TickEnded() override { ++ticks; }
@@ -714,6 +719,7 @@ class HookLog : public LoopObserver {
  private:
   std::mutex mutex_;
   std::vector<int> open_;  // [slot + 1] the open part, -1 if none
+  std::vector<uint8_t> starting_;
   int ending_ = -1;
 };
 
@@ -743,7 +749,12 @@ TEST(EpisodeDriver, TellsItsObserverOfEveryPartAndEpisodeOnEitherSchedule) {
       EXPECT_EQ(hooks.batch_starts, 5);
       EXPECT_EQ(hooks.env_resets, 0);
       // Per refill: the env's reset and the policy's; per tick: the render and the step.
-      EXPECT_EQ(hooks.Parts(LoopPart::kParallel, false), 3 * 2 + 45 * 2);
+      EXPECT_EQ(hooks.Parts(LoopPart::kReset, false), 3);
+      EXPECT_EQ(hooks.Parts(LoopPart::kPolicyResets, false), 3);
+      EXPECT_EQ(hooks.Parts(LoopPart::kRender, false), 45);
+      EXPECT_EQ(hooks.Parts(LoopPart::kStep, false), 45);
+      EXPECT_EQ(hooks.Parts(LoopPart::kParallel, false), 0);
+      EXPECT_EQ(hooks.Parts(LoopPart::kStep, true), 0);
       // Per refill: EpisodeStarted; per tick: TickStarting, ActionChosen and Stepped.
       EXPECT_EQ(hooks.Parts(LoopPart::kSinks, false), 3 + 45 * 3);
       EXPECT_EQ(hooks.Parts(LoopPart::kSinks, true), 0);
@@ -753,6 +764,13 @@ TEST(EpisodeDriver, TellsItsObserverOfEveryPartAndEpisodeOnEitherSchedule) {
       EXPECT_EQ(hooks.env_resets, 5);
       EXPECT_EQ(hooks.Parts(LoopPart::kParallel, false), 1) << "the workers";
       EXPECT_EQ(hooks.Parts(LoopPart::kPolicyActs, false), 0);
+      // Per episode: its env's reset and the policy's; per tick the step, and at each of the
+      // hold's actions (every third tick, the policy rate) its part (no cameras: no render part).
+      EXPECT_EQ(hooks.Parts(LoopPart::kReset, true), 5);
+      EXPECT_EQ(hooks.Parts(LoopPart::kPolicyResets, true), 5);
+      EXPECT_EQ(hooks.Parts(LoopPart::kPolicyActs, true), 5 * 5);
+      EXPECT_EQ(hooks.Parts(LoopPart::kStep, true), 5 * 15);
+      EXPECT_EQ(hooks.Parts(LoopPart::kRender, true), 0);
       // Per episode: EpisodeStarted; per tick: SlotTickStarting, ActionChosen and SlotStepped.
       EXPECT_EQ(hooks.Parts(LoopPart::kSinks, true), 5 * (1 + 15 * 3));
       EXPECT_EQ(hooks.Parts(LoopPart::kSinks, false), 0);

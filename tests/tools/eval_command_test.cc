@@ -70,8 +70,8 @@ TEST_F(EvalCommand, SmallCellWritesEpisodesSummaryAndOneLine) {
   // a tavis cell and the (released) lock file.
   std::set<std::string> names;
   for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
-  EXPECT_EQ(names,
-            (std::set<std::string>{".tavis_lock", ".tavis_output", "cell.json", "episodes.jsonl", "summary.json"}));
+  EXPECT_EQ(names, (std::set<std::string>{".tavis_lock", ".tavis_output", "cell.json", "episode_times.jsonl",
+                                          "episodes.jsonl", "summary.json"}));
 }
 
 TEST_F(EvalCommand, ProfilePrintsSharesAndWritesProfileJsonWithoutChangingTheRecords) {

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/cell/episode_times.h"
 #include "batch/output/setting_error.h"
 #include "tests/support/test_folder.h"
 
@@ -112,6 +113,66 @@ TEST_F(CellFolder, AResumedFolderRunsOnlyTheMissingEpisodesAndSummarisesTheWhole
   const nlohmann::json was = nlohmann::json::parse(whole_summary);
   EXPECT_EQ(summary.at("n_episodes"), was.at("n_episodes"));
   EXPECT_EQ(summary.at("n_successful"), was.at("n_successful"));
+}
+
+// Each line's episode index, in the file's order.
+std::vector<int64_t> EpisodesOf(const std::vector<std::string>& lines) {
+  std::vector<int64_t> episodes;
+  for (const std::string& line : lines) episodes.push_back(nlohmann::json::parse(line).at("episode").get<int64_t>());
+  return episodes;
+}
+
+TEST_F(CellFolder, EveryEpisodeGetsOneTimeLineBesideTheRecordsWhichTimingLeavesAlone) {
+  RunCellInFolder(PlanCell(TwoExpertEpisodes()), Options());
+  const std::string records = ReadText(Out() / "episodes.jsonl");
+  const std::vector<std::string> times = Lines(Out() / "episode_times.jsonl");
+  EXPECT_EQ(EpisodesOf(times), (std::vector<int64_t>{0, 1})) << "in the records' order";
+  for (const std::string& line : times) {
+    const EpisodeTimesLine parsed = ParseEpisodeTimesJsonLine(line);
+    ASSERT_TRUE(parsed.times.has_value()) << line;
+    EXPECT_GT(parsed.times->span_s, 0.0) << line;
+    EXPECT_GT(parsed.times->part(EpisodeTimes::kPhysics), 0.0) << line;
+  }
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(Out() / "summary.json"));
+  const nlohmann::json& aggregated = summary.at("provenance").at("time").at("episodes");
+  EXPECT_EQ(aggregated.at("measured"), 2);
+  EXPECT_GT(aggregated.at("physics_s").at("total_s").get<double>(), 0.0);
+
+  // The same cell again: the same records byte for byte, other times.
+  fs::remove_all(Out());
+  RunCellInFolder(PlanCell(TwoExpertEpisodes()), Options());
+  EXPECT_EQ(ReadText(Out() / "episodes.jsonl"), records);
+  EXPECT_NE(Lines(Out() / "episode_times.jsonl"), times) << "timing differs from run to run";
+}
+
+TEST_F(CellFolder, AResumedCellHasExactlyOneTimeLinePerEpisode) {
+  RunCellInFolder(PlanCell(TwoExpertEpisodes()), Options());
+  const std::vector<std::string> records = Lines(Out() / "episodes.jsonl");
+  const std::vector<std::string> times = Lines(Out() / "episode_times.jsonl");
+  CellFolderOptions options = Options();
+  options.resume = true;
+  // Killed between episode 1's time line and its record: the time line without a record goes.
+  fs::remove(Out() / "summary.json");
+  std::ofstream(Out() / "episodes.jsonl", std::ios::binary | std::ios::trunc) << records[0] << "\n";
+  RunCellInFolder(PlanCell(TwoExpertEpisodes()), options);
+  EXPECT_EQ(Lines(Out() / "episodes.jsonl"), records);
+  std::vector<std::string> resumed = Lines(Out() / "episode_times.jsonl");
+  EXPECT_EQ(EpisodesOf(resumed), (std::vector<int64_t>{0, 1}));
+  EXPECT_EQ(resumed[0], times[0]) << "the resumed episode keeps its times";
+
+  // A cell begun without the time file (an older tavis): the resumed episode's line says its
+  // times are unknown, and the summary aggregates the measured one.
+  fs::remove(Out() / "summary.json");
+  fs::remove(Out() / "episode_times.jsonl");
+  std::ofstream(Out() / "episodes.jsonl", std::ios::binary | std::ios::trunc) << records[0] << "\n{\"episode\": 1";
+  RunCellInFolder(PlanCell(TwoExpertEpisodes()), options);
+  EXPECT_EQ(Lines(Out() / "episodes.jsonl"), records);
+  resumed = Lines(Out() / "episode_times.jsonl");
+  EXPECT_EQ(EpisodesOf(resumed), (std::vector<int64_t>{0, 1}));
+  EXPECT_FALSE(ParseEpisodeTimesJsonLine(resumed[0]).times.has_value());
+  EXPECT_TRUE(ParseEpisodeTimesJsonLine(resumed[1]).times.has_value());
+  const nlohmann::json summary = nlohmann::json::parse(ReadText(Out() / "summary.json"));
+  EXPECT_EQ(summary.at("provenance").at("time").at("episodes").at("measured"), 1);
 }
 
 TEST_F(CellFolder, AnOverwriteBuildsTheNewCellBesideTheOldOneUntilItsFirstRecord) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "batch/cell/episode_times.h"
 #include "batch/output/program_version.h"
 #include "tests/batch/cell/example_cells.h"
 
@@ -62,7 +63,8 @@ TEST(CellProvenance, ABuiltInPolicyHasItsNameAsLabelAndNoServers) {
   const nlohmann::json provenance = CellProvenanceJson(result, {"", 1});
   EXPECT_EQ(provenance["policy"], nlohmann::json({{"label", "hold"}, {"name", "hold"}}));
   EXPECT_EQ(provenance["config_files"].size(), 1u);
-  EXPECT_EQ(provenance["time"], nlohmann::json({{"wall_s", 2.5}}));
+  EXPECT_EQ(provenance["time"], nlohmann::json({{"wall_s", 2.5}, {"episodes", EpisodeTimesSummaryJson({})}}))
+      << "no episode of this result was timed";
 }
 
 // A robot file gone by the time the summary is written is recorded as such: the cell that ran

@@ -30,8 +30,8 @@ std::string Refusal(Call call) {
 
 TEST_F(OutputFolder, CellWithOnlyItsOwnFilesIsOwnAndAUsersFileMakesItForeign) {
   const fs::path cell = root_ / "cell";
-  for (const char* name :
-       {"cell.json", "episodes.jsonl", "summary.json", "actions/episode_0.csv", "summary.json.partial"})
+  for (const char* name : {"cell.json", "episodes.jsonl", "episode_times.jsonl", "summary.json",
+                           "actions/episode_0.csv", "summary.json.partial"})
     testing::WriteTextFile(cell / name, "x");
   EXPECT_TRUE(IsOwnOutput(cell, OutputKind::kEvalCell));
   EXPECT_FALSE(IsOwnOutput(cell, OutputKind::kSweep)) << "an eval cell is no sweep";

@@ -428,6 +428,24 @@ TEST(RemotePolicy, LayoutsAndTheServersMetadataAreRecordedInTheSummary) {
   std::filesystem::remove_all(dir);
 }
 
+// Each episode's time split (cell/episode_times.h): a served cell waits for its server, and the
+// episodes' shares of the policy's calls cover at least the time spent waiting for replies.
+TEST(RemotePolicy, EveryEpisodeOfAServedCellWaitsForThePolicy) {
+  testing::PolicyServerProcess server = ServeActions(10, {"--sleep-ms", "5"});
+  const batch::cell::CellResult result = RunWithThreads(ServedCell({server.address()}), 2);
+  ASSERT_EQ(result.episodes.size(), 2U);
+  ASSERT_TRUE(result.requests.has_value());
+  double policy_s = 0.0;
+  for (const batch::cell::EpisodeRecord& record : result.episodes) {
+    ASSERT_TRUE(record.times.has_value()) << "episode " << record.episode;
+    EXPECT_GT(record.times->part(batch::cell::EpisodeTimes::kPolicy), 0.0) << "episode " << record.episode;
+    EXPECT_EQ(record.times->part(batch::cell::EpisodeTimes::kVideo), 0.0) << "episode " << record.episode;
+    policy_s += record.times->part(batch::cell::EpisodeTimes::kPolicy);
+  }
+  EXPECT_GE(policy_s, result.requests->wait_ms / 1000.0 - 1e-6);
+  EXPECT_GT(result.requests->wait_ms, 0.0);
+}
+
 TEST(RemotePolicy, ServerDyingMidCellStopsItNamingTheServer) {
   // The server exits half a second after it listens; four 20 s episodes take several seconds.
   testing::PolicyServerProcess server = ServeActions(10, {"--lifetime", "0.5"});

@@ -71,6 +71,14 @@ TEST_F(CellVideosTest, FilmingChangesNoRecordAndFilmsOnlyTheFirstEpisodes) {
   }
   EXPECT_EQ(Entries(dir_ / "videos"), (std::set<std::string>{"episode_0.mp4", "episode_1.mp4"}));
   EXPECT_GT(fs::file_size(dir_ / "videos" / "episode_0.mp4"), 1000u);
+  // Each episode's time split (cell/episode_times.h): a filmed episode's time has video in it,
+  // one of a cell without videos none.
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    ASSERT_TRUE(plain[i].times.has_value() && filmed[i].times.has_value()) << "episode " << i;
+    EXPECT_EQ(plain[i].times->part(cell::EpisodeTimes::kVideo), 0.0) << "episode " << i;
+  }
+  EXPECT_GT(filmed[0].times->part(cell::EpisodeTimes::kVideo), 0.0);
+  EXPECT_GT(filmed[1].times->part(cell::EpisodeTimes::kVideo), 0.0);
 }
 
 TEST_F(CellVideosTest, PngFramesOnePerPolicyStepAndTheEndWithTheTasksBlackCameraBlack) {
