@@ -23,7 +23,9 @@
 #include "batch/episode_driver.h"
 #include "engine/object_catalog.h"
 #include "kinematics/forward_kinematics.h"
+#include "scenarios/expert/pick_expert.h"
 #include "scenarios/registry.h"
+#include "tests/support/altered_expert_policy.h"
 #include "tests/support/robot_loading.h"
 #include "tests/support/wrong_side_policy.h"
 
@@ -237,34 +239,6 @@ TEST(FailureEvents, PickingTheOtherObjectIsWrongObjectTouchedAndLifted) {
   }
 }
 
-// The scripted expert with each of its actions altered by `alter` (the env, its observation and
-// whether the env's hand has been let go of, which `alter` may set).
-using Alteration = std::function<void(const Observation&, int env, kinematics::Action&, uint8_t& flag)>;
-class AlteredExpert : public Policy {
- public:
-  AlteredExpert(const VecEnv& vec_env, Alteration alter)
-      : expert_(MakeBuiltinPolicy("expert", vec_env.scenario(), vec_env.model(), vec_env.num_envs())),
-        alter_(std::move(alter)),
-        flags_(static_cast<std::size_t>(vec_env.num_envs()), 0) {}
-  std::string name() const override { return "altered-expert"; }
-  int control_ticks_per_action() const override { return 1; }
-  void Reset(const Observation& observation, const std::vector<uint8_t>& started) override {
-    for (std::size_t env = 0; env < started.size(); ++env) flags_[env] = started[env] ? 0 : flags_[env];
-    expert_->Reset(observation, started);
-  }
-  void Act(const Observation& observation, const std::vector<uint8_t>& acting, ActionBatch& actions) override {
-    expert_->Act(observation, acting, actions);
-    for (std::size_t env = 0; env < acting.size(); ++env) {
-      if (acting[env]) alter_(observation, static_cast<int>(env), actions[env], flags_[env]);
-    }
-  }
-
- private:
-  std::unique_ptr<Policy> expert_;
-  Alteration alter_;
-  std::vector<uint8_t> flags_;
-};
-
 // The expert's grippers opened once the closed hand has the target 5 cm above the table's top
 // plus its half height: lifted (the stage's 3 cm), then let go of.
 void LetGoOnceLifted(const Observation& observation, int env, kinematics::Action& action, uint8_t& released) {
@@ -283,7 +257,7 @@ void SixCentimetresLower(const Observation&, int, kinematics::Action& action, ui
 
 TEST(FailureEvents, GraspingSixCentimetresTooLowIsGripperTableContact) {
   VecEnv vec_env = MakeEnv("clutter-pick-cube", 8.0, 2);
-  AlteredExpert lower(vec_env, &SixCentimetresLower);
+  testing::AlteredExpertPolicy lower(vec_env, &SixCentimetresLower);
   const std::vector<EpisodeRecord> records = RunCell(vec_env, lower, 2);
   ASSERT_EQ(records.size(), 2u);
   for (const EpisodeRecord& record : records)
@@ -292,7 +266,7 @@ TEST(FailureEvents, GraspingSixCentimetresTooLowIsGripperTableContact) {
 
 TEST(FailureEvents, LettingGoOfTheLiftedTargetIsTargetDropped) {
   VecEnv vec_env = MakeEnv("clutter-pick-cube", 12.0, 2);
-  AlteredExpert dropping(vec_env, &LetGoOnceLifted);
+  testing::AlteredExpertPolicy dropping(vec_env, &LetGoOnceLifted);
   const std::vector<EpisodeRecord> records = RunCell(vec_env, dropping, 2);
   ASSERT_EQ(records.size(), 2u);
   for (const EpisodeRecord& record : records) {
@@ -307,6 +281,56 @@ TEST(FailureEvents, LettingGoOfTheLiftedTargetIsTargetDropped) {
       }
     }
   }
+}
+
+// The pick expert (default settings: no cue read, straight to the target) reaching with the arm on
+// the other side of the midline from the target, not the one on its side. In conditional-pick
+// both objects stand 15-25 cm off the midline, most within the other arm's reach.
+kinematics::Side OtherSideThanTheTarget(const engine::BatchState& state, int env) {
+  return state.ObjectPosition(env, state.target(env)).y() >= 0.0 ? kinematics::Side::kRight : kinematics::Side::kLeft;
+}
+std::unique_ptr<scenarios::Expert> MakeCrossingExpert(const engine::WorldModel& model, int num_envs,
+                                                      scenarios::expert::ExpertMode mode) {
+  scenarios::expert::PickExpertSettings settings;
+  settings.mode = mode;
+  settings.reach_side = &OtherSideThanTheTarget;
+  return std::make_unique<scenarios::expert::PickExpert>(model, num_envs, settings);
+}
+
+// The target's y (world, from the robot's midline) as episode `episode` of the cell starts.
+double TargetYAtStart(const std::string& task, int64_t episode) {
+  VecEnv vec_env = MakeEnv(task, 3.0, 1);
+  vec_env.Reset({{0, episode}});
+  return vec_env.state().ObjectPosition(0, vec_env.state().target(0)).y() - vec_env.model().robot.root_world.y();
+}
+
+TEST(FailureEvents, ReachingAcrossWithTheOtherArmIsOppositeArmUsed) {
+  constexpr int kEpisodes = 4;
+  VecEnv vec_env = MakeEnv("conditional-pick", 8.0, kEpisodes);
+  scenarios::ScenarioDef crossing = vec_env.scenario();
+  crossing.make_expert = &MakeCrossingExpert;
+  ExpertPolicy crossing_expert(crossing, vec_env.model(), kEpisodes);
+  const std::vector<EpisodeRecord> records = RunCell(vec_env, crossing_expert, kEpisodes);
+  ASSERT_EQ(records.size(), static_cast<std::size_t>(kEpisodes));
+  int crossed = 0;
+  for (const EpisodeRecord& record : records) {
+    const double y = TargetYAtStart("conditional-pick", record.episode);
+    SCOPED_TRACE("episode " + std::to_string(record.episode) + ", target at y " + std::to_string(y));
+    const auto approached = std::find_if(record.stages.begin(), record.stages.end(), [](const StageReached& stage) {
+      return stage.name == "target_approached" && stage.first_tick >= 0;
+    });
+    if (std::abs(y) < 0.10) {
+      EXPECT_FALSE(Fired(record, FailureEvent::kOppositeArmUsed)) << "a target near the midline has no side";
+    } else if (approached == record.stages.end()) {
+      // A target too far across for the other arm's grasps (seed 5's episode 6, 22 cm off): the
+      // expert finds no plan and gives up before it reaches.
+      EXPECT_FALSE(Fired(record, FailureEvent::kOppositeArmUsed)) << Names(record);
+    } else {
+      ++crossed;
+      EXPECT_TRUE(Fired(record, FailureEvent::kOppositeArmUsed)) << Names(record);
+    }
+  }
+  EXPECT_EQ(crossed, kEpisodes) << "seed 5's first episodes put the target 17-23 cm off the midline, within reach";
 }
 
 // The detector shown a state in which the settled target has been tipped on its side, then one in
