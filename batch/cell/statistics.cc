@@ -25,6 +25,15 @@ double Median(std::vector<double> values) {
   return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
 }
 
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) throw std::invalid_argument("a quantile of no values");
+  std::sort(values.begin(), values.end());
+  const double rank = q * static_cast<double>(values.size() - 1);
+  const std::size_t below = static_cast<std::size_t>(std::floor(rank));
+  const std::size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (rank - static_cast<double>(below)) * (values[above] - values[below]);
+}
+
 Spread SpreadOf(std::vector<double> values) {
   if (values.empty()) throw std::invalid_argument("the spread of no values");
   Spread spread;
