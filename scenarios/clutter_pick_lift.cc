@@ -70,6 +70,7 @@ ScenarioDef ClutterPickLift() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
+  def.gaze_anchors = PickGazeAnchors(def.stages);
   def.distractor_zones = &ClutterDistractorZones;
   def.target_zones = &ClutterTargetZones;
   // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).

@@ -113,6 +113,7 @@ ScenarioDef ConditionalPick() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success, kCardName);
+  def.gaze_anchors = PickGazeAnchors(def.stages, "card");
   def.target_facts = &Facts;
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;

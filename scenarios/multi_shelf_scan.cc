@@ -181,6 +181,7 @@ ScenarioDef MultiShelfScan() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
+  def.gaze_anchors = PickGazeAnchors(def.stages);
   def.target_facts = &Facts;
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;

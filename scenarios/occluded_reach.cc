@@ -91,6 +91,7 @@ ScenarioDef OccludedReach() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success);
+  def.gaze_anchors = PickGazeAnchors(def.stages);
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;
   // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).

@@ -1,5 +1,6 @@
 // A task, declared: its name and suite, the objects its information sits in, its success rule,
-// the cameras it blacks out, its facts for the record and its prompt's paraphrases, and the hooks
+// the cameras it blacks out, its facts for the record, its prompt's paraphrases and its gaze
+// anchors, and the hooks
 // that lay out, reset and advance its scene, phrase its prompt and make its scripted expert; its
 // own per-env variables are a struct of its own (task_state.h). Everything outside scenarios/
 // learns a task's facts from here, never from its name. Hooks act on one env; the VecEnv runs
@@ -15,6 +16,7 @@
 #include "engine/world_model.h"
 #include "kinematics/action.h"
 #include "scenarios/expert/expert_mode.h"
+#include "scenarios/gaze_anchor.h"
 #include "scenarios/split.h"
 #include "scenarios/stage.h"
 #include "scenarios/suite.h"
@@ -122,6 +124,9 @@ struct ScenarioDef {
   // scripted expert reaches (the widest split's placement area). Null: the task refuses the axis.
   std::vector<SupportZone> (*distractor_zones)(const engine::BatchState& state, int env) = nullptr;
   std::vector<SupportZone> (*target_zones)(const engine::BatchState& state, int env) = nullptr;
+  // The lead times its records measure from a fixation to an action event (gaze_anchor.h), in the
+  // order the records and tables list them.
+  std::vector<GazeAnchor> gaze_anchors = {};
 
   // True on a control tick the success rule holds for the env's episode.
   bool Succeeded(const engine::BatchState& state, int env) const;

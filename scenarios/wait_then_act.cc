@@ -123,6 +123,7 @@ ScenarioDef WaitThenAct() {
                   /*stages=*/{},
                   /*target_facts=*/nullptr};
   def.stages = PickStages(def.success, kLightName);
+  def.gaze_anchors = PickGazeAnchors(def.stages, "light");
   def.distractor_zones = &DistractorZones;
   def.target_zones = &TargetZones;
   // The prompt reworded under the language perturbation levels (configs/perturbations/language.yaml).

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/report/failure_event_table.h"
+#include "batch/report/gaze_table.h"
 #include "batch/report/policy_label.h"
 #include "batch/report/results_table.h"
 #include "batch/report/stage_funnel_table.h"
@@ -83,9 +84,9 @@ void RunTable(const TableOptions& options) {
     throw std::runtime_error("--out " + options.out_prefix + ": cannot create the folder " + folder.string() + ": " +
                              error.message());
   }
-  WriteFile(options.out_prefix + ".md", batch::report::FormatMarkdown(table, with_intervals) +
-                                            batch::report::FormatFunnelMarkdown(table, cells) +
-                                            batch::report::FormatEventsMarkdown(cells));
+  WriteFile(options.out_prefix + ".md",
+            batch::report::FormatMarkdown(table, with_intervals) + batch::report::FormatFunnelMarkdown(table, cells) +
+                batch::report::FormatEventsMarkdown(cells) + batch::report::FormatGazeMarkdown(cells));
   WriteFile(options.out_prefix + ".csv", batch::report::FormatCsv(table, with_intervals));
   std::cout << "wrote " << options.out_prefix << ".md and " << options.out_prefix << ".csv (" << table.tasks.size()
             << " tasks x " << table.columns.size() << " columns)\n";

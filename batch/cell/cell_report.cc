@@ -16,11 +16,13 @@
 #include "batch/cell/episode_times.h"
 #include "batch/cell/event_record.h"
 #include "batch/cell/galt_summary.h"
+#include "batch/cell/gaze_anchors.h"
 #include "batch/cell/stage_record.h"
 #include "batch/cell/statistics.h"
 #include "batch/output/atomic_file.h"
 #include "batch/output/output_folder.h"
 #include "batch/remote/value_json.h"
+#include "scenarios/registry.h"
 
 namespace tavis::batch::cell {
 namespace {
@@ -161,7 +163,9 @@ void WriteCellSummary(const CellResult& result, const RunInfo& info, const std::
   for (const EpisodeRecord& record : result.episodes) {
     if (record.success) gaze.push_back(&record.gaze);
   }
-  if (nlohmann::json gaze_summary = GazeSummaryJson(gaze); !gaze_summary.is_null()) summary["gaze"] = gaze_summary;
+  const std::vector<scenarios::GazeAnchor>& anchors = scenarios::FindScenario(config.task).gaze_anchors;
+  if (nlohmann::json gaze_summary = GazeBlockJson(anchors, gaze); !gaze_summary.is_null())
+    summary["gaze"] = gaze_summary;
   if (result.galt_policy_rate_fps > 0.0) {
     summary["galt_policy_rate"] = GaltJson(result, &EpisodeRecord::galt_policy_rate, result.galt_policy_rate_fps);
   }

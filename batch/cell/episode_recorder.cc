@@ -1,5 +1,6 @@
 #include "batch/cell/episode_recorder.h"
 
+#include "batch/cell/gaze_anchors.h"
 #include "batch/vec_env.h"
 
 namespace tavis::batch::cell {
@@ -105,6 +106,15 @@ void EpisodeRecorder::EpisodeEnded(const VecEnv& vec_env, int slot) {
   record.gaze = std::move(gaze_[slot]);
   if (record.success) {
     VerifyGalt(record.galt, vec_env.model().physics.policy_hz, !vec_env.scenario().cue_objects.empty(), record.gaze);
+  }
+  if (record.gaze.traced) {
+    // Successful episodes only, as GALT: a failed one's anchors are all unset.
+    AnchorEvents events;
+    if (record.success) {
+      events = {record.galt ? &*record.galt : nullptr, &stages, &progress.first_ticks(), control_hz};
+    }
+    record.gaze.anchors = MeasureGazeAnchors(vec_env.scenario().gaze_anchors, record.gaze.fixations, events,
+                                             vec_env.model().physics.policy_hz);
   }
   if (settings_.replay_stride > 0) {
     for (std::size_t tick = 0; tick < log.size(); tick += static_cast<std::size_t>(settings_.replay_stride)) {

@@ -204,6 +204,10 @@ void AddGazeJson(const GazeRecord& record, nlohmann::json& line) {
   line["gaze_on_target_ratio"] =
       record.gaze_on_target_ratio ? nlohmann::json(*record.gaze_on_target_ratio) : nlohmann::json();
   line["cue_before_reach"] = record.cue_before_reach ? nlohmann::json(*record.cue_before_reach) : nlohmann::json();
+  nlohmann::json anchors = nlohmann::json::object();
+  for (const AnchorLead& anchor : record.anchors)
+    anchors[anchor.name] = anchor.lead_s ? nlohmann::json(*anchor.lead_s) : nlohmann::json();
+  line["gaze_anchors"] = std::move(anchors);
 }
 
 void ParseGazeJson(const nlohmann::json& line, GazeRecord& record) {
@@ -245,6 +249,15 @@ void ParseGazeJson(const nlohmann::json& line, GazeRecord& record) {
   if (line.contains("cue_before_reach") && !line.at("cue_before_reach").is_null()) {
     if (!line.at("cue_before_reach").is_boolean()) throw bad("cue_before_reach");
     record.cue_before_reach = line.at("cue_before_reach").get<bool>();
+  }
+  // A record written before anchors existed has none.
+  if (line.contains("gaze_anchors")) {
+    const nlohmann::json& anchors = line.at("gaze_anchors");
+    if (!anchors.is_object()) throw bad("gaze_anchors");
+    for (const auto& [name, lead] : anchors.items()) {
+      if (!lead.is_null() && !lead.is_number()) throw bad("gaze_anchors");
+      record.anchors.push_back({name, lead.is_null() ? std::nullopt : std::optional<double>(lead.get<double>())});
+    }
   }
 }
 

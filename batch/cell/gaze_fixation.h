@@ -75,6 +75,14 @@ class GazeTracer {
 // Appends one policy step's fixation to the segments (extending the last one if it continues).
 void AppendFixation(GazeTarget target, int step, std::vector<FixationSegment>& segments);
 
+// One of the task's gaze anchors in an episode (scenarios/gaze_anchor.h, measured by
+// gaze_anchors.h): its lead time in seconds, unset where the episode has no such fixation or event.
+struct AnchorLead {
+  std::string name;
+  std::optional<double> lead_s;
+  bool operator==(const AnchorLead& other) const { return name == other.name && lead_s == other.lead_s; }
+};
+
 // An episode's gaze: its fixation segments and the GALT they verify.
 struct GazeRecord {
   bool traced = false;  // false: no head to trace (the record then has no gaze keys)
@@ -91,6 +99,8 @@ struct GazeRecord {
   // Whether a cue (the task's cue objects) was fixated before the reach onset; unset for a task
   // without a cue or an episode without a reach onset.
   std::optional<bool> cue_before_reach;
+  // The task's anchors, in declared order (by name once read back from a record).
+  std::vector<AnchorLead> anchors;
 };
 
 // The fixation at policy step `step`; kNothing outside the segments.
@@ -102,7 +112,7 @@ void VerifyGalt(const std::optional<kinematics::GaltResult>& galt, double policy
 
 // episodes.jsonl keys (when traced): "fixations": [[target, start, end], ...] in policy steps,
 // "galt_verified_s", "galt_verified_reason", "pre_grasp_fixation", "gaze_on_target_ratio",
-// "cue_before_reach" (null when unset).
+// "cue_before_reach" (null when unset), "gaze_anchors": {name: lead seconds or null}.
 void AddGazeJson(const GazeRecord& record, nlohmann::json& line);
 // Reads them back; a line without them leaves the record untraced. Throws std::invalid_argument
 // naming a malformed key.

@@ -32,6 +32,15 @@ double NearestRank(std::vector<double> values, double fraction) {
   return values[static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(values.size()))) - 1];
 }
 
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) throw std::invalid_argument("a quantile of no values");
+  std::sort(values.begin(), values.end());
+  const double rank = q * static_cast<double>(values.size() - 1);
+  const std::size_t below = static_cast<std::size_t>(std::floor(rank));
+  const std::size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (rank - static_cast<double>(below)) * (values[above] - values[below]);
+}
+
 Spread SpreadOf(std::vector<double> values) {
   if (values.empty()) throw std::invalid_argument("the spread of no values");
   Spread spread;

@@ -38,4 +38,9 @@ double Median(std::vector<double> values);
 // (std::invalid_argument).
 double NearestRank(std::vector<double> values, double fraction);
 
+// The q-quantile (q in [0, 1]) of `values` by linear interpolation between the order statistics
+// at rank q (n - 1), numpy's default: Quantile(v, 0.5) is the median. `values` must not be empty
+// (std::invalid_argument).
+double Quantile(std::vector<double> values, double q);
+
 }  // namespace tavis::batch::cell

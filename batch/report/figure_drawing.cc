@@ -15,7 +15,11 @@ using Json = nlohmann::ordered_json;
 const char* const kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
                                 "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
 constexpr std::size_t kColourCount = sizeof(kColours) / sizeof(kColours[0]);
+}  // namespace
+
 const char* Colour(std::size_t i) { return kColours[i % kColourCount]; }
+
+namespace {
 
 std::string PercentText(double fraction) {
   char text[16];
@@ -32,21 +36,8 @@ void RateAxis(Canvas& canvas, double left, double top, double width, double heig
   }
 }
 
-struct Bar {
-  std::string series;  // legend name
-  Json value;          // {mean, std, checkpoints} or null (not evaluated)
-  DataAttributes data;
-};
+}  // namespace
 
-struct BarGroup {
-  std::vector<std::string> label;  // lines under the group
-  std::vector<Bar> bars;
-};
-
-// Grouped bars of rates with their spread across checkpoints (when there are several) as
-// whiskers, each bar's value above it; a legend of the series names in order. Bars, groups and the
-// canvas are as wide as their labels need (Canvas::TextWidth), so no label overlaps another or
-// runs off the canvas.
 Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups,
                    const std::vector<std::string>& series) {
   constexpr double kValueSize = 8, kGroupSize = 10, kLegendSize = 11, kTitleSize = 13;
@@ -116,6 +107,8 @@ Canvas GroupedBars(const std::string& title, const std::vector<BarGroup>& groups
   }
   return canvas;
 }
+
+namespace {
 
 std::vector<std::string> GroupName(const Json& bar) {
   return {bar["robot"].get<std::string>(), bar["suite"].get<std::string>()};
@@ -260,8 +253,8 @@ Figure Ablation(const Json& figure) {
           GroupedBars("Fig. 3d: no-AV / full-AV / wrist-only", groups, series)};
 }
 
-// Tick positions on [low, high]: the multiples of the smallest step of 1, 2 or 5 x 10^k that gives
-// at most about eight intervals (0.5 s on Figure 4's 4 s), so the labels are round numbers.
+}  // namespace
+
 std::vector<double> RoundTicks(double low, double high) {
   const double raw = (high - low) / 8.0;
   const double decade = std::pow(10.0, std::floor(std::log10(raw)));
@@ -278,9 +271,6 @@ std::vector<double> RoundTicks(double low, double high) {
   return ticks;
 }
 
-// One step outline per series over the bins, each bin a data-carrying rectangle; axes with round
-// labelled ticks (numbers only: `axis_title` names the unit below them) and the count scale (0 and
-// the tallest bin).
 void HistogramPanel(Canvas& canvas, double left, double top, double width, double height, double low, double high,
                     const std::vector<std::pair<std::string, std::vector<int>>>& series,
                     const std::string& axis_title) {
@@ -319,6 +309,8 @@ void HistogramPanel(Canvas& canvas, double left, double top, double width, doubl
     canvas.Line(left + width, previous, left + width, bottom, colour);
   }
 }
+
+namespace {
 
 double XOf(double value, double left, double width, double low, double high) {
   return left + width * (value - low) / (high - low);

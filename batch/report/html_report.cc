@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "batch/report/figure_drawing.h"
+#include "batch/report/gaze_figures.h"
 #include "batch/report/paper_figures.h"
 #include "batch/report/sequential_section.h"
 #include "batch/report/sweep_summary.h"
@@ -225,6 +226,10 @@ std::string SweepHtmlReport(const Json& summary, const Json& manifest) {
                                          "length (s)", std::nullopt));
       }
     }
+  }
+  if (summary.contains("gaze_figures") && !summary["gaze_figures"].is_null()) {
+    html << "<h2>Gaze: verified GALT, anchors and gaze on target (docs/gaze.md)</h2>\n";
+    for (const Figure& figure : DrawGazeFigures(summary["gaze_figures"])) html << FigureHtml(figure);
   }
   html << SequentialHtml(summary);
   html << "<h2>Tables</h2>\n";

@@ -12,6 +12,8 @@
 #include "batch/report/camera_set_pairs.h"
 #include "batch/report/failure_event_section.h"
 #include "batch/report/galt_validation.h"
+#include "batch/report/gaze_figures.h"
+#include "batch/report/gaze_section.h"
 #include "batch/report/paired_statistics.h"
 #include "batch/report/paper_figures.h"
 #include "batch/report/perturbation_pairs.h"
@@ -315,7 +317,7 @@ Json GaltSection(const LabelGroups& grouped) {
 }
 
 // The sections of one label's cells: success, successful_length, id_minus_ood, paired, galt, stages,
-// paired_camera_sets.
+// paired_camera_sets, failure_events, gaze.
 Json LabelSections(const std::vector<CellEpisodes>& cells) {
   const LabelGroups grouped = GroupCells(cells);
   Json summary = Json::object();
@@ -327,6 +329,7 @@ Json LabelSections(const std::vector<CellEpisodes>& cells) {
   summary["stages"] = StageFunnelRows(cells);
   summary["paired_camera_sets"] = CameraSetPairRows(cells);
   summary["failure_events"] = FailureEventRows(cells);
+  summary["gaze"] = GazeRows(cells);
   return summary;
 }
 
@@ -355,8 +358,8 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, 
   }
   summary["labels"] = label_list;
   summary["cells"] = cell_list;
-  const char* sections[] = {"success", "successful_length",  "id_minus_ood",  "paired", "galt",
-                            "stages",  "paired_camera_sets", "failure_events"};
+  const char* sections[] = {"success", "successful_length",  "id_minus_ood",   "paired", "galt",
+                            "stages",  "paired_camera_sets", "failure_events", "gaze"};
   for (const char* section : sections) summary[section] = Json::array();
   for (const std::string& label : labels) {
     std::vector<CellEpisodes> mine;
@@ -379,6 +382,7 @@ Json SweepSummaryJson(const Json& spec, const std::vector<CellEpisodes>& cells, 
   const Json choices = spec.contains("figures") ? spec["figures"] : Json::object();
   summary["figures"] = PaperFiguresJson(summary, choices, galt_reference);
   summary["headline"] = HeadlineJson(summary["figures"]);
+  summary["gaze_figures"] = GazeFiguresJson(summary, choices);
   return summary;
 }
 

@@ -31,13 +31,14 @@ inline constexpr double kHumanGaltReachy2 = 2.10;
 // id - ood columns per robot and camera, in rate differences),
 // "id_minus_ood" (per task, robot, camera and ood split, in points), "paired" (head vs fixed per
 // task, robot and split over matched episodes, McNemar's exact p), "galt" (per robot, task and
-// split over the head cells), "failure_events" (failure_event_section.h), "stages" (the stage funnel and simulator
-// faults per task, robot, split and camera, stage_funnel_section.h), "paired_camera_sets" (each camera set but fixed vs
-// head on matched episodes, camera_set_pairs.h). Cells of several seeds are pooled in everything but "cells". Every
-// section but "cells" is computed per policy label and each of its rows names its "label": cells of different labels
-// are never pooled. "labels" lists them; "seed_groups" gives, for each group of checkpoints, every rate's mean and
-// spread across them (evaluation seeds pool within a checkpoint); "figures" and "headline" hold the paper's Figure 3,
-// Figure 4 and headline numbers (paper_figures.h) for the choices in spec["figures"]. `galt_reference` holds per task a
+// split over the head cells), "failure_events" (failure_event_section.h), "gaze" (gaze_section.h), "stages" (the stage
+// funnel and simulator faults per task, robot, split and camera, stage_funnel_section.h), "paired_camera_sets" (each
+// camera set but fixed vs head on matched episodes, camera_set_pairs.h). Cells of several seeds are pooled in
+// everything but "cells". Every section but "cells" is computed per policy label and each of its rows names its
+// "label": cells of different labels are never pooled. "labels" lists them; "seed_groups" gives, for each group of
+// checkpoints, every rate's mean and spread across them (evaluation seeds pool within a checkpoint); "figures" and
+// "headline" hold the paper's Figure 3, Figure 4 and headline numbers (paper_figures.h) for the choices in
+// spec["figures"], and "gaze_figures" the gaze figures' numbers (gaze_figures.h). `galt_reference` holds per task a
 // reference's GALT values for Figure 4 (e.g. a dataset's), used when the spec names no label.
 // No timing: the same episodes give the same bytes.
 nlohmann::ordered_json SweepSummaryJson(const nlohmann::ordered_json& spec, const std::vector<CellEpisodes>& cells,

@@ -6,6 +6,7 @@
 
 #include "batch/report/camera_set_pairs.h"
 #include "batch/report/failure_event_section.h"
+#include "batch/report/gaze_section.h"
 #include "batch/report/perturbation_pairs.h"
 #include "batch/report/sequential_section.h"
 #include "batch/report/stage_funnel_section.h"
@@ -242,6 +243,9 @@ std::vector<TextTable> SweepTables(const Json& summary) {
   for (TextTable& table : StageFunnelTables(summary["stages"])) tables.push_back(std::move(table));
   if (summary.contains("failure_events")) {
     for (TextTable& table : FailureEventTables(summary["failure_events"])) tables.push_back(std::move(table));
+  }
+  if (summary.contains("gaze")) {
+    for (TextTable& table : GazeTables(summary["gaze"])) tables.push_back(std::move(table));
   }
   if (!summary["paired_camera_sets"].empty()) tables.push_back(CameraSetPairTable(summary));
   if (summary.contains("paired_perturbations")) tables.push_back(PerturbationPairTable(summary));

@@ -5,6 +5,7 @@
 
 #include "batch/output/atomic_file.h"
 #include "batch/report/figure_drawing.h"
+#include "batch/report/gaze_figures.h"
 #include "batch/report/html_report.h"
 #include "batch/report/paper_table.h"
 #include "batch/report/sweep_summary.h"
@@ -61,7 +62,10 @@ void WriteSweepResults(const std::filesystem::path& dir, const nlohmann::ordered
     output::WriteFileAtomically(dir / "tables" / ("table1_" + name + ".tex"), report::PaperTable1Latex(summary, name));
   }
   std::filesystem::create_directories(dir / "figures");
-  for (const report::Figure& figure : report::DrawPaperFigures(summary["figures"])) {
+  std::vector<report::Figure> figures = report::DrawPaperFigures(summary["figures"]);
+  for (report::Figure& figure : report::DrawGazeFigures(summary.value("gaze_figures", nlohmann::ordered_json())))
+    figures.push_back(std::move(figure));
+  for (const report::Figure& figure : figures) {
     output::WriteFileAtomically(dir / "figures" / (figure.name + ".svg"), figure.canvas.Svg(figure.name));
     output::WriteFileAtomically(dir / "figures" / (figure.name + ".png"), figure.canvas.Png());
   }

@@ -275,8 +275,8 @@ TEST_F(SweepRuns, HtmlReportInHeadlessChromiumShowsTheJsonNumbers) {
 
 // The expert on the two cue tasks under head and fixed: the fixed funnels show the stages the
 // expert reached (the gaze stage does not apply to a zeroed neck), the report's funnel puts head
-// beside fixed, and every table of the report and of `tavis table`, read value by value under
-// its heading, holds summary.json's numbers.
+// beside fixed, and every table of the report and of `tavis table` (the gaze and anchor tables too), read value by
+// value under its heading, holds summary.json's numbers.
 TEST_F(SweepCommand, HeadAndFixedFunnelsOfTheCueTasksSitSideBySide) {
   // One YAML flow mapping: the two cue tasks, head and fixed, 3 expert episodes a cell.
   std::ofstream(root_ / "cue.yaml") << "{tasks: [conditional-pick, wait-then-act], robots: [gr1t2], splits: [id], "
@@ -316,6 +316,10 @@ TEST_F(SweepCommand, HeadAndFixedFunnelsOfTheCueTasksSitSideBySide) {
   const std::string report = check.ReadAllOutput(std::chrono::seconds(180));
   EXPECT_NE(report.find("report ok: 4 cells"), std::string::npos) << report;
   EXPECT_NE(report.find("tavis table's"), std::string::npos) << report;
+  // The gaze and anchor tables (a row per cell, three anchors each) were among the values read.
+  EXPECT_NE(report.find("(" + std::to_string(4 * 12 + 12 * 14) + " of them the gaze and anchor tables')"),
+            std::string::npos)
+      << report;
 }
 
 }  // namespace

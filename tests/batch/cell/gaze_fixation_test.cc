@@ -98,9 +98,11 @@ TEST(GazeFixation, TheCueCountsBeforeTheReachOnsetOnly) {
 TEST(GazeFixation, TheRecordsKeysReadBackAsWritten) {
   GazeRecord record = Traced({{GazeTarget::kShelf, 4}, {GazeTarget::kCue, 3}, {GazeTarget::kTarget, 50}});
   VerifyGalt(GraspAt(2.0, 1.0), 20.0, true, record);
+  record.anchors = {{"card_to_reach", 0.65}, {"target_to_grasp", std::nullopt}};
   nlohmann::json line;
   AddGazeJson(record, line);
   EXPECT_EQ(line["fixations"].dump(), R"([["shelf",0,4],["cue",4,7],["target",7,57]])");
+  EXPECT_EQ(line["gaze_anchors"].dump(), R"({"card_to_reach":0.65,"target_to_grasp":null})");
   GazeRecord back;
   ParseGazeJson(line, back);
   EXPECT_TRUE(back.traced);
@@ -110,6 +112,17 @@ TEST(GazeFixation, TheRecordsKeysReadBackAsWritten) {
   EXPECT_EQ(back.pre_grasp_fixation, record.pre_grasp_fixation);
   EXPECT_EQ(back.gaze_on_target_ratio, record.gaze_on_target_ratio);
   EXPECT_EQ(back.cue_before_reach, record.cue_before_reach);
+  EXPECT_EQ(back.anchors, record.anchors);
+
+  nlohmann::json bad_anchor = line;
+  bad_anchor["gaze_anchors"]["card_to_reach"] = "soon";
+  GazeRecord refused;
+  EXPECT_THROW(ParseGazeJson(bad_anchor, refused), std::invalid_argument);
+  nlohmann::json before_anchors = line;  // a line written before anchors existed
+  before_anchors.erase("gaze_anchors");
+  GazeRecord older;
+  ParseGazeJson(before_anchors, older);
+  EXPECT_TRUE(older.anchors.empty());
 
   nlohmann::json bad = line;
   bad["fixations"] = nlohmann::json::array({nlohmann::json::array({"teapot", 0, 1})});

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace tavis::batch::cell {
 namespace {
@@ -63,6 +64,20 @@ TEST(SpreadOf, OddCountTakesTheMiddleValueAndOneValueHasNoSpread) {
 TEST(SpreadOf, NoValuesIsRefused) {
   EXPECT_THROW(SpreadOf({}), std::invalid_argument);
   EXPECT_THROW(Median({}), std::invalid_argument);
+  EXPECT_THROW(Quantile({}, 0.5), std::invalid_argument);
+}
+
+// numpy.quantile([2, 4, 4, 4, 5, 5, 7, 9], [0, 0.25, 0.5, 0.75, 1]) = 2, 4, 4.5, 5.5, 9 (linear);
+// of [1, 2, 3, 4]: q 0.25 is 1.75.
+TEST(Quantile, InterpolatesLinearlyBetweenOrderStatisticsAsNumpy) {
+  const std::vector<double> values = {9.0, 4.0, 2.0, 5.0, 4.0, 7.0, 4.0, 5.0};
+  EXPECT_DOUBLE_EQ(Quantile(values, 0.0), 2.0);
+  EXPECT_DOUBLE_EQ(Quantile(values, 0.25), 4.0);
+  EXPECT_DOUBLE_EQ(Quantile(values, 0.5), Median(values));
+  EXPECT_DOUBLE_EQ(Quantile(values, 0.75), 5.5);
+  EXPECT_DOUBLE_EQ(Quantile(values, 1.0), 9.0);
+  EXPECT_DOUBLE_EQ(Quantile({4.0, 1.0, 3.0, 2.0}, 0.25), 1.75);
+  EXPECT_DOUBLE_EQ(Quantile({2.5}, 0.75), 2.5);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Reads a sweep's paper products back and compares them with summary.json: every figure's SVG
 (figures/*.svg, parsed as XML: the data-* numbers of its bars, dots, bins and medians), its PNG
-(decoded by PyAV: the SVG's size, not blank), the same SVGs inside report.html, Table 1's LaTeX
+(decoded by PyAV: the SVG's size, not blank), the same SVGs inside report.html, the gaze figures'
+(figures/gaze_*.svg) numbers against summary.json's gaze_figures, Table 1's LaTeX
 per label, and the headline table.
 
 usage: check_paper_figures.py SWEEP_DIR   (prints "figures ok: ..." and exits 0 when all agree)
@@ -103,6 +104,60 @@ def check_figure(key, data, root):
     fail("unknown figure " + key)
 
 
+GAZE = {"galt_verified": "gaze_galt_verified", "anchors": "gaze_anchors", "gaze_on_target": "gaze_on_target"}
+
+
+def check_gaze_figure(key, data, root):
+    """A gaze figure's data-* numbers against summary.json's gaze_figures (gaze_figures.h)."""
+    if key == "galt_verified":
+        bins = marks(root, "count")
+        medians = marks(root, "median")
+        count, checked = data["bins"]["count"], 0
+        for row in data["tasks"]:
+            for series in ("verified", "unverified"):
+                drawn = bins[checked:checked + count]
+                if [b["data-series"] for b in drawn] != [series] * count:
+                    fail("gaze_galt_verified %s: the %s bins are not where expected" % (row["task"], series))
+                if [int(b["data-count"]) for b in drawn] != row[series]["counts"]:
+                    fail("gaze_galt_verified %s %s: SVG counts %s, summary.json %s"
+                         % (row["task"], series, [b["data-count"] for b in drawn], row[series]["counts"]))
+                checked += count
+                median = row[series]["median"]
+                found = [m for m in medians if m["data-task"] == row["task"] and m["data-series"] == series]
+                if median is not None and data["bins"]["low"] <= median <= data["bins"]["high"]:
+                    if len(found) != 1:
+                        fail("gaze_galt_verified %s %s: %d median markers" % (row["task"], series, len(found)))
+                    close(found[0]["data-median"], median, "gaze_galt_verified %s %s median" % (row["task"], series))
+        return checked
+    if key == "anchors":
+        boxes = marks(root, "anchor")
+        if len(boxes) != len(data["rows"]):
+            fail("gaze_anchors draws %d boxes, summary.json has %d rows" % (len(boxes), len(data["rows"])))
+        for box, row in zip(boxes, data["rows"]):
+            what = "gaze_anchors %s %s %s" % (row["task"], row["robot"], row["anchor"])
+            if (box["data-task"], box["data-robot"], box["data-anchor"]) != (row["task"], row["robot"], row["anchor"]):
+                fail("%s: the box drawn is %s %s %s" % (what, box["data-task"], box["data-robot"], box["data-anchor"]))
+            for key_ in ("median", "q1", "q3"):
+                close(box["data-" + key_], row[key_ + "_s"], what + " " + key_)
+            if int(box["data-n"]) != row["n"]:
+                fail("%s: n %s, summary.json %d" % (what, box["data-n"], row["n"]))
+        return 4 * len(boxes)
+    if key == "gaze_on_target":
+        bars = marks(root, "value")
+        expected = [(g, b) for g in data["groups"] for b in g["bars"]]
+        if len(bars) != len(expected):
+            fail("gaze_on_target draws %d bars, summary.json has %d" % (len(bars), len(expected)))
+        by_key = {(b["data-task"], b["data-robot"], b["data-series"]): b for b in bars}
+        for group, bar in expected:
+            drawn = by_key.get((group["task"], group["robot"], bar["series"]))
+            if drawn is None:
+                fail("gaze_on_target: no bar for %s %s %s" % (group["task"], group["robot"], bar["series"]))
+            close(drawn["data-value"], bar["value"], "gaze_on_target %s %s %s" % (group["task"], group["robot"],
+                                                                                  bar["series"]))
+        return len(bars)
+    fail("unknown gaze figure " + key)
+
+
 def check_png(path, svg_root):
     with av.open(path) as container:
         image = next(container.decode(video=0)).to_ndarray(format="rgb24").astype(int)
@@ -130,6 +185,20 @@ def main():
         svg_text = open(path).read()
         root = ET.fromstring(svg_text)
         numbers += check_figure(key, figures[key], root)
+        if svg_text.strip() not in report:
+            fail("report.html does not hold %s.svg" % name)
+        check_png(os.path.join(sweep, "figures", name + ".png"), root)
+        drawn += 1
+    gaze_figures = summary.get("gaze_figures") or {}
+    for key, name in GAZE.items():
+        path = os.path.join(sweep, "figures", name + ".svg")
+        if gaze_figures.get(key) is None:
+            if os.path.exists(path):
+                fail("%s drawn but summary.json has no data for it" % name)
+            continue
+        svg_text = open(path).read()
+        root = ET.fromstring(svg_text)
+        numbers += check_gaze_figure(key, gaze_figures[key], root)
         if svg_text.strip() not in report:
             fail("report.html does not hold %s.svg" % name)
         check_png(os.path.join(sweep, "figures", name + ".png"), root)

@@ -209,6 +209,30 @@ def event_tables(rows):
                                 "left SPARC", "right path m", "right jerk m/s^3", "right SPARC"], motion)}
 
 
+GAZE_HEADINGS = ["policy", "task", "robot", "split", "camera", "successful", "with GALT", "verified", "verified %",
+                 "verified median s", "gaze on target %", "cue before reach %"]
+ANCHOR_HEADINGS = ["policy", "task", "robot", "split", "camera", "anchor", "fixation", "event", "n", "missing",
+                   "median s", "q1 s", "q3 s", "IQR s"]
+
+
+def gaze_tables(rows):
+    """The gaze table (verified GALT, gaze on target, look before reach) and the anchor table (each
+    task's anchors: n, missing, median and quartiles), formatted here from summary.json's "gaze"."""
+    def share(fraction):
+        return "-" if fraction is None else pct(fraction)
+    gaze, anchors = [], []
+    for r in rows:
+        g = r["gaze"]
+        setting = [r["label"], r["task"], r["robot"], r["split"], r["camera"]]
+        gaze.append(setting + [str(g["n_episodes"]), str(g["n_with_galt"]), str(g["n_verified"]),
+                               share(g["verified_fraction"]), seconds(g["galt_verified_median_s"]),
+                               share(g["gaze_on_target_ratio_mean"]), share(g["cue_before_reach_fraction"])])
+        for a in g["anchors"]:
+            anchors.append(setting + [a["anchor"], a["fixation"], a["event"], str(a["n"]), str(a["n_missing"])]
+                           + [seconds(a[key]) for key in ("median_s", "q1_s", "q3_s", "iqr_s")])
+    return {"gaze": (GAZE_HEADINGS, gaze), "gaze_anchors": (ANCHOR_HEADINGS, anchors)}
+
+
 def expected_tables(summary):
     tables = success_tables(summary)
     tables["id_minus_ood"] = (
@@ -234,6 +258,8 @@ def expected_tables(summary):
     tables.update(funnel_tables(summary["stages"]))
     if "failure_events" in summary:
         tables.update(event_tables(summary["failure_events"]))
+    if "gaze" in summary:
+        tables.update(gaze_tables(summary["gaze"]))
     if summary["paired_camera_sets"]:
         tables["paired_camera_sets"] = (
             ["policy", "task", "robot", "split", "camera set", "pairs", "head %", "set %", "both", "head only",
@@ -327,6 +353,8 @@ TITLES = {
     "paired_camera_sets": "Camera sets vs head on matched episodes",
     "failure_events": "Failure events: episodes (of the row's) in which each event fired",
     "motion_quality": "Motion quality: medians per arm of the tool centre point's path, RMS jerk and SPARC",
+    "gaze": "Gaze: verified GALT and gaze on target (successful episodes)",
+    "gaze_anchors": "Gaze anchors: lead time from the head's arrival to an action event (s, successful episodes)",
     "paired_perturbations": "Perturbations vs the base scene on matched episodes",
     "sequential_pairs": "Sequential paired test: where each pair stopped",
     "seed_groups": "Seed groups: success rate (%) across checkpoints (training seeds of one recipe)",
@@ -389,9 +417,12 @@ def check_markdown(path, label, summary):
     suites = [s for s in summary["success"] if s["label"] == label]
     funnel = funnel_tables([r for r in summary["stages"] if r["label"] == label])
     funnel.update(event_tables([r for r in summary.get("failure_events", []) if r["label"] == label]))
+    funnel.update(gaze_tables([r for r in summary.get("gaze", []) if r["label"] == label]))
     tables = markdown_tables(open(path).read())
     names = ["stage_funnel", "stage_funnel_episodes"] + (["failure_events", "motion_quality"]
                                                          if "failure_events" in summary else [])
+    if any(r["label"] == label for r in summary.get("gaze", [])):
+        names += ["gaze", "gaze_anchors"]
     if len(tables) != 1 + len(names):
         fail("%s holds %d tables, not the success table and %s" % (path, len(tables), ", ".join(names)))
     values = 0
@@ -411,7 +442,8 @@ def check_markdown(path, label, summary):
         else:
             name = names[number - 1]
             want_headings, want_rows = funnel[name]
-            keyed = 5
+            # A row per setting; the anchor table has a row per setting and anchor.
+            keyed = 6 if name == "gaze_anchors" else 5
             values += compare(path + " " + name, headings, rows, (want_headings, want_rows), keyed) * len(headings)
     return values
 
@@ -434,6 +466,8 @@ def main():
                           for row in column["tasks"] if "success_rate" in row)
     if page.circles != points_expected:
         fail("the success plots show %d points, summary.json has %d pooled cells" % (page.circles, points_expected))
+    gaze_values = sum(len(shown) * len(headings) for name, (headings, shown) in expected_tables(summary).items()
+                      if name in ("gaze", "gaze_anchors"))
     markdown = ""
     if len(sys.argv) == 6 and sys.argv[3] == "--table":
         markdown = ", tavis table's %d values under their headings" % check_markdown(sys.argv[4], sys.argv[5], summary)
@@ -448,9 +482,9 @@ def main():
     blue = (np.abs(image - np.array([0x1f, 0x77, 0xb4])).sum(axis=2) < 30).sum()
     if not_white < 0.01 or colours < 16 or blue < 20:
         fail("the screenshot looks blank: %.3f of it not white, %d colours, %d blue pixels" % (not_white, colours, blue))
-    print("report ok: %d cells, %d tables with %d values under their headings equal summary.json%s, %d plot points, "
-          "%d svg plots, screenshot %dx%d with %.1f%% ink, %d colours"
-          % (len(summary["cells"]), tables, values, markdown, points_expected, page.svgs, image.shape[1],
+    print("report ok: %d cells, %d tables with %d values under their headings equal summary.json (%d of them the "
+          "gaze and anchor tables')%s, %d plot points, %d svg plots, screenshot %dx%d with %.1f%% ink, %d colours"
+          % (len(summary["cells"]), tables, values, gaze_values, markdown, points_expected, page.svgs, image.shape[1],
              image.shape[0], 100 * not_white, colours))
 
 
