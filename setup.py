@@ -28,7 +28,11 @@ class CMakeBuild(build_ext):
         # The folder that holds the package in the wheel (the extension's path less "tavis/_tavis...").
         package_root = os.path.dirname(os.path.dirname(os.path.abspath(self.get_ext_fullpath(ext.name))))
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or str(os.cpu_count() or 1)
-        self._run(["cmake", "-S", SOURCE_DIR, "-B", cmake_dir, "-DCMAKE_BUILD_TYPE=Release",
+        # The folder setup.py really lives in: a checkout laid out with symbolic links (as
+        # tests/tools/docs lays one out) then compiles with its build tree's paths, so ccache
+        # serves those objects.
+        source_dir = os.path.dirname(os.path.realpath(__file__))
+        self._run(["cmake", "-S", source_dir, "-B", cmake_dir, "-DCMAKE_BUILD_TYPE=Release",
                    f"-DPython3_EXECUTABLE={sys.executable}", "-DTAVIS_BUILD_PYTHON=ON", "-DTAVIS_BUILD_TESTS=OFF",
                    "-DTAVIS_BUILD_BENCHMARKS=OFF", "-DTAVIS_PYTHON_INSTALL_DIR=.",
                    *shlex.split(os.environ.get("TAVIS_CMAKE_ARGS", ""))])

@@ -11,6 +11,9 @@ list of subcommands wraps its lines without `\\`).
 
 Inline code that starts `tavis SUBCOMMAND` or `build/tavis SUBCOMMAND` is collected too: prose
 names flags that way (`tavis eval --expert-hz 20`), and a flag named there must exist as well.
+
+A fenced block that the prose just before it tells the reader to save (``save this as `my_policy.py` ``)
+is a file the doc's later commands need: saved_files gives its path and text.
 """
 
 import re
@@ -31,6 +34,7 @@ class DocCommand:
     line: int       # 1-based line of the command's first line in the doc
     text: str       # the command, continuation lines joined
     kind: str       # "command" (a block's command line), "synopsis" or "inline"
+    block: int = 0  # the first line of its code block: a background server lives until the block ends
 
     def where(self):
         return f"{self.doc}:{self.line}"
@@ -148,7 +152,8 @@ def shell_commands(doc, text):
             if is_synopsis(paragraph[0].strip()):
                 for number, entry in synopsis_entries(first, paragraph):
                     entry = re.sub(r"\s+#\s.*$", "", entry)
-                    commands.append(DocCommand(doc, number, entry, "synopsis" if is_synopsis(entry) else "command"))
+                    commands.append(DocCommand(doc, number, entry, "synopsis" if is_synopsis(entry) else "command",
+                                               start))
                 continue
             for number, line in logical_lines(first, paragraph):
                 if line.startswith("#"):
@@ -156,7 +161,7 @@ def shell_commands(doc, text):
                     if not alternative:
                         continue
                     line = alternative.group(1)
-                commands.append(DocCommand(doc, number, line, "synopsis" if is_synopsis(line) else "command"))
+                commands.append(DocCommand(doc, number, line, "synopsis" if is_synopsis(line) else "command", start))
     return commands, others
 
 
@@ -166,4 +171,28 @@ def inline_tavis_commands(doc, text):
     for number, line in enumerate(text.split("\n"), 1):
         for match in INLINE_TAVIS.finditer(line):
             found.append(DocCommand(doc, number, match.group(1).replace("\\|", "|"), "inline"))
+    return found
+
+
+SAVE_AS = re.compile(r"save (?:this|it) as `([^`]+)`", re.I)
+
+
+def saved_files(text):
+    """(line, path, text) of every fenced block whose preceding prose paragraph says "save this as
+    `PATH`": the README's `my_policy.py`, which its serve command imports."""
+    lines, found = text.split("\n"), []
+    for start, _, body in code_blocks(text):
+        fence = start - 2                                               # the block's opening fence
+        if fence < 0 or not FENCE.match(lines[fence]):
+            continue
+        prose = []
+        i = fence - 1
+        while i >= 0 and not lines[i].strip():
+            i -= 1
+        while i >= 0 and lines[i].strip():
+            prose.insert(0, lines[i])
+            i -= 1
+        match = SAVE_AS.search(" ".join(prose))
+        if match:
+            found.append((start, match.group(1), "\n".join(body) + "\n"))
     return found

@@ -22,9 +22,14 @@ Then every command with no placeholder (DIR, FILE.csv, `<version>`, `a|b`, `$VAR
 written, from a folder laid out as a fresh clone (the repository's tracked top-level entries, and
 `build` this build), with `tavis` on PATH as the docs allow: it must exit 0, and every file or folder
 it leaves in the clone's root must be ignored by .gitignore. `/tmp/` in a command is a private
-temporary folder, so that runs do not meet. The commands that are not run are NOT_RUN below, each
-with why (a GPU, a cluster, a build, minutes of work); an entry that matches no doc command fails
-the test, so the list stays true.
+temporary folder, so that runs do not meet. A file the doc tells the reader to save (the README's
+`my_policy.py`) is saved in the clone first. A command the doc starts in the background
+(`tavis_server ... --port 8000 &`) is a server: it is started, waited for until its port listens,
+serves the commands after it in its code block, and is stopped with SIGTERM when the block ends
+(it must exit 0); it gets a free port of its own, rewritten in its `--port` and the block's
+`ws://127.0.0.1:PORT`. The commands that are not run are NOT_RUN below, each with why (a GPU, a
+cluster, a build, minutes of work); an entry that matches no doc command fails the test, so the
+list stays true.
 
     /usr/bin/python3 docs_commands_test.py TAVIS_BINARY SOURCE_DIR BUILD_DIR
 """
@@ -32,6 +37,9 @@ the test, so the list stays true.
 import os
 import re
 import shlex
+import shutil
+import signal
+import socket
 import subprocess
 import sys
 import tempfile
@@ -39,7 +47,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from doc_commands import TAVIS_PROGRAM, inline_tavis_commands, shell_commands  # noqa: E402
+from doc_commands import TAVIS_PROGRAM, inline_tavis_commands, saved_files, shell_commands  # noqa: E402
 from tool_script_support import check as count_check, failures, passed_count  # noqa: E402
 
 TAVIS, SOURCE, BUILD = (os.path.abspath(p) for p in sys.argv[1:4])
@@ -58,8 +66,8 @@ NOT_RUN = [
      "compare_command_test.cc runs `tavis compare` on cells it evaluates"),
     (r"cmake -S ", "configures a build (minutes); .ci/build configures the one this test runs in"),
     (r"cmake --build ", "builds targets; .ci/build built them for this test"),
-    (r"cmake --install build --component python", "installs the module: tests/python/test_install.py installs it into a prefix"),
-    (r"/usr/bin/python3 -m venv|venv/bin/", "installs the package into a virtualenv: tests/python/test_install.py does"),
+    (r"cmake --install build --component python *$",
+     "installs the module into the system's Python (/usr/local, root); the same with --prefix venv is run"),
     (r"build/tavis demos --task clutter-pick-cube --robot gr1t2 --episodes 100 ",
      "100 episodes of four 640x480 cameras at 60 fps: minutes on 2 cores (parsed with --help)"),
     (r"build/tavis demos --task conditional-pick --robot gr1t2 (--split id )?--episodes 200 ",
@@ -67,16 +75,20 @@ NOT_RUN = [
     (r"build/tavis sweep configs/sweeps/acceptance\.yaml", "96 cells of 96 episodes (parsed with --help)"),
     (r"tavis sweep /tmp/p8\.yaml", "512 cells of 8 episodes (parsed with --help)"),
     (r"tavis sweep +configs/sweeps/perturbations\.yaml", "512 cells of 96 episodes (parsed with --help)"),
-    (r"build/tavis eval .*--policy (openpi|replay)",
-     "needs a served policy (the README's serve command; a GPU for a trained one) or its saved actions (parsed with --help)"),
+    (r"build/tavis eval --task clutter-pick-cube .*--policy (openpi|replay)",
+     "a served clutter-pick-cube cell of 96 episodes of your own policy (MODULE:FACTORY; minutes served on 2 "
+     "cores), and a replay of its episode 7 (parsed with --help)"),
     (r"tavis eval +--task multi-shelf-scan --perturb distractors:two --perturb runtime:move|"
      r"tavis eval +--task clutter-pick-cube --perturb appearance:table-wood",
      "96 episodes each, as build/tavis eval runs here (parsed with --help)"),
-    (r"PYTHONPATH=tools/policy_server /usr/bin/python3 -m tavis_server --policy my_policy:make_policy ",
-     "serves the README's quick-start policy until stopped: tests/python/test_readme_example.py runs it and the eval"),
-    (r"PYTHONPATH=tools/baseline:tools/policy_server python3 -m tavis_baseline|"
-     r"PYTHONPATH=tools/policy_server python3 -m tavis_server|python3 -m tavis_baseline",
-     "trains or serves a policy with PyTorch (a CUDA GPU; docs/baselines.md) or LeRobot"),
+    (r"PYTHONPATH=tools/baseline:tools/policy_server python3 -m tavis_baseline\.train .*--device cuda",
+     "trains on a CUDA GPU (docs/baselines.md: minutes on an H200, hours on a CPU)"),
+    (r"PYTHONPATH=tools/baseline:tools/policy_server python3 -m tavis_baseline\.serve ckpt/|"
+     r"build/tavis eval --task conditional-pick --robot gr1t2 --camera head (--split id )?--episodes 96 .*--policy openpi",
+     "serves, and evaluates on 96 episodes, a checkpoint that the GPU training before it writes (ckpt/); "
+     "the published checkpoint is served on the CPU and evaluated instead (docs/baselines.md, \"On the CPU\")"),
+    (r"PYTHONPATH=tools/policy_server python3 -m tavis_server --policy tavis_server\.lerobot_checkpoint:load ",
+     "serves a LeRobot checkpoint on CUDA: LeRobot cannot be installed here (Python 3.11, torch 1.13; docs/serving.md)"),
     (r"tools/baseline/gpu_table_runs\.sh", "the GPU table: a lent GPU machine, 25 minutes"),
     (r"sbatch |job=\$\(sbatch |TAVIS=\S+ sbatch |N=\d+$|tavis sweep merge --out /scratch/",
      "needs a Slurm cluster and its shards: slurm_sweep_job_array runs tools/slurm/sweep_array.sbatch and merges"),
@@ -283,9 +295,10 @@ def check_cmake(command, words):
 
 
 def simple_commands(text):
-    """Splits a command line at &&, ||, ; and & (pipelines stay whole): the parts' texts."""
+    """Splits a command line at &&, ||, ; and & (pipelines stay whole): (text, background) of each
+    part, background when the part ends with a single & (a server the doc starts in the background)."""
     if text.startswith("for "):
-        return [text]                                                   # a loop is one command
+        return [(text, False)]                                          # a loop is one command
     text = re.sub(r"\$\(\([^)]*\)\)", "0", text)                     # $((N - 1))
     parts, current, quote, i = [], "", None, 0
     while i < len(text):
@@ -297,17 +310,17 @@ def simple_commands(text):
         elif c == "#" and (not current or current[-1].isspace()):
             break
         elif text.startswith("&&", i) or text.startswith("||", i):
-            parts.append(current)
+            parts.append((current, False))
             current, i = "", i + 2
             continue
         elif c in ";&" and not text.startswith("&&", i):
-            parts.append(current)
+            parts.append((current, c == "&"))
             current, i = "", i + 1
             continue
         current += c
         i += 1
-    parts.append(current)
-    return [p.strip() for p in parts if p.strip()]
+    parts.append((current, False))
+    return [(p.strip(), background) for p, background in parts if p.strip()]
 
 
 def check_command(command, part):
@@ -369,62 +382,205 @@ def not_run_reason(part):
 USED = set()
 
 
-def fresh_clone(root):
-    """A folder laid out as a fresh clone: the tracked top-level entries (linked) and build."""
+def fresh_clone(root, docs_files):
+    """A folder laid out as a fresh clone: the tracked top-level entries (linked) and build, with the
+    files the docs tell the reader to save there (docs_files: (doc, line, path, text))."""
     for name in TOP_LEVEL:
         os.symlink(os.path.join(SOURCE, name), os.path.join(root, name))
     os.symlink(BUILD, os.path.join(root, "build"))
+    for doc, line, path, text in docs_files:
+        target = os.path.join(root, path)
+        if check("/" not in path and path not in TRACKED and not os.path.exists(target),
+                 f"{doc}:{line}: the file the doc saves, {path}, is not a new file of the checkout's root"):
+            with open(target, "w", encoding="utf-8") as f:
+                f.write(text)
+            print(f"SAVED    {doc}:{line}: {path}")
     bin_dir = os.path.join(os.path.dirname(root), "bin")
     os.makedirs(bin_dir, exist_ok=True)
     os.symlink(TAVIS, os.path.join(bin_dir, "tavis"))
     return bin_dir
 
 
-def run_as_written(command, part, clone, bin_dir, private_tmp):
-    text = part.replace("/tmp/", private_tmp + "/")
+PIP_BUILD_DIR = os.path.join(os.path.dirname(os.path.realpath(BUILD)), f"build-docs-pip-{os.getpid()}")
+
+
+def build_tree_werror():
+    """The build tree's TAVIS_WERROR (CMakeCache.txt), "OFF" when it has none."""
+    with open(os.path.join(BUILD, "CMakeCache.txt"), encoding="utf-8") as f:
+        for line in f:
+            if line.startswith("TAVIS_WERROR:"):
+                return line.strip().split("=", 1)[1]
+    return "OFF"
+
+
+def run_environment(bin_dir):
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     env["PATH"] = bin_dir + os.pathsep + env.get("PATH", "")
-    before = set(os.listdir(clone))
-    start = time.time()
-    result = subprocess.run(["bash", "-c", text], cwd=clone, env=env, capture_output=True, text=True, timeout=300)
-    took = time.time() - start
-    ok = result.returncode == 0
-    check(ok, f"{command.where()}: `{part}` exited {result.returncode}:\n{result.stdout[-2000:]}\n{result.stderr[-2000:]}")
+    # docs/python.md's `pip install .` builds the module again (setup.py): a minute when ccache
+    # serves its objects, ten otherwise. It does when every compile command equals the build tree's:
+    # the build tree's TAVIS_WERROR (TAVIS_CMAKE_ARGS, which the doc names), and pip's build folder
+    # (TAVIS_PIP_BUILD_DIR) beside the build tree, so that a CCACHE_BASEDIR's relative paths match.
+    env.setdefault("TAVIS_CMAKE_ARGS", f"-DTAVIS_WERROR={build_tree_werror()}")
+    env["TAVIS_PIP_BUILD_DIR"] = PIP_BUILD_DIR
+    return env
+
+
+def check_left(command, part, clone, before):
+    """Every file or folder a command left in the clone's root is ignored by .gitignore."""
     for name in sorted(set(os.listdir(clone)) - before):
         folder = os.path.isdir(os.path.join(clone, name))
         check(ignored(name + ("/" if folder else "")),
               f"{command.where()}: `{part}` left {name} in the clone's root, which .gitignore does not ignore")
+
+
+def run_as_written(command, part, clone, env, private_tmp):
+    text = part.replace("/tmp/", private_tmp + "/")
+    before = set(os.listdir(clone))
+    start = time.time()
+    try:
+        result = subprocess.run(["bash", "-c", text], cwd=clone, env=env, capture_output=True, text=True, timeout=300)
+    except subprocess.TimeoutExpired as error:
+        check(False, f"{command.where()}: `{part}` did not end within 300 s:\n{str(error.stdout or '')[-2000:]}")
+        return
+    took = time.time() - start
+    check(result.returncode == 0,
+          f"{command.where()}: `{part}` exited {result.returncode}:\n{result.stdout[-2000:]}\n{result.stderr[-2000:]}")
+    check_left(command, part, clone, before)
     print(f"RUN      {command.where()}: {part}  -> exit {result.returncode} in {took:.1f} s", flush=True)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Servers:
+    """The servers a doc starts in the background (`COMMAND --port N &`), as its reader does: each
+    is started, waited for until its port accepts a connection, and serves the commands after it in
+    the same code block; when the block ends it is stopped as the README's `kill %1` stops it
+    (SIGTERM), and must then exit 0 (docs/serving.md). Each gets a free port of its own, its
+    `--port N` and the block's later `ws://127.0.0.1:N` rewritten to it, so that two runs of this
+    test (or another test's server) do not meet on the doc's port."""
+
+    START_S = 240       # a checkpoint's server imports torch and loads the weights first
+
+    def __init__(self, clone, env, private_tmp):
+        self.clone, self.env, self.private_tmp = clone, env, private_tmp
+        self.running, self.ports, self.block = [], {}, None
+
+    def enter(self, command):
+        """Stops the servers of an earlier block before a command of another block."""
+        if (command.doc, command.block) != self.block:
+            self.stop_all()
+            self.block = (command.doc, command.block)
+
+    def rewrite(self, text):
+        for doc_port, port in self.ports.items():
+            text = re.sub(rf"(ws://(?:127\.0\.0\.1|localhost):){doc_port}(?!\d)", rf"\g<1>{port}", text)
+        return text
+
+    def start(self, command, part):
+        match = re.search(r"--port[ =](\d+)(?!\d)", part)
+        if not check(match is not None, f"{command.where()}: `{part}` runs in the background but names no --port to wait for"):
+            return
+        port = free_port()
+        self.ports[match.group(1)] = port
+        text = (part[:match.start()] + f"--port {port}" + part[match.end():]).replace("/tmp/", self.private_tmp + "/")
+        log_path = os.path.join(self.private_tmp, f"server-{port}.log")
+        before = set(os.listdir(self.clone))
+        started = time.time()
+        with open(log_path, "w") as log:
+            # exec: the signal reaches the server itself, not a shell waiting for it.
+            process = subprocess.Popen(["bash", "-c", "exec env " + text], cwd=self.clone, env=self.env, stdout=log,
+                                       stderr=subprocess.STDOUT, start_new_session=True)
+        while True:
+            if process.poll() is not None:
+                check(False, f"{command.where()}: `{part}` exited {process.returncode} before it listened on port "
+                             f"{port}:\n{self.log_tail(log_path)}")
+                return
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                pass
+            if time.time() - started > self.START_S:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+                check(False, f"{command.where()}: `{part}` did not listen on port {port} within {self.START_S} s:\n"
+                             f"{self.log_tail(log_path)}")
+                return
+            time.sleep(0.2)
+        print(f"SERVE    {command.where()}: {text}  -> listening after {time.time() - started:.1f} s", flush=True)
+        self.running.append((command, part, process, log_path, before))
+
+    @staticmethod
+    def log_tail(log_path):
+        with open(log_path, encoding="utf-8", errors="replace") as f:
+            return f.read()[-3000:]
+
+    def stop_all(self):
+        for command, part, process, log_path, before in self.running:
+            alive = process.poll() is None
+            if alive:
+                os.killpg(process.pid, signal.SIGTERM)
+            try:
+                code = process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                code = process.wait()
+            what = "SIGTERM stopped it with exit" if alive else "it stopped before its block's commands had run, exit"
+            check(alive and code == 0, f"{command.where()}: `{part}`: {what} {code}:\n{self.log_tail(log_path)}")
+            check_left(command, part, self.clone, before)
+            print(f"STOPPED  {command.where()}: {what} {code}", flush=True)
+        self.running, self.ports = [], {}
 
 
 def main():
     docs = sorted(p for p in TRACKED if p == "README.md" or re.fullmatch(r"docs/[^/]+\.md", p))
-    commands = []
+    commands, docs_files = [], []
     for doc in docs:
         with open(os.path.join(SOURCE, doc), encoding="utf-8") as f:
             text = f.read()
         found, _ = shell_commands(doc, text)
         commands += found + inline_tavis_commands(doc, text)
+        docs_files += [(doc, line, path, body) for line, path, body in saved_files(text)]
     check(len(commands) > 50, f"only {len(commands)} commands found in {len(docs)} docs: the extraction is broken")
+    counts = {"run": 0, "served": 0, "not run": 0, "template": 0}
     with tempfile.TemporaryDirectory(prefix="tavis-docs-") as work:
         clone, private_tmp = os.path.join(work, "clone"), os.path.join(work, "tmp")
         os.makedirs(clone)
         os.makedirs(private_tmp)
-        bin_dir = fresh_clone(clone)
-        for command in commands:
-            for part in simple_commands(command.text):
-                check_command(command, part)
-                if command.kind != "command":
-                    continue
-                reason = not_run_reason(part)
-                if reason:
-                    print(f"NOT RUN  {command.where()}: {part}  ({reason})")
-                elif has_placeholder(part):
-                    print(f"TEMPLATE {command.where()}: {part}  (checked, not runnable as written)")
-                else:
-                    run_as_written(command, part, clone, bin_dir, private_tmp)
+        env = run_environment(fresh_clone(clone, docs_files))
+        servers = Servers(clone, env, private_tmp)
+        try:
+            for command in commands:
+                if command.kind == "command":
+                    servers.enter(command)
+                for part, background in simple_commands(command.text):
+                    check_command(command, part)
+                    if command.kind != "command":
+                        continue
+                    reason = not_run_reason(part)
+                    if reason:
+                        counts["not run"] += 1
+                        print(f"NOT RUN  {command.where()}: {part}  ({reason})")
+                    elif has_placeholder(part):
+                        counts["template"] += 1
+                        print(f"TEMPLATE {command.where()}: {part}  (checked, not runnable as written)")
+                    elif background:
+                        counts["served"] += 1
+                        servers.start(command, part)
+                    else:
+                        counts["run"] += 1
+                        run_as_written(command, servers.rewrite(part), clone, env, private_tmp)
+        finally:
+            servers.stop_all()
+            shutil.rmtree(PIP_BUILD_DIR, ignore_errors=True)
     for i, (pattern, _) in enumerate(NOT_RUN):
         check(i in USED, f"NOT_RUN entry {pattern!r} matches no command of the docs: remove it")
+    print(f"commands: {counts['run']} run, {counts['served']} started as servers, {counts['not run']} not run, "
+          f"{counts['template']} templates")
     print(f"{passed_count()} checks passed, {len(failures)} failed, {len(commands)} commands in {len(docs)} docs")
     return 1 if failures else 0
 
