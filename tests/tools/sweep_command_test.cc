@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -50,7 +51,8 @@ class SweepRuns : public SweepCommand {
   }
   // What a run decides: every file but the manifest, each cell's summary without the fields that
   // say how it ran (time, threads, resumed episodes, the control ticks of its last run only, the
-  // provenance: machine and time split), the report without the manifest it shows.
+  // provenance: machine and time split), the episode times without their seconds, the report
+  // without the manifest it shows.
   static std::map<std::string, std::string> Results(const fs::path& dir) {
     std::map<std::string, std::string> files;
     for (const auto& [path, text] : Snapshot(dir)) {
@@ -65,11 +67,26 @@ class SweepRuns : public SweepCommand {
         files[name] = summary.dump(2);
       } else if (name == "report.html") {
         files[name] = std::regex_replace(text, std::regex("<pre id=\"manifest\">[^]*?</pre>"), "");
+      } else if (fs::path(name).filename() == "episode_times.jsonl") {
+        files[name] = TimedEpisodes(text);
       } else {
         files[name] = text;
       }
     }
     return files;
+  }
+
+  // An episode's seconds are how it ran; which episodes were timed, once each, in order, is what
+  // the run decides.
+  static std::string TimedEpisodes(const std::string& times) {
+    std::string episodes;
+    std::istringstream lines(times);
+    for (std::string line; std::getline(lines, line);) {
+      const nlohmann::json time = nlohmann::json::parse(line);
+      EXPECT_GE(time.at("span_s").get<double>(), 0.0) << line;
+      episodes += std::to_string(time.at("episode").get<int>()) + "\n";
+    }
+    return episodes;
   }
 
   static void ExpectSameResults(const fs::path& expected, const fs::path& actual) {

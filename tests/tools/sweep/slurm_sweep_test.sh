@@ -150,6 +150,8 @@ def results(root):
                 text = json.dumps(summary, sort_keys=True)
             elif rel == "report.html":
                 text = re.sub(r'<pre id="manifest">.*?</pre>', "", text, flags=re.S)
+            elif name == "episode_times.jsonl":  # the seconds are how it ran, the episodes timed are not
+                text = [json.loads(line)["episode"] for line in text.splitlines()]
             files[rel] = text
     return files
 local, merged = results(sys.argv[1]), results(sys.argv[2])
