@@ -57,6 +57,9 @@ void PickExpert::Reset(const engine::WorldModel& model, const engine::BatchState
   m.neck_goal = m.neck_command;
   m.fixated_point = Vec3::Constant(1e9);
   m.failed_candidates.assign(settings_.grasp_candidates.size(), false);
+  // The episode's clock starts here, not at control tick 0: under ood-init-pose the arms' warm-up
+  // has already run 0.5 s of ticks, which a phase timed from tick 0 (the cue's look) counted as done.
+  m.phase_start_step = state.control_step[env];
   if (head_still()) {
     m.phase = Phase::kWaitToAct;
   } else {

@@ -25,7 +25,9 @@ namespace {
 class PickExpertTest : public ::testing::Test {
  protected:
   // One env of `task` on GR1T2 at the reset of `episode`, its objects resting on the table.
-  void ResetTask(const std::string& task, uint64_t episode, ExpertMode mode = ExpertMode::kGazeFirst) {
+  // `start_tick`: the control tick the policy starts on (ood-init-pose's arm warm-up runs 30 first).
+  void ResetTask(const std::string& task, uint64_t episode, ExpertMode mode = ExpertMode::kGazeFirst,
+                 int start_tick = 0) {
     scenario_ = &FindScenario(task);
     model_ = engine::WorldModel();
     model_.robot = tavis::testing::LoadRobot("gr1t2");
@@ -41,6 +43,7 @@ class PickExpertTest : public ::testing::Test {
       const double half_height = BoundingHalfSize(model_.objects[static_cast<std::size_t>(object)].shape).z();
       state_.object_pose_row(0, object)[2] = engine::kTableHeight + half_height;
     }
+    state_.control_step[0] = start_tick;
     expert_ = scenario_->make_expert(model_, 1, mode);
     expert_->Reset(model_, state_, 0);
   }
@@ -233,6 +236,26 @@ TEST_F(PickExpertTest, HeadStillReachesForTheCardsObjectAtOnceWhereGazeFirstLook
     ASSERT_EQ(closings.size(), 1u) << "episode " << episode;
     EXPECT_LT((CommandedPads(closings[0], ClosingSide(closings[0])) - state_.ObjectPosition(0, Target())).norm(), 0.03)
         << "episode " << episode;
+  }
+}
+
+// Regression: the expert timed its phases from control tick 0, so after ood-init-pose's 0.5 s
+// warm-up the cue's 0.5 s look counted as done at the first tick and the card was never read
+// (cue_fixated 0 of 96 episodes, reach_before_cue in all 96). Its episode must not depend on the
+// tick it starts on.
+TEST_F(PickExpertTest, AnEpisodeStartingAfterAWarmUpLooksAtTheCardAsLongAsOneStartingAtTickZero) {
+  constexpr int kWarmUpTicks = 30;  // batch/init_pose_warmup.h: ten 20 Hz steps at 60 Hz control
+  for (uint64_t episode = 0; episode < 2; ++episode) {
+    ResetTask("conditional-pick", episode);
+    const int card = expert_->gaze(state_, 0).object;
+    std::vector<kinematics::Action> from_zero;
+    Run(kTwentySeconds, 0.05, &from_zero);
+    ResetTask("conditional-pick", episode, ExpertMode::kGazeFirst, kWarmUpTicks);
+    std::vector<kinematics::Action> after_warm_up;
+    Run(kTwentySeconds, 0.05, &after_warm_up);
+    EXPECT_NE(card, Target()) << "the gaze-first expert looks at the card first";
+    EXPECT_GE(FirstHandMove(after_warm_up), 60u) << "episode " << episode << ": the card is looked at first";
+    EXPECT_EQ(FirstHandMove(after_warm_up), FirstHandMove(from_zero)) << "episode " << episode;
   }
 }
 
