@@ -1,8 +1,9 @@
 // A test policy: the task's scripted expert with each of its actions altered (grasps 6 cm too low,
-// the grippers let go of the lifted target, the neck turned to a distractor before the grasp). The
-// alteration sees the env, its observation and one byte of per-env memory (cleared when the env's
-// episode starts), which it may set, e.g. once it has let go. Lock-step (not a PerEnvPolicy): the
-// expert answers the batch, then every acting env's action is altered.
+// the grippers let go of the lifted target, the neck turned to a distractor before the grasp, the
+// lifted target's hand following a script: lifted_target_takeover.h). The alteration sees the env,
+// its observation and one byte of per-env memory (cleared when the env's episode starts), which it
+// may set, e.g. once it has let go. Lock-step (not a PerEnvPolicy): the expert answers the batch,
+// then every acting env's action is altered.
 #pragma once
 
 #include <cstdint>
