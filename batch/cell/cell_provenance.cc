@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -11,6 +12,7 @@
 #include "batch/output/sha256.h"
 #include "batch/perturb/perturbation_catalog.h"
 #include "batch/policy_kinds.h"
+#include "batch/remote/server_contract.h"
 #include "batch/remote/value_json.h"
 
 namespace tavis::batch::cell {
@@ -46,13 +48,19 @@ nlohmann::json PolicyJson(const CellResult& result, const ProvenanceRun& run) {
   policy["servers"] = config.servers;
   nlohmann::json frames = nlohmann::json::array();
   nlohmann::json checkpoints = nlohmann::json::array();
+  nlohmann::json trained_for = nlohmann::json::array();
+  bool declares_trained_for = false;
   for (const remote::Value& frame : result.server_metadata) {
     frames.push_back(RecordedMetadataFrame(frame));
     const std::string checkpoint = DeclaredCheckpointSha256(frame);
     checkpoints.push_back(checkpoint.empty() ? nlohmann::json() : nlohmann::json(checkpoint));
+    trained_for.push_back(DeclaredTrainedFor(frame));
+    declares_trained_for = declares_trained_for || !trained_for.back().is_null();
   }
   policy["server_metadata"] = frames;
   policy["checkpoint_sha256"] = checkpoints;  // per server, null where it declares none
+  // Only where a server declares one, so that the records of every other cell stay as they were.
+  if (declares_trained_for) policy["trained_for"] = trained_for;  // per server, null where it declares none
   return policy;
 }
 
@@ -126,6 +134,20 @@ std::string DeclaredCheckpointSha256(const remote::Value& frame) {
   std::string hex = hash->rfind("sha256:", 0) == 0 ? hash->substr(7) : *hash;
   std::transform(hex.begin(), hex.end(), hex.begin(), [](unsigned char c) { return std::tolower(c); });
   return IsSha256Hex(hex) ? "sha256:" + hex : "";
+}
+
+nlohmann::json DeclaredTrainedFor(const remote::Value& frame) {
+  std::optional<remote::ServerContract> contract;
+  try {
+    contract = remote::ParseServerContract(frame, "");
+  } catch (const std::invalid_argument&) {
+    return nullptr;  // a malformed contract declares nothing here (the cell refused it before it ran)
+  }
+  if (!contract || (contract->task.empty() && contract->robot.empty())) return nullptr;
+  nlohmann::json declared = nlohmann::json::object();
+  if (!contract->task.empty()) declared["task"] = contract->task;
+  if (!contract->robot.empty()) declared["robot"] = contract->robot;
+  return declared;
 }
 
 nlohmann::json CellProvenanceJson(const CellResult& result, const ProvenanceRun& run) {

@@ -2,9 +2,10 @@
 // revision), the sha256 of every config file the cell read (the robot file, a served policy's key
 // file, each perturbation axis's file), the policy's identity (its label and name; a served
 // policy's servers and each server's metadata frame as it arrived, bounded, with any checkpoint
-// hash it declares), the machine and the time split. Nothing here is a record: the machine and the
-// times differ from run to run, so resumes, merges, `tavis verify` and the record comparisons of
-// the tests never compare this section (docs/verifying.md).
+// hash it declares and any task and robot its policy was trained for), the machine and the time
+// split. Nothing here is a record: the machine and the times differ from run to run, so resumes,
+// merges, `tavis verify` and the record comparisons of the tests never compare this section
+// (docs/verifying.md).
 #pragma once
 
 #include <string>
@@ -34,6 +35,10 @@ nlohmann::json RecordedMetadataFrame(const remote::Value& frame);
 // The checkpoint hash a frame declares: its "checkpoint_sha256" (or "checkpoint": {"sha256"}),
 // when it is 64 hex digits (with or without "sha256:"), as "sha256:<hex>"; "" otherwise.
 std::string DeclaredCheckpointSha256(const remote::Value& frame);
+
+// The task and robot a frame's observation_contract says the policy was trained for, as
+// {"task", "robot"} (each only when declared); null when it declares neither or is malformed.
+nlohmann::json DeclaredTrainedFor(const remote::Value& frame);
 
 // What the run was: the cell's label (a sweep's policy label; empty: its policy's name) and the
 // threads it ran on.

@@ -39,6 +39,14 @@ remote::ObservationKeys AdoptDeclaredContract(EvaluationCellConfig& config,
                                               const std::optional<remote::ObservationKeys>& dataset, int state_size) {
   const remote::ServerContract& contract = *config.declared_contract;
   const remote::ObservationKeys& declared = contract.keys;
+  // A policy trained for another task or robot would run and score about 0: refused first, since
+  // no option can make it this cell's.
+  const std::vector<std::string> trained_for = remote::TrainedForConflicts(contract, config.task, config.robot);
+  if (!trained_for.empty()) {
+    throw output::SettingsAdvice<std::invalid_argument>(
+        Lines(trained_for) + " (serve a checkpoint trained for this cell's task and robot, or give " +
+        output::SettingKey("task") + " and " + output::SettingKey("robot") + " of the one served)");
+  }
   const std::string against = "contradicts the contract policy server " + contract.server + " declares: ";
   if (config.observation_keys_given) {
     remote::ObservationKeys given = remote::LoadObservationKeys(config.observation_keys, config.config_dir);

@@ -20,7 +20,9 @@ namespace tavis::batch::cell {
 std::optional<remote::ServerContract> ReadDeclaredContract(const EvaluationCellConfig& config);
 
 // The layout of a cell whose config.declared_contract is set: the contract's, with
-// config.replan_steps set to its executed steps. Throws output::SettingError naming
+// config.replan_steps set to its executed steps. Throws std::invalid_argument naming both values
+// when the contract says its policy was trained for another task or robot than the cell's
+// (before anything else is compared), output::SettingError naming
 // observation_keys, observation_dataset (`dataset`, the named dataset's layout), image_width or
 // replan_steps when one given contradicts the contract (its value and the contract's), and
 // std::invalid_argument when the robot's observation.state is not `state_size` long as declared.

@@ -26,6 +26,8 @@ remote::RemotePolicyOptions ServedOptions(const CellPlan& plan) {
   options.reply_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.reply_timeout_s * 1000.0));
   options.max_reply_bytes = static_cast<std::uint64_t>(config.max_reply_mb * 1024.0 * 1024.0);
   options.state_size = static_cast<int>(plan.model.robot.observation_state.size());
+  options.task = config.task;
+  options.robot = config.robot;
   return options;
 }
 

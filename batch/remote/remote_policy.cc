@@ -62,8 +62,10 @@ void CheckDeclaredContracts(const std::vector<std::unique_ptr<OpenpiSession>>& s
     const std::optional<ServerContract> contract = ParseServerContract(sessions[i]->metadata(), options.servers[i]);
     if (!contract) continue;
     const int state_size = options.state_size > 0 ? options.state_size : contract->state_size;
-    const std::vector<std::string> conflicts =
-        ContractConflicts(*contract, options.keys, options.replan_steps, state_size);
+    std::vector<std::string> conflicts = TrainedForConflicts(*contract, options.task, options.robot);
+    for (std::string& conflict : ContractConflicts(*contract, options.keys, options.replan_steps, state_size)) {
+      conflicts.push_back(std::move(conflict));
+    }
     if (conflicts.empty()) continue;
     std::string lines;
     for (const std::string& conflict : conflicts) lines += "\n  " + conflict;

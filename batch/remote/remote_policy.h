@@ -57,6 +57,10 @@ struct RemotePolicyOptions {
   std::uint64_t max_reply_bytes = kDefaultMaxReplyBytes;  // OpenpiSessionOptions::max_reply_bytes
   // The robot's observation.state length, checked against a server's declared contract (0: not checked).
   int state_size = 0;
+  // The cell's task and robot, checked against those a server's contract says its policy was
+  // trained for ("": not checked).
+  std::string task;
+  std::string robot;
 };
 
 // Waits for `server` as RemotePolicy does, connects, and returns the metadata map it sends first
@@ -82,8 +86,8 @@ class RemotePolicy : public batch::Policy {
   // connection per env slot). Throws std::invalid_argument for no server, a malformed URL,
   // negative replan_steps, or batched mode with a server whose metadata does not declare
   // batched_requests, or a server whose declared contract (server_contract.h) is malformed or
-  // contradicts the layout, the state size or replan_steps (naming both values), and
-  // std::runtime_error naming the server when it does not become ready or cannot be reached.
+  // contradicts the layout, the state size, replan_steps, the task or the robot (naming both
+  // values), and std::runtime_error naming the server when it does not become ready or cannot be reached.
   RemotePolicy(RemotePolicyOptions options, int num_envs);
 
   std::string name() const override { return batch::PolicyName(batch::PolicyKind::kOpenpi); }

@@ -17,9 +17,11 @@ constexpr std::int64_t kMaxImageSide = 4096;
 constexpr std::int64_t kMaxStateSize = 4096;
 constexpr std::int64_t kMaxHistory = 10000;
 constexpr std::int64_t kMaxChunk = 100000;
+constexpr std::size_t kMaxNameBytes = 64;
 
-const char* const kFields[] = {"version",     "cameras",      "image_width",    "image_height",     "state",
-                               "n_obs_steps", "chunk_length", "executed_steps", "checkpoint_sha256"};
+const char* const kFields[] = {"version",     "cameras",      "image_width",    "image_height",      "state",
+                               "n_obs_steps", "chunk_length", "executed_steps", "checkpoint_sha256", "task",
+                               "robot"};
 
 class ContractReader {
  public:
@@ -32,7 +34,7 @@ class ContractReader {
       if (std::find(std::begin(kFields), std::end(kFields), *key) == std::end(kFields)) {
         Fail("", "has the unknown field '" + Shown(*key) +
                      "' (known: version, cameras, image_width, image_height, "
-                     "state, n_obs_steps, chunk_length, executed_steps, checkpoint_sha256)");
+                     "state, n_obs_steps, chunk_length, executed_steps, checkpoint_sha256, task, robot)");
       }
       if (fields_.count(*key) > 0) Fail(*key, "is given twice");
       fields_.emplace(*key, &entry.value);
@@ -176,6 +178,25 @@ bool IsLowerHex(const std::string& text) {
   return std::all_of(text.begin(), text.end(), [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
 }
 
+// A tavis name (a task's, a robot's) the contract may give: 1 to 64 lower-case letters, digits,
+// '-' or '_', the first a letter or digit. Only its form is checked: which names exist is the
+// cell's to know, and a name of another task or robot is a conflict (TrainedForConflicts), not
+// a malformed contract. "" when the field is not given.
+std::string OptionalName(const ContractReader& reader, const std::string& field) {
+  const Value* value = reader.Optional(field);
+  if (value == nullptr) return "";
+  const std::string* text = value->get_if<std::string>();
+  if (text == nullptr) reader.Fail(field, "must be a str, got " + value->TypeName());
+  const auto allowed = [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_'; };
+  if (text->empty() || text->size() > kMaxNameBytes || !std::all_of(text->begin(), text->end(), allowed) ||
+      text->front() == '-' || text->front() == '_') {
+    reader.Fail(field, "must be a tavis name of 1 to " + std::to_string(kMaxNameBytes) +
+                           " lower-case letters, digits, '-' or '_' (e.g. conditional-pick, gr1t2), got '" +
+                           ContractReader::Shown(*text) + "' (" + std::to_string(text->size()) + " bytes)");
+  }
+  return *text;
+}
+
 }  // namespace
 
 std::optional<ServerContract> ParseServerContract(const Value& metadata, const std::string& server) {
@@ -209,6 +230,8 @@ std::optional<ServerContract> ParseServerContract(const Value& metadata, const s
     }
     contract.checkpoint_sha256 = *text;
   }
+  contract.task = OptionalName(reader, "task");
+  contract.robot = OptionalName(reader, "robot");
   return contract;
 }
 
@@ -228,6 +251,19 @@ std::vector<std::string> ContractConflicts(const ServerContract& contract, const
                         " of each reply, " + contract.keys.source + " declares executed_steps " +
                         std::to_string(contract.executed_steps));
   }
+  return conflicts;
+}
+
+std::vector<std::string> TrainedForConflicts(const ServerContract& contract, const std::string& task,
+                                             const std::string& robot) {
+  std::vector<std::string> conflicts;
+  const auto compare = [&](const char* what, const std::string& trained, const char* cell_is, const std::string& cell) {
+    if (trained.empty() || trained == cell) return;
+    conflicts.push_back("policy server " + contract.server + "'s policy was trained for " + what + " " + trained +
+                        "; " + cell_is + " " + cell);
+  };
+  compare("task", contract.task, "this cell is", task);
+  compare("robot", contract.robot, "this cell's robot is", robot);
   return conflicts;
 }
 

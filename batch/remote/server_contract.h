@@ -13,6 +13,10 @@
 //   executed_steps                rows of each reply the client executes before it asks again
 //                                 (the client's --replan-steps; 1 when the history needs every step)
 //   checkpoint_sha256             optional: the served weights' SHA-256 (64 lower-case hex digits)
+//   task, robot                   optional: the tavis task and robot the policy was trained for
+//                                 (1 to 64 lower-case letters, digits, '-' or '_'); the client
+//                                 refuses a cell of another task or robot, since such a policy
+//                                 would run and only score about 0
 //
 // The frame comes from the network: every field is checked for its type and range, and a map
 // with another key, a wrong type or a value out of range is refused naming the server, the field
@@ -40,6 +44,8 @@ struct ServerContract {
   int chunk_length = 1;
   int executed_steps = 1;
   std::string checkpoint_sha256;  // "" when not declared
+  std::string task;               // "" when not declared
+  std::string robot;              // "" when not declared
 };
 
 // The contract in `metadata` (the server's first frame), or nullopt when it declares none. Throws
@@ -51,5 +57,11 @@ std::optional<ServerContract> ParseServerContract(const Value& metadata, const s
 // when they agree. `state_size` is the robot's observation.state length.
 std::vector<std::string> ContractConflicts(const ServerContract& contract, const ObservationKeys& sent,
                                            int replan_steps, int state_size);
+
+// How a cell's task and robot differ from those the contract says its policy was trained for, one
+// line each naming both values ("policy server ws://...'s policy was trained for task
+// wait-then-act; this cell is conditional-pick"); empty when they agree or nothing is declared.
+std::vector<std::string> TrainedForConflicts(const ServerContract& contract, const std::string& task,
+                                             const std::string& robot);
 
 }  // namespace tavis::batch::remote

@@ -9,7 +9,9 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "batch/remote/server_contract.h"
 #include "configs/yaml_reader.h"
 
 namespace tavis::batch::cell {
@@ -119,6 +121,54 @@ TEST(CellPlan, ADatasetsLayoutIsServedAndAnotherLayoutIsComparedWithIt) {
   EXPECT_EQ(compared.image_width, 320);
   EXPECT_FALSE(compared.layout_differences.empty());
   std::filesystem::remove_all(dir);
+}
+
+// A contract as a server declaring the tavis layout at 96 x 96 for `task` and `robot` gives it
+// ("": not declared).
+remote::ServerContract DeclaredFor(const std::string& task, const std::string& robot, int state_size) {
+  remote::ServerContract contract;
+  contract.server = "ws://127.0.0.1:1";
+  contract.keys = remote::ContractKeys();
+  contract.keys.image_width = 96;
+  contract.keys.image_height = 96;
+  contract.state_size = state_size;
+  contract.task = task;
+  contract.robot = robot;
+  return contract;
+}
+
+TEST(CellPlan, AContractOfTheCellsTaskAndRobotOrOfNoneIsAdopted) {
+  EvaluationCellConfig config = Cell("openpi");
+  const int state_size = static_cast<int>(PlanCell(config).model.robot.observation_state.size());
+  for (const auto& [task, robot] : {std::pair<std::string, std::string>{"clutter-pick-cube", "gr1t2"},
+                                    {"clutter-pick-cube", ""},
+                                    {"", "gr1t2"},
+                                    {"", ""}}) {
+    config.declared_contract = DeclaredFor(task, robot, state_size);
+    EXPECT_EQ(PlanCell(config).image_width, 96) << "declared '" << task << "' '" << robot << "'";
+  }
+}
+
+TEST(CellPlan, AContractOfAnotherTaskOrRobotIsRefusedNamingBoth) {
+  EvaluationCellConfig config = Cell("openpi");
+  const int state_size = static_cast<int>(PlanCell(config).model.robot.observation_state.size());
+  config.declared_contract = DeclaredFor("wait-then-act", "gr1t2", state_size);
+  config.image_width = 224;  // contradicts the contract too, but the task is what is refused
+  config.image_height = 224;
+  const std::string task = ErrorOf<std::invalid_argument>(config);
+  EXPECT_EQ(task.find("policy server ws://127.0.0.1:1's policy was trained for task wait-then-act; this cell is "
+                      "clutter-pick-cube"),
+            0u)
+      << task;
+  EXPECT_EQ(task.find("trained for robot"), std::string::npos) << "the robot agrees: " << task;
+  config.declared_contract = DeclaredFor("clutter-pick-cube", "reachy2", state_size);
+  const std::string robot = ErrorOf<std::invalid_argument>(config);
+  EXPECT_NE(robot.find("was trained for robot reachy2; this cell's robot is gr1t2"), std::string::npos) << robot;
+  EXPECT_EQ(robot.find("trained for task"), std::string::npos) << robot;
+  config.declared_contract = DeclaredFor("wait-then-act", "reachy2", state_size);
+  const std::string both = ErrorOf<std::invalid_argument>(config);
+  EXPECT_NE(both.find("task wait-then-act"), std::string::npos) << both;
+  EXPECT_NE(both.find("robot reachy2"), std::string::npos) << both;
 }
 
 TEST(CellPlan, PerturbationLevelsAreResolvedOnceIntoTheScene) {

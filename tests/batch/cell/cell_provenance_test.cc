@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include "batch/cell/episode_times.h"
 #include "batch/output/program_version.h"
@@ -92,6 +93,36 @@ TEST(CellProvenance, ServedTimeSplitsWaitingFromTheRest) {
   EXPECT_EQ(provenance["time"]["simulation_s"], 6.0);
   EXPECT_EQ(provenance["policy"]["server_metadata"][1], nlohmann::json({{"name", "b"}}));
   EXPECT_EQ(provenance["policy"]["checkpoint_sha256"], nlohmann::json({"sha256:" + std::string(64, 'a'), nullptr}));
+}
+
+// An observation_contract of the tavis layout, with `extra` fields (docs/serving.md).
+Value ContractFrame(Value::Map extra) {
+  Value::Map contract = {{"version", 1},
+                         {"cameras", Frame({{"head", "observation.images.OBS_HEAD"}})},
+                         {"image_width", 96},
+                         {"image_height", 96},
+                         {"state", Frame({{"key", "observation.state"}, {"size", 34}})},
+                         {"n_obs_steps", 1},
+                         {"chunk_length", 10},
+                         {"executed_steps", 10}};
+  for (remote::MapEntry& entry : extra) contract.push_back(std::move(entry));
+  return Frame({{"policy", "baseline"}, {"observation_contract", Frame(std::move(contract))}});
+}
+
+// What each server's policy was trained for is recorded beside its checkpoint hash, but only in a
+// cell where a server declares it: every other cell's summary is as it was.
+TEST(CellProvenance, TheTaskAndRobotTrainedForAreRecordedOnlyWhereDeclared) {
+  CellResult result;
+  result.config = ServedCellWithOptions();
+  result.config.config_dir = TAVIS_CONFIG_DIR;
+  result.server_metadata = {ContractFrame({}), Frame({{"name", "b"}})};
+  EXPECT_FALSE(CellProvenanceJson(result, {"", 2})["policy"].contains("trained_for"));
+  result.server_metadata = {ContractFrame({{"task", "conditional-pick"}, {"robot", "gr1t2"}}), Frame({{"name", "b"}}),
+                            ContractFrame({{"robot", "gr1t2"}})};
+  EXPECT_EQ(CellProvenanceJson(result, {"", 2})["policy"]["trained_for"],
+            nlohmann::json::parse(R"([{"task": "conditional-pick", "robot": "gr1t2"}, null, {"robot": "gr1t2"}])"));
+  EXPECT_TRUE(DeclaredTrainedFor(ContractFrame({{"task", "Not A Name"}})).is_null()) << "a malformed contract";
+  EXPECT_TRUE(DeclaredTrainedFor(Frame({{"task", "conditional-pick"}})).is_null()) << "outside a contract";
 }
 
 // The frame is the server's word: a checkpoint hash is taken only when it is 64 hex digits.

@@ -69,6 +69,57 @@ TEST(ServerContract, AValidContractGivesTheLayoutAndTheSchedule) {
   ASSERT_EQ(conflicts.size(), 5u);  // two cameras it lacks, the size, the state size, the executed steps
 }
 
+TEST(ServerContract, TheTaskAndRobotTrainedForAreReadWhenDeclared) {
+  const auto none = ParseServerContract(Metadata(ValidContract()), "ws://peer:1");
+  ASSERT_TRUE(none.has_value());
+  EXPECT_EQ(none->task, "");
+  EXPECT_EQ(none->robot, "");
+  EXPECT_TRUE(TrainedForConflicts(*none, "conditional-pick", "gr1t2").empty()) << "declaring none compares none";
+  Value::Map declared = ValidContract();
+  declared.push_back({Value("task"), Value("wait-then-act")});
+  declared.push_back({Value("robot"), Value("gr1t2")});
+  const auto contract = ParseServerContract(Metadata(declared), "ws://peer:1");
+  ASSERT_TRUE(contract.has_value());
+  EXPECT_EQ(contract->task, "wait-then-act");
+  EXPECT_EQ(contract->robot, "gr1t2");
+  EXPECT_TRUE(TrainedForConflicts(*contract, "wait-then-act", "gr1t2").empty());
+  EXPECT_EQ(
+      TrainedForConflicts(*contract, "conditional-pick", "gr1t2"),
+      std::vector<std::string>{
+          "policy server ws://peer:1's policy was trained for task wait-then-act; this cell is conditional-pick"});
+  EXPECT_EQ(TrainedForConflicts(*contract, "wait-then-act", "reachy2"),
+            std::vector<std::string>{
+                "policy server ws://peer:1's policy was trained for robot gr1t2; this cell's robot is reachy2"});
+  EXPECT_EQ(TrainedForConflicts(*contract, "conditional-pick", "reachy2").size(), 2u);
+}
+
+TEST(ServerContract, HostileTaskAndRobotNamesAreRefused) {
+  const auto refusal = [](const char* field, Value value) {
+    Value::Map contract = ValidContract();
+    contract.push_back({Value(field), std::move(value)});
+    return Refusal(Metadata(contract));
+  };
+  EXPECT_NE(refusal("task", Value(7)).find("observation_contract.task must be a str, got int"), std::string::npos);
+  EXPECT_NE(refusal("robot", Value(Value::Array{})).find("observation_contract.robot must be a str"),
+            std::string::npos);
+  const std::string too_long = refusal("task", Value(std::string(100000, 'a')));
+  EXPECT_NE(too_long.find("1 to 64 lower-case letters"), std::string::npos) << too_long;
+  EXPECT_NE(too_long.find("(100000 bytes)"), std::string::npos) << too_long;
+  EXPECT_LT(too_long.size(), 400u) << "a long name is shown cut";
+  EXPECT_NE(refusal("task", Value(std::string(65, 'a'))).find("task must be a tavis name"), std::string::npos);
+  EXPECT_EQ(refusal("task", Value(std::string(64, 'a'))), "") << "64 characters is a name";
+  EXPECT_NE(refusal("task", Value("")).find("task must be a tavis name"), std::string::npos);
+  const std::string control = refusal("task", Value(std::string("pick\x1b[2J\n", 9)));
+  EXPECT_NE(control.find("got 'pick?[2J?'"), std::string::npos) << "control characters are not shown: " << control;
+  EXPECT_NE(refusal("robot", Value("GR1T2")).find("robot must be a tavis name"), std::string::npos);
+  EXPECT_NE(refusal("robot", Value("-gr1t2")).find("robot must be a tavis name"), std::string::npos);
+  EXPECT_NE(refusal("robot", Value("gr1 t2")).find("robot must be a tavis name"), std::string::npos);
+  Value::Map twice = ValidContract();
+  twice.push_back({Value("task"), Value("conditional-pick")});
+  twice.push_back({Value("task"), Value("wait-then-act")});
+  EXPECT_NE(Refusal(Metadata(twice)).find("task is given twice"), std::string::npos);
+}
+
 TEST(ServerContract, HostileFieldsAreRefusedNamingTheFieldAndValue) {
   EXPECT_NE(Refusal(Metadata(With("image_width", Value("96")))).find("image_width must be an int, got str"),
             std::string::npos);

@@ -17,6 +17,7 @@ import torch
 import websockets
 
 from conftest import run_tavis
+from tiny_training import TINY
 from tavis_baseline import checkpoint, train
 
 REPO = Path(__file__).resolve().parents[3]
@@ -25,8 +26,6 @@ sys.path.insert(0, str(REPO / "tests" / "batch" / "remote"))
 PACKAGES = os.pathsep.join([str(REPO / "tools" / "baseline"), str(REPO / "tools" / "policy_server")])
 from openpi_msgpack_numpy import packb, unpackb  # noqa: E402  (a msgpack-numpy we did not serve with)
 
-TINY = ["--batch-size", "8", "--image-size", "32x24", "--threads", "2", "--warmup-steps", "1", "--chunk-size", "8",
-        "--history-stride", "2", "--steps", "2"]
 HEIGHT, WIDTH = 24, 32
 STEPS = 8
 
@@ -158,9 +157,11 @@ def test_an_old_checkpoint_is_served_with_its_queue_as_before_and_says_so(checkp
         (old / path.name).write_bytes(path.read_bytes())
     config = json.loads((old / "config.json").read_text())
     config["n_action_steps"] = config.pop("executed_steps")  # as written before the setting
+    del config["task"], config["robot"]  # ... and before the task and robot it was trained for
     (old / "config.json").write_text(json.dumps(config))
     _, metadata, _, stderr = serve_steps(old)
     assert metadata["executed_steps"] == 4 and metadata["action_queue"] is True and metadata["n_action_steps"] == 4
+    assert not {"task", "robot"} & set(metadata["observation_contract"]), "an old checkpoint declares neither"
     assert "predates the executed_steps setting" in stderr and "n_action_steps 4 rows" in stderr
 
 

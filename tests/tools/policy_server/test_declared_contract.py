@@ -20,6 +20,15 @@ def test_the_server_adds_history_chunk_and_executed_steps():
     assert contract == {"version": 1, **DECLARED, "n_obs_steps": 11, "chunk_length": 1, "executed_steps": 1}
 
 
+def test_the_task_and_robot_trained_for_are_sent_as_declared():
+    declared = {**DECLARED, "task": "conditional-pick", "robot": "gr1t2"}
+    contract = complete_contract(declared, chunk_length=1, n_obs_steps=11, consecutive_steps=True)
+    assert (contract["task"], contract["robot"]) == ("conditional-pick", "gr1t2")
+    # Which names exist is the client's to know: a well-formed name of no task is sent.
+    assert complete_contract({**DECLARED, "task": "no-such-task"}, 1, 11, True)["task"] == "no-such-task"
+    assert "task" not in complete_contract(DECLARED, 1, 11, True)
+
+
 def test_without_a_history_the_client_executes_the_whole_reply():
     assert complete_contract(DECLARED, chunk_length=8, n_obs_steps=1, consecutive_steps=False)["executed_steps"] == 8
 
@@ -38,6 +47,12 @@ def test_a_plain_policy_declares_nothing():
     ({"checkpoint_sha256": "ABC"}, "checkpoint_sha256 must be 64 lower-case hex digits"),
     ({"n_obs_steps": 2}, "n_obs_steps is declared 2, but the server serves 11"),
     ({"colour": "red"}, "unknown fields"),
+    ({"task": "Conditional Pick"}, "task must be a tavis name"),
+    ({"task": "c" * 65}, "task must be a tavis name"),
+    ({"task": ""}, "task must be a tavis name"),
+    ({"task": "-pick"}, "task must be a tavis name"),
+    ({"robot": 7}, "robot must be a tavis name"),
+    ({"robot": "gr1t2\n"}, "robot must be a tavis name"),
 ])
 def test_a_malformed_declaration_is_refused_naming_the_field(change, message):
     with pytest.raises(ValueError, match=message):

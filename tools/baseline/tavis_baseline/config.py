@@ -86,6 +86,11 @@ class BaselineConfig:
     min_std: float = 1e-2
     neck_state_dims: List[int] = field(default_factory=list)   # zeroed under fixed
     neck_action_dims: List[int] = field(default_factory=lambda: list(NECK_ACTION_DIMS))
+    # The tavis task and robot of the dataset trained on (dataset_origin.py), which serve.py declares
+    # so that `tavis eval` refuses a cell of another; None: not known (several tasks, a dataset not
+    # written by `tavis demos`, or a config.json that predates the fields), and nothing is declared.
+    task: Optional[str] = None
+    robot: Optional[str] = None
 
     def __post_init__(self):
         if self.camera not in ("head", "fixed"):
@@ -121,6 +126,10 @@ class BaselineConfig:
         if not 0 < self.crop_ratio <= 1 or min(self.crop_size) < 8:
             raise ValueError(f"crop_ratio {self.crop_ratio!r} must be in (0, 1] and leave each side of image_size "
                              f"{self.image_size} at least 8 pixels")
+        for name in ("task", "robot"):
+            value = getattr(self, name)
+            if value is not None and (not isinstance(value, str) or not value):
+                raise ValueError(f"{name} must be a tavis {name} name or null, got {value!r}")
         if self.camera == "fixed" and not self.neck_state_dims:
             if self.state_dim not in NECK_STATE_DIMS:
                 raise ValueError(f"fixed camera: no known neck entries for a state of {self.state_dim} dims; "

@@ -52,7 +52,9 @@ def observation_contract(config, checkpoint_dir):
     """What the checkpoint was trained on, for the metadata frame's observation_contract (tavis_server's
     contract.py adds n_obs_steps, chunk_length and executed_steps from how it serves; docs/serving.md):
     its cameras' image keys (the fixed camera's under the fixed protocol, with head's key beside it as
-    the tavis layout has), the training image size, observation.state's length and model.pt's SHA-256."""
+    the tavis layout has), the training image size, observation.state's length, model.pt's SHA-256, and
+    the task and robot the config says it was trained for, when it says (an older checkpoint's does
+    not: it declares neither, and is served to any cell as before)."""
     keys = config.image_keys
     cameras = {"head": keys[0]} if config.camera == "head" else {"head": "observation.images.OBS_HEAD", "fixed": keys[0]}
     cameras.update({"left_wrist": keys[1], "right_wrist": keys[2]})
@@ -61,9 +63,11 @@ def observation_contract(config, checkpoint_dir):
     with open(os.path.join(checkpoint_dir, "model.pt"), "rb") as weights:
         for block in iter(lambda: weights.read(1 << 20), b""):
             digest.update(block)
-    return {"version": 1, "cameras": cameras, "image_width": int(width), "image_height": int(height),
-            "state": {"key": "observation.state", "size": int(config.state_dim)},
-            "checkpoint_sha256": digest.hexdigest()}
+    contract = {"version": 1, "cameras": cameras, "image_width": int(width), "image_height": int(height),
+                "state": {"key": "observation.state", "size": int(config.state_dim)},
+                "checkpoint_sha256": digest.hexdigest()}
+    contract.update({name: getattr(config, name) for name in ("task", "robot") if getattr(config, name) is not None})
+    return contract
 
 
 def server_arguments(checkpoint_dir, executed_steps, port, host, device, seed=None, temporal_ensemble=None):

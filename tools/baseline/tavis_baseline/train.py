@@ -22,6 +22,7 @@ import torch
 from . import checkpoint, train_output
 from .config import ACT_OPTIONS, EXECUTED_STEPS_DEFAULT, EXECUTION_DEFAULT_WHY, HEADS, VISIONS, BaselineConfig
 from .dataset import ACTION, STATE, DemoDataset
+from .dataset_origin import recorded_task_and_robot
 from .normalization import QUATERNION_ACTION_DIMS, mean_std
 from .policy import BaselinePolicy
 from .train_step import EagerStep, GraphedStep, autocast, batch_loss, can_compile
@@ -133,13 +134,15 @@ def act_sizes(args):
 
 def build_policy(data, args):
     state_dim, action_dim = data.state.shape[1], data.action.shape[1]
+    task, robot = recorded_task_and_robot(data.root, data.info)
     config = BaselineConfig(camera=args.camera, image_size=list(data.image_size), state_dim=state_dim,
                             action_dim=action_dim, history_frames=args.history_frames,
                             history_stride=args.history_stride, chunk_size=args.chunk_size,
                             executed_steps=args.executed_steps, shift_px=args.shift_px, head=args.head,
                             flow_steps=args.flow_steps, flow_width=args.flow_width, noise_seed=args.seed,
                             temporal_ensemble=args.temporal_ensemble, **act_sizes(args),
-                            vision=args.vision, vision_width=args.vision_width, crop_ratio=args.crop_ratio)
+                            vision=args.vision, vision_width=args.vision_width, crop_ratio=args.crop_ratio,
+                            task=task, robot=robot)
     quaternions = QUATERNION_ACTION_DIMS if action_dim == 19 else ()
     state_mean, state_std = mean_std(data.stats, STATE, state_dim, config.min_std, where=data.stats_path)
     action_mean, action_std = mean_std(data.stats, ACTION, action_dim, config.min_std, quaternions, where=data.stats_path)
@@ -198,7 +201,8 @@ def train(args):
     parameters = sum(p.numel() for p in policy.parameters())
     print(f"policy: {parameters / 1e6:.2f} M parameters, camera {args.camera}, vision {args.vision} on "
           f"{policy.config.crop_size[1]}x{policy.config.crop_size[0]}, history {policy.config.obs_offsets} frames, "
-          f"chunk {policy.config.chunk_size} (served: {policy.config.chunk_execution}), device {device}", flush=True)
+          f"chunk {policy.config.chunk_size} (served: {policy.config.chunk_execution}), device {device}, trained for "
+          f"task {policy.config.task or '(not declared)'} on robot {policy.config.robot or '(not declared)'}", flush=True)
     generator = torch.Generator().manual_seed(args.seed)
     lr_at = lambda step: learning_rate(step, args)  # noqa: E731
     if can_compile(device) and not args.no_compile:

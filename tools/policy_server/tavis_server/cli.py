@@ -183,7 +183,7 @@ def parser():
                         help="stateful stand-in: observation history length (> 1: steps must be consecutive)")
     result.add_argument("--contract", default=None, metavar="JSON",
                         help="a JSON file of the contract the policy was trained on (cameras, image_width, "
-                             "image_height, state, checkpoint_sha256), sent in the metadata frame as "
+                             "image_height, state, checkpoint_sha256, task, robot), sent in the metadata frame as "
                              "observation_contract with the server's n_obs_steps, chunk_length and executed_steps "
                              "(docs/serving.md); it replaces one the policy declares")
     result.add_argument("--record", default=None, metavar="JSON",

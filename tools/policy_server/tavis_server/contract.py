@@ -5,7 +5,9 @@ was trained on, so that `tavis eval` sends exactly that without ``--image-size``
 
 The policy (or ``--contract FILE.json``) declares what only it knows: ``cameras`` (camera -> the
 image key it was trained on), ``image_width`` / ``image_height``, ``state`` (``{"key", "size"}``) and
-optionally ``checkpoint_sha256``. The server adds what follows from how it serves: ``n_obs_steps``
+optionally ``checkpoint_sha256`` and the ``task`` and ``robot`` it was trained for (tavis names: the
+client refuses a cell of another task or robot, which would run and only score about 0; only the
+names' form is checked here, since the client is the one that knows which exist). The server adds what follows from how it serves: ``n_obs_steps``
 (its observation history), ``chunk_length`` (rows per reply, its ``action_horizon``) and
 ``executed_steps`` (rows of each reply the client executes before asking again: 1 when every step
 must be asked, else the whole reply). A declared value of those three that disagrees with how the
@@ -17,11 +19,13 @@ import re
 CONTRACT_KEY = "observation_contract"
 VERSION = 1
 CAMERAS = ("head", "fixed", "left_wrist", "right_wrist")
-DECLARED = ("cameras", "image_width", "image_height", "state", "checkpoint_sha256")
+DECLARED = ("cameras", "image_width", "image_height", "state", "checkpoint_sha256", "task", "robot")
 SERVED = ("n_obs_steps", "chunk_length", "executed_steps")
 REQUEST_FIELDS = ("env_index", "episode_index", "step", "is_first", "batch_size")
 _KEY = re.compile(r"^[\x21-\x7e]{1,256}$")
 _SHA256 = re.compile(r"^[0-9a-f]{64}$")
+# A tavis task or robot name, as the client checks it (batch/remote/server_contract.cc).
+_NAME = re.compile(r"^[a-z0-9][a-z0-9_-]{0,63}$")
 
 
 def _int(value, field, low, high):
@@ -70,6 +74,13 @@ def _declared_part(declared):
         if not isinstance(sha, str) or not _SHA256.match(sha):
             raise ValueError(f"{CONTRACT_KEY}.checkpoint_sha256 must be 64 lower-case hex digits, got {sha!r}")
         contract["checkpoint_sha256"] = sha
+    for field in ("task", "robot"):
+        if field in declared:
+            name = declared[field]
+            if not isinstance(name, str) or not _NAME.fullmatch(name):
+                raise ValueError(f"{CONTRACT_KEY}.{field} must be a tavis name of 1 to 64 lower-case letters, digits, "
+                                 f"'-' or '_' (e.g. conditional-pick, gr1t2), got {name!r}")
+            contract[field] = name
     return contract
 
 
