@@ -8,6 +8,7 @@
 
 #include "kinematics/forward_kinematics.h"
 #include "render/camera.h"
+#include "scenarios/expert/gaze.h"
 
 namespace tavis::batch::cell {
 
@@ -47,6 +48,9 @@ double HitDistance(const Shape& shape, const Vec3& p, const Vec3& d) {
   }
   return t_near;
 }
+
+// A neck pitch within this of a joint limit is at the limit (the PD-held joint sits a hair off it).
+constexpr double kAtLimitRad = 0.01;
 
 bool IsObject(GazeTarget target) {
   return target == GazeTarget::kTarget || target == GazeTarget::kCue || target == GazeTarget::kDistractor;
@@ -100,9 +104,11 @@ GazeTracer::GazeTracer(const engine::WorldModel& model, const std::vector<std::s
   }
 }
 
-GazeTarget GazeTracer::Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W) const {
+GazeTarget GazeTracer::Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W,
+                               int* hit_object) const {
   double best = kNoHit;
   GazeTarget hit = GazeTarget::kNothing;
+  if (hit_object) *hit_object = -1;
   for (const Part& part : parts_) {
     RigidTransform X_WS = part.X_WS;
     GazeTarget role = part.role;
@@ -117,6 +123,7 @@ GazeTarget GazeTracer::Nearest(const engine::BatchState& state, int env, const V
     if (t < best) {
       best = t;
       hit = role;
+      if (hit_object) *hit_object = part.object;
     }
   }
   return hit;
@@ -139,7 +146,36 @@ GazeTarget GazeTracer::Trace(const engine::BatchState& state, int env) {
     const int count = ++counts[static_cast<std::size_t>(ring)];
     if (best == GazeTarget::kNothing || count > counts[static_cast<std::size_t>(best)]) best = ring;
   }
-  return best != GazeTarget::kNothing ? best : centre;
+  if (best != GazeTarget::kNothing) return best;
+  const GazeTarget limited = AtTheNecksLimit(state, env, p_W);
+  return limited != GazeTarget::kNothing ? limited : centre;
+}
+
+GazeTarget GazeTracer::AtTheNecksLimit(const engine::BatchState& state, int env, const Vec3& p_W) const {
+  const kinematics::RobotModel& robot = model_.robot;
+  const double* q = state.q_row(env);
+  const kinematics::Joint& pitch = robot.joints[static_cast<std::size_t>(robot.neck_joints[1])];
+  const double q_pitch = q[robot.neck_joints[1]];
+  if (q_pitch > pitch.lower + kAtLimitRad && q_pitch < pitch.upper - kAtLimitRad) return GazeTarget::kNothing;
+  double closest = kGazeAtLimitToleranceRad;
+  GazeTarget fixated = GazeTarget::kNothing;
+  for (const Part& part : parts_) {
+    if (part.object < 0 || state.object_enabled_at(env, part.object) == 0) continue;
+    const Vec3 centre = state.ObjectPosition(env, part.object);
+    const double allowed = scenarios::expert::ClosestGazeError(robot, q, centre);
+    if (allowed <= kAtLimitRad) continue;  // the neck could centre it: it looks elsewhere
+    const double beyond = scenarios::expert::GazeError(robot, q, centre) - allowed;
+    if (beyond > closest) continue;
+    // Seen, not only aimed at: nothing (a box's wall, a screen, another object) stands between the
+    // camera and the object's centre, as the centre ray would have to pass.
+    int first_hit = -1;
+    Nearest(state, env, p_W, (centre - p_W).normalized(), &first_hit);
+    if (first_hit == part.object) {
+      closest = beyond;
+      fixated = part.object == state.target(env) ? GazeTarget::kTarget : part.role;
+    }
+  }
+  return fixated;
 }
 
 void AppendFixation(GazeTarget target, int step, std::vector<FixationSegment>& segments) {

@@ -43,6 +43,10 @@ struct FixationSegment {
 // rays of its ring (besides the centre ray).
 inline constexpr double kGazeConeRadiusPx = 3.0;
 inline constexpr int kGazeRingRays = 8;
+// An object the neck cannot bring onto the optical axis (its pitch at a joint limit: Reachy2's
+// head looks at most 30 degrees down, below which lie the table's objects) is fixated when the
+// axis is within this of the closest the neck allows to it, as the cue_fixated stage counts it.
+inline constexpr double kGazeAtLimitToleranceRad = 0.05;
 
 class GazeTracer {
  public:
@@ -52,7 +56,9 @@ class GazeTracer {
   bool has_head() const { return head_camera_ >= 0; }
   // What env `env`'s head fixates in `state`: the centre ray's object (target, cue or
   // distractor) if it hits one, else the object most rays of the ring hit (the first in ring
-  // order on a tie), else what the centre ray lands on (table, shelf, scene part or nothing).
+  // order on a tie), else, with the neck's pitch at a limit, the object it holds as close to the
+  // axis as it can (kGazeAtLimitToleranceRad), else what the centre ray lands on (table, shelf,
+  // scene part or nothing).
   GazeTarget Trace(const engine::BatchState& state, int env);
 
  private:
@@ -62,8 +68,14 @@ class GazeTracer {
     Shape shape;
     RigidTransform X_WS = RigidTransform::Identity();
   };
-  // The nearest part the ray from p_W along d_W hits (-1: none), its role resolved for `env`.
-  GazeTarget Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W) const;
+  // With the neck's pitch at a joint limit, the object (of those it cannot centre, and that the
+  // camera at p_W sees unblocked) whose direction is nearest the closest the neck allows, within
+  // kGazeAtLimitToleranceRad; else kNothing.
+  GazeTarget AtTheNecksLimit(const engine::BatchState& state, int env, const Vec3& p_W) const;
+  // The nearest part the ray from p_W along d_W hits, its role resolved for `env` (kNothing: none);
+  // hit_object, if given, receives its object index (-1: a static part or none).
+  GazeTarget Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W,
+                     int* hit_object = nullptr) const;
 
   const engine::WorldModel& model_;
   int head_camera_ = -1;

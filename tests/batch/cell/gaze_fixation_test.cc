@@ -133,10 +133,10 @@ TEST(GazeFixation, TheRecordsKeysReadBackAsWritten) {
   EXPECT_FALSE(untraced.traced);
 }
 
-EvaluationCellConfig ExpertCell(const std::string& task, int episodes) {
+EvaluationCellConfig ExpertCell(const std::string& task, int episodes, const std::string& robot = "gr1t2") {
   EvaluationCellConfig config;
   config.task = task;
-  config.robot = "gr1t2";
+  config.robot = robot;
   config.policy = "expert";
   config.episodes = episodes;
   config.envs = 2;
@@ -171,6 +171,31 @@ TEST(GazeFixation, TheExpertFixatesTheCueThenTheTargetItGrasps) {
   }
   // The card is small: the ray misses it in some episodes (docs/gaze.md), not in most.
   EXPECT_GE(2 * saw_cue, one.successes);
+}
+
+// Reachy2's head looks at most 30 degrees down, so its optical axis passes over every object on the
+// table and lands on the table behind: with the neck's pitch at its limit, the object the neck holds
+// as close to the axis as it can is the one fixated (the cue_fixated stage's rule). Without that,
+// none of these grasps was verified (the fixation at each was the table).
+TEST(GazeFixation, ANeckAtItsPitchLimitFixatesTheObjectItHoldsClosestToTheAxis) {
+  const CellResult reachy2 = RunEvaluationCell(ExpertCell("conditional-pick", 4, "reachy2"));
+  ASSERT_GT(reachy2.successes, 0);
+  int cue_seen = 0;
+  for (std::size_t i = 0; i < reachy2.episodes.size(); ++i) {
+    const EpisodeRecord& record = reachy2.episodes[i];
+    if (!record.success) continue;
+    EXPECT_EQ(record.gaze.galt_verified_reason, "verified") << "episode " << i;
+    EXPECT_EQ(record.gaze.pre_grasp_fixation, GazeTarget::kTarget) << "episode " << i;
+    cue_seen += record.gaze.cue_before_reach.value_or(false);
+  }
+  EXPECT_EQ(cue_seen, reachy2.successes) << "the card on the table is read before every reach";
+  // GR1T2's pitch limit (0.87 rad) stops its head above a near, low target too: clutter-pick-cube
+  // episode 54 at seed 5, its cube's fixation at the grasp was the table before this rule.
+  EvaluationCellConfig low_cube = ExpertCell("clutter-pick-cube", 55);
+  low_cube.first_episode = 54;  // episode 54 alone
+  const CellResult gr1t2 = RunEvaluationCell(low_cube);
+  ASSERT_EQ(gr1t2.successes, 1);
+  EXPECT_EQ(gr1t2.episodes[0].gaze.galt_verified_reason, "verified");
 }
 
 // The clutter-pick-cube distractor the head is turned to: the enabled object farthest from the
