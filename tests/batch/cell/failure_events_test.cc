@@ -515,18 +515,27 @@ constexpr double kKnockedOverRad = M_PI / 4, kFallenM = 0.10;  // docs/events.md
 // in the closed hand for 22-30 ticks, is not knocked over while held; it is at the first state
 // its hand is open in. (The pudding boxes then lie on their side; the cans right themselves on
 // the table: the rule is the state once let go of, not where the object comes to rest.)
-TEST(FailureEvents, LettingGoOfTheTargetTiltedSixtyDegreesIsObjectKnockedOver) {
+// Runs `script` on the cell below and hands each episode's record, object trace, target and the
+// tick its hand opened to `check`.
+template <typename Script, typename Check>
+void ForEachLetGoEpisode(Script script, Check check) {
   constexpr int kEpisodes = 4;
   VecEnv vec_env = MakeEnv("conditional-pick", 10.0, kEpisodes);
   ObjectTrace trace;
-  const std::vector<EpisodeRecord> records = RunTakeover(vec_env, kEpisodes, &TiltAndLetGo, trace);
+  const std::vector<EpisodeRecord> records = RunTakeover(vec_env, kEpisodes, script, trace);
   ASSERT_EQ(records.size(), static_cast<std::size_t>(kEpisodes));
   for (const EpisodeRecord& record : records) {
     SCOPED_TRACE("episode " + std::to_string(record.episode) + ": " + Names(record));
     const ObjectTrace::Episode& episode = trace.episode(record.episode);
-    const std::size_t target = static_cast<std::size_t>(episode.target);
     const int release = episode.takeover.release_tick;
     ASSERT_GE(release, 0) << "the hand opened";
+    check(record, episode, static_cast<std::size_t>(episode.target), release);
+  }
+}
+
+TEST(FailureEvents, LettingGoOfTheTargetTiltedSixtyDegreesIsObjectKnockedOver) {
+  ForEachLetGoEpisode(&TiltAndLetGo, [](const EpisodeRecord& record, const ObjectTrace::Episode& episode,
+                                        std::size_t target, int release) {
     const int tilted =
         FirstTick(episode, -1, [&](const ObjectTrace::Sample& s) { return s.tilt_rad[target] > kKnockedOverRad; });
     ASSERT_GE(tilted, 0);
@@ -542,23 +551,14 @@ TEST(FailureEvents, LettingGoOfTheTargetTiltedSixtyDegreesIsObjectKnockedOver) {
     EXPECT_FALSE(Fired(record, FailureEvent::kObjectOutOfWorkspace));
     EXPECT_FALSE(Fired(record, FailureEvent::kWrongObjectTouched));
     ExpectOthersStill(episode);
-  }
+  });
 }
 
 // The same cell: each target let go of 1 cm past the table's near edge (a box) falls to the floor,
 // 10 cm below where it settled 11-14 ticks after the hand opened.
 TEST(FailureEvents, CarryingTheLiftedTargetOffTheTablesNearEdgeIsObjectOutOfWorkspace) {
-  constexpr int kEpisodes = 4;
-  VecEnv vec_env = MakeEnv("conditional-pick", 10.0, kEpisodes);
-  ObjectTrace trace;
-  const std::vector<EpisodeRecord> records = RunTakeover(vec_env, kEpisodes, &CarryOffTheNearEdge, trace);
-  ASSERT_EQ(records.size(), static_cast<std::size_t>(kEpisodes));
-  for (const EpisodeRecord& record : records) {
-    SCOPED_TRACE("episode " + std::to_string(record.episode) + ": " + Names(record));
-    const ObjectTrace::Episode& episode = trace.episode(record.episode);
-    const std::size_t target = static_cast<std::size_t>(episode.target);
-    const int release = episode.takeover.release_tick;
-    ASSERT_GE(release, 0) << "the hand opened";
+  ForEachLetGoEpisode(&CarryOffTheNearEdge, [](const EpisodeRecord& record, const ObjectTrace::Episode& episode,
+                                               std::size_t target, int release) {
     const int fallen =
         FirstTick(episode, -1, [&](const ObjectTrace::Sample& s) { return s.fall_m[target] >= kFallenM; });
     EXPECT_GT(fallen, release) << "it fell once let go of, not in the hand";
@@ -566,7 +566,7 @@ TEST(FailureEvents, CarryingTheLiftedTargetOffTheTablesNearEdgeIsObjectOutOfWork
     EXPECT_GT(episode.samples.back().fall_m[target], 0.5) << "on the floor";
     EXPECT_FALSE(Fired(record, FailureEvent::kWrongObjectTouched));
     ExpectOthersStill(episode);
-  }
+  });
 }
 
 // The detector shown a state in which the settled target has been tipped on its side, then one in
