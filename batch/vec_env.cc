@@ -25,9 +25,6 @@ namespace {
 
 using kinematics::Side;
 
-constexpr int kNeckActionEntries[kinematics::kNeckDof] = {kinematics::action::kNeckRoll, kinematics::action::kNeckPitch,
-                                                          kinematics::action::kNeckYaw};
-
 // A scene perturbation level needs the task to say where its objects may go (scenario.h).
 void CheckTaskTakesEpisodePerturbation(const engine::EpisodePerturbation& perturbation,
                                        const scenarios::ScenarioDef& scenario) {
@@ -301,7 +298,7 @@ void VecEnv::ApplyActions(EnvRange envs, const std::vector<kinematics::Action>& 
     if (!state_.running(env)) continue;
     for (int k = 0; k < kinematics::kNeckDof; ++k) {
       const kinematics::Joint& joint = robot.joints[robot.neck_joints[k]];
-      q_target[robot.neck_joints[k]] = std::clamp(action[kNeckActionEntries[k]], joint.lower, joint.upper);
+      q_target[robot.neck_joints[k]] = std::clamp(action[kinematics::action::kNeck[k]], joint.lower, joint.upper);
     }
   }
 }

@@ -22,6 +22,8 @@ constexpr int kArmQuaternion[2] = {3, 10};  // w, x, y, z
 constexpr int kNeckRoll = 14;
 constexpr int kNeckPitch = 15;
 constexpr int kNeckYaw = 16;
+// The neck entries in the order of RobotModel::neck_joints (roll, pitch, yaw).
+constexpr int kNeck[kNeckDof] = {kNeckRoll, kNeckPitch, kNeckYaw};
 constexpr int kGripper[2] = {17, 18};
 }  // namespace action
 

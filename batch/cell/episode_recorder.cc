@@ -49,7 +49,7 @@ void EpisodeRecorder::ActionChosen(const VecEnv& vec_env, int slot, const kinema
   const int ticks_per_policy_step = vec_env.model().physics.controls_per_policy();
   const int tick = static_cast<int>(action_logs_[slot].size());
   if (gaze_[slot].traced && tick % ticks_per_policy_step == 0) {
-    AppendFixation(gaze_tracers_[slot]->Trace(vec_env.state(), slot), tick / ticks_per_policy_step,
+    AppendFixation(gaze_tracers_[slot]->Trace(vec_env.state(), slot, action), tick / ticks_per_policy_step,
                    gaze_[slot].fixations);
   }
   action_logs_[slot].push_back(action);

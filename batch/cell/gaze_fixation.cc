@@ -104,11 +104,8 @@ GazeTracer::GazeTracer(const engine::WorldModel& model, const std::vector<std::s
   }
 }
 
-GazeTarget GazeTracer::Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W,
-                               int* hit_object) const {
-  double best = kNoHit;
-  GazeTarget hit = GazeTarget::kNothing;
-  if (hit_object) *hit_object = -1;
+GazeTracer::Hit GazeTracer::Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W) const {
+  Hit hit;
   for (const Part& part : parts_) {
     RigidTransform X_WS = part.X_WS;
     GazeTarget role = part.role;
@@ -120,35 +117,76 @@ GazeTarget GazeTracer::Nearest(const engine::BatchState& state, int env, const V
     }
     const Mat3 R_SW = X_WS.linear().transpose();
     const double t = HitDistance(part.shape, R_SW * (p_W - X_WS.translation()), R_SW * d_W);
-    if (t < best) {
-      best = t;
-      hit = role;
-      if (hit_object) *hit_object = part.object;
-    }
+    if (t < hit.distance) hit = {role, part.object, t};
   }
   return hit;
 }
 
-GazeTarget GazeTracer::Trace(const engine::BatchState& state, int env) {
+RigidTransform GazeTracer::HeadCameraPose(const double* q) {
   const kinematics::RobotModel& robot = model_.robot;
   const kinematics::CameraMount& mount = robot.cameras[static_cast<std::size_t>(head_camera_)];
-  kinematics::ComputeLinkPoseChain(robot, state.q_row(env), mount.link, X_BL_.data());
-  const RigidTransform X_WC =
-      MakeTransform(robot.root_world, Mat3::Identity()) * kinematics::CameraPose(robot, head_camera_, X_BL_.data());
+  kinematics::ComputeLinkPoseChain(robot, q, mount.link, X_BL_.data());
+  return MakeTransform(robot.root_world, Mat3::Identity()) * kinematics::CameraPose(robot, head_camera_, X_BL_.data());
+}
+
+GazeTarget GazeTracer::ObjectOnAxis(const engine::BatchState& state, int env, const RigidTransform& X_WC,
+                                    const Vec3* seen_from) const {
   const Vec3 p_W = X_WC.translation();
-  const GazeTarget centre = Nearest(state, env, p_W, X_WC.linear().col(0));
-  if (IsObject(centre)) return centre;
+  // The object a ray along d_C (camera frame) meets first, if the camera at seen_from sees that
+  // point of it first too.
+  const auto object_hit = [&](const Vec3& d_C) {
+    const Vec3 d_W = X_WC.linear() * d_C;
+    const Hit hit = Nearest(state, env, p_W, d_W);
+    if (!IsObject(hit.role)) return GazeTarget::kNothing;
+    if (seen_from != nullptr) {
+      const Vec3 point = p_W + hit.distance * d_W;
+      if (Nearest(state, env, *seen_from, (point - *seen_from).normalized()).object != hit.object)
+        return GazeTarget::kNothing;
+    }
+    return hit.role;
+  };
+  const GazeTarget centre = object_hit(Vec3::UnitX());
+  if (centre != GazeTarget::kNothing) return centre;
   std::array<int, kTargetNames.size()> counts{};
   GazeTarget best = GazeTarget::kNothing;
   for (const Vec3& d_C : ring_C_) {
-    const GazeTarget ring = Nearest(state, env, p_W, X_WC.linear() * d_C);
-    if (!IsObject(ring)) continue;
+    const GazeTarget ring = object_hit(d_C);
+    if (ring == GazeTarget::kNothing) continue;
     const int count = ++counts[static_cast<std::size_t>(ring)];
     if (best == GazeTarget::kNothing || count > counts[static_cast<std::size_t>(best)]) best = ring;
   }
-  if (best != GazeTarget::kNothing) return best;
+  return best;
+}
+
+GazeTarget GazeTracer::Trace(const engine::BatchState& state, int env, const kinematics::Action& action) {
+  const kinematics::RobotModel& robot = model_.robot;
+  const double* q = state.q_row(env);
+  // A neck joint held at its limit while the policy commands it past the limit (Reachy2's head
+  // turned down to a table-top object it cannot centre) says no more than "this far"; the command
+  // says where the head is pointed. The commanded pose is the measured one with each such joint
+  // at its command; what its rays meet counts where the real camera sees it.
+  q_commanded_.assign(q, q + robot.num_joints());
+  bool pressed = false;
+  for (int k = 0; k < kinematics::kNeckDof; ++k) {
+    const int j = robot.neck_joints[static_cast<std::size_t>(k)];
+    const kinematics::Joint& joint = robot.joints[static_cast<std::size_t>(j)];
+    const double command = action[kinematics::action::kNeck[k]];
+    if ((q[j] >= joint.upper - kAtLimitRad && command > joint.upper + kAtLimitRad) ||
+        (q[j] <= joint.lower + kAtLimitRad && command < joint.lower - kAtLimitRad)) {
+      q_commanded_[static_cast<std::size_t>(j)] = command;
+      pressed = true;
+    }
+  }
+  const RigidTransform X_WC = HeadCameraPose(q);
+  const Vec3 p_W = X_WC.translation();
+  if (pressed) {
+    const GazeTarget commanded = ObjectOnAxis(state, env, HeadCameraPose(q_commanded_.data()), &p_W);
+    if (commanded != GazeTarget::kNothing) return commanded;
+  }
+  const GazeTarget on_axis = ObjectOnAxis(state, env, X_WC, nullptr);
+  if (on_axis != GazeTarget::kNothing) return on_axis;
   const GazeTarget limited = AtTheNecksLimit(state, env, p_W);
-  return limited != GazeTarget::kNothing ? limited : centre;
+  return limited != GazeTarget::kNothing ? limited : Nearest(state, env, p_W, X_WC.linear().col(0)).role;
 }
 
 GazeTarget GazeTracer::AtTheNecksLimit(const engine::BatchState& state, int env, const Vec3& p_W) const {
@@ -168,9 +206,7 @@ GazeTarget GazeTracer::AtTheNecksLimit(const engine::BatchState& state, int env,
     if (beyond > closest) continue;
     // Seen, not only aimed at: nothing (a box's wall, a screen, another object) stands between the
     // camera and the object's centre, as the centre ray would have to pass.
-    int first_hit = -1;
-    Nearest(state, env, p_W, (centre - p_W).normalized(), &first_hit);
-    if (first_hit == part.object) {
+    if (Nearest(state, env, p_W, (centre - p_W).normalized()).object == part.object) {
       closest = beyond;
       fixated = part.object == state.target(env) ? GazeTarget::kTarget : part.role;
     }

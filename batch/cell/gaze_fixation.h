@@ -11,6 +11,7 @@
 // (the ray is the head's, as the neck commands it).
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 
 #include "engine/batch_state.h"
 #include "engine/world_model.h"
+#include "kinematics/action.h"
 #include "kinematics/galt.h"
 #include "kinematics/pose.h"
 
@@ -54,12 +56,14 @@ class GazeTracer {
   GazeTracer(const engine::WorldModel& model, const std::vector<std::string>& cue_objects);
 
   bool has_head() const { return head_camera_ >= 0; }
-  // What env `env`'s head fixates in `state`: the centre ray's object (target, cue or
-  // distractor) if it hits one, else the object most rays of the ring hit (the first in ring
-  // order on a tie), else, with the neck's pitch at a limit, the object it holds as close to the
-  // axis as it can (kGazeAtLimitToleranceRad), else what the centre ray lands on (table, shelf,
-  // scene part or nothing).
-  GazeTarget Trace(const engine::BatchState& state, int env);
+  // What env `env`'s head fixates in `state`, `action` being the policy's command in it: with a
+  // neck joint held at a limit the command goes past (the head pressed as far as it turns), the
+  // object on the commanded pose's centre ray (else most of its ring) if the camera sees it;
+  // else the centre ray's object (target, cue or distractor) if it hits one, else the object most
+  // rays of the ring hit (the first in ring order on a tie), else, with the neck's pitch at a
+  // limit, the object it holds as close to the axis as it can (kGazeAtLimitToleranceRad), else
+  // what the centre ray lands on (table, shelf, scene part or nothing).
+  GazeTarget Trace(const engine::BatchState& state, int env, const kinematics::Action& action);
 
  private:
   struct Part {
@@ -68,19 +72,33 @@ class GazeTracer {
     Shape shape;
     RigidTransform X_WS = RigidTransform::Identity();
   };
+  // The nearest part a ray meets: its role resolved for the env (kNothing: none), its object
+  // index (-1: a static part or none) and the distance along the ray.
+  struct Hit {
+    GazeTarget role = GazeTarget::kNothing;
+    int object = -1;
+    double distance = std::numeric_limits<double>::infinity();
+  };
+  // The head camera's world pose with the joints at q.
+  RigidTransform HeadCameraPose(const double* q);
+  // The object the camera at X_WC has on its centre ray, else the one most of its ring's rays
+  // meet; kNothing if none. With seen_from, a ray's object counts only where the straight line
+  // from that point to where the ray meets it meets it first (the commanded pose's camera is not
+  // where the real one is).
+  GazeTarget ObjectOnAxis(const engine::BatchState& state, int env, const RigidTransform& X_WC,
+                          const Vec3* seen_from) const;
   // With the neck's pitch at a joint limit, the object (of those it cannot centre, and that the
   // camera at p_W sees unblocked) whose direction is nearest the closest the neck allows, within
   // kGazeAtLimitToleranceRad; else kNothing.
   GazeTarget AtTheNecksLimit(const engine::BatchState& state, int env, const Vec3& p_W) const;
-  // The nearest part the ray from p_W along d_W hits, its role resolved for `env` (kNothing: none);
-  // hit_object, if given, receives its object index (-1: a static part or none).
-  GazeTarget Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W,
-                     int* hit_object = nullptr) const;
+  // The nearest part the ray from p_W along the unit d_W meets, in env `env`.
+  Hit Nearest(const engine::BatchState& state, int env, const Vec3& p_W, const Vec3& d_W) const;
 
   const engine::WorldModel& model_;
   int head_camera_ = -1;
   std::vector<Part> parts_;
   std::vector<RigidTransform> X_BL_;  // scratch: the head's chain of link poses
+  std::vector<double> q_commanded_;   // scratch: the joints with the pressed neck joints commanded
   std::vector<Vec3> ring_C_;          // the ring's directions in the camera frame
 };
 

@@ -198,6 +198,28 @@ TEST(GazeFixation, ANeckAtItsPitchLimitFixatesTheObjectItHoldsClosestToTheAxis) 
   EXPECT_EQ(gr1t2.episodes[0].gaze.galt_verified_reason, "verified");
 }
 
+// A Reachy2 head pressed at its pitch limit, turned to a table-top target it cannot centre, has on
+// its centre ray what stands above the target in line: wait-then-act's signal light behind it
+// (seed 5, episode 1), a multi-shelf-scan distractor on the shelf above (episode 5). The neck is
+// commanded past the limit at the target, and that command is where the head looks: both grasps
+// are verified, and the light watched through the wait is still the cue (it lies beyond the limit
+// too, and the command points at it then). Before, both were off_target on the object above.
+TEST(GazeFixation, AHeadPressedAtItsLimitLooksWhereItsNeckIsCommanded) {
+  for (const auto& [task, episode] : {std::pair<std::string, int>{"wait-then-act", 1}, {"multi-shelf-scan", 5}}) {
+    SCOPED_TRACE(task + " episode " + std::to_string(episode));
+    EvaluationCellConfig config = ExpertCell(task, episode + 1, "reachy2");
+    config.first_episode = episode;
+    const CellResult cell = RunEvaluationCell(config);
+    ASSERT_EQ(cell.successes, 1);
+    const GazeRecord& gaze = cell.episodes[0].gaze;
+    EXPECT_EQ(gaze.galt_verified_reason, "verified");
+    EXPECT_EQ(gaze.pre_grasp_fixation, GazeTarget::kTarget);
+    if (task == "wait-then-act") {
+      EXPECT_EQ(gaze.cue_before_reach, true);
+    }
+  }
+}
+
 // The clutter-pick-cube distractor the head is turned to: the enabled object farthest from the
 // cube, so that the cube does not stand in the ray to it (a nearer one can: seed 5, episode 2).
 int PauseObject(const engine::WorldModel& model, const engine::BatchState& state, int env) {
@@ -215,10 +237,12 @@ int PauseObject(const engine::WorldModel& model, const engine::BatchState& state
 
 // The expert, its neck turned to a distractor and held there from the moment a hand has come
 // within 15 cm of the cube until the episode ends: the grasp and lift are the expert's, the head
-// pauses on the wrong object before the grasp.
+// pauses on the wrong object before the grasp. With NeckLimits::kIgnore the neck is commanded at
+// the distractor past its limits, as the expert commands it at a target.
 class WrongObjectPause {
  public:
-  explicit WrongObjectPause(int num_envs) : object_(std::make_shared<std::vector<int>>(num_envs, -1)) {}
+  WrongObjectPause(int num_envs, scenarios::expert::NeckLimits limits)
+      : object_(std::make_shared<std::vector<int>>(num_envs, -1)), limits_(limits) {}
   void operator()(const batch::Observation& observation, int env, kinematics::Action& action, uint8_t& paused) const {
     const engine::BatchState& state = observation.state;
     const kinematics::RobotModel& robot = observation.model.robot;
@@ -232,7 +256,7 @@ class WrongObjectPause {
     }
     if (object < 0) return;
     const std::array<double, 3> neck =
-        scenarios::expert::FixationNeckAngles(robot, state.q_row(env), state.ObjectPosition(env, object));
+        scenarios::expert::FixationNeckAngles(robot, state.q_row(env), state.ObjectPosition(env, object), limits_);
     action[kinematics::action::kNeckRoll] = neck[0];
     action[kinematics::action::kNeckPitch] = neck[1];
     action[kinematics::action::kNeckYaw] = neck[2];
@@ -240,6 +264,7 @@ class WrongObjectPause {
 
  private:
   std::shared_ptr<std::vector<int>> object_;  // per env, the distractor; written by its env's calls only
+  scenarios::expert::NeckLimits limits_;
 };
 
 std::vector<EpisodeRecord> RunWithGalt(batch::VecEnv& vec_env, batch::Policy& policy, int episodes) {
@@ -255,23 +280,23 @@ std::vector<EpisodeRecord> RunWithGalt(batch::VecEnv& vec_env, batch::Policy& po
   return records;
 }
 
-// Issue 50: a neck that pauses on the wrong object before the grasp still gives a GALT (it is
-// measured on the commanded neck alone, which cannot tell the objects apart), but no verified
-// GALT: the reason is off_target, on a distractor. The plain expert's same episodes are verified.
-TEST(GazeFixation, ANeckPausingOnADistractorBeforeTheGraspKeepsItsGaltButIsNotVerified) {
+// The wrong-object pause on `robot`'s first three clutter-pick-cube episodes at seed 5, and the
+// plain expert's same episodes: each lifts the cube with a GALT value; the paused head's grasp is
+// off_target on a distractor, the plain expert's verified.
+void ExpectThePauseIsOffTarget(const std::string& robot, scenarios::expert::NeckLimits limits) {
   constexpr int kEpisodes = 3;
   const scenarios::ScenarioDef& scenario = scenarios::FindScenario("clutter-pick-cube");
-  engine::WorldModel model = batch::BuildWorldModel(tavis::testing::LoadRobot("gr1t2"), scenario);
+  engine::WorldModel model = batch::BuildWorldModel(tavis::testing::LoadRobot(robot), scenario);
   model.physics.episode_length_s = 10.0;
   batch::VecEnv vec_env(model, scenario, scenarios::Split::kId, kEpisodes, 5);
-  testing::AlteredExpertPolicy pausing(vec_env, WrongObjectPause(kEpisodes));
+  testing::AlteredExpertPolicy pausing(vec_env, WrongObjectPause(kEpisodes, limits));
   const std::vector<EpisodeRecord> paused = RunWithGalt(vec_env, pausing, kEpisodes);
   const std::unique_ptr<batch::Policy> expert =
       batch::MakeBuiltinPolicy("expert", scenario, vec_env.model(), kEpisodes);
   const std::vector<EpisodeRecord> plain = RunWithGalt(vec_env, *expert, kEpisodes);
   ASSERT_EQ(paused.size(), static_cast<std::size_t>(kEpisodes));
   for (int i = 0; i < kEpisodes; ++i) {
-    SCOPED_TRACE("episode " + std::to_string(i));
+    SCOPED_TRACE(robot + " episode " + std::to_string(i));
     const EpisodeRecord& record = paused[static_cast<std::size_t>(i)];
     ASSERT_TRUE(record.success) << "the hands are the expert's";
     ASSERT_TRUE(record.galt && record.galt->galt_s) << "GALT is kept";
@@ -283,6 +308,19 @@ TEST(GazeFixation, ANeckPausingOnADistractorBeforeTheGraspKeepsItsGaltButIsNotVe
     ASSERT_TRUE(control.success);
     EXPECT_EQ(control.gaze.galt_verified_reason, "verified") << "the expert itself looks at the cube";
   }
+}
+
+// Issue 50: a neck that pauses on the wrong object before the grasp still gives a GALT (it is
+// measured on the commanded neck alone, which cannot tell the objects apart), but no verified
+// GALT: the reason is off_target, on a distractor. The plain expert's same episodes are verified.
+TEST(GazeFixation, ANeckPausingOnADistractorBeforeTheGraspKeepsItsGaltButIsNotVerified) {
+  ExpectThePauseIsOffTarget("gr1t2", scenarios::expert::NeckLimits::kRespect);
+}
+
+// A command past the neck's limits is read as where the head looks whatever it is commanded at:
+// Reachy2's head pressed down at a table-top distractor fixates the distractor, not the target.
+TEST(GazeFixation, ANeckCommandedPastItsLimitAtADistractorIsNotVerified) {
+  ExpectThePauseIsOffTarget("reachy2", scenarios::expert::NeckLimits::kIgnore);
 }
 
 }  // namespace
